@@ -1,0 +1,12 @@
+/* kinctl/kinctl.h - the whole core library in one include. */
+#ifndef KINCTL_KINCTL_H
+#define KINCTL_KINCTL_H
+
+#include "kinctl/real.h"
+#include "kinctl/status.h"
+#include "kinctl/se3.h"
+#include "kinctl/orient.h"
+#include "kinctl/chain.h"
+#include "kinctl/fk.h"
+
+#endif /* KINCTL_KINCTL_H */
