@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# Installs what kinctl needs on a Debian 12 machine and builds it. Idempotent:
+# a second run installs nothing and rebuilds only what changed.
+#   scripts/setup.sh [BUILD_DIR [extra cmake args...]]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build_dir=${1:-build}
+shift || true
+
+say() { printf '\033[1m[setup]\033[0m %s\n' "$*"; }
+
+# Debian packages: compilers and build tools, cmocka for the C unit tests,
+# libconfig for description files, jansson for JSON in kinctl-calc.
+apt_packages=(build-essential cmake ninja-build clang pkg-config python3 python3-venv
+              libcmocka-dev libconfig-dev libjansson-dev)
+missing=()
+for p in "${apt_packages[@]}"; do
+    dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+    say "installing Debian packages: ${missing[*]}"
+    sudo_cmd=()
+    [ "$(id -u)" -eq 0 ] || sudo_cmd=(sudo)
+    export DEBIAN_FRONTEND=noninteractive
+    "${sudo_cmd[@]}" apt-get update -qq
+    "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+else
+    say "Debian packages present"
+fi
+
+# Python packages live in the project's own virtual environment.
+if [ ! -x .venv/bin/python ]; then
+    say "creating the Python environment .venv"
+    python3 -m venv .venv
+fi
+req_stamp=.venv/.requirements.sha256
+req_sum=$(sha256sum tools/requirements.txt | cut -d' ' -f1)
+if [ "$(cat "$req_stamp" 2>/dev/null)" != "$req_sum" ]; then
+    say "installing Python packages from tools/requirements.txt"
+    .venv/bin/python -m pip install -q --upgrade pip
+    .venv/bin/python -m pip install -q -r tools/requirements.txt
+    echo "$req_sum" >"$req_stamp"
+else
+    say "Python packages present"
+fi
+
+say "configuring and building in $build_dir"
+cmake -S . -B "$build_dir" -G Ninja -DPython3_EXECUTABLE="$PWD/.venv/bin/python" "$@" >/dev/null
+cmake --build "$build_dir"
