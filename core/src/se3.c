@@ -134,8 +134,11 @@ kc_real kc_mat3_rotation_error(const kc_mat3 *a)
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++) {
             kc_real e = kc_fabs(ata.m[i][j] - (i == j ? KC_R(1.0) : KC_R(0.0)));
-            /* Written so that a NaN entry propagates to the result. */
-            if (!(e <= err))
+            /* Written so that a NaN entry propagates to the result: a NaN e
+             * replaces err, and once err is NaN (err != err) it stays, where
+             * "!(e <= err)" alone let the next finite entry overwrite it
+             * (found by tests/unit/test_se3.c). */
+            if (err == err && !(e <= err))
                 err = e;
         }
     return err;

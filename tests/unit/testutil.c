@@ -1,0 +1,362 @@
+/* testutil.c - see testutil.h. */
+#include "testutil.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+unsigned long kt_checks = 0;
+
+/* ---- reference vectors ---- */
+
+json_t *kt_load(const char *name)
+{
+    const char *dir = getenv("KINCTL_VECTORS");
+    char path[4096];
+    json_error_t err;
+    if (dir == NULL || dir[0] == '\0') {
+        print_error("KINCTL_VECTORS is not set: it must name the reference vectors directory "
+                    "(tests/vectors); ctest sets it, a manual run needs it exported\n");
+        _fail(__FILE__, __LINE__);
+    }
+    if (snprintf(path, sizeof path, "%s/%s", dir, name) >= (int)sizeof path) {
+        print_error("vectors path too long: %s/%s\n", dir, name);
+        _fail(__FILE__, __LINE__);
+    }
+    json_t *root = json_load_file(path, 0, &err);
+    if (root == NULL) {
+        print_error("cannot load reference vectors %s: %s (line %d)\n", path, err.text, err.line);
+        _fail(__FILE__, __LINE__);
+    }
+    return root;
+}
+
+json_t *kt_get(const json_t *obj, const char *key)
+{
+    json_t *v = json_is_object(obj) ? json_object_get(obj, key) : NULL;
+    if (v == NULL) {
+        print_error("reference vectors: missing key \"%s\"\n", key);
+        _fail(__FILE__, __LINE__);
+    }
+    return v;
+}
+
+json_t *kt_at(const json_t *arr, size_t i)
+{
+    json_t *v = json_is_array(arr) ? json_array_get(arr, i) : NULL;
+    if (v == NULL) {
+        print_error("reference vectors: no array element %zu\n", i);
+        _fail(__FILE__, __LINE__);
+    }
+    return v;
+}
+
+double kt_num(const json_t *v)
+{
+    if (!json_is_number(v)) {
+        print_error("reference vectors: expected a number\n");
+        _fail(__FILE__, __LINE__);
+    }
+    return json_number_value(v);
+}
+
+double kt_num_of(const json_t *obj, const char *key) { return kt_num(kt_get(obj, key)); }
+
+static void check_size(const json_t *arr, size_t n)
+{
+    if (!json_is_array(arr) || json_array_size(arr) != n) {
+        print_error("reference vectors: expected an array of %zu\n", n);
+        _fail(__FILE__, __LINE__);
+    }
+}
+
+void kt_read_reals(const json_t *arr, kc_real *out, size_t n)
+{
+    check_size(arr, n);
+    for (size_t i = 0; i < n; i++)
+        out[i] = (kc_real)kt_num(json_array_get(arr, i));
+}
+
+void kt_read_mat3(const json_t *m, kc_mat3 *out)
+{
+    check_size(m, 3);
+    for (size_t i = 0; i < 3; i++)
+        kt_read_reals(json_array_get(m, i), out->m[i], 3);
+}
+
+void kt_read_mat4(const json_t *m, kc_mat4 *out)
+{
+    check_size(m, 4);
+    for (size_t i = 0; i < 4; i++)
+        kt_read_reals(json_array_get(m, i), out->m[i], 4);
+}
+
+static void check_last_row(const char *file, int line, const json_t *m, const char *what)
+{
+    for (size_t j = 0; j < 4; j++) {
+        double v = kt_num(kt_at(kt_at(m, 3), j));
+        if (v != (j == 3 ? 1.0 : 0.0)) {
+            print_error("%s: reference row 4 is not 0 0 0 1\n", what);
+            _fail(file, line);
+        }
+    }
+}
+
+void kt_read_pose(const json_t *m, kc_pose *out)
+{
+    kc_mat4 a;
+    kt_read_mat4(m, &a);
+    check_last_row(__FILE__, __LINE__, m, "kt_read_pose");
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++)
+            out->R.m[i][j] = a.m[i][j];
+        out->t.v[i] = a.m[i][3];
+    }
+}
+
+/* ---- comparisons ---- */
+
+static int near(double a, double e, double tol) { return a - e <= tol && e - a <= tol; }
+
+static void report(const char *file, int line, const char *what, const char *index, double a, double e, double tol)
+{
+    print_error("%s%s: got %.17g, expected %.17g, |diff| %.3g > tol %.3g (%s)\n", what, index, a, e,
+                a > e ? a - e : e - a, tol, KC_REAL_NAME);
+    _fail(file, line);
+}
+
+void kt_near_(const char *file, int line, double a, double e, double tol, const char *what)
+{
+    kt_checks++;
+    if (!near(a, e, tol))
+        report(file, line, what, "", a, e, tol);
+}
+
+void kt_near_angle_(const char *file, int line, double a, double e, double tol, const char *what)
+{
+    double d = fmod(a - e, 2.0 * KT_PI);
+    if (d > KT_PI)
+        d -= 2.0 * KT_PI;
+    else if (d < -KT_PI)
+        d += 2.0 * KT_PI;
+    kt_checks++;
+    if (!near(d, 0.0, tol)) {
+        print_error("%s: angle %.17g, expected %.17g (mod 2 pi), |diff| %.3g > tol %.3g (%s)\n", what, a, e,
+                    d < 0.0 ? -d : d, tol, KC_REAL_NAME);
+        _fail(file, line);
+    }
+}
+
+void kt_near_reals_json_(const char *file, int line, const kc_real *a, size_t n, const json_t *arr, double tol,
+                         const char *what)
+{
+    char idx[32];
+    check_size(arr, n);
+    for (size_t i = 0; i < n; i++) {
+        double e = kt_num(json_array_get(arr, i));
+        kt_checks++;
+        if (!near((double)a[i], e, tol)) {
+            snprintf(idx, sizeof idx, "[%zu]", i);
+            report(file, line, what, idx, (double)a[i], e, tol);
+        }
+    }
+}
+
+/* a (rows x cols, leading dimension ld) against a nested list. */
+static void near_rows_json(const char *file, int line, const kc_real *a, size_t rows, size_t cols, size_t ld,
+                           const json_t *m, double tol, const char *what)
+{
+    char idx[48];
+    check_size(m, rows);
+    for (size_t i = 0; i < rows; i++) {
+        const json_t *row = json_array_get(m, i);
+        check_size(row, cols);
+        for (size_t j = 0; j < cols; j++) {
+            double e = kt_num(json_array_get(row, j));
+            double v = (double)a[i * ld + j];
+            kt_checks++;
+            if (!near(v, e, tol)) {
+                snprintf(idx, sizeof idx, "[%zu][%zu]", i, j);
+                report(file, line, what, idx, v, e, tol);
+            }
+        }
+    }
+}
+
+void kt_near_mat3_json_(const char *file, int line, const kc_mat3 *a, const json_t *m, double tol, const char *what)
+{
+    near_rows_json(file, line, &a->m[0][0], 3, 3, 3, m, tol, what);
+}
+
+void kt_near_mat4_json_(const char *file, int line, const kc_mat4 *a, const json_t *m, double tol, const char *what)
+{
+    near_rows_json(file, line, &a->m[0][0], 4, 4, 4, m, tol, what);
+}
+
+void kt_near_pose_json_(const char *file, int line, const kc_pose *a, const json_t *m, double tol, const char *what)
+{
+    kc_mat4 h;
+    check_size(m, 4);
+    check_last_row(file, line, m, what);
+    kc_pose_to_mat4(a, &h);
+    near_rows_json(file, line, &h.m[0][0], 3, 4, 4, m, tol, what);
+}
+
+void kt_near_mat3_(const char *file, int line, const kc_mat3 *a, const kc_mat3 *b, double tol, const char *what)
+{
+    char idx[32];
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            kt_checks++;
+            if (!near((double)a->m[i][j], (double)b->m[i][j], tol)) {
+                snprintf(idx, sizeof idx, ".R[%d][%d]", i, j);
+                report(file, line, what, idx, (double)a->m[i][j], (double)b->m[i][j], tol);
+            }
+        }
+}
+
+void kt_near_vec3_(const char *file, int line, const kc_vec3 *a, const kc_vec3 *b, double tol, const char *what)
+{
+    char idx[32];
+    for (int i = 0; i < 3; i++) {
+        kt_checks++;
+        if (!near((double)a->v[i], (double)b->v[i], tol)) {
+            snprintf(idx, sizeof idx, "[%d]", i);
+            report(file, line, what, idx, (double)a->v[i], (double)b->v[i], tol);
+        }
+    }
+}
+
+void kt_near_pose_(const char *file, int line, const kc_pose *a, const kc_pose *b, double tol, const char *what)
+{
+    char idx[32];
+    kt_near_mat3_(file, line, &a->R, &b->R, tol, what);
+    for (int i = 0; i < 3; i++) {
+        kt_checks++;
+        if (!near((double)a->t.v[i], (double)b->t.v[i], tol)) {
+            snprintf(idx, sizeof idx, ".t[%d]", i);
+            report(file, line, what, idx, (double)a->t.v[i], (double)b->t.v[i], tol);
+        }
+    }
+}
+
+static void near_quat(const char *file, int line, const kc_quat *a, const double e[4], double tol, const char *what)
+{
+    static const char *const names[4] = {".w", ".x", ".y", ".z"};
+    double v[4] = {(double)a->w, (double)a->x, (double)a->y, (double)a->z};
+    /* -q is the same rotation; w >= 0 picks one unless w is zero. */
+    double sign = 1.0;
+    if (near(e[0], 0.0, tol)) {
+        double dot = v[0] * e[0] + v[1] * e[1] + v[2] * e[2] + v[3] * e[3];
+        sign = dot < 0.0 ? -1.0 : 1.0;
+    }
+    for (int i = 0; i < 4; i++) {
+        kt_checks++;
+        if (!near(sign * v[i], e[i], tol))
+            report(file, line, what, names[i], sign * v[i], e[i], tol);
+    }
+}
+
+void kt_near_quat_json_(const char *file, int line, const kc_quat *a, const json_t *wxyz, double tol,
+                        const char *what)
+{
+    double e[4];
+    check_size(wxyz, 4);
+    for (size_t i = 0; i < 4; i++)
+        e[i] = kt_num(json_array_get(wxyz, i));
+    near_quat(file, line, a, e, tol, what);
+}
+
+void kt_near_quat_(const char *file, int line, const kc_quat *a, const kc_quat *b, double tol, const char *what)
+{
+    double e[4] = {(double)b->w, (double)b->x, (double)b->y, (double)b->z};
+    near_quat(file, line, a, e, tol, what);
+}
+
+void kt_near_jac_json_(const char *file, int line, const kc_jacobian *a, int n, const json_t *m, double tol,
+                       const char *what)
+{
+    near_rows_json(file, line, &a->m[0][0], 6, (size_t)n, KC_MAX_JOINTS, m, tol, what);
+}
+
+void kt_report(const char *suite)
+{
+    printf("%s (%s): %lu scalar comparisons\n", suite, KC_REAL_NAME, kt_checks);
+}
+
+int kt_is_sentinel(const void *p, size_t n)
+{
+    const unsigned char *b = p;
+    for (size_t i = 0; i < n; i++)
+        if (b[i] != KT_SENTINEL)
+            return 0;
+    return 1;
+}
+
+/* ---- PRNG ---- */
+
+kt_rng kt_rng_make(uint64_t seed)
+{
+    kt_rng r = {seed};
+    return r;
+}
+
+uint64_t kt_rng_next(kt_rng *r)
+{
+    /* splitmix64 (Steele, Lea, Flood 2014). */
+    uint64_t z = (r->s += UINT64_C(0x9E3779B97F4A7C15));
+    z = (z ^ (z >> 30)) * UINT64_C(0xBF58476D1CE4E5B9);
+    z = (z ^ (z >> 27)) * UINT64_C(0x94D049BB133111EB);
+    return z ^ (z >> 31);
+}
+
+double kt_uniform(kt_rng *r, double lo, double hi)
+{
+    double u = (double)(kt_rng_next(r) >> 11) * (1.0 / 9007199254740992.0); /* [0, 1) with 53 bits */
+    return lo + (hi - lo) * u;
+}
+
+kc_quat kt_rand_quat(kt_rng *r)
+{
+    /* Shoemake, "Uniform random rotations", Graphics Gems III. */
+    double u1 = kt_uniform(r, 0.0, 1.0), u2 = kt_uniform(r, 0.0, 2.0 * KT_PI), u3 = kt_uniform(r, 0.0, 2.0 * KT_PI);
+    double a = sqrt(1.0 - u1), b = sqrt(u1);
+    double q[4] = {a * sin(u2), a * cos(u2), b * sin(u3), b * cos(u3)};
+    double s = q[0] < 0.0 ? -1.0 : 1.0;
+    kc_quat out = {(kc_real)(s * q[0]), (kc_real)(s * q[1]), (kc_real)(s * q[2]), (kc_real)(s * q[3])};
+    kc_quat unit;
+    /* Renormalise in kc_real so that a float quaternion is unit to float precision. */
+    if (kc_quat_normalize(&out, &unit) != KC_OK)
+        kc_quat_identity(&unit);
+    return unit;
+}
+
+kc_pose kt_rand_pose(kt_rng *r)
+{
+    kc_pose p;
+    kc_quat q = kt_rand_quat(r);
+    kc_quat_to_mat3(&q, &p.R);
+    for (int i = 0; i < 3; i++)
+        p.t.v[i] = (kc_real)kt_uniform(r, -2.0, 2.0);
+    return p;
+}
+
+kc_vec3 kt_rand_unit(kt_rng *r)
+{
+    double z = kt_uniform(r, -1.0, 1.0), a = kt_uniform(r, 0.0, 2.0 * KT_PI), s = sqrt(1.0 - z * z);
+    return kc_vec3_make((kc_real)(s * cos(a)), (kc_real)(s * sin(a)), (kc_real)z);
+}
+
+void kt_rand_q(kt_rng *r, const kc_chain *chain, kc_real *q)
+{
+    for (int j = 0; j < chain->n_joints; j++) {
+        double lo = (double)chain->joints[j].limits.q_min, hi = (double)chain->joints[j].limits.q_max;
+        if (!isfinite(lo))
+            lo = -KT_PI;
+        if (!isfinite(hi))
+            hi = KT_PI;
+        q[j] = (kc_real)kt_uniform(r, lo, hi);
+        /* Rounding to float can step just outside a limit. */
+        q[j] = kc_clamp(q[j], chain->joints[j].limits.q_min, chain->joints[j].limits.q_max);
+    }
+}

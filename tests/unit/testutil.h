@@ -1,0 +1,155 @@
+/*
+ * testutil.h - shared helpers of the kinctl unit tests: reference-vector
+ * loading (tests/vectors, found through $KINCTL_VECTORS), comparisons with an
+ * absolute tolerance that report which element failed and by how much, a
+ * deterministic PRNG for property tests, and the tolerances of both
+ * precisions, defined once here.
+ *
+ * Every comparison is done in double: an expected value read from JSON is
+ * never rounded to kc_real first, so a float build is judged against the
+ * double reference, not against a rounded copy of it.
+ */
+#ifndef KINCTL_TESTUTIL_H
+#define KINCTL_TESTUTIL_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <cmocka.h>
+#include <jansson.h>
+
+#include "kinctl/kinctl.h"
+
+/*
+ * Tolerances (absolute), per quantity and precision.
+ *
+ * double: the reference files' own tolerances (vectors/README.md):
+ *   1e-12 for transforms, orientation matrices, FK and Jacobians, code
+ *   chains; 1e-9 for round trips and extracted angles.
+ *
+ * float (unit roundoff u = KC_REAL_EPS / 2 = 6e-8, KC_REAL_EPS = 1.2e-7):
+ *   - KT_TOL_T 1e-5: entries of transforms, positions and Jacobians. Every
+ *     input (angle, length, q) is rounded to float (relative u), and a chain
+ *     has at most ~30 elementary transforms, each adding about 2u relative
+ *     to quantities of at most ~1.5 m (pyramid coordinates of at most ~7 units
+ *     pass through one product): 30 * 2 * 6e-8 * 1.5 = 5.4e-6, so 1e-5 bounds
+ *     it with less than a factor 2 of headroom.
+ *   - KT_TOL_RT 1e-5: round trips through a few float conversions of unit
+ *     quantities (quaternion <-> matrix, dual quaternion, Euler angles):
+ *     tens of roundings of values <= 1, i.e. ~10-30 u = 0.6e-6..2e-6, with
+ *     the angle-to-matrix conditioning <= ~2.
+ *   - KT_TOL_ANGLE 1e-5: an angle extracted by atan2 from float matrix
+ *     entries that are well conditioned (the denominator, e.g. cos(theta)
+ *     for RPY, of order 1); the ill-conditioned near-gimbal case adds
+ *     KT_TOL_ENTRY / denominator explicitly (see kt_euler_angle_tol users).
+ *   - KT_TOL_ENTRY: the rounding carried by an entry of a rotation matrix
+ *     built or read in this precision, 4 KC_REAL_EPS (both precisions).
+ */
+#ifdef KC_REAL_FLOAT
+#define KT_TOL_T 1e-5
+#define KT_TOL_RT 1e-5
+#define KT_TOL_ANGLE 1e-5
+#else
+#define KT_TOL_T 1e-12
+#define KT_TOL_RT 1e-9
+#define KT_TOL_ANGLE 1e-9
+#endif
+#define KT_TOL_ENTRY (4.0 * (double)KC_REAL_EPS)
+
+#define KT_PI 3.14159265358979323846
+
+/* ---- reference vectors ---- */
+
+/* Loads $KINCTL_VECTORS/<name>; fails the current test with a clear message
+ * when the variable is unset or the file cannot be read or parsed. The
+ * caller owns the result (json_decref). */
+json_t *kt_load(const char *name);
+/* Member of an object, failing the test when absent. */
+json_t *kt_get(const json_t *obj, const char *key);
+/* Element i of an array, failing the test when out of range. */
+json_t *kt_at(const json_t *arr, size_t i);
+/* A number (integer or real), failing the test otherwise. */
+double kt_num(const json_t *v);
+/* kt_num(kt_get(obj, key)). */
+double kt_num_of(const json_t *obj, const char *key);
+/* Reads an array of exactly n numbers. */
+void kt_read_reals(const json_t *arr, kc_real *out, size_t n);
+void kt_read_mat3(const json_t *m, kc_mat3 *out);
+void kt_read_mat4(const json_t *m, kc_mat4 *out);
+/* A 4x4 homogeneous transform as a pose (R and t copied, last row checked
+ * to be 0 0 0 1); does not go through kc_pose_from_mat4. */
+void kt_read_pose(const json_t *m, kc_pose *out);
+
+/* ---- comparisons ---- */
+
+/* Each compares element by element in double, counts every element
+ * compared (kt_checks), and on the first failure prints the label, the
+ * element index, actual, expected, |difference| and the tolerance, then
+ * fails the test at the caller's file and line. */
+#define kt_near(a, e, tol, what) kt_near_(__FILE__, __LINE__, (a), (e), (tol), (what))
+#define kt_near_angle(a, e, tol, what) kt_near_angle_(__FILE__, __LINE__, (a), (e), (tol), (what))
+#define kt_near_reals_json(a, n, arr, tol, what) kt_near_reals_json_(__FILE__, __LINE__, (a), (n), (arr), (tol), (what))
+#define kt_near_mat3_json(a, m, tol, what) kt_near_mat3_json_(__FILE__, __LINE__, (a), (m), (tol), (what))
+#define kt_near_mat4_json(a, m, tol, what) kt_near_mat4_json_(__FILE__, __LINE__, (a), (m), (tol), (what))
+#define kt_near_pose_json(a, m, tol, what) kt_near_pose_json_(__FILE__, __LINE__, (a), (m), (tol), (what))
+#define kt_near_mat3(a, b, tol, what) kt_near_mat3_(__FILE__, __LINE__, (a), (b), (tol), (what))
+#define kt_near_pose(a, b, tol, what) kt_near_pose_(__FILE__, __LINE__, (a), (b), (tol), (what))
+#define kt_near_vec3(a, b, tol, what) kt_near_vec3_(__FILE__, __LINE__, (a), (b), (tol), (what))
+#define kt_near_quat_json(a, arr, tol, what) kt_near_quat_json_(__FILE__, __LINE__, (a), (arr), (tol), (what))
+#define kt_near_quat(a, b, tol, what) kt_near_quat_(__FILE__, __LINE__, (a), (b), (tol), (what))
+#define kt_near_jac_json(a, n, m, tol, what) kt_near_jac_json_(__FILE__, __LINE__, (a), (n), (m), (tol), (what))
+
+void kt_near_(const char *file, int line, double a, double e, double tol, const char *what);
+/* Angles compared modulo 2 pi. */
+void kt_near_angle_(const char *file, int line, double a, double e, double tol, const char *what);
+void kt_near_reals_json_(const char *file, int line, const kc_real *a, size_t n, const json_t *arr, double tol,
+                         const char *what);
+void kt_near_mat3_json_(const char *file, int line, const kc_mat3 *a, const json_t *m, double tol, const char *what);
+void kt_near_mat4_json_(const char *file, int line, const kc_mat4 *a, const json_t *m, double tol, const char *what);
+/* A pose against a 4x4 homogeneous matrix (rows 1-3; row 4 must be 0 0 0 1). */
+void kt_near_pose_json_(const char *file, int line, const kc_pose *a, const json_t *m, double tol, const char *what);
+void kt_near_mat3_(const char *file, int line, const kc_mat3 *a, const kc_mat3 *b, double tol, const char *what);
+void kt_near_pose_(const char *file, int line, const kc_pose *a, const kc_pose *b, double tol, const char *what);
+void kt_near_vec3_(const char *file, int line, const kc_vec3 *a, const kc_vec3 *b, double tol, const char *what);
+/* Quaternions as rotations: q and -q are accepted only when the expected w
+ * is zero within tol (w >= 0 then no longer fixes the sign). */
+void kt_near_quat_json_(const char *file, int line, const kc_quat *a, const json_t *wxyz, double tol,
+                        const char *what);
+void kt_near_quat_(const char *file, int line, const kc_quat *a, const kc_quat *b, double tol, const char *what);
+/* The first n columns of a Jacobian against a 6 x n nested list. */
+void kt_near_jac_json_(const char *file, int line, const kc_jacobian *a, int n, const json_t *m, double tol,
+                       const char *what);
+
+/* Number of scalar comparisons made so far (reported by kt_report). */
+extern unsigned long kt_checks;
+/* Prints "<suite> (<precision>): N scalar comparisons" to stdout. */
+void kt_report(const char *suite);
+
+/* Fills a buffer with a recognisable byte, to prove an output untouched. */
+#define KT_SENTINEL 0xA5
+int kt_is_sentinel(const void *p, size_t n);
+
+/* ---- deterministic PRNG (splitmix64) ---- */
+
+typedef struct kt_rng {
+    uint64_t s;
+} kt_rng;
+
+kt_rng kt_rng_make(uint64_t seed);
+uint64_t kt_rng_next(kt_rng *r);
+/* Uniform in [lo, hi). */
+double kt_uniform(kt_rng *r, double lo, double hi);
+/* Uniformly distributed rotation (Shoemake's method) as a unit quaternion
+ * with w >= 0. */
+kc_quat kt_rand_quat(kt_rng *r);
+/* Random rigid pose: uniform rotation, translation in [-2, 2]^3 m. */
+kc_pose kt_rand_pose(kt_rng *r);
+/* Random unit vector. */
+kc_vec3 kt_rand_unit(kt_rng *r);
+/* Random joint vector inside the chain's position limits (an infinite
+ * limit is replaced by -pi or pi). */
+void kt_rand_q(kt_rng *r, const kc_chain *chain, kc_real *q);
+
+#endif /* KINCTL_TESTUTIL_H */
