@@ -8,5 +8,6 @@
 #include "kinctl/orient.h"
 #include "kinctl/chain.h"
 #include "kinctl/fk.h"
+#include "kinctl/ik.h"
 
 #endif /* KINCTL_KINCTL_H */

@@ -1,0 +1,151 @@
+/*
+ * kinctl/ik.h - inverse kinematics by integrating the kinematic equations
+ * (seed 002), with damping, joint limits and redundancy (seed 003).
+ *
+ * The method. Let L(q) be the unit dual quaternion of the tool pose and L*
+ * the target's. The error M = conj(L) o L* (seed 002 eq. 6, with the
+ * conjugate the OCR lost) is the target seen from the tool. Its real part
+ * M_r = (cos(a/2), sin(a/2) n) gives the commanded angular velocity
+ *     w = 2 k sgn(w(M_r)) vec(M_r)          (the sign picks the short way:
+ *                                             q and -q are the same pose)
+ * and its dual part the translation error, so the commanded tool twist is
+ *     U = [v; w],  v = k (t* - t)   (both mapped to the base frame by R(q)),
+ * and the joints follow qdot = J^+(q) U (seed 002 eq. 4). For the continuous
+ * system the position error obeys e' = -k e and the rotation angle
+ * a' = -2k sin(a/2), decreasing monotonically: the target is asymptotically
+ * stable from every start where J stays full rank (the seed's claim; with a
+ * pseudo-inverse it holds in the task space, not for the joint path).
+ *
+ * The discrete version. kc_ik_solve integrates with explicit Euler, step h
+ * and gain k: the task error then evolves as e+ = (1 - k h) e + O(|dq|^2),
+ * which contracts for 0 < k h < 2 and is fastest at k h = 1 (then one step
+ * is a damped Gauss-Newton step). The product k h must lie in (0, 1]
+ * (cfg.gain_step); larger values overshoot on the neglected curvature.
+ * Euler was chosen over RK4 by measurement (ik benchmark): RK4 costs four
+ * Jacobians a step and needs as many steps to reach 1e-9 when k h = 1.
+ *
+ * Damped least squares. qdot = J^T (J J^T + lambda^2 I)^-1 U with
+ *     lambda^2 = c |e|^2 + lambda_s^2 (Sugihara's error-damped
+ *     Levenberg-Marquardt, c = 0.05: damped far from the target, exact near
+ *     it; kc_ik_solve only),
+ *     lambda_s^2 = damping_max^2 (1 - w / w0)^2 when the manipulability
+ *     w = sqrt(det(J J^T)) is below w0, else 0 (Nakamura-Hanafusa; the
+ *     online step only: solve relies on its step bound instead),
+ * and every joint step bounded by cfg.max_step (the whole step is scaled
+ * down, keeping its direction).
+ *
+ * Tasks. KC_IK_MASK_FULL uses all six rows; KC_IK_MASK_POSITION the three
+ * linear rows; KC_IK_MASK_AXIS the position and the direction of the tool's
+ * z axis (5 rows: the rotation about the tool axis is free). When the chain
+ * has more joints than the task rows, the spare motion descends the
+ * objective H(q) = sum ((q_i - rest_i)/range_i)^2 + a barrier that grows
+ * inside cfg.limit_margin of each position limit, projected into the null
+ * space of J (seed 003's removal of redundancy):
+ *     qdot = J^+ U + (I - J^+ J) (-null_gain grad H).
+ *
+ * Joint limits. Every step is clamped into the position limits; a joint that
+ * sits at a limit and would be pushed beyond it is frozen for that step (its
+ * column removed) and the step solved again, so the others make up for it.
+ *
+ * Both entry points are cycle-safe: no allocation, bounded work
+ * (cfg.max_steps x (cfg.max_restarts + 1) Jacobians at most), deterministic
+ * (restarts draw from a generator seeded by cfg.seed, so repeated runs are
+ * bit-identical).
+ */
+#ifndef KINCTL_IK_H
+#define KINCTL_IK_H
+
+#include <stdint.h>
+
+#include "kinctl/fk.h"
+
+typedef enum kc_ik_mask {
+    KC_IK_MASK_FULL = 0,     /* position and orientation: 6 rows */
+    KC_IK_MASK_POSITION = 1, /* position only: 3 rows */
+    KC_IK_MASK_AXIS = 2      /* position and tool z direction: 5 rows */
+} kc_ik_mask;
+
+typedef struct kc_ik_cfg {
+    kc_ik_mask mask;
+    /* Feedback gain k (1/s) of the online step, for rotation and position. */
+    kc_real gain_rot, gain_pos;
+    /* k h of kc_ik_solve, in (0, 1]: 1 is the fastest stable choice. */
+    kc_real gain_step;
+    /* Convergence: position error (m) and rotation error (rad). */
+    kc_real tol_pos, tol_rot;
+    /* Steps per attempt, and restarts from other starts when one stalls. */
+    int max_steps;
+    int max_restarts;
+    /* Largest change of any joint in one step of kc_ik_solve (rad or m). */
+    kc_real max_step;
+    /* Singularity damping: lambda_s reaches damping_max as the
+     * manipulability falls from manip_threshold to zero. */
+    kc_real damping_max;
+    kc_real manip_threshold;
+    /* Null-space objective (redundant tasks only): gain (1/s for the online
+     * step, per step for solve), the margin kept from each position limit as
+     * a fraction of its range, and the rest posture. */
+    kc_real null_gain;
+    kc_real limit_margin;
+    kc_real q_rest[KC_MAX_JOINTS];
+    int use_rest; /* 0: rest = middle of each joint's range */
+    /* Seed of the restart generator. */
+    uint64_t seed;
+} kc_ik_cfg;
+
+/* Defaults: full task, k = 20 1/s online, k h = 1, tolerances 1e-10 m and
+ * 1e-10 rad (double; 1e-5 m and 1e-4 rad in float), 100 steps, 20 restarts,
+ * max step 1 rad, damping_max 0.05, manipulability threshold 1e-3,
+ * null-space gain 0.5, margin 5 %, rest = mid-range. */
+kc_ik_cfg kc_ik_cfg_default(void);
+
+/* KC_OK when every field is usable (positive gains and tolerances, k h in
+ * (0, 1], finite rest posture...), else KC_E_ARG. */
+kc_status kc_ik_cfg_check(const kc_ik_cfg *cfg, const kc_chain *chain);
+
+typedef struct kc_ik_result {
+    kc_status status;
+    int steps;       /* Jacobian evaluations, over all attempts */
+    int restarts;    /* attempts after the first */
+    kc_real pos_err; /* m, at the returned q */
+    kc_real rot_err; /* rad (the axis angle for KC_IK_MASK_AXIS; 0 for position) */
+} kc_ik_result;
+
+/*
+ * Integrates from q0 until the tool reaches target within the tolerances.
+ *   KC_OK            converged; q holds the solution, inside the limits.
+ *   KC_E_NOCONVERGE  not within max_steps x (max_restarts + 1); q holds the
+ *                    best configuration found and res its residuals.
+ *   KC_E_UNREACHABLE target farther from the base than the chain can reach
+ *                    (q untouched).
+ *   KC_E_ARG         NULL, non-finite target or q0, q0 count mismatch, bad
+ *                    cfg (q and res untouched).
+ * q0 outside the limits is clamped into them first. q may alias q0.
+ */
+kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose *target, const kc_real *q0,
+                      kc_real *q, kc_ik_result *res);
+
+/*
+ * One step of the online law for the control cycle: from joint state (q, qd)
+ * towards target, over the period dt (s). Commands qd_next = DLS(k e) plus the
+ * null-space term, scaled down as a whole to respect every joint's velocity
+ * limit and its acceleration limit relative to qd, then q_next = q +
+ * qd_next dt clamped into the position limits.
+ *   KC_OK            stepped; res holds the error before the step.
+ *   KC_DONE          already within the tolerances: q_next = q, qd_next = 0.
+ *   KC_E_LIMIT       stepped, but a joint was stopped at a position limit.
+ *   KC_E_SINGULAR    stepped, but the singularity damping is active (the
+ *                    tool will not follow the commanded twist exactly).
+ *   KC_E_ARG         bad input; outputs untouched.
+ * q_next and qd_next may alias q and qd.
+ */
+kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose *target, kc_real dt,
+                     const kc_real *q, const kc_real *qd, kc_real *q_next, kc_real *qd_next, kc_ik_result *res);
+
+/* Distance from the base origin beyond which no configuration reaches: the
+ * sum of every constant translation, the largest prismatic travels and the
+ * tool offset. A cheap, conservative workspace bound (infinite when a
+ * prismatic joint is unbounded). */
+kc_real kc_ik_reach(const kc_chain *chain);
+
+#endif /* KINCTL_IK_H */

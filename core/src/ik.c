@@ -1,0 +1,547 @@
+/* ik.c - inverse kinematics by integrating qdot = J^+ U with the dual
+ * quaternion feedback law of seed 002; damping, limits and redundancy as
+ * documented in kinctl/ik.h. */
+#include "kinctl/ik.h"
+
+#include "linalg_internal.h"
+
+kc_ik_cfg kc_ik_cfg_default(void)
+{
+    kc_ik_cfg c;
+    c.mask = KC_IK_MASK_FULL;
+    c.gain_rot = KC_R(20.0);
+    c.gain_pos = KC_R(20.0);
+    c.gain_step = KC_R(1.0);
+#ifdef KC_REAL_FLOAT
+    c.tol_pos = KC_R(1e-5);
+    c.tol_rot = KC_R(1e-4);
+#else
+    c.tol_pos = KC_R(1e-10);
+    c.tol_rot = KC_R(1e-10);
+#endif
+    c.max_steps = 100;
+    c.max_restarts = 20;
+    c.max_step = KC_R(1.0);
+    c.damping_max = KC_R(0.05);
+    c.manip_threshold = KC_R(1e-3);
+    c.null_gain = KC_R(0.5);
+    c.limit_margin = KC_R(0.05);
+    for (int i = 0; i < KC_MAX_JOINTS; i++)
+        c.q_rest[i] = KC_R(0.0);
+    c.use_rest = 0;
+    c.seed = 0x6b696e63746cULL; /* "kinctl" */
+    return c;
+}
+
+static int positive(kc_real x) { return kc_isfinite(x) && x > KC_R(0.0); }
+
+kc_status kc_ik_cfg_check(const kc_ik_cfg *cfg, const kc_chain *chain)
+{
+    if (cfg == NULL || chain == NULL)
+        return KC_E_ARG;
+    if ((unsigned)cfg->mask > (unsigned)KC_IK_MASK_AXIS)
+        return KC_E_ARG;
+    if (!positive(cfg->gain_rot) || !positive(cfg->gain_pos) || !positive(cfg->gain_step) ||
+        cfg->gain_step > KC_R(1.0))
+        return KC_E_ARG;
+    if (!positive(cfg->tol_pos) || !positive(cfg->tol_rot) || !positive(cfg->max_step))
+        return KC_E_ARG;
+    if (cfg->max_steps < 1 || cfg->max_restarts < 0)
+        return KC_E_ARG;
+    if (!positive(cfg->damping_max) || !positive(cfg->manip_threshold))
+        return KC_E_ARG;
+    if (!kc_isfinite(cfg->null_gain) || cfg->null_gain < KC_R(0.0))
+        return KC_E_ARG;
+    if (!kc_isfinite(cfg->limit_margin) || cfg->limit_margin < KC_R(0.0) || cfg->limit_margin >= KC_R(0.5))
+        return KC_E_ARG;
+    if (cfg->use_rest)
+        for (int j = 0; j < chain->n_joints; j++)
+            if (!kc_isfinite(cfg->q_rest[j]))
+                return KC_E_ARG;
+    return KC_OK;
+}
+
+/* ---- the task: error and Jacobian rows ---- */
+
+static int task_rows(kc_ik_mask mask)
+{
+    return mask == KC_IK_MASK_FULL ? 6 : (mask == KC_IK_MASK_POSITION ? 3 : 5);
+}
+
+/* The task error at pose cur, in the base frame: rows 0-2 the translation
+ * error (m), then the rotation rows. pos_err and rot_err get the magnitudes.
+ * Full task: seed 002's law on M = conj(L) o L*, returned unscaled (k = 1):
+ * w = 2 sgn(M_r.w) R vec(M_r), v = R vec(2 M_d o conj(M_r)) = t* - t.
+ * Axis task: the rotation that turns the tool z onto the target's z, as its
+ * components along the tool's x and y (the z component is free). */
+static void task_error(kc_ik_mask mask, const kc_pose *cur, const kc_dquat *target_dq, const kc_pose *target,
+                       kc_real e[6], kc_real *pos_err, kc_real *rot_err)
+{
+    kc_dquat l, lc, m;
+    kc_dquat_from_pose(cur, &l);
+    kc_dquat_conj(&l, &lc);
+    kc_dquat_mul(&lc, target_dq, &m);
+
+    kc_quat mrc, vt;
+    kc_quat_conj(&m.r, &mrc);
+    kc_quat_mul(&m.d, &mrc, &vt); /* half the translation error, tool frame */
+    kc_vec3 v = kc_vec3_make(KC_R(2.0) * vt.x, KC_R(2.0) * vt.y, KC_R(2.0) * vt.z);
+    kc_mat3_mul_vec(&cur->R, &v, &v);
+    e[0] = v.v[0];
+    e[1] = v.v[1];
+    e[2] = v.v[2];
+    *pos_err = kc_vec3_norm(&v);
+
+    if (mask == KC_IK_MASK_FULL) {
+        kc_real sgn = m.r.w < KC_R(0.0) ? KC_R(-2.0) : KC_R(2.0);
+        kc_vec3 w = kc_vec3_make(sgn * m.r.x, sgn * m.r.y, sgn * m.r.z);
+        kc_real s = KC_R(0.5) * kc_vec3_norm(&w);
+        *rot_err = KC_R(2.0) * kc_atan2(s, kc_fabs(m.r.w));
+        kc_mat3_mul_vec(&cur->R, &w, &w);
+        e[3] = w.v[0];
+        e[4] = w.v[1];
+        e[5] = w.v[2];
+    } else if (mask == KC_IK_MASK_AXIS) {
+        kc_vec3 z = kc_vec3_make(cur->R.m[0][2], cur->R.m[1][2], cur->R.m[2][2]);
+        kc_vec3 zt = kc_vec3_make(target->R.m[0][2], target->R.m[1][2], target->R.m[2][2]);
+        kc_vec3 c;
+        kc_vec3_cross(&z, &zt, &c);
+        kc_real sn = kc_vec3_norm(&c), cs = kc_vec3_dot(&z, &zt);
+        kc_real angle = kc_atan2(sn, cs);
+        kc_vec3 axis;
+        if (sn > KC_REAL_EPS) {
+            kc_vec3_scale(&c, angle / sn, &axis);
+        } else if (cs < KC_R(0.0)) {
+            /* Anti-parallel: any axis normal to z turns it over; take x. */
+            axis = kc_vec3_make(cur->R.m[0][0] * angle, cur->R.m[1][0] * angle, cur->R.m[2][0] * angle);
+        } else {
+            axis = kc_vec3_make(KC_R(0.0), KC_R(0.0), KC_R(0.0));
+        }
+        /* Components along the tool's x and y axes. */
+        e[3] = cur->R.m[0][0] * axis.v[0] + cur->R.m[1][0] * axis.v[1] + cur->R.m[2][0] * axis.v[2];
+        e[4] = cur->R.m[0][1] * axis.v[0] + cur->R.m[1][1] * axis.v[1] + cur->R.m[2][1] * axis.v[2];
+        *rot_err = angle;
+    } else {
+        *rot_err = KC_R(0.0);
+    }
+}
+
+/* The task's rows of the Jacobian: for the axis task the angular rows are
+ * taken along the tool's x and y axes, matching task_error. */
+static void task_jacobian(kc_ik_mask mask, const kc_jacobian *jac, const kc_pose *cur, int n,
+                          kc_real jt[6][KC_MAX_JOINTS])
+{
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < n; j++)
+            jt[i][j] = jac->m[i][j];
+    if (mask == KC_IK_MASK_FULL) {
+        for (int i = 3; i < 6; i++)
+            for (int j = 0; j < n; j++)
+                jt[i][j] = jac->m[i][j];
+    } else if (mask == KC_IK_MASK_AXIS) {
+        for (int a = 0; a < 2; a++)
+            for (int j = 0; j < n; j++)
+                jt[3 + a][j] = cur->R.m[0][a] * jac->m[3][j] + cur->R.m[1][a] * jac->m[4][j] +
+                               cur->R.m[2][a] * jac->m[5][j];
+    }
+}
+
+/* ---- one damped least-squares step ---- */
+
+typedef struct ik_problem {
+    const kc_chain *chain;
+    const kc_ik_cfg *cfg;
+    int n, r;
+    int singular_damping; /* add the Nakamura-Hanafusa term (online step) */
+    kc_real lo[KC_MAX_JOINTS], hi[KC_MAX_JOINTS], rest[KC_MAX_JOINTS], range[KC_MAX_JOINTS];
+} ik_problem;
+
+static void problem_init(ik_problem *p, const kc_chain *chain, const kc_ik_cfg *cfg)
+{
+    p->chain = chain;
+    p->cfg = cfg;
+    p->n = chain->n_joints;
+    p->r = task_rows(cfg->mask);
+    p->singular_damping = 1;
+    for (int j = 0; j < p->n; j++) {
+        const kc_joint_limits *l = &chain->joints[j].limits;
+        p->lo[j] = l->q_min;
+        p->hi[j] = l->q_max;
+        int bounded = kc_isfinite(l->q_min) && kc_isfinite(l->q_max);
+        p->range[j] = bounded && l->q_max > l->q_min ? l->q_max - l->q_min : KC_R(2.0) * KC_PI;
+        if (cfg->use_rest)
+            p->rest[j] = cfg->q_rest[j];
+        else
+            p->rest[j] = bounded ? KC_R(0.5) * (l->q_min + l->q_max) : KC_R(0.0);
+    }
+}
+
+/* Gradient of the redundancy objective H (see ik.h). */
+static void null_gradient(const ik_problem *p, const kc_real *q, kc_real *g)
+{
+    for (int j = 0; j < p->n; j++) {
+        kc_real range = p->range[j];
+        kc_real gj = (q[j] - p->rest[j]) / (range * range);
+        kc_real margin = p->cfg->limit_margin * range;
+        if (margin > KC_R(0.0)) {
+            /* Quadratic barrier inside the margin, 100 times the rest pull. */
+            kc_real over_hi = q[j] - (p->hi[j] - margin), over_lo = (p->lo[j] + margin) - q[j];
+            if (over_hi > KC_R(0.0))
+                gj += KC_R(100.0) * over_hi / (margin * margin);
+            if (over_lo > KC_R(0.0))
+                gj -= KC_R(100.0) * over_lo / (margin * margin);
+        }
+        g[j] = gj;
+    }
+}
+
+/*
+ * The damped least-squares step with the frozen joints' columns removed:
+ *     dq = Jt^T A^-1 u + (z - Jt^T A^-1 Jt z),  A = Jt Jt^T + lambda^2 I,
+ * task part first, then z = -grad H projected into the null space (on
+ * redundant tasks). The null part is bounded by half of null_bound on its own
+ * (it does not move the tool, so shrinking it never slows the task). lambda2
+ * is the error damping; the singularity damping is added here. Returns the
+ * manipulability of the unfrozen task Jacobian.
+ */
+static kc_real dls_solve(const ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], const kc_real *u, kc_real lambda2,
+                         kc_real null_scale, kc_real null_bound, const kc_real *q, const uint8_t *frozen, kc_real *dq)
+{
+    int n = p->n, r = p->r;
+    kc_real a[KC_LINALG_MAX][KC_LINALG_MAX];
+    kc_real z[KC_MAX_JOINTS];
+    kc_real y[KC_LINALG_MAX], yz[KC_LINALG_MAX];
+    int redundant = n > r && null_scale > KC_R(0.0);
+
+    if (redundant) {
+        null_gradient(p, q, z);
+        for (int j = 0; j < n; j++)
+            z[j] = frozen[j] ? KC_R(0.0) : -null_scale * z[j];
+    }
+    for (int i = 0; i < r; i++) {
+        for (int k = 0; k <= i; k++) {
+            kc_real s = KC_R(0.0);
+            for (int j = 0; j < n; j++)
+                if (!frozen[j])
+                    s += jt[i][j] * jt[k][j];
+            a[i][k] = a[k][i] = s;
+        }
+        y[i] = u[i];
+        yz[i] = KC_R(0.0);
+        if (redundant)
+            for (int j = 0; j < n; j++)
+                yz[i] += jt[i][j] * z[j];
+    }
+
+    /* Manipulability sqrt(det(J J^T)) from an undamped factorisation. */
+    kc_real l[KC_LINALG_MAX][KC_LINALG_MAX], det = KC_R(0.0);
+    for (int i = 0; i < r; i++)
+        for (int k = 0; k < r; k++)
+            l[i][k] = a[i][k];
+    kc_cholesky(l, r, &det);
+    kc_real w = kc_sqrt(kc_max(det, KC_R(0.0)));
+    kc_real damp = lambda2;
+    if (p->singular_damping && w < p->cfg->manip_threshold) {
+        kc_real f = KC_R(1.0) - w / p->cfg->manip_threshold;
+        damp += p->cfg->damping_max * p->cfg->damping_max * f * f;
+    }
+    /* A floor keeps the factorisation defined at an exact singularity. */
+    damp = kc_max(damp, KC_REAL_EPS);
+    for (int i = 0; i < r; i++)
+        a[i][i] += damp;
+    if (!kc_cholesky(a, r, NULL)) {
+        for (int j = 0; j < n; j++)
+            dq[j] = KC_R(0.0);
+        return KC_R(0.0);
+    }
+    kc_cholesky_solve(a, r, y);
+    if (redundant)
+        kc_cholesky_solve(a, r, yz);
+
+    kc_real null_max = KC_R(0.0);
+    for (int j = 0; j < n; j++) {
+        kc_real t = KC_R(0.0), nz = KC_R(0.0);
+        if (!frozen[j]) {
+            for (int i = 0; i < r; i++) {
+                t += jt[i][j] * y[i];
+                nz += jt[i][j] * yz[i];
+            }
+            if (redundant)
+                nz = z[j] - nz;
+        }
+        dq[j] = t;
+        z[j] = redundant && !frozen[j] ? nz : KC_R(0.0);
+        null_max = kc_max(null_max, kc_fabs(z[j]));
+    }
+    kc_real ns = null_max > KC_R(0.5) * null_bound ? KC_R(0.5) * null_bound / null_max : KC_R(1.0);
+    for (int j = 0; j < n; j++)
+        dq[j] += ns * z[j];
+    return w;
+}
+
+/* Solves, then freezes every joint at a limit that the step would push
+ * beyond and solves again (at most twice: freezing only grows). */
+static kc_real limited_step(const ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], const kc_real *u, kc_real lambda2,
+                            kc_real null_scale, kc_real null_bound, const kc_real *q, kc_real *dq)
+{
+    uint8_t frozen[KC_MAX_JOINTS] = {0};
+    kc_real w = KC_R(0.0);
+    for (int pass = 0; pass < 3; pass++) {
+        int more = 0;
+        w = dls_solve(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq);
+        for (int j = 0; j < p->n; j++) {
+            if (!frozen[j] && ((q[j] >= p->hi[j] && dq[j] > KC_R(0.0)) || (q[j] <= p->lo[j] && dq[j] < KC_R(0.0)))) {
+                frozen[j] = 1;
+                more = 1;
+            }
+        }
+        if (!more)
+            break;
+    }
+    return w;
+}
+
+static void clamp_q(const ik_problem *p, kc_real *q)
+{
+    for (int j = 0; j < p->n; j++)
+        q[j] = kc_clamp(q[j], p->lo[j], p->hi[j]);
+}
+
+/* ---- workspace bound ---- */
+
+kc_real kc_ik_reach(const kc_chain *chain)
+{
+    kc_real reach = kc_vec3_norm(&chain->tool.t);
+    for (int e = 0; e < chain->n_elements; e++) {
+        const kc_element *el = &chain->elements[e];
+        if (el->code >= KC_CODE_TX && el->code <= KC_CODE_TZ) {
+            reach += kc_fabs(el->value);
+        } else if (el->code >= KC_CODE_TX_JOINT && el->code <= KC_CODE_TZ_JOINT) {
+            const kc_joint *j = &chain->joints[el->joint];
+            reach += kc_max(kc_fabs(j->limits.q_min + j->offset), kc_fabs(j->limits.q_max + j->offset));
+        }
+    }
+    return reach;
+}
+
+/* ---- solve to convergence ---- */
+
+/* Errors below which kc_ik_solve drops the null-space term (m, rad). */
+#define KC_IK_POLISH_POS KC_R(1e-3)
+#define KC_IK_POLISH_ROT KC_R(1e-3)
+/* lambda^2 = c |e|^2 in solve (Sugihara's error damping; c = 0.05 measured
+ * best of 0.5, 0.05 and 0.005 on random puma560 and panda targets). */
+#define KC_IK_ERROR_DAMPING KC_R(0.05)
+
+/* splitmix64: a small, well-mixed generator for restart configurations. */
+static uint64_t next_random(uint64_t *state)
+{
+    uint64_t z = (*state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+}
+
+static void random_q(const ik_problem *p, uint64_t *state, kc_real *q)
+{
+    for (int j = 0; j < p->n; j++) {
+        kc_real u = (kc_real)(next_random(state) >> 11) * (kc_real)(1.0 / 9007199254740992.0);
+        kc_real lo = kc_isfinite(p->lo[j]) ? p->lo[j] : -KC_PI;
+        kc_real hi = kc_isfinite(p->hi[j]) ? p->hi[j] : KC_PI;
+        q[j] = lo + u * (hi - lo);
+    }
+}
+
+static int q_valid(const kc_chain *chain, const kc_real *q)
+{
+    for (int j = 0; j < chain->n_joints; j++)
+        if (!kc_isfinite(q[j]))
+            return 0;
+    return 1;
+}
+
+kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose *target, const kc_real *q0,
+                      kc_real *q_out, kc_ik_result *res)
+{
+    if (chain == NULL || cfg == NULL || target == NULL || q0 == NULL || q_out == NULL || res == NULL)
+        return KC_E_ARG;
+    if (kc_ik_cfg_check(cfg, chain) != KC_OK || !kc_pose_isfinite(target) || !q_valid(chain, q0) ||
+        !(kc_mat3_rotation_error(&target->R) <= KC_TOL_ORTHONORMAL))
+        return KC_E_ARG;
+
+    kc_vec3 d;
+    kc_vec3_sub(&target->t, &chain->base.t, &d);
+    if (kc_vec3_norm(&d) > kc_ik_reach(chain)) {
+        res->status = KC_E_UNREACHABLE;
+        res->steps = res->restarts = 0;
+        res->pos_err = res->rot_err = KC_R(0.0);
+        return KC_E_UNREACHABLE;
+    }
+
+    ik_problem p;
+    problem_init(&p, chain, cfg);
+    /* The error damping and the step bound keep solve's steps finite at a
+     * singularity; extra damping there would only slow the last digits. */
+    p.singular_damping = 0;
+    kc_dquat target_dq;
+    kc_dquat_from_pose(target, &target_dq);
+
+    kc_real q[KC_MAX_JOINTS], best_q[KC_MAX_JOINTS], dq[KC_MAX_JOINTS];
+    kc_real best_cost = KC_REAL_MAX, best_pos = KC_REAL_MAX, best_rot = KC_REAL_MAX;
+    kc_real jt[6][KC_MAX_JOINTS];
+    kc_jacobian jac;
+    kc_pose cur;
+    uint64_t rng = cfg->seed;
+    int steps = 0, attempt;
+    kc_status status = KC_E_NOCONVERGE;
+
+    for (int j = 0; j < p.n; j++)
+        q[j] = q0[j];
+    clamp_q(&p, q);
+    for (int j = 0; j < p.n; j++)
+        best_q[j] = q[j];
+
+    for (attempt = 0; attempt <= cfg->max_restarts && status != KC_OK; attempt++) {
+        if (attempt > 0)
+            random_q(&p, &rng, q);
+        /* cost history for stall detection: the cost ten steps back */
+        kc_real history[10];
+        for (int i = 0; i < 10; i++)
+            history[i] = KC_REAL_MAX;
+        for (int s = 0; s < cfg->max_steps; s++) {
+            kc_real e[6], pos_err, rot_err;
+            kc_fk_jacobian(chain, q, &jac, &cur);
+            steps++;
+            task_error(cfg->mask, &cur, &target_dq, target, e, &pos_err, &rot_err);
+            kc_real cost = KC_R(0.0);
+            for (int i = 0; i < p.r; i++)
+                cost += e[i] * e[i];
+            if (cost < best_cost) {
+                best_cost = cost;
+                best_pos = pos_err;
+                best_rot = rot_err;
+                for (int j = 0; j < p.n; j++)
+                    best_q[j] = q[j];
+            }
+            if (pos_err <= cfg->tol_pos && rot_err <= cfg->tol_rot) {
+                status = KC_OK;
+                break;
+            }
+            /* Progress: the cost must halve every ten steps, else restart. */
+            if (s >= 10 && cost > KC_R(0.5) * history[s % 10])
+                break;
+            history[s % 10] = cost;
+
+            kc_real u[6];
+            for (int i = 0; i < p.r; i++)
+                u[i] = cfg->gain_step * e[i];
+            task_jacobian(cfg->mask, &jac, &cur, p.n, jt);
+            /* Close to the target the null-space motion stops: its curvature
+             * would keep feeding a small task error back every step, and
+             * plain Gauss-Newton finishes quadratically. */
+            kc_real null_gain = pos_err < KC_IK_POLISH_POS && rot_err < KC_IK_POLISH_ROT ? KC_R(0.0) : cfg->null_gain;
+            /* The null step shrinks with the task error, so its curvature
+             * cannot hold the task error up. */
+            kc_real null_bound = kc_min(cfg->max_step, kc_sqrt(cost));
+            limited_step(&p, jt, u, KC_IK_ERROR_DAMPING * cost, null_gain, null_bound, q, dq);
+
+            kc_real biggest = KC_R(0.0);
+            for (int j = 0; j < p.n; j++)
+                biggest = kc_max(biggest, kc_fabs(dq[j]));
+            kc_real scale = biggest > cfg->max_step ? cfg->max_step / biggest : KC_R(1.0);
+            for (int j = 0; j < p.n; j++)
+                q[j] += scale * dq[j];
+            clamp_q(&p, q);
+        }
+    }
+
+    for (int j = 0; j < p.n; j++)
+        q_out[j] = best_q[j];
+    res->status = status;
+    res->steps = steps;
+    res->restarts = attempt - 1;
+    res->pos_err = best_pos;
+    res->rot_err = best_rot;
+    return status;
+}
+
+/* ---- one online step ---- */
+
+kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose *target, kc_real dt,
+                     const kc_real *q, const kc_real *qd, kc_real *q_next, kc_real *qd_next, kc_ik_result *res)
+{
+    if (chain == NULL || cfg == NULL || target == NULL || q == NULL || qd == NULL || q_next == NULL ||
+        qd_next == NULL || res == NULL)
+        return KC_E_ARG;
+    if (kc_ik_cfg_check(cfg, chain) != KC_OK || !positive(dt) || !kc_pose_isfinite(target) ||
+        !q_valid(chain, q) || !q_valid(chain, qd))
+        return KC_E_ARG;
+
+    ik_problem p;
+    problem_init(&p, chain, cfg);
+    kc_dquat target_dq;
+    kc_dquat_from_pose(target, &target_dq);
+    kc_jacobian jac;
+    kc_pose cur;
+    kc_real e[6], pos_err, rot_err, jt[6][KC_MAX_JOINTS], qd_des[KC_MAX_JOINTS];
+    int n = p.n;
+
+    kc_fk_jacobian(chain, q, &jac, &cur);
+    task_error(cfg->mask, &cur, &target_dq, target, e, &pos_err, &rot_err);
+    res->steps = 1;
+    res->restarts = 0;
+    res->pos_err = pos_err;
+    res->rot_err = rot_err;
+
+    int at_rest = 1;
+    for (int j = 0; j < n; j++)
+        at_rest = at_rest && qd[j] == KC_R(0.0);
+    if (pos_err <= cfg->tol_pos && rot_err <= cfg->tol_rot && at_rest) {
+        for (int j = 0; j < n; j++) {
+            q_next[j] = q[j];
+            qd_next[j] = KC_R(0.0);
+        }
+        res->status = KC_DONE;
+        return KC_DONE;
+    }
+
+    kc_real u[6];
+    for (int i = 0; i < p.r; i++)
+        u[i] = (i < 3 ? cfg->gain_pos : cfg->gain_rot) * e[i];
+    task_jacobian(cfg->mask, &jac, &cur, n, jt);
+    /* The null-space velocity stays below half the slowest joint's limit. */
+    kc_real null_bound = KC_REAL_MAX;
+    for (int j = 0; j < n; j++)
+        null_bound = kc_min(null_bound, chain->joints[j].limits.qd_max);
+    kc_real w = limited_step(&p, jt, u, KC_R(0.0), cfg->null_gain, null_bound, q, qd_des);
+
+    /* One scale for the whole command keeps the tool on its direction:
+     * first the velocity limits, then the acceleration limits from qd. */
+    kc_real s = KC_R(1.0);
+    for (int j = 0; j < n; j++) {
+        kc_real lim = chain->joints[j].limits.qd_max;
+        if (kc_fabs(qd_des[j]) * s > lim)
+            s = lim / kc_fabs(qd_des[j]);
+    }
+    kc_real a = KC_R(1.0);
+    for (int j = 0; j < n; j++) {
+        kc_real dv = kc_fabs(s * qd_des[j] - qd[j]);
+        kc_real lim = chain->joints[j].limits.qdd_max * dt;
+        if (dv * a > lim)
+            a = lim / dv;
+    }
+    kc_status status = w < cfg->manip_threshold ? KC_E_SINGULAR : KC_OK;
+    for (int j = 0; j < n; j++) {
+        kc_real v = qd[j] + a * (s * qd_des[j] - qd[j]);
+        kc_real qn = q[j] + v * dt;
+        if (qn > p.hi[j] || qn < p.lo[j]) {
+            qn = kc_clamp(qn, p.lo[j], p.hi[j]);
+            v = KC_R(0.0);
+            status = KC_E_LIMIT;
+        }
+        q_next[j] = qn;
+        qd_next[j] = v;
+    }
+    res->status = status;
+    return status;
+}

@@ -1,0 +1,59 @@
+/* linalg_internal.h - the small dense linear algebra the solvers need: a
+ * Cholesky factorisation of an r x r symmetric positive definite matrix
+ * (r <= 6) and the solve with it. Private to the core. */
+#ifndef KINCTL_LINALG_INTERNAL_H
+#define KINCTL_LINALG_INTERNAL_H
+
+#include "kinctl/real.h"
+
+#define KC_LINALG_MAX 6
+
+/* In place: the lower triangle of a becomes L with a = L L^T. Returns 0 when
+ * a pivot is not positive (a is then not positive definite), else 1. *det
+ * receives det(a) = prod(L_ii)^2 when det is not NULL. */
+static inline int kc_cholesky(kc_real a[KC_LINALG_MAX][KC_LINALG_MAX], int r, kc_real *det)
+{
+    kc_real d = KC_R(1.0);
+    for (int j = 0; j < r; j++) {
+        kc_real s = a[j][j];
+        for (int k = 0; k < j; k++)
+            s -= a[j][k] * a[j][k];
+        if (!(s > KC_R(0.0))) {
+            if (det != NULL)
+                *det = KC_R(0.0);
+            return 0;
+        }
+        d *= s;
+        kc_real ljj = kc_sqrt(s);
+        a[j][j] = ljj;
+        kc_real inv = KC_R(1.0) / ljj;
+        for (int i = j + 1; i < r; i++) {
+            kc_real t = a[i][j];
+            for (int k = 0; k < j; k++)
+                t -= a[i][k] * a[j][k];
+            a[i][j] = t * inv;
+        }
+    }
+    if (det != NULL)
+        *det = d;
+    return 1;
+}
+
+/* Solves L L^T x = b in place in b, with L from kc_cholesky. */
+static inline void kc_cholesky_solve(kc_real l[KC_LINALG_MAX][KC_LINALG_MAX], int r, kc_real b[KC_LINALG_MAX])
+{
+    for (int i = 0; i < r; i++) {
+        kc_real t = b[i];
+        for (int k = 0; k < i; k++)
+            t -= l[i][k] * b[k];
+        b[i] = t / l[i][i];
+    }
+    for (int i = r - 1; i >= 0; i--) {
+        kc_real t = b[i];
+        for (int k = i + 1; k < r; k++)
+            t -= l[k][i] * b[k];
+        b[i] = t / l[i][i];
+    }
+}
+
+#endif /* KINCTL_LINALG_INTERNAL_H */
