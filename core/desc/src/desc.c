@@ -1,0 +1,521 @@
+/* desc.c - reads robot description files with libconfig and builds chains
+ * with the core's builders (format: kinctl/desc.h, examples: models/). */
+#include "kinctl/desc.h"
+
+#include <errno.h>
+#include <libconfig.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* State of one load: where messages point and the file's angle unit. */
+typedef struct reader {
+    const char *file;
+    kc_desc_error *err;
+    int deg;
+} reader;
+
+static void write_error(kc_desc_error *e, const char *file, int line, const char *problem)
+{
+    snprintf(e->file, sizeof e->file, "%s", file);
+    e->line = line;
+    snprintf(e->problem, sizeof e->problem, "%s", problem);
+    if (line > 0)
+        snprintf(e->text, sizeof e->text, "%s:%d: %s", e->file, line, e->problem);
+    else
+        snprintf(e->text, sizeof e->text, "%s: %s", e->file, e->problem);
+}
+
+static void set_error(reader *r, const char *file, int line, const char *fmt, va_list ap)
+{
+    char problem[KC_DESC_TEXT_LEN];
+    if (r->err == NULL)
+        return;
+    vsnprintf(problem, sizeof problem, fmt, ap);
+    write_error(r->err, file != NULL ? file : r->file, line, problem);
+}
+
+#if defined(__GNUC__)
+#define KC_PRINTF(f, a) __attribute__((format(printf, f, a)))
+#else
+#define KC_PRINTF(f, a)
+#endif
+
+/* Records an error at setting s (its line and, for @include'd text, its
+ * file) and returns st, so that callers write `return fail(...)`. */
+static kc_status fail_at(reader *r, const config_setting_t *s, kc_status st, const char *fmt, ...) KC_PRINTF(4, 5);
+static kc_status fail_at(reader *r, const config_setting_t *s, kc_status st, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    set_error(r, s != NULL ? config_setting_source_file(s) : NULL, s != NULL ? (int)config_setting_source_line(s) : 0,
+              fmt, ap);
+    va_end(ap);
+    return st;
+}
+
+#define fail(r, s, ...) fail_at((r), (s), KC_E_ARG, __VA_ARGS__)
+
+/* Every key of group must be in allowed (NULL-terminated). */
+static kc_status check_keys(reader *r, const config_setting_t *group, const char *where, const char *const *allowed)
+{
+    int n = config_setting_length(group);
+    for (int i = 0; i < n; i++) {
+        const config_setting_t *s = config_setting_get_elem(group, (unsigned)i);
+        const char *name = config_setting_name(s);
+        int known = 0;
+        for (const char *const *a = allowed; *a != NULL && !known; a++)
+            known = strcmp(name, *a) == 0;
+        if (!known) {
+            char list[256] = "";
+            size_t len = 0;
+            for (const char *const *a = allowed; *a != NULL; a++) {
+                int w = snprintf(list + len, sizeof list - len, "%s%s", a == allowed ? "" : ", ", *a);
+                if (w < 0 || (size_t)w >= sizeof list - len)
+                    break;
+                len += (size_t)w;
+            }
+            return fail(r, s, "unknown key \"%s\" in %s (expected one of: %s)", name, where, list);
+        }
+    }
+    return KC_OK;
+}
+
+static int is_number(const config_setting_t *s)
+{
+    int t = config_setting_type(s);
+    return t == CONFIG_TYPE_INT || t == CONFIG_TYPE_INT64 || t == CONFIG_TYPE_FLOAT;
+}
+
+/* A number from s, times scale, finite in kc_real. */
+static kc_status number_of(reader *r, const config_setting_t *s, const char *what, kc_real scale, kc_real *out)
+{
+    if (!is_number(s))
+        return fail(r, s, "%s must be a number", what);
+    kc_real v = (kc_real)config_setting_get_float(s) * scale;
+    if (!kc_isfinite(v))
+        return fail(r, s, "%s is not a finite number", what);
+    *out = v;
+    return KC_OK;
+}
+
+/* An optional (required = 0) or required number key; *present says which. */
+static kc_status lookup_number(reader *r, const config_setting_t *group, const char *key, const char *where,
+                               int required, kc_real scale, kc_real *out, int *present)
+{
+    const config_setting_t *s = config_setting_get_member(group, key);
+    char what[96];
+    if (present != NULL)
+        *present = s != NULL;
+    if (s == NULL)
+        return required ? fail(r, group, "%s: missing key \"%s\"", where, key) : KC_OK;
+    snprintf(what, sizeof what, "%s: %s", where, key);
+    return number_of(r, s, what, scale, out);
+}
+
+/* A vector of n numbers: an array [..] or a list (..). */
+static kc_status vector_of(reader *r, const config_setting_t *s, const char *what, int n, kc_real scale, kc_real *out)
+{
+    if (!config_setting_is_array(s) && !config_setting_is_list(s))
+        return fail(r, s, "%s must be a vector of %d numbers, e.g. [0.0, 0.0, 0.0]", what, n);
+    if (config_setting_length(s) != n)
+        return fail(r, s, "%s must hold %d numbers, not %d", what, n, config_setting_length(s));
+    for (int i = 0; i < n; i++) {
+        char item[112];
+        snprintf(item, sizeof item, "%s[%d]", what, i);
+        kc_status st = number_of(r, config_setting_get_elem(s, (unsigned)i), item, scale, &out[i]);
+        if (st != KC_OK)
+            return st;
+    }
+    return KC_OK;
+}
+
+static kc_status lookup_string(reader *r, const config_setting_t *group, const char *key, const char *where,
+                               int required, const char **out)
+{
+    const config_setting_t *s = config_setting_get_member(group, key);
+    if (s == NULL)
+        return required ? fail(r, group, "%s: missing key \"%s\"", where, key) : KC_OK;
+    if (config_setting_type(s) != CONFIG_TYPE_STRING)
+        return fail(r, s, "%s: %s must be a string in double quotes", where, key);
+    *out = config_setting_get_string(s);
+    return KC_OK;
+}
+
+static kc_status lookup_bool(reader *r, const config_setting_t *group, const char *key, const char *where, int *out)
+{
+    const config_setting_t *s = config_setting_get_member(group, key);
+    if (s == NULL)
+        return KC_OK;
+    if (config_setting_type(s) != CONFIG_TYPE_BOOL)
+        return fail(r, s, "%s: %s must be true or false", where, key);
+    *out = config_setting_get_bool(s);
+    return KC_OK;
+}
+
+/* Optional limits group; angular (revolute) limits and rates are in the
+ * file's angle unit. */
+static kc_status read_limits(reader *r, const config_setting_t *owner, const char *where, int angular,
+                             kc_joint_limits *out)
+{
+    static const char *const keys[] = {"q", "qd", "qdd", "qddd", NULL};
+    const config_setting_t *g = config_setting_get_member(owner, "limits");
+    kc_joint_limits l = kc_joint_limits_default();
+    kc_real scale = angular && r->deg ? KC_DEG : KC_R(1.0);
+    char what[96];
+    kc_status st;
+    *out = l;
+    if (g == NULL)
+        return KC_OK;
+    snprintf(what, sizeof what, "%s limits", where);
+    if (!config_setting_is_group(g))
+        return fail(r, g, "%s must be a group { q = [min, max]; qd = ..; ... }", what);
+    if ((st = check_keys(r, g, what, keys)) != KC_OK)
+        return st;
+    const config_setting_t *q = config_setting_get_member(g, "q");
+    if (q != NULL) {
+        kc_real mm[2];
+        char qwhat[112];
+        snprintf(qwhat, sizeof qwhat, "%s: q", what);
+        if ((st = vector_of(r, q, qwhat, 2, scale, mm)) != KC_OK)
+            return st;
+        if (!(mm[0] <= mm[1]))
+            return fail(r, q, "%s: q min %.17g > max %.17g", what, (double)mm[0], (double)mm[1]);
+        l.q_min = mm[0];
+        l.q_max = mm[1];
+    }
+    static const char *const rates[3] = {"qd", "qdd", "qddd"};
+    kc_real *dest[3] = {&l.qd_max, &l.qdd_max, &l.qddd_max};
+    for (int i = 0; i < 3; i++) {
+        int present = 0;
+        kc_real v = KC_R(0.0);
+        if ((st = lookup_number(r, g, rates[i], what, 0, scale, &v, &present)) != KC_OK)
+            return st;
+        if (!present)
+            continue;
+        if (!(v > KC_R(0.0)))
+            return fail(r, config_setting_get_member(g, rates[i]), "%s: %s must be > 0 (omit it for no limit)", what,
+                        rates[i]);
+        *dest[i] = v;
+    }
+    *out = l;
+    return KC_OK;
+}
+
+static kc_status read_pose(reader *r, const config_setting_t *robot, const char *key, kc_pose *out, int *present)
+{
+    static const char *const keys[] = {"xyz", "rpy", NULL};
+    const config_setting_t *g = config_setting_get_member(robot, key);
+    kc_real xyz[3] = {KC_R(0.0), KC_R(0.0), KC_R(0.0)}, rpy[3] = {KC_R(0.0), KC_R(0.0), KC_R(0.0)};
+    kc_status st;
+    char what[32];
+    *present = g != NULL;
+    if (g == NULL)
+        return KC_OK;
+    if (!config_setting_is_group(g))
+        return fail(r, g, "%s must be a group { xyz = [x, y, z]; rpy = [rx, ry, rz]; }", key);
+    if ((st = check_keys(r, g, key, keys)) != KC_OK)
+        return st;
+    const config_setting_t *s = config_setting_get_member(g, "xyz");
+    snprintf(what, sizeof what, "%s xyz", key);
+    if (s != NULL && (st = vector_of(r, s, what, 3, KC_R(1.0), xyz)) != KC_OK)
+        return st;
+    s = config_setting_get_member(g, "rpy");
+    snprintf(what, sizeof what, "%s rpy", key);
+    if (s != NULL && (st = vector_of(r, s, what, 3, r->deg ? KC_DEG : KC_R(1.0), rpy)) != KC_OK)
+        return st;
+    kc_pose_from_xyz_rpy(xyz, rpy, out);
+    return KC_OK;
+}
+
+/* Copies an optional joint name into info's table. */
+static kc_status read_joint_name(reader *r, const config_setting_t *g, const char *where, char *dest)
+{
+    const char *name = NULL;
+    kc_status st = lookup_string(r, g, "name", where, 0, &name);
+    if (st != KC_OK || name == NULL)
+        return st;
+    if (strlen(name) >= KC_DESC_NAME_LEN)
+        return fail(r, config_setting_get_member(g, "name"), "%s: name is longer than %d characters", where,
+                    KC_DESC_NAME_LEN - 1);
+    strcpy(dest, name);
+    return KC_OK;
+}
+
+static kc_status too_many_joints(reader *r, const config_setting_t *s)
+{
+    return fail_at(r, s, KC_E_CAPACITY, "too many joints: kinctl supports at most %d", KC_MAX_JOINTS);
+}
+
+/* One standard or modified DH row. */
+static kc_status read_dh_row(reader *r, const config_setting_t *g, const char *where, int modified, kc_chain *chain,
+                             kc_desc_info *info)
+{
+    static const char *const keys[] = {"name", "type", "a", "alpha", "d", "theta", "limits", NULL};
+    kc_real ang = r->deg ? KC_DEG : KC_R(1.0);
+    kc_dh_row row;
+    const char *type = NULL;
+    kc_status st;
+    if (!config_setting_is_group(g))
+        return fail(r, g, "%s must be a group { type = ...; a = ...; alpha = ...; d = ...; theta = ...; }", where);
+    if ((st = check_keys(r, g, where, keys)) != KC_OK)
+        return st;
+    if (chain->n_joints >= KC_MAX_JOINTS)
+        return too_many_joints(r, g);
+    if ((st = lookup_string(r, g, "type", where, 1, &type)) != KC_OK)
+        return st;
+    if (strcmp(type, "revolute") == 0)
+        row.type = KC_JOINT_REVOLUTE;
+    else if (strcmp(type, "prismatic") == 0)
+        row.type = KC_JOINT_PRISMATIC;
+    else
+        return fail(r, config_setting_get_member(g, "type"),
+                    "%s: unknown joint type \"%s\" (expected \"revolute\" or \"prismatic\")", where, type);
+    if ((st = lookup_number(r, g, "a", where, 1, KC_R(1.0), &row.a, NULL)) != KC_OK ||
+        (st = lookup_number(r, g, "alpha", where, 1, ang, &row.alpha, NULL)) != KC_OK ||
+        (st = lookup_number(r, g, "d", where, 1, KC_R(1.0), &row.d, NULL)) != KC_OK ||
+        (st = lookup_number(r, g, "theta", where, 1, ang, &row.theta, NULL)) != KC_OK ||
+        (st = read_limits(r, g, where, row.type == KC_JOINT_REVOLUTE, &row.limits)) != KC_OK ||
+        (st = read_joint_name(r, g, where, info->joint_names[chain->n_joints])) != KC_OK)
+        return st;
+    st = modified ? kc_chain_add_mdh(chain, &row) : kc_chain_add_dh(chain, &row);
+    if (st == KC_E_CAPACITY)
+        return fail_at(r, g, st, "%s: the chain exceeds kinctl's capacity (%d elements, %d frames)", where,
+                       KC_MAX_ELEMENTS, KC_MAX_FRAMES);
+    if (st != KC_OK)
+        return fail_at(r, g, st, "%s: rejected by the chain builder: %s", where, kc_status_str(st));
+    return KC_OK;
+}
+
+/* "rx".."tz" to 0..5 (rotations x, y, z then translations x, y, z). */
+static int op_index(const char *op)
+{
+    static const char *const ops[6] = {"rx", "ry", "rz", "tx", "ty", "tz"};
+    for (int i = 0; i < 6; i++)
+        if (strcmp(op, ops[i]) == 0)
+            return i;
+    return -1;
+}
+
+/* One elementary transform: a joint (ends a frame) or a constant. */
+static kc_status read_element(reader *r, const config_setting_t *g, const char *where, kc_chain *chain,
+                              kc_desc_info *info)
+{
+    static const char *const keys[] = {"op", "joint", "value", "offset", "frame", "limits", "name", NULL};
+    const char *op = NULL;
+    int joint = 0, frame = 0;
+    kc_status st;
+    if (!config_setting_is_group(g))
+        return fail(r, g, "%s must be a group { op = \"rz\"; joint = true; } or { op = \"tz\"; value = 0.1; }", where);
+    if ((st = check_keys(r, g, where, keys)) != KC_OK || (st = lookup_string(r, g, "op", where, 1, &op)) != KC_OK ||
+        (st = lookup_bool(r, g, "joint", where, &joint)) != KC_OK ||
+        (st = lookup_bool(r, g, "frame", where, &frame)) != KC_OK)
+        return st;
+    int k = op_index(op);
+    if (k < 0)
+        return fail(r, config_setting_get_member(g, "op"),
+                    "%s: unknown op \"%s\" (expected rx, ry, rz, tx, ty or tz)", where, op);
+    int rotation = k < 3;
+    kc_real scale = rotation && r->deg ? KC_DEG : KC_R(1.0);
+    if (joint) {
+        static const char *const not_for_joint[] = {"value", "frame", NULL};
+        for (const char *const *key = not_for_joint; *key != NULL; key++)
+            if (config_setting_get_member(g, *key) != NULL)
+                return fail(r, config_setting_get_member(g, *key),
+                            "%s: a joint takes offset, not %s (a joint always ends a frame)", where, *key);
+        if (chain->n_joints >= KC_MAX_JOINTS)
+            return too_many_joints(r, g);
+        kc_real offset = KC_R(0.0);
+        kc_joint_limits lim;
+        if ((st = lookup_number(r, g, "offset", where, 0, scale, &offset, NULL)) != KC_OK ||
+            (st = read_limits(r, g, where, rotation, &lim)) != KC_OK ||
+            (st = read_joint_name(r, g, where, info->joint_names[chain->n_joints])) != KC_OK)
+            return st;
+        st = kc_chain_add_joint(chain, (kc_code)(KC_CODE_RX_JOINT + k), offset, &lim);
+    } else {
+        static const char *const joint_only[] = {"offset", "limits", "name", NULL};
+        for (const char *const *key = joint_only; *key != NULL; key++)
+            if (config_setting_get_member(g, *key) != NULL)
+                return fail(r, config_setting_get_member(g, *key),
+                            "%s: %s belongs to a joint (joint = true); a constant takes value", where, *key);
+        kc_real value = KC_R(0.0);
+        if ((st = lookup_number(r, g, "value", where, 1, scale, &value, NULL)) != KC_OK)
+            return st;
+        st = kc_chain_add_const(chain, (kc_code)(KC_CODE_RX + k), value);
+        if (st == KC_OK && frame)
+            st = kc_chain_add_frame(chain);
+    }
+    if (st == KC_E_CAPACITY)
+        return fail_at(r, g, st, "%s: the chain exceeds kinctl's capacity (%d elements, %d frames)", where,
+                       KC_MAX_ELEMENTS, KC_MAX_FRAMES);
+    if (st != KC_OK)
+        return fail_at(r, g, st, "%s: rejected by the chain builder: %s", where, kc_status_str(st));
+    return KC_OK;
+}
+
+static kc_status read_robot(reader *r, const config_setting_t *robot, kc_chain *chain, kc_desc_info *info)
+{
+    static const char *const keys[] = {"name", "angles", "base", "tool", "dh", "mdh", "elements", NULL};
+    static const char *const chains[3] = {"dh", "mdh", "elements"};
+    const char *name = NULL, *angles = NULL;
+    kc_status st;
+    if (!config_setting_is_group(robot))
+        return fail(r, robot, "robot must be a group: robot = { name = ...; angles = ...; dh = (...); };");
+    if ((st = check_keys(r, robot, "robot", keys)) != KC_OK ||
+        (st = lookup_string(r, robot, "name", "robot", 1, &name)) != KC_OK ||
+        (st = lookup_string(r, robot, "angles", "robot", 1, &angles)) != KC_OK)
+        return st;
+    if (name[0] == '\0' || strlen(name) >= KC_DESC_NAME_LEN)
+        return fail(r, config_setting_get_member(robot, "name"), "robot: name must have 1 to %d characters",
+                    KC_DESC_NAME_LEN - 1);
+    strcpy(info->name, name);
+    if (strcmp(angles, "deg") == 0)
+        r->deg = 1;
+    else if (strcmp(angles, "rad") == 0)
+        r->deg = 0;
+    else
+        return fail(r, config_setting_get_member(robot, "angles"),
+                    "robot: unknown angle unit \"%s\" (expected \"rad\" or \"deg\")", angles);
+    info->angles_deg = r->deg;
+
+    const config_setting_t *list = NULL;
+    for (int i = 0; i < 3; i++) {
+        const config_setting_t *s = config_setting_get_member(robot, chains[i]);
+        if (s == NULL)
+            continue;
+        if (list != NULL)
+            return fail(r, s, "robot has both %s and %s: give exactly one chain", chains[info->kind], chains[i]);
+        list = s;
+        info->kind = (kc_desc_kind)i;
+    }
+    if (list == NULL)
+        return fail(r, robot, "robot has no chain: give one of dh = (...), mdh = (...), elements = (...)");
+    const char *kind = chains[info->kind];
+    if (!config_setting_is_list(list))
+        return fail(r, list, "%s must be a list in parentheses: %s = ( { ... }, { ... } );", kind, kind);
+    int n = config_setting_length(list);
+    if (n == 0)
+        return fail(r, list, "%s is empty: a chain needs at least one joint", kind);
+    for (int i = 0; i < n; i++) {
+        const config_setting_t *g = config_setting_get_elem(list, (unsigned)i);
+        char where[48];
+        snprintf(where, sizeof where, "%s %s %d", kind, info->kind == KC_DESC_ELEMENTS ? "element" : "row", i + 1);
+        st = info->kind == KC_DESC_ELEMENTS ? read_element(r, g, where, chain, info)
+                                            : read_dh_row(r, g, where, info->kind == KC_DESC_MDH, chain, info);
+        if (st != KC_OK)
+            return st;
+    }
+    if (chain->n_joints == 0)
+        return fail(r, list, "%s has no joint: mark at least one element joint = true", kind);
+    info->n_joints = chain->n_joints;
+
+    static const char *const poses[2] = {"base", "tool"};
+    for (int i = 0; i < 2; i++) {
+        kc_pose p;
+        int present = 0;
+        if ((st = read_pose(r, robot, poses[i], &p, &present)) != KC_OK)
+            return st;
+        if (present) {
+            st = i == 0 ? kc_chain_set_base(chain, &p) : kc_chain_set_tool(chain, &p);
+            if (st != KC_OK)
+                return fail_at(r, config_setting_get_member(robot, poses[i]), st, "%s: rejected: %s", poses[i],
+                               kc_status_str(st));
+        }
+    }
+    st = kc_chain_check(chain);
+    if (st != KC_OK)
+        return fail_at(r, robot, st, "robot: the chain fails kc_chain_check: %s", kc_status_str(st));
+    return KC_OK;
+}
+
+/* The top level: robot, and controller reserved for kinctld. */
+static kc_status read_root(reader *r, const config_t *cfg, kc_chain *chain, kc_desc_info *info)
+{
+    static const char *const sections[] = {"robot", "controller", NULL};
+    const config_setting_t *root = config_root_setting(cfg);
+    kc_status st = check_keys(r, root, "the top level", sections);
+    if (st != KC_OK)
+        return st;
+    const config_setting_t *robot = config_setting_get_member(root, "robot");
+    if (robot == NULL)
+        return fail(r, NULL, "no robot section: expected robot = { name = ...; angles = ...; dh = (...); };");
+    return read_robot(r, robot, chain, info);
+}
+
+/* Parses (text != NULL) or reads path, then builds into temporaries so that
+ * the outputs stay untouched on error. */
+static kc_status load(const char *path, const char *text, const char *name, kc_chain *chain, kc_desc_info *info,
+                      kc_desc_error *err)
+{
+    reader r = {name, err, 0};
+    config_t cfg;
+    kc_chain tmp;
+    kc_desc_info tmp_info;
+    kc_status st = KC_OK;
+    if (err != NULL)
+        memset(err, 0, sizeof *err);
+    if (chain == NULL || (path == NULL && text == NULL))
+        return fail(&r, NULL, "no chain to fill or no input given");
+    if (path != NULL) {
+        FILE *f = fopen(path, "r");
+        if (f == NULL)
+            return fail(&r, NULL, "cannot open: %s", strerror(errno));
+        fclose(f);
+    }
+    memset(&tmp_info, 0, sizeof tmp_info);
+    kc_chain_init(&tmp);
+    config_init(&cfg);
+    config_set_options(&cfg, CONFIG_OPTION_AUTOCONVERT);
+    int ok;
+    if (path != NULL) {
+        /* @include "x.cfg" is resolved beside the including file. */
+        const char *slash = strrchr(path, '/');
+        if (slash != NULL) {
+            size_t len = (size_t)(slash - path);
+            char *dir = malloc(len + 2);
+            if (dir != NULL) {
+                memcpy(dir, path, len + (len == 0));
+                dir[len + (len == 0)] = '\0';
+                config_set_include_dir(&cfg, dir);
+                free(dir); /* libconfig keeps its own copy */
+            }
+        }
+        ok = config_read_file(&cfg, path);
+    } else {
+        ok = config_read_string(&cfg, text);
+    }
+    if (!ok) {
+        const char *hint = "";
+        if (config_error_text(&cfg) != NULL && strstr(config_error_text(&cfg), "mismatched element type") != NULL)
+            hint = " (an array [..] may not mix 1 and 1.5: write 1.0)";
+        const char *file = config_error_file(&cfg);
+        if (err != NULL) {
+            char msg[KC_DESC_TEXT_LEN];
+            snprintf(msg, sizeof msg, "%s%s", config_error_text(&cfg) != NULL ? config_error_text(&cfg) : "parse error",
+                     hint);
+            write_error(err, file != NULL ? file : name, config_error_line(&cfg), msg);
+        }
+        st = KC_E_ARG;
+    } else {
+        st = read_root(&r, &cfg, &tmp, &tmp_info);
+    }
+    config_destroy(&cfg);
+    if (st != KC_OK)
+        return st;
+    *chain = tmp;
+    if (info != NULL)
+        *info = tmp_info;
+    return KC_OK;
+}
+
+kc_status kc_desc_load_file(const char *path, kc_chain *chain, kc_desc_info *info, kc_desc_error *err)
+{
+    return load(path, NULL, path != NULL ? path : "<null>", chain, info, err);
+}
+
+kc_status kc_desc_load_string(const char *text, const char *name, kc_chain *chain, kc_desc_info *info,
+                              kc_desc_error *err)
+{
+    return load(NULL, text, name != NULL ? name : "<string>", chain, info, err);
+}
