@@ -130,12 +130,18 @@ int kc_orient_mat3_to_axis_angle(const kc_mat3 *R, kc_vec3 *k, kc_real *theta)
             axis.v[j] = j == i ? ki : KC_R(0.5) * (m[i][j] + m[j][i]) * d / ki;
         kc_real n = kc_vec3_norm(&axis);
         kc_vec3_scale(&axis, KC_R(1.0) / n, &axis);
-        if (KC_R(0.5) * s2 < KC_TOL_AXIS) {
+        singular = KC_R(0.5) * s2 < KC_TOL_AXIS; /* theta is pi within the tolerance */
+        /* The antisymmetric part fixes the sign as long as it stands above
+         * the rounding of the entries (a few ulps): R(k, pi - d) and
+         * R(-k, pi - d) differ by about 2 d, so taking the canonical sign
+         * for every sin(theta) < KC_TOL_AXIS returned a rotation off by up
+         * to 2e-3 in float (found by tests/unit/test_orient.c). Only at
+         * rounding level are k and -k the same rotation, and the sign is
+         * canonical. */
+        if (KC_R(0.5) * s2 <= KC_R(8.0) * KC_REAL_EPS)
             canonical_sign(&axis); /* theta = pi: both signs are the same rotation */
-            singular = 1;
-        } else if (kc_vec3_dot(&axis, &w) < KC_R(0.0)) {
+        else if (kc_vec3_dot(&axis, &w) < KC_R(0.0))
             kc_vec3_scale(&axis, KC_R(-1.0), &axis);
-        }
     }
     *k = axis;
     *theta = th;
