@@ -1,0 +1,134 @@
+/*
+ * bench_common.h - what the kinctl helpers (C99, one per precision) and the
+ * driver (C++, KDL and Pinocchio) must agree on, so that every library is
+ * timed on the same configurations in the same way.
+ *
+ * - The configuration set: BENCH_CONFIGS joint vectors per model, uniform
+ *   within the joint limits of tests/vectors/fk.json, drawn from splitmix64
+ *   with a fixed seed. The generator is integer arithmetic plus one exact
+ *   scaling, so C and C++ produce bit-identical sets without passing files.
+ * - The timing loop (BENCH_TIME): batches of BENCH_BATCH calls timed with
+ *   CLOCK_MONOTONIC; per-call time = batch time / batch size, after
+ *   BENCH_WARMUP untimed batches.
+ * - The statistics: median, p99 and max of the per-call times.
+ * - The line protocol the helpers print and the driver parses.
+ */
+#ifndef KINCTL_BENCH_COMMON_H
+#define KINCTL_BENCH_COMMON_H
+
+#include <stdint.h>
+#include <stdlib.h>
+#include <time.h>
+
+#define BENCH_CONFIGS 1024 /* a multiple of BENCH_BATCH */
+#define BENCH_BATCH 64
+#define BENCH_BATCHES 4000
+#define BENCH_WARMUP 200
+/* Configurations (the first of the set) compared across libraries. */
+#define BENCH_CHECKS 16
+#define BENCH_SEED 20240601u
+#define BENCH_MAX_JOINTS 7
+
+enum { BENCH_PUMA560 = 0, BENCH_PANDA = 1, BENCH_N_MODELS = 2 };
+
+static const char *const bench_model_names[BENCH_N_MODELS] = {"puma560", "panda"};
+static const int bench_model_joints[BENCH_N_MODELS] = {6, 7};
+
+/* Joint limits (rad) from tests/vectors/fk.json, qlim_rad. */
+static const double bench_qlim[BENCH_N_MODELS][BENCH_MAX_JOINTS][2] = {
+    {{-2.792526803190927, 2.792526803190927},
+     {-0.7853981633974483, 3.9269908169872414},
+     {-3.9269908169872414, 0.7853981633974483},
+     {-1.9198621771937625, 2.9670597283903604},
+     {-1.7453292519943295, 1.7453292519943295},
+     {-4.642575810304916, 4.642575810304916},
+     {0.0, 0.0}},
+    {{-2.8973, 2.8973},
+     {-1.7628, 1.7628},
+     {-2.8973, 2.8973},
+     {-3.0718, -0.0698},
+     {-2.8973, 2.8973},
+     {-0.0175, 3.7525},
+     {-2.8973, 2.8973}},
+};
+
+static inline uint64_t bench_splitmix64(uint64_t *state)
+{
+    uint64_t z = (*state += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return z ^ (z >> 31);
+}
+
+/* Fills q[BENCH_CONFIGS][BENCH_MAX_JOINTS] for one model; unused joints 0. */
+static inline void bench_make_configs(int model, double q[][BENCH_MAX_JOINTS])
+{
+    uint64_t state = BENCH_SEED + (uint64_t)model;
+    for (int k = 0; k < BENCH_CONFIGS; k++)
+        for (int j = 0; j < BENCH_MAX_JOINTS; j++) {
+            /* 53 random bits scaled to [0, 1): exact, so identical in C and C++. */
+            double u = (double)(bench_splitmix64(&state) >> 11) * (1.0 / 9007199254740992.0);
+            double lo = bench_qlim[model][j][0], hi = bench_qlim[model][j][1];
+            q[k][j] = j < bench_model_joints[model] ? lo + (hi - lo) * u : 0.0;
+        }
+}
+
+static inline double bench_now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec * 1e9 + (double)ts.tv_nsec;
+}
+
+/*
+ * Runs BODY (which may use the config index k) over warm-up and timed
+ * batches, storing the per-call time of each timed batch in ns_out
+ * (BENCH_BATCHES doubles). Batches walk through the configuration set in
+ * order, so every library sees the same sequence of inputs. A macro rather
+ * than a function taking a callback: an indirect call per iteration would
+ * cost about as much as the cheapest operation we time.
+ */
+#define BENCH_TIME(ns_out, ...)                                                  \
+    do {                                                                         \
+        for (int b_ = -BENCH_WARMUP; b_ < BENCH_BATCHES; b_++) {                 \
+            int first_ = ((b_ + BENCH_WARMUP) * BENCH_BATCH) % BENCH_CONFIGS;    \
+            double t0_ = bench_now_ns();                                         \
+            for (int k = first_; k < first_ + BENCH_BATCH; k++) {                \
+                __VA_ARGS__;                                                     \
+            }                                                                    \
+            double t1_ = bench_now_ns();                                         \
+            if (b_ >= 0)                                                         \
+                (ns_out)[b_] = (t1_ - t0_) / (double)BENCH_BATCH;                \
+        }                                                                        \
+    } while (0)
+
+typedef struct bench_stats {
+    double median_ns, p99_ns, max_ns;
+} bench_stats;
+
+static inline int bench_cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Sorts ns[0..n-1] in place. p99 is the nearest-rank percentile. */
+static inline bench_stats bench_summarize(double *ns, int n)
+{
+    bench_stats s;
+    qsort(ns, (size_t)n, sizeof ns[0], bench_cmp_double);
+    s.median_ns = ns[n / 2];
+    s.p99_ns = ns[(99 * n + 99) / 100 - 1];
+    s.max_ns = ns[n - 1];
+    return s;
+}
+
+/*
+ * Helper output, one record per line, numbers in %.17g:
+ *   check <model> <config> pose <R row-major 9> <t 3>
+ *   check <model> <config> jac <6 x n row-major, rows vx vy vz wx wy wz>
+ *   time <model> <fk|jac> <median_ns> <p99_ns> <max_ns> <checksum>
+ * Anything else (an error text) makes the driver stop.
+ */
+
+#endif /* KINCTL_BENCH_COMMON_H */
