@@ -329,6 +329,10 @@ kc_real kc_ik_reach(const kc_chain *chain)
 /* Errors below which kc_ik_solve drops the null-space term (m, rad). */
 #define KC_IK_POLISH_POS KC_R(1e-3)
 #define KC_IK_POLISH_ROT KC_R(1e-3)
+/* Steps over which the cost must halve before an attempt counts as stalled. */
+#ifndef KC_IK_STALL_WINDOW
+#define KC_IK_STALL_WINDOW 10
+#endif
 /* lambda^2 = c |e|^2 in solve (Sugihara's error damping; c = 0.05 measured
  * best of 0.5, 0.05 and 0.005 on random puma560 and panda targets). */
 #define KC_IK_ERROR_DAMPING KC_R(0.05)
@@ -404,9 +408,9 @@ kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose
     for (attempt = 0; attempt <= cfg->max_restarts && status != KC_OK; attempt++) {
         if (attempt > 0)
             random_q(&p, &rng, q);
-        /* cost history for stall detection: the cost ten steps back */
-        kc_real history[10];
-        for (int i = 0; i < 10; i++)
+        /* Cost history for stall detection. */
+        kc_real history[KC_IK_STALL_WINDOW];
+        for (int i = 0; i < KC_IK_STALL_WINDOW; i++)
             history[i] = KC_REAL_MAX;
         for (int s = 0; s < cfg->max_steps; s++) {
             kc_real e[6], pos_err, rot_err;
@@ -427,10 +431,10 @@ kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose
                 status = KC_OK;
                 break;
             }
-            /* Progress: the cost must halve every ten steps, else restart. */
-            if (s >= 10 && cost > KC_R(0.5) * history[s % 10])
+            /* Progress: the cost must halve over the window, else restart. */
+            if (s >= KC_IK_STALL_WINDOW && cost > KC_R(0.5) * history[s % KC_IK_STALL_WINDOW])
                 break;
-            history[s % 10] = cost;
+            history[s % KC_IK_STALL_WINDOW] = cost;
 
             kc_real u[6];
             for (int i = 0; i < p.r; i++)
@@ -493,9 +497,11 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
     res->pos_err = pos_err;
     res->rot_err = rot_err;
 
+    /* Done when within tolerance and slow enough to stop in this tick
+     * without exceeding an acceleration limit. */
     int at_rest = 1;
     for (int j = 0; j < n; j++)
-        at_rest = at_rest && qd[j] == KC_R(0.0);
+        at_rest = at_rest && kc_fabs(qd[j]) <= chain->joints[j].limits.qdd_max * dt;
     if (pos_err <= cfg->tol_pos && rot_err <= cfg->tol_rot && at_rest) {
         for (int j = 0; j < n; j++) {
             q_next[j] = q[j];

@@ -132,7 +132,8 @@ kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose
  * limit and its acceleration limit relative to qd, then q_next = q +
  * qd_next dt clamped into the position limits.
  *   KC_OK            stepped; res holds the error before the step.
- *   KC_DONE          already within the tolerances: q_next = q, qd_next = 0.
+ *   KC_DONE          within the tolerances and every |qd| <= qdd_max dt:
+ *                    q_next = q, qd_next = 0 (a stop within the limits).
  *   KC_E_LIMIT       stepped, but a joint was stopped at a position limit.
  *   KC_E_SINGULAR    stepped, but the singularity damping is active (the
  *                    tool will not follow the commanded twist exactly).

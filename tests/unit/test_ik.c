@@ -1,0 +1,310 @@
+/* test_ik.c - inverse kinematics (seed 002's law, kinctl/ik.h) against
+ * vectors/ik.json and on random reachable targets. */
+#include <string.h>
+
+#include "testutil.h"
+
+/* Acceptance of vectors/ik.json: every entry of FK(q) within 1e-6 of the
+ * target (any branch). In float the FK itself carries KT_TOL_T of rounding
+ * and the solver stops at its float tolerances (1e-5 m, 1e-4 rad), so the
+ * criterion there is 1e-4 on direction cosines and positions. */
+#ifdef KC_REAL_FLOAT
+#define TOL_IK_T 1e-4
+#else
+#define TOL_IK_T 1e-6
+#endif
+
+static double max_pose_diff(const kc_pose *a, const kc_pose *b)
+{
+    double d = 0.0;
+    for (int i = 0; i < 3; i++) {
+        for (int j = 0; j < 3; j++) {
+            double e = fabs((double)a->R.m[i][j] - (double)b->R.m[i][j]);
+            d = e > d ? e : d;
+        }
+        double e = fabs((double)a->t.v[i] - (double)b->t.v[i]);
+        d = e > d ? e : d;
+    }
+    return d;
+}
+
+static void assert_within_limits(const kc_chain *c, const kc_real *q)
+{
+    int bad = -1;
+    kc_status st = kc_chain_check_q(c, q, &bad);
+    if (st != KC_OK)
+        fail_msg("joint %d outside its limits (status %d)", bad, st);
+}
+
+static void random_q(kt_rng *r, const kc_chain *c, kc_real *q)
+{
+    for (int j = 0; j < c->n_joints; j++)
+        q[j] = (kc_real)kt_uniform(r, (double)c->joints[j].limits.q_min, (double)c->joints[j].limits.q_max);
+}
+
+static void test_vectors_from_start(void **state)
+{
+    (void)state;
+    json_t *root = kt_load("ik.json");
+    kc_chain c;
+    assert_int_equal(kc_chain_init_model(&c, KC_MODEL_PUMA560, NULL), KC_OK);
+    kc_real q0[6], q[6];
+    kt_read_reals(kt_get(root, "q_start_rad"), q0, 6);
+    kc_ik_cfg cfg = kc_ik_cfg_default();
+    json_t *targets = kt_get(root, "targets");
+    size_t n = json_array_size(targets);
+    assert_int_equal(n, 50);
+    for (size_t i = 0; i < n; i++) {
+        json_t *t = kt_at(targets, i);
+        kc_pose target, got;
+        kt_read_pose(kt_get(t, "T_target"), &target);
+        kc_ik_result res;
+        kc_status st = kc_ik_solve(&c, &cfg, &target, q0, q, &res);
+        if (st != KC_OK)
+            fail_msg("target %zu: status %s, pos %g rot %g after %d steps", i, kc_status_str(st),
+                     (double)res.pos_err, (double)res.rot_err, res.steps);
+        assert_int_equal(kc_fk_eval(&c, q, &got), KC_OK);
+        kt_near(max_pose_diff(&got, &target), 0.0, TOL_IK_T, "max |FK(q_solved) - T_target|");
+        assert_within_limits(&c, q);
+    }
+    json_decref(root);
+}
+
+/* Solves n random reachable targets (FK of q drawn within the limits) from
+ * a fixed or random start. At least 99 % must converge inside the limits
+ * (the benchmark measures the rate on 1000 targets; the issue's target is
+ * 99.9 %); a miss must say so (KC_E_NOCONVERGE) with q inside the limits and
+ * residuals that are the true ones of the q returned. */
+static void solve_random(kc_model model, kc_ik_mask mask, int random_start, int n, uint64_t seed)
+{
+    kc_chain c;
+    assert_int_equal(kc_chain_init_model(&c, model, NULL), KC_OK);
+    kc_ik_cfg cfg = kc_ik_cfg_default();
+    cfg.mask = mask;
+    kt_rng r = kt_rng_make(seed);
+    kc_real q0[KC_MAX_JOINTS], qg[KC_MAX_JOINTS], q[KC_MAX_JOINTS];
+    int missed = 0;
+    for (int j = 0; j < c.n_joints; j++)
+        q0[j] = KC_R(0.5) * (c.joints[j].limits.q_min + c.joints[j].limits.q_max);
+    for (int k = 0; k < n; k++) {
+        kc_pose target, got;
+        random_q(&r, &c, qg);
+        kc_fk_eval(&c, qg, &target);
+        if (random_start)
+            random_q(&r, &c, q0);
+        kc_ik_result res;
+        kc_status st = kc_ik_solve(&c, &cfg, &target, q0, q, &res);
+        assert_within_limits(&c, q);
+        kc_fk_eval(&c, q, &got);
+        kc_vec3 dp;
+        kc_vec3_sub(&got.t, &target.t, &dp);
+        kt_near((double)res.pos_err, (double)kc_vec3_norm(&dp), KT_TOL_T, "reported position residual");
+        if (st != KC_OK) {
+            assert_int_equal(st, KC_E_NOCONVERGE);
+            print_message("%s mask %d target %d: %s, pos %g rot %g, %d steps %d restarts\n", kc_model_name(model),
+                          mask, k, kc_status_str(st), (double)res.pos_err, (double)res.rot_err, res.steps,
+                          res.restarts);
+            missed++;
+            continue;
+        }
+        kt_near_vec3(&got.t, &target.t, TOL_IK_T, "position reached");
+        if (mask == KC_IK_MASK_FULL)
+            kt_near_mat3(&got.R, &target.R, TOL_IK_T, "orientation reached");
+        if (mask == KC_IK_MASK_AXIS)
+            for (int i = 0; i < 3; i++)
+                kt_near((double)got.R.m[i][2], (double)target.R.m[i][2], TOL_IK_T, "tool axis reached");
+    }
+    if (missed * 100 > n)
+        fail_msg("%s mask %d: %d of %d targets missed (more than 1 %%)", kc_model_name(model), mask, missed, n);
+}
+
+static void test_random_puma(void **state)
+{
+    (void)state;
+    solve_random(KC_MODEL_PUMA560, KC_IK_MASK_FULL, 0, 200, 11);
+    solve_random(KC_MODEL_PUMA560, KC_IK_MASK_FULL, 1, 200, 12);
+}
+
+static void test_random_panda(void **state)
+{
+    (void)state;
+    solve_random(KC_MODEL_PANDA, KC_IK_MASK_FULL, 0, 200, 21);
+    solve_random(KC_MODEL_PANDA, KC_IK_MASK_FULL, 1, 200, 22);
+}
+
+static void test_random_rrr3_position(void **state)
+{
+    (void)state;
+    solve_random(KC_MODEL_RRR3, KC_IK_MASK_POSITION, 0, 200, 31);
+    solve_random(KC_MODEL_RRR3, KC_IK_MASK_POSITION, 1, 200, 32);
+}
+
+static void test_random_masks_redundant(void **state)
+{
+    (void)state;
+    /* puma560 with a position-only task has three spare joints, and with
+     * the axis task one; both go to the null-space objective. */
+    solve_random(KC_MODEL_PUMA560, KC_IK_MASK_POSITION, 1, 200, 41);
+    solve_random(KC_MODEL_PUMA560, KC_IK_MASK_AXIS, 1, 200, 42);
+    solve_random(KC_MODEL_PANDA, KC_IK_MASK_AXIS, 1, 200, 43);
+}
+
+static void test_unreachable(void **state)
+{
+    (void)state;
+    kc_chain c;
+    kc_chain_init_model(&c, KC_MODEL_PUMA560, NULL);
+    kc_ik_cfg cfg = kc_ik_cfg_default();
+    kc_pose target;
+    kc_pose_identity(&target);
+    target.t = kc_vec3_make(KC_R(3.0), KC_R(0.0), KC_R(0.5));
+    kc_real q0[6] = {0}, q[6];
+    memset(q, KT_SENTINEL, sizeof q);
+    kc_ik_result res;
+    assert_int_equal(kc_ik_solve(&c, &cfg, &target, q0, q, &res), KC_E_UNREACHABLE);
+    assert_true(kt_is_sentinel(q, sizeof q));
+    assert_true(kc_ik_reach(&c) < KC_R(3.0));
+}
+
+static void test_bad_input(void **state)
+{
+    (void)state;
+    kc_chain c;
+    kc_chain_init_model(&c, KC_MODEL_PUMA560, NULL);
+    kc_ik_cfg cfg = kc_ik_cfg_default();
+    kc_pose target;
+    kc_real q0[6] = {0}, q[6];
+    kc_ik_result res;
+    kc_fk_eval(&c, q0, &target);
+    memset(q, KT_SENTINEL, sizeof q);
+
+    kc_pose bad = target;
+    bad.t.v[1] = (kc_real)NAN;
+    assert_int_equal(kc_ik_solve(&c, &cfg, &bad, q0, q, &res), KC_E_ARG);
+    bad = target;
+    bad.R.m[0][0] = KC_R(2.0); /* not a rotation */
+    assert_int_equal(kc_ik_solve(&c, &cfg, &bad, q0, q, &res), KC_E_ARG);
+    kc_real qn[6] = {0, 0, (kc_real)INFINITY, 0, 0, 0};
+    assert_int_equal(kc_ik_solve(&c, &cfg, &target, qn, q, &res), KC_E_ARG);
+    kc_ik_cfg bc = cfg;
+    bc.gain_step = KC_R(1.5);
+    assert_int_equal(kc_ik_solve(&c, &bc, &target, q0, q, &res), KC_E_ARG);
+    bc = cfg;
+    bc.tol_pos = KC_R(0.0);
+    assert_int_equal(kc_ik_solve(&c, &bc, &target, q0, q, &res), KC_E_ARG);
+    bc = cfg;
+    bc.mask = (kc_ik_mask)7;
+    assert_int_equal(kc_ik_solve(&c, &bc, &target, q0, q, &res), KC_E_ARG);
+    assert_int_equal(kc_ik_solve(&c, &cfg, NULL, q0, q, &res), KC_E_ARG);
+    assert_true(kt_is_sentinel(q, sizeof q));
+}
+
+static void test_singular_targets(void **state)
+{
+    (void)state;
+    /* puma560 at qz has a wrist singularity (q5 = 0) and at qr-like
+     * stretched configurations an elbow one; targets there and 1e-3 rad away
+     * are reached from a regular start. */
+    kc_chain c;
+    kc_chain_init_model(&c, KC_MODEL_PUMA560, NULL);
+    kc_ik_cfg cfg = kc_ik_cfg_default();
+    const kc_real qs[4][6] = {{0, 0, 0, 0, 0, 0},
+                              {0, KC_R(1.5707963267948966), KC_R(-1.5707963267948966), 0, 0, 0},
+                              {KC_R(0.3), KC_R(0.4), KC_R(-0.5), KC_R(0.6), KC_R(1e-3), KC_R(0.2)},
+                              {KC_R(-0.2), KC_R(1.0), KC_R(-1.2), KC_R(0.1), KC_R(-1e-3), KC_R(-0.4)}};
+    const kc_real q0[6] = {0, KC_R(0.7853981633974483), KC_R(-3.141592653589793), 0, KC_R(0.7853981633974483), 0};
+    for (int k = 0; k < 4; k++) {
+        kc_pose target, got;
+        kc_real q[6];
+        kc_ik_result res;
+        kc_fk_eval(&c, qs[k], &target);
+        kc_status st = kc_ik_solve(&c, &cfg, &target, q0, q, &res);
+        if (st != KC_OK)
+            fail_msg("singular target %d: %s pos %g rot %g", k, kc_status_str(st), (double)res.pos_err,
+                     (double)res.rot_err);
+        kc_fk_eval(&c, q, &got);
+        kt_near(max_pose_diff(&got, &target), 0.0, TOL_IK_T, "singular target reached");
+        assert_within_limits(&c, q);
+    }
+}
+
+static void test_deterministic(void **state)
+{
+    (void)state;
+    kc_chain c;
+    kc_chain_init_model(&c, KC_MODEL_PANDA, NULL);
+    kc_ik_cfg cfg = kc_ik_cfg_default();
+    kt_rng r = kt_rng_make(99);
+    for (int k = 0; k < 50; k++) {
+        kc_real qg[7], q0[7], a[7], b[7];
+        kc_pose target;
+        kc_ik_result ra, rb;
+        random_q(&r, &c, qg);
+        random_q(&r, &c, q0);
+        kc_fk_eval(&c, qg, &target);
+        kc_status sa = kc_ik_solve(&c, &cfg, &target, q0, a, &ra);
+        kc_status sb = kc_ik_solve(&c, &cfg, &target, q0, b, &rb);
+        assert_int_equal(sa, sb);
+        assert_memory_equal(a, b, sizeof a);
+        assert_int_equal(ra.steps, rb.steps);
+    }
+}
+
+/* The online law at 1 kHz: converges, never exceeds a velocity or an
+ * acceleration limit, never leaves the position limits. */
+static void test_step_online(void **state)
+{
+    (void)state;
+    kc_chain c;
+    kc_chain_init_model(&c, KC_MODEL_PUMA560, NULL);
+    kc_ik_cfg cfg = kc_ik_cfg_default();
+    kt_rng r = kt_rng_make(7);
+    const kc_real dt = KC_R(0.001);
+    for (int k = 0; k < 20; k++) {
+        kc_real q[6] = {0, KC_R(0.7853981633974483), KC_R(-3.141592653589793), 0, KC_R(0.7853981633974483), 0};
+        kc_real qd[6] = {0}, qg[6];
+        /* A target a moderate move away, as the cycle would see. */
+        for (int j = 0; j < 6; j++)
+            qg[j] = q[j] + (kc_real)kt_uniform(&r, -0.3, 0.3);
+        for (int j = 0; j < 6; j++)
+            qg[j] = kc_clamp(qg[j], c.joints[j].limits.q_min, c.joints[j].limits.q_max);
+        kc_pose target;
+        kc_fk_eval(&c, qg, &target);
+        kc_ik_result res;
+        kc_status st = KC_OK;
+        int ticks;
+        for (ticks = 0; ticks < 20000 && st != KC_DONE; ticks++) {
+            kc_real qn[6], qdn[6];
+            st = kc_ik_step(&c, &cfg, &target, dt, q, qd, qn, qdn, &res);
+            assert_true(st == KC_OK || st == KC_DONE || st == KC_E_SINGULAR);
+            for (int j = 0; j < 6; j++) {
+                const kc_joint_limits *l = &c.joints[j].limits;
+                kt_near(fabs((double)qdn[j]) <= (double)l->qd_max * (1.0 + 1e-6), 1.0, 0.0, "velocity limit");
+                /* Slack for the rounding of qd itself in this precision. */
+                double slack = 4.0 * (double)KC_REAL_EPS * (fabs((double)qd[j]) + fabs((double)qdn[j]));
+                kt_near(fabs((double)(qdn[j] - qd[j])) <= (double)(l->qdd_max * dt) + slack, 1.0, 0.0,
+                        "acceleration limit");
+            }
+            assert_within_limits(&c, qn);
+            memcpy(q, qn, sizeof q);
+            memcpy(qd, qdn, sizeof qd);
+        }
+        if (st != KC_DONE)
+            fail_msg("online target %d not reached in %d ticks: pos %g rot %g", k, ticks, (double)res.pos_err,
+                     (double)res.rot_err);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_vectors_from_start),  cmocka_unit_test(test_random_puma),
+        cmocka_unit_test(test_random_panda),        cmocka_unit_test(test_random_rrr3_position),
+        cmocka_unit_test(test_random_masks_redundant), cmocka_unit_test(test_unreachable),
+        cmocka_unit_test(test_bad_input),           cmocka_unit_test(test_singular_targets),
+        cmocka_unit_test(test_deterministic),       cmocka_unit_test(test_step_online),
+    };
+    int failed = cmocka_run_group_tests(tests, NULL, NULL);
+    kt_report("ik");
+    return failed;
+}
