@@ -167,7 +167,11 @@ static void near_rows_json(const char *file, int line, const kc_real *a, size_t 
                            const json_t *m, double tol, const char *what)
 {
     char idx[48];
-    check_size(m, rows);
+    /* At least rows rows: a pose is compared with the first 3 of 4. */
+    if (!json_is_array(m) || json_array_size(m) < rows) {
+        print_error("%s: reference matrix has fewer than %zu rows\n", what, rows);
+        _fail(file, line);
+    }
     for (size_t i = 0; i < rows; i++) {
         const json_t *row = json_array_get(m, i);
         check_size(row, cols);
@@ -185,11 +189,13 @@ static void near_rows_json(const char *file, int line, const kc_real *a, size_t 
 
 void kt_near_mat3_json_(const char *file, int line, const kc_mat3 *a, const json_t *m, double tol, const char *what)
 {
+    check_size(m, 3);
     near_rows_json(file, line, &a->m[0][0], 3, 3, 3, m, tol, what);
 }
 
 void kt_near_mat4_json_(const char *file, int line, const kc_mat4 *a, const json_t *m, double tol, const char *what)
 {
+    check_size(m, 4);
     near_rows_json(file, line, &a->m[0][0], 4, 4, 4, m, tol, what);
 }
 
@@ -276,6 +282,7 @@ void kt_near_quat_(const char *file, int line, const kc_quat *a, const kc_quat *
 void kt_near_jac_json_(const char *file, int line, const kc_jacobian *a, int n, const json_t *m, double tol,
                        const char *what)
 {
+    check_size(m, 6);
     near_rows_json(file, line, &a->m[0][0], 6, (size_t)n, KC_MAX_JOINTS, m, tol, what);
 }
 
