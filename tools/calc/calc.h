@@ -1,0 +1,141 @@
+/*
+ * calc.h - the pieces kinctl-calc's subcommands share.
+ *
+ * A subcommand is one run function plus one entry in the table of
+ * kinctl-calc.c. Its options are declared once (calc_opt): the command line
+ * parser turns them into a JSON request object, and `kinctl-calc batch`
+ * reads the same object from a line of stdin, so run() sees one form only.
+ * run() writes the members of its result object with the jw_* writer and
+ * returns 0, or returns calc_fail(...) with a message.
+ */
+#ifndef KINCTL_CALC_H
+#define KINCTL_CALC_H
+
+#include <stddef.h>
+
+#include <jansson.h>
+
+#include "kinctl/kinctl.h"
+
+/* ---- JSON output (json_out.c) ---- */
+
+#define JW_MAX_DEPTH 16
+
+/* A growable buffer holding one JSON value, written in order. */
+typedef struct jw {
+    char *buf;
+    size_t len, cap;
+    int depth;
+    int count[JW_MAX_DEPTH];
+    int after_key;
+    int failed; /* out of memory */
+} jw;
+
+void jw_init(jw *w);
+void jw_free(jw *w);
+void jw_obj_begin(jw *w);
+void jw_obj_end(jw *w);
+void jw_arr_begin(jw *w);
+void jw_arr_end(jw *w);
+void jw_key(jw *w, const char *key);
+/* Every digit needed to read the value back ("%.17g" for double); null for
+ * a value that JSON cannot hold (NaN, infinity). */
+void jw_real(jw *w, kc_real x);
+void jw_bool(jw *w, int b);
+void jw_null(jw *w);
+void jw_str(jw *w, const char *s);
+/* A JSON value given as text (already valid JSON). */
+void jw_raw(jw *w, const char *json);
+void jw_reals(jw *w, const kc_real *x, int n);
+/* A pose as its 4x4 homogeneous matrix. */
+void jw_pose(jw *w, const kc_pose *p);
+void jw_mat3(jw *w, const kc_mat3 *m);
+void jw_mat4(jw *w, const kc_mat4 *m);
+
+/* ---- requests (args.c) ---- */
+
+/* How a run reports back: the result writer, the error message, warnings. */
+typedef struct calc_ctx {
+    jw *out;
+    char err[1024];
+    json_t *warnings; /* array of strings */
+} calc_ctx;
+
+/* Sets ctx->err and returns -1. */
+int calc_fail(calc_ctx *ctx, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+void calc_warn(calc_ctx *ctx, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+/* Turns one command-line argument into a JSON value; NULL with err set
+ * when the argument is malformed. */
+typedef json_t *(*calc_conv)(const char *arg, char *err, size_t errlen);
+
+typedef enum calc_opt_kind {
+    CALC_FLAG,   /* --deg: key = true */
+    CALC_VALUE,  /* --model NAME: key = conv(NAME), at most once */
+    CALC_APPEND, /* --point X,Y,Z (repeatable): key = [..., conv(arg)] */
+    CALC_EXTEND  /* positionals (flag NULL): key = [..., elements of conv(arg)] */
+} calc_opt_kind;
+
+typedef struct calc_opt {
+    const char *flag; /* "--model", or NULL for the positional arguments */
+    const char *key;  /* key in the request object */
+    calc_opt_kind kind;
+    calc_conv conv;
+    const char *metavar;
+    const char *help;
+} calc_opt;
+
+typedef struct calc_cmd {
+    const char *name;
+    const char *summary;
+    const char *usage; /* usage line(s), details and an example */
+    const calc_opt *opts; /* terminated by an entry with key NULL */
+    int (*run)(const json_t *req, calc_ctx *ctx);
+} calc_cmd;
+
+/* Converters for calc_opt. */
+json_t *calc_conv_string(const char *arg, char *err, size_t errlen);
+json_t *calc_conv_reals(const char *arg, char *err, size_t errlen);
+json_t *calc_conv_real(const char *arg, char *err, size_t errlen);
+json_t *calc_conv_params(const char *arg, char *err, size_t errlen);
+
+/* Parses argv (after the subcommand name) into a request object; NULL with
+ * err set on bad usage. */
+json_t *calc_parse_args(const calc_cmd *cmd, int argc, char **argv, char *err, size_t errlen);
+
+/* Fails on a key of req that cmd does not declare ("op" and "id" are
+ * always allowed). */
+int calc_check_keys(calc_ctx *ctx, const json_t *req, const calc_cmd *cmd);
+
+/* Getters: 0 when fine (an absent optional key leaves *out alone), else
+ * calc_fail. */
+int req_string(calc_ctx *ctx, const json_t *req, const char *key, int required, const char **out);
+int req_bool(calc_ctx *ctx, const json_t *req, const char *key, int *out);
+int req_real(calc_ctx *ctx, const json_t *req, const char *key, kc_real *out);
+/* An array of finite numbers; *n gets the count (at most max). */
+int req_reals(calc_ctx *ctx, const json_t *v, const char *what, kc_real *out, int max, int *n);
+/* The model: model (a built-in name) with optional param, or model_file. */
+int req_model(calc_ctx *ctx, const json_t *req, kc_chain *chain);
+/* q for chain (n_joints values; revolute ones in deg when deg); warns when
+ * q lies outside the joint limits. */
+int req_q(calc_ctx *ctx, const json_t *req, const kc_chain *chain, int deg, kc_real *q);
+
+/* The options every model-based subcommand takes, for a calc_opt table. */
+#define CALC_MODEL_OPTS                                                                                  \
+    {"--model", "model", CALC_VALUE, calc_conv_string, "NAME",                                         \
+     "built-in model: puma560, panda, rrr3, planar2, rb211, rm01"},                                    \
+    {"--model-file", "model_file", CALC_VALUE, calc_conv_string, "PATH", "robot description file (.cfg)"}, \
+    {"--param", "param", CALC_VALUE, calc_conv_params, "l1=..,l2=..",                                  \
+     "link lengths in m of rrr3 (l1, l2, l3) or planar2 (l1, l2)"},                                     \
+    {"--q", "q", CALC_VALUE, calc_conv_reals, "Q1,Q2,...", "joint values, rad or m (deg with --deg)"},  \
+    {"--deg", "deg", CALC_FLAG, NULL, NULL, "revolute joint values in degrees"}
+
+#endif /* KINCTL_CALC_H */
