@@ -434,6 +434,19 @@ static void print_help(const calc_cmd *cmd)
         printf("  %-26s %s\n", left, o->help);
     }
     printf("  %-26s %s\n", "--help", "this text");
+    if (cmd->run == run_batch) {
+        printf("\nkeys of each op's request (from the options of its subcommand):\n");
+        for (size_t i = 0; i < N_COMMANDS; i++) {
+            if (commands[i].run == run_batch)
+                continue;
+            printf("  %-10s", commands[i].name);
+            const char *last = "";
+            for (const calc_opt *o = commands[i].opts; o->key != NULL; o++)
+                if (strcmp(o->key, last) != 0)
+                    printf(" %s", last = o->key);
+            printf("\n");
+        }
+    }
     printf("\nRadians and metres unless --deg. Bad input: a message on stderr, exit status 2.\n");
 }
 
