@@ -10,6 +10,11 @@
  * - The timing loop (BENCH_TIME): batches of BENCH_BATCH calls timed with
  *   CLOCK_MONOTONIC; per-call time = batch time / batch size, after
  *   BENCH_WARMUP untimed batches.
+ * - The schedule: the speed of a shared (virtual) machine drifts by tens of
+ *   percent over seconds, so libraries timed one after the other would be
+ *   compared under different conditions. Each series is timed in
+ *   BENCH_ROUNDS blocks of BENCH_BATCHES_PER_ROUND batches, interleaved with
+ *   the other libraries' blocks, and its statistics pool all its blocks.
  * - The statistics: median, p99 and max of the per-call times.
  * - The line protocol the helpers print and the driver parses.
  */
@@ -22,8 +27,10 @@
 
 #define BENCH_CONFIGS 1024 /* a multiple of BENCH_BATCH */
 #define BENCH_BATCH 64
-#define BENCH_BATCHES 4000
-#define BENCH_WARMUP 200
+#define BENCH_ROUNDS 10
+#define BENCH_BATCHES_PER_ROUND 400
+#define BENCH_BATCHES (BENCH_ROUNDS * BENCH_BATCHES_PER_ROUND)
+#define BENCH_WARMUP 100 /* per block */
 /* Configurations (the first of the set) compared across libraries. */
 #define BENCH_CHECKS 16
 #define BENCH_SEED 20240601u
@@ -81,25 +88,25 @@ static inline double bench_now_ns(void)
 }
 
 /*
- * Runs BODY (which may use the config index k) over warm-up and timed
- * batches, storing the per-call time of each timed batch in ns_out
- * (BENCH_BATCHES doubles). Batches walk through the configuration set in
- * order, so every library sees the same sequence of inputs. A macro rather
- * than a function taking a callback: an indirect call per iteration would
- * cost about as much as the cheapest operation we time.
+ * Runs BODY (which may use the config index k) over BENCH_WARMUP warm-up
+ * batches and then n_batches timed ones, storing the per-call time of each
+ * timed batch in ns_out[0..n_batches-1]. Batches walk through the
+ * configuration set in order, so every library sees the same inputs. A
+ * macro rather than a function taking a callback: an indirect call per
+ * iteration would cost about as much as the cheapest operation we time.
  */
-#define BENCH_TIME(ns_out, ...)                                                  \
-    do {                                                                         \
-        for (int b_ = -BENCH_WARMUP; b_ < BENCH_BATCHES; b_++) {                 \
-            int first_ = ((b_ + BENCH_WARMUP) * BENCH_BATCH) % BENCH_CONFIGS;    \
-            double t0_ = bench_now_ns();                                         \
-            for (int k = first_; k < first_ + BENCH_BATCH; k++) {                \
-                __VA_ARGS__;                                                     \
-            }                                                                    \
-            double t1_ = bench_now_ns();                                         \
-            if (b_ >= 0)                                                         \
-                (ns_out)[b_] = (t1_ - t0_) / (double)BENCH_BATCH;                \
-        }                                                                        \
+#define BENCH_TIME(ns_out, n_batches, ...)                                    \
+    do {                                                                      \
+        for (int b_ = -BENCH_WARMUP; b_ < (n_batches); b_++) {                \
+            int first_ = ((b_ + BENCH_WARMUP) * BENCH_BATCH) % BENCH_CONFIGS; \
+            double t0_ = bench_now_ns();                                      \
+            for (int k = first_; k < first_ + BENCH_BATCH; k++) {             \
+                __VA_ARGS__;                                                  \
+            }                                                                 \
+            double t1_ = bench_now_ns();                                      \
+            if (b_ >= 0)                                                      \
+                (ns_out)[b_] = (t1_ - t0_) / (double)BENCH_BATCH;             \
+        }                                                                     \
     } while (0)
 
 typedef struct bench_stats {
@@ -124,10 +131,12 @@ static inline bench_stats bench_summarize(double *ns, int n)
 }
 
 /*
- * Helper output, one record per line, numbers in %.17g:
+ * Helper protocol. `helper check` prints, numbers in %.17g:
  *   check <model> <config> pose <R row-major 9> <t 3>
  *   check <model> <config> jac <6 x n row-major, rows vx vy vz wx wy wz>
- *   time <model> <fk|jac> <median_ns> <p99_ns> <max_ns> <checksum>
+ * `helper time <model> <fk|jac> <batches>` prints one block:
+ *   ns <per-call ns of each batch...>
+ *   checksum <sum>
  * Anything else (an error text) makes the driver stop.
  */
 

@@ -4,9 +4,11 @@
 // kinctl's double and float builds share symbol names, so each is timed by
 // its own helper executable (kinctl_helper.c) that this driver runs; KDL and
 // Pinocchio are timed here, in the same invocation and pinned to the same CPU
-// (children inherit the affinity). Before the table is printed every library
-// is checked against the others on the first BENCH_CHECKS configurations: a
-// benchmark of a wrong computation is worthless, so a mismatch stops it.
+// (children inherit the affinity). Every series is timed in BENCH_ROUNDS
+// blocks interleaved with the others' (see bench_common.h: the machine's
+// speed drifts). Before any timing every library is checked against the
+// others on the first BENCH_CHECKS configurations: a benchmark of a wrong
+// computation is worthless, so a mismatch stops it.
 //
 // The KDL and Pinocchio models are built from the tables in
 // tests/vectors/fk.json, written here independently of kinctl's own model
@@ -20,7 +22,9 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -241,16 +245,26 @@ Result pin_eval(const PinArm &p, const double *q)
 
 // ---- the kinctl helpers ----
 
-struct Row {
-    std::string lib, model, prec, op;
-    bench_stats s;
-};
-
-struct HelperOutput {
-    std::map<std::string, std::vector<Result>> checks; // by model, by config
-    std::vector<Row> rows;
-    double checksum = 0.0;
-};
+// Runs a helper with arguments and returns its output; false if it failed.
+bool run_helper(const char *path, const std::string &args, std::string &out)
+{
+    std::string cmd = std::string(path) + " " + args;
+    FILE *f = popen(cmd.c_str(), "r");
+    if (f == nullptr) {
+        std::printf("error: cannot run %s\n", cmd.c_str());
+        return false;
+    }
+    out.clear();
+    char buf[65536];
+    for (size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;)
+        out.append(buf, n);
+    int rc = pclose(f);
+    if (rc != 0) {
+        std::printf("error: %s exited with status %d:\n%s\n", cmd.c_str(), rc, out.c_str());
+        return false;
+    }
+    return true;
+}
 
 std::vector<double> parse_numbers(const char *s)
 {
@@ -263,41 +277,49 @@ std::vector<double> parse_numbers(const char *s)
     return v;
 }
 
-bool run_helper(const char *path, const char *prec, HelperOutput &out)
+// Results of `helper check`, by model then configuration.
+bool helper_checks(const char *path, std::map<std::string, std::vector<Result>> &checks)
 {
-    FILE *f = popen(path, "r");
-    if (f == nullptr) {
-        std::printf("error: cannot run %s\n", path);
+    std::string out;
+    if (!run_helper(path, "check", out))
         return false;
-    }
-    char line[16384];
-    bool ok = true;
-    while (std::fgets(line, sizeof line, f) != nullptr) {
+    size_t pos = 0;
+    for (size_t eol; (eol = out.find('\n', pos)) != std::string::npos; pos = eol + 1) {
+        std::string line = out.substr(pos, eol - pos);
         char model[32], what[8];
         int idx, used = 0;
-        if (std::sscanf(line, "check %31s %d %7s %n", model, &idx, what, &used) == 3 && used > 0) {
-            std::vector<Result> &v = out.checks[model];
-            if ((int)v.size() <= idx)
-                v.resize((size_t)idx + 1);
-            (std::strcmp(what, "pose") == 0 ? v[(size_t)idx].pose : v[(size_t)idx].jac) = parse_numbers(line + used);
-        } else if (std::sscanf(line, "time %31s %7s %n", model, what, &used) == 2 && used > 0) {
-            std::vector<double> n = parse_numbers(line + used);
-            if (n.size() != 4) {
-                ok = false;
-                break;
-            }
-            out.rows.push_back(Row{"kinctl", model, prec, what, bench_stats{n[0], n[1], n[2]}});
-            out.checksum += n[3];
-        } else {
-            std::printf("%s helper: %s", prec, line);
-            ok = false;
+        if (std::sscanf(line.c_str(), "check %31s %d %7s %n", model, &idx, what, &used) != 3 || used == 0 ||
+            idx < 0 || idx >= BENCH_CHECKS) {
+            std::printf("error: %s check: %s\n", path, line.c_str());
+            return false;
         }
+        std::vector<Result> &v = checks[model];
+        v.resize(BENCH_CHECKS);
+        (std::strcmp(what, "pose") == 0 ? v[(size_t)idx].pose : v[(size_t)idx].jac) =
+            parse_numbers(line.c_str() + used);
     }
-    int rc = pclose(f);
-    if (rc != 0 || !ok) {
-        std::printf("error: %s exited with status %d\n", path, rc);
+    return true;
+}
+
+// One timed block from a helper: appends its per-batch times to ns.
+bool helper_block(const char *path, const std::string &model, const std::string &op, std::vector<double> &ns,
+                  double &checksum)
+{
+    std::string out;
+    if (!run_helper(path, "time " + model + " " + op + " " + std::to_string(BENCH_BATCHES_PER_ROUND), out))
+        return false;
+    size_t ns_at = out.find("ns "), sum_at = out.find("checksum ");
+    if (ns_at != 0 || sum_at == std::string::npos) {
+        std::printf("error: %s: unexpected output:\n%s\n", path, out.c_str());
         return false;
     }
+    std::vector<double> v = parse_numbers(out.c_str() + 3);
+    if (v.size() != BENCH_BATCHES_PER_ROUND) {
+        std::printf("error: %s gave %zu timings, not %d\n", path, v.size(), BENCH_BATCHES_PER_ROUND);
+        return false;
+    }
+    ns.insert(ns.end(), v.begin(), v.end());
+    checksum += std::strtod(out.c_str() + sum_at + 9, nullptr);
     return true;
 }
 
@@ -327,6 +349,39 @@ bool compare(const char *what, const std::vector<Result> &a, const std::vector<R
     return ok;
 }
 
+// ---- timing ----
+
+// One row of the table: a library, model, precision and operation, and a
+// block function that times BENCH_BATCHES_PER_ROUND batches into ns.
+struct Series {
+    std::string lib, model, prec, op;
+    std::function<bool(std::vector<double> &ns, double &checksum)> block;
+    std::vector<double> ns;
+    bench_stats s;
+};
+
+// Solvers and outputs are made once, outside the timed loop, as a
+// controller would. Held by pointer: the solvers keep references to chain.
+struct KdlCtx {
+    KDL::Chain chain;
+    std::vector<KDL::JntArray> q;
+    std::unique_ptr<KDL::ChainFkSolverPos_recursive> fk;
+    std::unique_ptr<KDL::ChainJntToJacSolver> js;
+    KDL::Frame f;
+    KDL::Jacobian jac;
+    std::vector<double> ns_block = std::vector<double>(BENCH_BATCHES_PER_ROUND);
+};
+
+#ifdef KC_BENCH_WITH_PINOCCHIO
+struct PinCtx {
+    PinArm arm;
+    std::unique_ptr<pinocchio::Data> data;
+    pinocchio::Data::Matrix6x J;
+    std::vector<Eigen::VectorXd> q;
+    std::vector<double> ns_block = std::vector<double>(BENCH_BATCHES_PER_ROUND);
+};
+#endif
+
 // The last CPU we may run on: on a small machine CPU 0 takes most interrupts.
 std::string pin_to_one_cpu()
 {
@@ -344,21 +399,21 @@ std::string pin_to_one_cpu()
     return "pinned to CPU " + std::to_string(cpu);
 }
 
-const bench_stats *find(const std::vector<Row> &rows, const std::string &lib, const std::string &model,
+const bench_stats *find(const std::vector<Series> &rows, const std::string &lib, const std::string &model,
                         const std::string &prec, const std::string &op)
 {
-    for (const Row &r : rows)
+    for (const Series &r : rows)
         if (r.lib == lib && r.model == model && r.prec == prec && r.op == op)
             return &r.s;
     return nullptr;
 }
 
-void target(const std::vector<Row> &rows, const char *lib, const char *op, double factor)
+void target(const std::vector<Series> &rows, const char *lib, const char *op, double factor)
 {
     const bench_stats *k = find(rows, "kinctl", "puma560", "double", op);
     const bench_stats *o = find(rows, lib, "puma560", "double", op);
     if (k == nullptr || o == nullptr) {
-        std::printf("  %-4s %-10s >= %.1fx: not measured\n", op, lib, factor);
+        std::printf("  %-4s %-10s %.1fx: not measured\n", op, lib, factor);
         return;
     }
     double ratio = o->median_ns / k->median_ns;
@@ -372,111 +427,155 @@ void target(const std::vector<Row> &rows, const char *lib, const char *op, doubl
 
 int main()
 {
-    std::printf("fk_bench: %d configurations per model, %d batches of %d calls (+%d warm-up), CLOCK_MONOTONIC\n",
-                BENCH_CONFIGS, BENCH_BATCHES, BENCH_BATCH, BENCH_WARMUP);
+    std::printf("fk_bench: %d configurations per model; per series %d rounds x %d batches of %d calls "
+                "(+%d warm-up batches a round), CLOCK_MONOTONIC\n",
+                BENCH_CONFIGS, BENCH_ROUNDS, BENCH_BATCHES_PER_ROUND, BENCH_BATCH, BENCH_WARMUP);
     std::printf("%s\n", pin_to_one_cpu().c_str());
 #ifndef KC_BENCH_WITH_PINOCCHIO
     std::printf("Pinocchio: not built: %s\n", KC_BENCH_PINOCCHIO_MISSING);
 #endif
 
-    HelperOutput dbl, flt;
-    if (!run_helper(KC_BENCH_HELPER_DOUBLE, "double", dbl) || !run_helper(KC_BENCH_HELPER_FLOAT, "float", flt))
+    // ---- check that everyone computes the same thing ----
+    std::map<std::string, std::vector<Result>> dbl, flt;
+    if (!helper_checks(KC_BENCH_HELPER_DOUBLE, dbl) || !helper_checks(KC_BENCH_HELPER_FLOAT, flt))
         return 1;
-
-    std::vector<Row> rows = dbl.rows;
-    rows.insert(rows.end(), flt.rows.begin(), flt.rows.end());
-    double checksum = dbl.checksum + flt.checksum;
     bool all_ok = true;
-    static double q[BENCH_CONFIGS][BENCH_MAX_JOINTS];
-    static double ns[BENCH_BATCHES];
-
+    static double q[BENCH_N_MODELS][BENCH_CONFIGS][BENCH_MAX_JOINTS];
+    std::vector<std::unique_ptr<KdlCtx>> kdl;
+#ifdef KC_BENCH_WITH_PINOCCHIO
+    std::vector<std::unique_ptr<PinCtx>> pin;
+#endif
     for (int m = 0; m < BENCH_N_MODELS; m++) {
         const std::string name = bench_model_names[m];
         const Arm arm = m == BENCH_PUMA560 ? make_puma560() : make_panda();
-        const int n = bench_model_joints[m];
-        bench_make_configs(m, q);
+        const unsigned n = (unsigned)bench_model_joints[m];
+        bench_make_configs(m, q[m]);
 
-        // Check first, on the first BENCH_CHECKS configurations.
-        const KDL::Chain chain = kdl_chain(arm);
+        kdl.push_back(std::make_unique<KdlCtx>());
+        KdlCtx &kc = *kdl.back();
+        kc.chain = kdl_chain(arm);
         std::vector<Result> kdl_ref;
         for (int k = 0; k < BENCH_CHECKS; k++)
-            kdl_ref.push_back(kdl_eval(chain, q[k]));
+            kdl_ref.push_back(kdl_eval(kc.chain, q[m][k]));
         std::printf("check %s, max |difference| over %d configurations:\n", name.c_str(), BENCH_CHECKS);
         // Float is judged against double results for the unrounded q: its
         // error is q's rounding (6e-8 rad) and float arithmetic over a ~1 m arm.
-        all_ok &= compare("kinctl double vs KDL", dbl.checks[name], kdl_ref, 1e-9);
-        all_ok &= compare("kinctl float vs KDL", flt.checks[name], kdl_ref, 1e-5);
+        all_ok &= compare("kinctl double vs KDL", dbl[name], kdl_ref, 1e-9);
+        all_ok &= compare("kinctl float vs KDL", flt[name], kdl_ref, 1e-5);
+        kc.q.assign(BENCH_CONFIGS, KDL::JntArray(n));
+        for (int k = 0; k < BENCH_CONFIGS; k++)
+            for (unsigned j = 0; j < n; j++)
+                kc.q[(size_t)k](j) = q[m][k][j];
+        kc.fk = std::make_unique<KDL::ChainFkSolverPos_recursive>(kc.chain);
+        kc.js = std::make_unique<KDL::ChainJntToJacSolver>(kc.chain);
+        kc.jac.resize(n);
 #ifdef KC_BENCH_WITH_PINOCCHIO
-        const PinArm pin = pin_arm(arm);
+        pin.push_back(std::make_unique<PinCtx>());
+        PinCtx &pc = *pin.back();
+        pc.arm = pin_arm(arm);
         std::vector<Result> pin_ref;
         for (int k = 0; k < BENCH_CHECKS; k++)
-            pin_ref.push_back(pin_eval(pin, q[k]));
-        all_ok &= compare("kinctl double vs Pinocchio", dbl.checks[name], pin_ref, 1e-9);
+            pin_ref.push_back(pin_eval(pc.arm, q[m][k]));
+        all_ok &= compare("kinctl double vs Pinocchio", dbl[name], pin_ref, 1e-9);
         all_ok &= compare("KDL vs Pinocchio", kdl_ref, pin_ref, 1e-9);
-#endif
-        if (!all_ok)
-            continue;
-
-        // KDL: the solvers and outputs are made once, as a controller would.
-        {
-            std::vector<KDL::JntArray> qk(BENCH_CONFIGS, KDL::JntArray((unsigned)n));
-            for (int k = 0; k < BENCH_CONFIGS; k++)
-                for (int j = 0; j < n; j++)
-                    qk[(size_t)k](j) = q[k][j];
-            KDL::ChainFkSolverPos_recursive fk(chain);
-            KDL::ChainJntToJacSolver js(chain);
-            KDL::Frame f;
-            KDL::Jacobian jac((unsigned)n);
-            double sum = 0.0;
-            BENCH_TIME(ns, fk.JntToCart(qk[(size_t)k], f); sum += f.p.x());
-            rows.push_back(Row{"KDL", name, "double", "fk", bench_summarize(ns, BENCH_BATCHES)});
-            BENCH_TIME(ns, js.JntToJac(qk[(size_t)k], jac); sum += jac(0, (unsigned)n - 1));
-            rows.push_back(Row{"KDL", name, "double", "jac", bench_summarize(ns, BENCH_BATCHES)});
-            checksum += sum;
-        }
-#ifdef KC_BENCH_WITH_PINOCCHIO
-        // Pinocchio: FK is forwardKinematics (every joint placement) plus the
-        // tool frame; the Jacobian call computes the placements it needs
-        // itself, as kinctl's and KDL's do.
-        {
-            std::vector<Eigen::VectorXd> qv(BENCH_CONFIGS, Eigen::VectorXd(n));
-            for (int k = 0; k < BENCH_CONFIGS; k++)
-                for (int j = 0; j < n; j++)
-                    qv[(size_t)k][j] = q[k][j];
-            pinocchio::Data data(pin.model);
-            pinocchio::Data::Matrix6x J = pinocchio::Data::Matrix6x::Zero(6, n);
-            double sum = 0.0;
-            BENCH_TIME(ns, pinocchio::forwardKinematics(pin.model, data, qv[(size_t)k]);
-                       pinocchio::updateFramePlacement(pin.model, data, pin.tool);
-                       sum += data.oMf[pin.tool].translation()[0]);
-            rows.push_back(Row{"Pinocchio", name, "double", "fk", bench_summarize(ns, BENCH_BATCHES)});
-            BENCH_TIME(ns, pinocchio::computeFrameJacobian(pin.model, data, qv[(size_t)k], pin.tool,
-                                                           pinocchio::LOCAL_WORLD_ALIGNED, J);
-                       sum += J(0, n - 1));
-            rows.push_back(Row{"Pinocchio", name, "double", "jac", bench_summarize(ns, BENCH_BATCHES)});
-            checksum += sum;
-        }
+        pc.data = std::make_unique<pinocchio::Data>(pc.arm.model);
+        pc.J = pinocchio::Data::Matrix6x::Zero(6, n);
+        pc.q.assign(BENCH_CONFIGS, Eigen::VectorXd((Eigen::Index)n));
+        for (int k = 0; k < BENCH_CONFIGS; k++)
+            for (unsigned j = 0; j < n; j++)
+                pc.q[(size_t)k][j] = q[m][k][j];
 #endif
     }
     if (!all_ok) {
-        std::printf("libraries disagree: no timings printed\n");
+        std::printf("libraries disagree: nothing timed\n");
         return 1;
     }
+
+    // ---- the series, grouped by model and operation ----
+    std::vector<Series> rows;
+    size_t group = 0;
+    for (int m = 0; m < BENCH_N_MODELS; m++) {
+        const std::string name = bench_model_names[m];
+        const int last = bench_model_joints[m] - 1;
+        KdlCtx *kc = kdl[(size_t)m].get();
+        for (const std::string op : {"fk", "jac"}) {
+            size_t first = rows.size();
+            for (const char *prec : {"double", "float"}) {
+                const char *path = std::strcmp(prec, "double") == 0 ? KC_BENCH_HELPER_DOUBLE : KC_BENCH_HELPER_FLOAT;
+                rows.push_back(Series{"kinctl", name, prec, op, [=](std::vector<double> &ns, double &sum) {
+                                          return helper_block(path, name, op, ns, sum);
+                                      }, {}, {}});
+            }
+            // The checksum reads one output of every call, so no call can be
+            // dropped as dead code; it costs one add per call, as in the helpers.
+            if (op == "fk")
+                rows.push_back(Series{"KDL", name, "double", op, [=](std::vector<double> &ns, double &sum) {
+                                          BENCH_TIME(kc->ns_block, BENCH_BATCHES_PER_ROUND,
+                                                     kc->fk->JntToCart(kc->q[(size_t)k], kc->f); sum += kc->f.p.x());
+                                          ns.insert(ns.end(), kc->ns_block.begin(), kc->ns_block.end());
+                                          return true;
+                                      }, {}, {}});
+            else
+                rows.push_back(Series{"KDL", name, "double", op, [=](std::vector<double> &ns, double &sum) {
+                                          BENCH_TIME(kc->ns_block, BENCH_BATCHES_PER_ROUND,
+                                                     kc->js->JntToJac(kc->q[(size_t)k], kc->jac);
+                                                     sum += kc->jac(0, (unsigned)last));
+                                          ns.insert(ns.end(), kc->ns_block.begin(), kc->ns_block.end());
+                                          return true;
+                                      }, {}, {}});
+#ifdef KC_BENCH_WITH_PINOCCHIO
+            // FK is forwardKinematics (every joint placement) plus the tool
+            // frame; the Jacobian call computes the placements it needs
+            // itself, as kinctl's and KDL's do.
+            PinCtx *pc = pin[(size_t)m].get();
+            if (op == "fk")
+                rows.push_back(Series{"Pinocchio", name, "double", op, [=](std::vector<double> &ns, double &sum) {
+                                          BENCH_TIME(pc->ns_block, BENCH_BATCHES_PER_ROUND,
+                                                     pinocchio::forwardKinematics(pc->arm.model, *pc->data,
+                                                                                  pc->q[(size_t)k]);
+                                                     pinocchio::updateFramePlacement(pc->arm.model, *pc->data,
+                                                                                     pc->arm.tool);
+                                                     sum += pc->data->oMf[pc->arm.tool].translation()[0]);
+                                          ns.insert(ns.end(), pc->ns_block.begin(), pc->ns_block.end());
+                                          return true;
+                                      }, {}, {}});
+            else
+                rows.push_back(Series{"Pinocchio", name, "double", op, [=](std::vector<double> &ns, double &sum) {
+                                          BENCH_TIME(pc->ns_block, BENCH_BATCHES_PER_ROUND,
+                                                     pinocchio::computeFrameJacobian(
+                                                         pc->arm.model, *pc->data, pc->q[(size_t)k], pc->arm.tool,
+                                                         pinocchio::LOCAL_WORLD_ALIGNED, pc->J);
+                                                     sum += pc->J(0, last));
+                                          ns.insert(ns.end(), pc->ns_block.begin(), pc->ns_block.end());
+                                          return true;
+                                      }, {}, {}});
+#endif
+            group = rows.size() - first;
+        }
+    }
+
+    // ---- interleaved rounds; the starting library rotates each round so
+    // none is always first after another's block ----
+    double checksum = 0.0;
+    for (int r = 0; r < BENCH_ROUNDS; r++)
+        for (size_t g = 0; g < rows.size(); g += group)
+            for (size_t i = 0; i < group; i++) {
+                Series &s = rows[g + (i + (size_t)r) % group];
+                if (!s.block(s.ns, checksum))
+                    return 1;
+            }
+    for (Series &s : rows)
+        s.s = bench_summarize(s.ns.data(), (int)s.ns.size());
 
     std::printf("\nper call, ns; ratio = median / kinctl double median (same model and op): "
                 "above 1 means kinctl double is faster\n");
     std::printf("%-10s %-8s %-6s %-4s %9s %9s %9s %7s\n", "library", "model", "prec", "op", "median", "p99", "max",
                 "ratio");
-    for (int m = 0; m < BENCH_N_MODELS; m++)
-        for (const char *op : {"fk", "jac"})
-            for (const Row &r : rows) {
-                if (r.model != bench_model_names[m] || r.op != op)
-                    continue;
-                const bench_stats *base = find(rows, "kinctl", r.model, "double", r.op);
-                std::printf("%-10s %-8s %-6s %-4s %9.1f %9.1f %9.1f %7.2f\n", r.lib.c_str(), r.model.c_str(),
-                            r.prec.c_str(), r.op.c_str(), r.s.median_ns, r.s.p99_ns, r.s.max_ns,
-                            r.s.median_ns / base->median_ns);
-            }
+    for (const Series &r : rows) {
+        const bench_stats *base = find(rows, "kinctl", r.model, "double", r.op);
+        std::printf("%-10s %-8s %-6s %-4s %9.1f %9.1f %9.1f %7.2f\n", r.lib.c_str(), r.model.c_str(), r.prec.c_str(),
+                    r.op.c_str(), r.s.median_ns, r.s.p99_ns, r.s.max_ns, r.s.median_ns / base->median_ns);
+    }
     std::printf("\ntargets (puma560, double, ratio of medians):\n");
     target(rows, "KDL", "fk", 2.0);
     target(rows, "Pinocchio", "fk", 1.0);
