@@ -181,7 +181,8 @@ static kc_status read_limits(reader *r, const config_setting_t *owner, const cha
         if ((st = vector_of(r, q, qwhat, 2, scale, mm)) != KC_OK)
             return st;
         if (!(mm[0] <= mm[1]))
-            return fail(r, q, "%s: q min %.17g > max %.17g", what, (double)mm[0], (double)mm[1]);
+            return fail(r, q, "%s: q min %.17g > max %.17g", what, (double)(mm[0] / scale),
+                        (double)(mm[1] / scale)); /* in the file's unit */
         l.q_min = mm[0];
         l.q_max = mm[1];
     }
