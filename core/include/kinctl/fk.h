@@ -30,8 +30,11 @@ typedef struct kc_jacobian {
 /* Tool pose in the world frame. */
 kc_status kc_fk_eval(const kc_chain *chain, const kc_real *q, kc_pose *tool);
 
-/* Every frame of the chain in the world frame (chain->n_frames poses into
- * frames, base included, tool not), and the tool pose if tool != NULL. */
+/* Every frame of the chain in the world frame: chain->n_frames poses into
+ * frames, each the pose where a frame was ended (for a DH chain frames[i] is
+ * base * 0T_(i+1); the base itself is a frame only if the chain began with
+ * kc_chain_add_frame; the tool is not one). Also the tool pose if tool !=
+ * NULL. */
 kc_status kc_fk_frames(const kc_chain *chain, const kc_real *q, kc_pose *frames, kc_pose *tool);
 
 /* Geometric Jacobian, and the tool pose if tool != NULL (it comes free). */
