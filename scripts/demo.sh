@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh build >/dev/null
-calc=build/tools/calc/kinctl-calc
+calc=build/tools/kinctl-calc
 
 show() { printf '\n\033[1m$ %s\033[0m\n' "$*"; "$@"; }
 
