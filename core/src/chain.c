@@ -50,8 +50,16 @@ static kc_status push_element(kc_chain *chain, int code, int joint, kc_real valu
     e->value = value;
     e->c = KC_R(1.0);
     e->s = KC_R(0.0);
-    if (code >= KC_CODE_RX && code <= KC_CODE_RZ)
+    e->quarter = 0;
+    if (code >= KC_CODE_RX && code <= KC_CODE_RZ) {
         kc_sincos(value, &e->s, &e->c);
+        /* DH tables are full of alpha = +-pi/2, whose cosine comes out as
+         * rounding noise: take it as the exact quarter turn it stands for. */
+        if (kc_fabs(e->c) <= KC_REAL_EPS && kc_fabs(e->s) == KC_R(1.0)) {
+            e->quarter = e->s > KC_R(0.0) ? 1 : -1;
+            e->c = KC_R(0.0);
+        }
+    }
     return KC_OK;
 }
 

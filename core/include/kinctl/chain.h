@@ -70,6 +70,9 @@ typedef struct kc_element {
     int8_t joint;  /* joint index for codes 1-6, -1 for constants */
     kc_real value; /* constant angle or length (codes 7-12) */
     kc_real c, s;  /* cos and sin of a constant rotation */
+    /* +1 or -1 for a constant rotation of +-pi/2 (within rounding): FK then
+     * swaps two columns instead of multiplying; 0 otherwise. */
+    int8_t quarter;
 } kc_element;
 
 typedef struct kc_chain {

@@ -82,11 +82,86 @@ static inline kc_real kc_fmod(kc_real x, kc_real y) { return fmod(x, y); }
 static inline kc_real kc_floor(kc_real x) { return floor(x); }
 #endif
 
-/* Sine and cosine of one angle; a backend may compute both at once. */
+/*
+ * Sine and cosine of one angle at once, the call every joint of every FK
+ * makes. Not libm's: |x| <= 1e5 (64 in float) is reduced to r in
+ * [-pi/4, pi/4] by Cody-Waite (pi/2 split into a short head, exact in
+ * n * head, and tails), then sin r and cos r come from their Taylor series
+ * through r^17 and r^18 (r^9 and r^10 in float), whose truncation error
+ * ((pi/4)^19/19! < 1e-19 in double) is below the rounding: the error is
+ * about 1 ulp (measured in tests/unit/test_real.c). Faster than a libm call, and the same
+ * bits whatever libm the machine has, which replays and determinism hashes
+ * rely on. Larger or non-finite x go to libm.
+ */
+/* sin r = r + r z (-1/3! + z (1/5! - z (1/7! ...))), z = r^2, by Horner. */
+static inline kc_real kc_sincos_poly_sin(kc_real r, kc_real z)
+{
+#ifdef KC_REAL_FLOAT
+    /* Float needs terms through r^9: (pi/4)^11/11! = 2e-9 < 2^-24. */
+    kc_real p = KC_R(2.75573192239858906526e-6);
+#else
+    kc_real p = KC_R(2.8114572543455207632e-15);
+    p = KC_R(-7.6471637318198164759e-13) + z * p;
+    p = KC_R(1.60590438368216145994e-10) + z * p;
+    p = KC_R(-2.50521083854417187751e-8) + z * p;
+    p = KC_R(2.75573192239858906526e-6) + z * p;
+#endif
+    p = KC_R(-1.98412698412698412698e-4) + z * p;
+    p = KC_R(8.33333333333333333333e-3) + z * p;
+    p = KC_R(-1.66666666666666666667e-1) + z * p;
+    return r + r * z * p;
+}
+
+/* cos r = 1 + z (-1/2! + z (1/4! - z (1/6! ...))). */
+static inline kc_real kc_sincos_poly_cos(kc_real z)
+{
+#ifdef KC_REAL_FLOAT
+    /* Float needs terms through r^10: (pi/4)^12/12! = 1e-10 < 2^-24. */
+    kc_real p = KC_R(-2.75573192239858906526e-7);
+#else
+    kc_real p = KC_R(-1.56192069685862264622e-16);
+    p = KC_R(4.77947733238738529744e-14) + z * p;
+    p = KC_R(-1.14707455977297247139e-11) + z * p;
+    p = KC_R(2.08767569878680989792e-9) + z * p;
+    p = KC_R(-2.75573192239858906526e-7) + z * p;
+#endif
+    p = KC_R(2.48015873015873015873e-5) + z * p;
+    p = KC_R(-1.38888888888888888889e-3) + z * p;
+    p = KC_R(4.16666666666666666667e-2) + z * p;
+    p = KC_R(-5.0e-1) + z * p;
+    return KC_R(1.0) + z * p;
+}
+
 static inline void kc_sincos(kc_real x, kc_real *s, kc_real *c)
 {
-    *s = kc_sin(x);
-    *c = kc_cos(x);
+#ifdef KC_REAL_FLOAT
+    /* pi/2 = hi + mid + lo, hi with 17 bits: n hi is exact for |n| < 128. */
+    const kc_real bound = KC_R(64.0);
+    const kc_real pio2_hi = KC_R(1.5707855224609375), pio2_mid = KC_R(1.0804334124259185e-05),
+                  pio2_lo = KC_R(-1.6513995574653217e-13);
+#else
+    /* pi/2 = hi + lo, hi with 33 bits: n hi is exact for |n| < 2^20. */
+    const kc_real bound = KC_R(1e5);
+    const kc_real pio2_hi = KC_R(1.57079632673412561417), pio2_mid = KC_R(6.07710050650619224932e-11),
+                  pio2_lo = KC_R(0.0);
+#endif
+    if (!(kc_fabs(x) <= bound)) {
+        *s = kc_sin(x);
+        *c = kc_cos(x);
+        return;
+    }
+    kc_real fn = x * KC_R(0.63661977236758134308); /* 2/pi */
+    long n = (long)(fn + (fn < KC_R(0.0) ? KC_R(-0.5) : KC_R(0.5)));
+    kc_real nr = (kc_real)n;
+    kc_real r = ((x - nr * pio2_hi) - nr * pio2_mid) - nr * pio2_lo;
+    kc_real z = r * r;
+    kc_real sr = kc_sincos_poly_sin(r, z), cr = kc_sincos_poly_cos(z);
+    switch (n & 3) {
+    case 0: *s = sr; *c = cr; break;
+    case 1: *s = cr; *c = -sr; break;
+    case 2: *s = -sr; *c = -cr; break;
+    default: *s = -cr; *c = sr; break;
+    }
 }
 
 /* Nonzero when x is neither NaN nor infinite. */
