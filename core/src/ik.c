@@ -20,7 +20,7 @@ kc_ik_cfg kc_ik_cfg_default(void)
     c.tol_rot = KC_R(1e-10);
 #endif
     c.max_steps = 100;
-    c.max_restarts = 20;
+    c.max_restarts = 30;
     c.max_step = KC_R(1.0);
     c.damping_max = KC_R(0.05);
     c.manip_threshold = KC_R(1e-3);
@@ -211,8 +211,20 @@ static kc_real dls_solve(const ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], cons
     kc_real a[KC_LINALG_MAX][KC_LINALG_MAX];
     kc_real z[KC_MAX_JOINTS];
     kc_real y[KC_LINALG_MAX], yz[KC_LINALG_MAX];
+    kc_real jf[6][KC_MAX_JOINTS];
     int redundant = n > r && null_scale > KC_R(0.0);
+    int any_frozen = 0;
 
+    /* Frozen joints: work on a copy with their columns zeroed, so the loops
+     * below stay branch-free. */
+    for (int j = 0; j < n; j++)
+        any_frozen |= frozen[j];
+    if (any_frozen) {
+        for (int i = 0; i < r; i++)
+            for (int j = 0; j < n; j++)
+                jf[i][j] = frozen[j] ? KC_R(0.0) : jt[i][j];
+        jt = jf;
+    }
     if (redundant) {
         null_gradient(p, q, z);
         for (int j = 0; j < n; j++)
@@ -222,8 +234,7 @@ static kc_real dls_solve(const ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], cons
         for (int k = 0; k <= i; k++) {
             kc_real s = KC_R(0.0);
             for (int j = 0; j < n; j++)
-                if (!frozen[j])
-                    s += jt[i][j] * jt[k][j];
+                s += jt[i][j] * jt[k][j];
             a[i][k] = a[k][i] = s;
         }
         y[i] = u[i];
@@ -233,17 +244,19 @@ static kc_real dls_solve(const ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], cons
                 yz[i] += jt[i][j] * z[j];
     }
 
-    /* Manipulability sqrt(det(J J^T)) from an undamped factorisation. */
-    kc_real l[KC_LINALG_MAX][KC_LINALG_MAX], det = KC_R(0.0);
-    for (int i = 0; i < r; i++)
-        for (int k = 0; k < r; k++)
-            l[i][k] = a[i][k];
-    kc_cholesky(l, r, &det);
-    kc_real w = kc_sqrt(kc_max(det, KC_R(0.0)));
-    kc_real damp = lambda2;
-    if (p->singular_damping && w < p->cfg->manip_threshold) {
-        kc_real f = KC_R(1.0) - w / p->cfg->manip_threshold;
-        damp += p->cfg->damping_max * p->cfg->damping_max * f * f;
+    kc_real damp = lambda2, w = KC_REAL_MAX;
+    if (p->singular_damping) {
+        /* Manipulability sqrt(det(J J^T)) from an undamped factorisation. */
+        kc_real l[KC_LINALG_MAX][KC_LINALG_MAX], det = KC_R(0.0);
+        for (int i = 0; i < r; i++)
+            for (int k = 0; k < r; k++)
+                l[i][k] = a[i][k];
+        kc_cholesky(l, r, &det);
+        w = kc_sqrt(kc_max(det, KC_R(0.0)));
+        if (w < p->cfg->manip_threshold) {
+            kc_real f = KC_R(1.0) - w / p->cfg->manip_threshold;
+            damp += p->cfg->damping_max * p->cfg->damping_max * f * f;
+        }
     }
     /* A floor keeps the factorisation defined at an exact singularity. */
     damp = kc_max(damp, KC_REAL_EPS);
@@ -255,27 +268,26 @@ static kc_real dls_solve(const ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], cons
         return KC_R(0.0);
     }
     kc_cholesky_solve(a, r, y);
-    if (redundant)
-        kc_cholesky_solve(a, r, yz);
-
-    kc_real null_max = KC_R(0.0);
     for (int j = 0; j < n; j++) {
-        kc_real t = KC_R(0.0), nz = KC_R(0.0);
-        if (!frozen[j]) {
-            for (int i = 0; i < r; i++) {
-                t += jt[i][j] * y[i];
-                nz += jt[i][j] * yz[i];
-            }
-            if (redundant)
-                nz = z[j] - nz;
-        }
+        kc_real t = KC_R(0.0);
+        for (int i = 0; i < r; i++)
+            t += jt[i][j] * y[i];
         dq[j] = t;
-        z[j] = redundant && !frozen[j] ? nz : KC_R(0.0);
-        null_max = kc_max(null_max, kc_fabs(z[j]));
     }
-    kc_real ns = null_max > KC_R(0.5) * null_bound ? KC_R(0.5) * null_bound / null_max : KC_R(1.0);
-    for (int j = 0; j < n; j++)
-        dq[j] += ns * z[j];
+    if (redundant) {
+        kc_cholesky_solve(a, r, yz);
+        kc_real null_max = KC_R(0.0);
+        for (int j = 0; j < n; j++) {
+            kc_real t = KC_R(0.0);
+            for (int i = 0; i < r; i++)
+                t += jt[i][j] * yz[i];
+            z[j] -= t; /* zero for frozen joints: their column is zero */
+            null_max = kc_max(null_max, kc_fabs(z[j]));
+        }
+        kc_real ns = null_max > KC_R(0.5) * null_bound ? KC_R(0.5) * null_bound / null_max : KC_R(1.0);
+        for (int j = 0; j < n; j++)
+            dq[j] += ns * z[j];
+    }
     return w;
 }
 
@@ -329,10 +341,13 @@ kc_real kc_ik_reach(const kc_chain *chain)
 /* Errors below which kc_ik_solve drops the null-space term (m, rad). */
 #define KC_IK_POLISH_POS KC_R(1e-3)
 #define KC_IK_POLISH_ROT KC_R(1e-3)
-/* Steps over which the cost must halve before an attempt counts as stalled. */
-#ifndef KC_IK_STALL_WINDOW
-#define KC_IK_STALL_WINDOW 10
-#endif
+/* Steps over which the cost must halve before an attempt counts as stalled.
+ * Measured on 1000 random puma560 and panda targets from random starts: a
+ * window of 4 (against 6, 8, 10) halves the median and the p99 solve time at
+ * the same success rate. An attempt that fails is almost always one pinned
+ * at a joint limit on the way to a branch it cannot reach, and a new start
+ * is cheaper than waiting. */
+#define KC_IK_STALL_WINDOW 4
 /* lambda^2 = c |e|^2 in solve (Sugihara's error damping; c = 0.05 measured
  * best of 0.5, 0.05 and 0.005 on random puma560 and panda targets). */
 #define KC_IK_ERROR_DAMPING KC_R(0.05)
