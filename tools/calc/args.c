@@ -343,13 +343,13 @@ int req_model(calc_ctx *ctx, const json_t *req, kc_chain *chain)
     return 0;
 }
 
-int req_q(calc_ctx *ctx, const json_t *req, const kc_chain *chain, int deg, kc_real *q)
+int req_joints(calc_ctx *ctx, const json_t *req, const char *key, const kc_chain *chain, int deg, kc_real *q)
 {
     int n = 0;
-    if (req_reals(ctx, json_object_get(req, "q"), "q", q, KC_MAX_JOINTS, &n) != 0)
+    if (req_reals(ctx, json_object_get(req, key), key, q, KC_MAX_JOINTS, &n) != 0)
         return -1;
     if (n != chain->n_joints)
-        return calc_fail(ctx, "q has %d values but the model has %d joints", n, chain->n_joints);
+        return calc_fail(ctx, "%s has %d values but the model has %d joints", key, n, chain->n_joints);
     for (int j = 0; j < n; j++) {
         const kc_joint *jt = &chain->joints[j];
         int angular = jt->type == KC_JOINT_REVOLUTE;
@@ -357,10 +357,15 @@ int req_q(calc_ctx *ctx, const json_t *req, const kc_chain *chain, int deg, kc_r
             q[j] *= KC_DEG;
         if (q[j] < jt->limits.q_min || q[j] > jt->limits.q_max) {
             kc_real s = deg && angular ? KC_R(1.0) / KC_DEG : KC_R(1.0);
-            calc_warn(ctx, "q[%d] = %g %s is outside joint %d's limits [%g, %g]", j, (double)(q[j] * s),
+            calc_warn(ctx, "%s[%d] = %g %s is outside joint %d's limits [%g, %g]", key, j, (double)(q[j] * s),
                       angular ? (deg ? "deg" : "rad") : "m", j + 1, (double)(jt->limits.q_min * s),
                       (double)(jt->limits.q_max * s));
         }
     }
     return 0;
+}
+
+int req_q(calc_ctx *ctx, const json_t *req, const kc_chain *chain, int deg, kc_real *q)
+{
+    return req_joints(ctx, req, "q", chain, deg, q);
 }

@@ -124,18 +124,30 @@ int req_real(calc_ctx *ctx, const json_t *req, const char *key, kc_real *out);
 int req_reals(calc_ctx *ctx, const json_t *v, const char *what, kc_real *out, int max, int *n);
 /* The model: model (a built-in name) with optional param, or model_file. */
 int req_model(calc_ctx *ctx, const json_t *req, kc_chain *chain);
-/* q for chain (n_joints values; revolute ones in deg when deg); warns when
- * q lies outside the joint limits. */
+/* Joint values under key for chain (n_joints values; revolute ones in deg
+ * when deg); warns when they lie outside the joint limits. */
+int req_joints(calc_ctx *ctx, const json_t *req, const char *key, const kc_chain *chain, int deg, kc_real *q);
+/* req_joints for the key "q". */
 int req_q(calc_ctx *ctx, const json_t *req, const kc_chain *chain, int deg, kc_real *q);
 
-/* The options every model-based subcommand takes, for a calc_opt table. */
-#define CALC_MODEL_OPTS                                                                                  \
+/* The options that choose the model, for a calc_opt table. */
+#define CALC_CHAIN_OPTS                                                                                  \
     {"--model", "model", CALC_VALUE, calc_conv_string, "NAME",                                         \
      "built-in model: puma560, panda, rrr3, planar2, rb211, rm01"},                                    \
     {"--model-file", "model_file", CALC_VALUE, calc_conv_string, "PATH", "robot description file (.cfg)"}, \
     {"--param", "param", CALC_VALUE, calc_conv_params, "l1=..,l2=..",                                  \
-     "link lengths in m of rrr3 (l1, l2, l3) or planar2 (l1, l2)"},                                     \
+     "link lengths in m of rrr3 (l1, l2, l3) or planar2 (l1, l2)"}
+
+/* The options every model-based subcommand at one configuration takes. */
+#define CALC_MODEL_OPTS                                                                                  \
+    CALC_CHAIN_OPTS,                                                                                     \
     {"--q", "q", CALC_VALUE, calc_conv_reals, "Q1,Q2,...", "joint values, rad or m (deg with --deg)"},  \
     {"--deg", "deg", CALC_FLAG, NULL, NULL, "revolute joint values in degrees"}
+
+/* ---- subcommands defined in their own files ---- */
+
+/* ik.c: inverse kinematics to a target pose. */
+extern const calc_opt ik_opts[];
+int run_ik(const json_t *req, calc_ctx *ctx);
 
 #endif /* KINCTL_CALC_H */

@@ -397,9 +397,19 @@ static const calc_cmd commands[] = {
      "per point, null where w = 0]}.\n"
      "Example: kinctl-calc transform --rotate z,90 --translate 2,0,0 --deg --point 0,0,2 --point 2,0,0",
      transform_opts, run_transform},
+    {"ik", "inverse kinematics: joint values that put the tool at a target pose",
+     "kinctl-calc ik (--model NAME | --model-file PATH) --target T [--q0 Q1,Q2,...] [--mask TASK] [--deg]\n"
+     "Integrates seed 002's dual-quaternion feedback law from q0 (with damping, joint limits and,\n"
+     "for redundant tasks, a null-space pull to mid-range) until the tool is within 1e-10 m and\n"
+     "1e-10 rad of T, restarting from other starts when a run stalls. Prints {\"q\": [...],\n"
+     "\"status\": \"converged\" | \"not_converged\" (q: the best found) | \"unreachable\" (q: null),\n"
+     "\"steps\": n, \"restarts\": n, \"position_error\": m, \"orientation_error\": rad}; exit status 0\n"
+     "whatever the status (it is the answer), 2 for bad input.\n"
+     "Example: kinctl-calc ik --model puma560 --target 0.5,-0.15,0.6,0,0.7071068,0,0.7071068",
+     ik_opts, run_ik},
     {"batch", "many requests: JSON lines on stdin, one answer line each",
      "kinctl-calc batch < requests.jsonl\n"
-     "Each line is one request object with \"op\" (fk, jacobian, orient, transform) and the\n"
+     "Each line is one request object with \"op\" (fk, jacobian, ik, orient, transform) and the\n"
      "options of that subcommand as keys: --model-file is \"model_file\", positional VALUES are\n"
      "\"values\", flags are true/false, lists are arrays; transform takes \"ops\": [{\"translate\":\n"
      "[dx,dy,dz]}, {\"rotate\": {\"axis\": \"z\", \"angle\": a}}, {\"scale\": s}, {\"perspective\":\n"
