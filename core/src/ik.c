@@ -379,6 +379,32 @@ static int q_valid(const kc_chain *chain, const kc_real *q)
     return 1;
 }
 
+/* Why the best configuration of a failed solve stops short: a joint at a
+ * position limit that the next step would push beyond (KC_E_LIMIT), else a
+ * singular task Jacobian (manipulability below the threshold: the arm
+ * cannot move towards the target, e.g. beyond a stretched elbow), else
+ * plain non-convergence. */
+static kc_status classify_miss(const ik_problem *p, const kc_dquat *target_dq, const kc_pose *target, const kc_real *q)
+{
+    kc_jacobian jac;
+    kc_pose cur;
+    kc_real e[6], pos_err, rot_err, jt[6][KC_MAX_JOINTS], dq[KC_MAX_JOINTS];
+    uint8_t frozen[KC_MAX_JOINTS] = {0};
+    ik_problem probe = *p;
+    probe.singular_damping = 1; /* to get the manipulability back */
+    kc_fk_jacobian(p->chain, q, &jac, &cur);
+    task_error(p->cfg->mask, &cur, target_dq, target, e, &pos_err, &rot_err);
+    task_jacobian(p->cfg->mask, &jac, &cur, p->n, jt);
+    kc_real w = dls_solve(&probe, jt, e, KC_R(0.0), KC_R(0.0), KC_R(0.0), q, frozen, dq);
+    /* Pushes beyond a limit by more than rounding of the step itself. */
+    for (int j = 0; j < p->n; j++)
+        if ((q[j] >= p->hi[j] && dq[j] > KC_TOL_SMALL_ANGLE) || (q[j] <= p->lo[j] && dq[j] < -KC_TOL_SMALL_ANGLE))
+            return KC_E_LIMIT;
+    if (w < p->cfg->manip_threshold)
+        return KC_E_SINGULAR;
+    return KC_E_NOCONVERGE;
+}
+
 kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose *target, const kc_real *q0,
                       kc_real *q_out, kc_ik_result *res)
 {
@@ -474,6 +500,8 @@ kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose
         }
     }
 
+    if (status != KC_OK)
+        status = classify_miss(&p, &target_dq, target, best_q);
     for (int j = 0; j < p.n; j++)
         q_out[j] = best_q[j];
     res->status = status;

@@ -139,3 +139,12 @@ def test_bad_input():
         assert r.returncode == 2, f"{args}: exit {r.returncode}, stdout {r.stdout}"
         assert word in r.stderr, f"{args}: stderr {r.stderr!r} lacks {word!r}"
         assert r.stdout == ""
+
+
+def test_a_miss_says_where_it_stopped():
+    # rrr3's arm is 0.55 m from the shoulder at (0, 0, 0.4): a point 0.6 m
+    # away is inside the reach bound but only the stretched, singular arm
+    # comes close.
+    a = json.loads(run(["ik", "--model", "rrr3", "--mask", "position", "--target", "0.6,0,0.4,1,0,0,0"]).stdout)
+    assert a["status"] == "singular", a
+    assert len(a["q"]) == 3 and 0.05 - 1e-6 <= a["position_error"] <= 0.051

@@ -73,7 +73,7 @@ static void test_vectors_from_start(void **state)
 /* Solves n random reachable targets (FK of q drawn within the limits) from
  * a fixed or random start. At least 99 % must converge inside the limits
  * (the benchmark measures the rate on 1000 targets; the issue's target is
- * 99.9 %); a miss must say so (KC_E_NOCONVERGE) with q inside the limits and
+ * 99.9 %); a miss must say so (a status saying where it stopped) with q inside the limits and
  * residuals that are the true ones of the q returned. */
 static void solve_random(kc_model model, kc_ik_mask mask, int random_start, int n, uint64_t seed)
 {
@@ -100,7 +100,7 @@ static void solve_random(kc_model model, kc_ik_mask mask, int random_start, int 
         kc_vec3_sub(&got.t, &target.t, &dp);
         kt_near((double)res.pos_err, (double)kc_vec3_norm(&dp), KT_TOL_T, "reported position residual");
         if (st != KC_OK) {
-            assert_int_equal(st, KC_E_NOCONVERGE);
+            assert_true(st == KC_E_NOCONVERGE || st == KC_E_LIMIT || st == KC_E_SINGULAR);
             print_message("%s mask %d target %d: %s, pos %g rot %g, %d steps %d restarts\n", kc_model_name(model),
                           mask, k, kc_status_str(st), (double)res.pos_err, (double)res.rot_err, res.steps,
                           res.restarts);
@@ -295,6 +295,45 @@ static void test_step_online(void **state)
     }
 }
 
+
+/* A miss says where it stopped: a one-joint arm asked to turn past its
+ * limit stops there (KC_E_LIMIT); rrr3 asked for a point beyond its
+ * stretched elbow (inside the reach bound) ends singular. */
+static void test_miss_reasons(void **state)
+{
+    (void)state;
+    kc_chain c;
+    kc_chain_init(&c);
+    kc_joint_limits l = kc_joint_limits_default();
+    l.q_min = KC_R(0.0);
+    l.q_max = KC_R(1.0);
+    assert_int_equal(kc_chain_add_joint(&c, KC_CODE_RZ_JOINT, KC_R(0.0), &l), KC_OK);
+    assert_int_equal(kc_chain_add_const(&c, KC_CODE_TX, KC_R(0.5)), KC_OK);
+    assert_int_equal(kc_chain_check(&c), KC_OK);
+    kc_ik_cfg cfg = kc_ik_cfg_default();
+    cfg.mask = KC_IK_MASK_POSITION;
+    cfg.max_restarts = 3;
+    kc_pose target;
+    kc_pose_identity(&target);
+    target.t = kc_vec3_make(KC_R(0.5) * kc_cos(KC_R(2.0)), KC_R(0.5) * kc_sin(KC_R(2.0)), KC_R(0.0));
+    kc_real q0[1] = {KC_R(0.5)}, q[1];
+    kc_ik_result res;
+    assert_int_equal(kc_ik_solve(&c, &cfg, &target, q0, q, &res), KC_E_LIMIT);
+    kt_near((double)q[0], 1.0, 0.0, "stopped at the upper limit");
+    assert_int_equal(res.status, KC_E_LIMIT);
+    assert_int_equal(res.restarts, 3);
+
+    kc_chain_init_model(&c, KC_MODEL_RRR3, NULL);
+    target.t = kc_vec3_make(KC_R(0.6), KC_R(0.0), KC_R(0.4)); /* 0.6 m from the shoulder, arm 0.55 m */
+    assert_true(kc_vec3_norm(&target.t) < kc_ik_reach(&c));
+    kc_real q3[3] = {KC_R(0.1), KC_R(0.2), KC_R(0.3)}, qo[3];
+    assert_int_equal(kc_ik_solve(&c, &cfg, &target, q3, qo, &res), KC_E_SINGULAR);
+    /* No configuration comes closer than 0.05 m; the best found is near it
+     * (progress near the singularity is slow, which is why it stalls). */
+    assert_true((double)res.pos_err >= 0.05 - 1e-6);
+    kt_near((double)res.pos_err, 0.05, 1e-3, "closest approach of the stretched arm");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -303,6 +342,7 @@ int main(void)
         cmocka_unit_test(test_random_masks_redundant), cmocka_unit_test(test_unreachable),
         cmocka_unit_test(test_bad_input),           cmocka_unit_test(test_singular_targets),
         cmocka_unit_test(test_deterministic),       cmocka_unit_test(test_step_online),
+        cmocka_unit_test(test_miss_reasons),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
     kt_report("ik");

@@ -70,6 +70,8 @@ static const char *status_name(kc_status st)
     case KC_OK: return "converged";
     case KC_E_NOCONVERGE: return "not_converged";
     case KC_E_UNREACHABLE: return "unreachable";
+    case KC_E_LIMIT: return "joint_limit";
+    case KC_E_SINGULAR: return "singular";
     default: return kc_status_str(st);
     }
 }
@@ -96,7 +98,7 @@ int run_ik(const json_t *req, calc_ctx *ctx)
     }
     kc_ik_result res;
     kc_status st = kc_ik_solve(&chain, &cfg, &target, q0, q, &res);
-    if (st != KC_OK && st != KC_E_NOCONVERGE && st != KC_E_UNREACHABLE)
+    if (st == KC_E_ARG)
         return calc_fail(ctx, "ik failed: %s", kc_status_str(st));
     /* Unreachable: nothing was tried, so there is no q and no residual. */
     int tried = st != KC_E_UNREACHABLE;

@@ -402,7 +402,8 @@ static const calc_cmd commands[] = {
      "Integrates seed 002's dual-quaternion feedback law from q0 (with damping, joint limits and,\n"
      "for redundant tasks, a null-space pull to mid-range) until the tool is within 1e-10 m and\n"
      "1e-10 rad of T, restarting from other starts when a run stalls. Prints {\"q\": [...],\n"
-     "\"status\": \"converged\" | \"not_converged\" (q: the best found) | \"unreachable\" (q: null),\n"
+     "\"status\": \"converged\" | \"unreachable\" (q: null) | or, with q the best found, where it\n"
+     "stopped: \"joint_limit\" | \"singular\" | \"not_converged\",\n"
      "\"steps\": n, \"restarts\": n, \"position_error\": m, \"orientation_error\": rad}; exit status 0\n"
      "whatever the status (it is the answer), 2 for bad input.\n"
      "Example: kinctl-calc ik --model puma560 --target 0.5,-0.15,0.6,0,0.7071068,0,0.7071068",

@@ -119,8 +119,13 @@ typedef struct kc_ik_result {
 /*
  * Integrates from q0 until the tool reaches target within the tolerances.
  *   KC_OK            converged; q holds the solution, inside the limits.
- *   KC_E_NOCONVERGE  not within max_steps x (max_restarts + 1); q holds the
- *                    best configuration found and res its residuals.
+ *   Not within max_steps x (max_restarts + 1): q holds the best configuration
+ *   found and res its residuals, and the status says where it stopped:
+ *     KC_E_LIMIT       a joint of the best configuration sits at a limit;
+ *     KC_E_SINGULAR    else its task Jacobian is singular (manipulability
+ *                      below cfg.manip_threshold: e.g. a target beyond a
+ *                      stretched elbow but inside the reach bound);
+ *     KC_E_NOCONVERGE  else.
  *   KC_E_UNREACHABLE target farther from the base than the chain can reach
  *                    (q untouched).
  *   KC_E_ARG         NULL, non-finite target or q0, q0 count mismatch, bad
