@@ -2,14 +2,21 @@
  * Conventions and singular branches are documented in kinctl/orient.h. */
 #include "kinctl/orient.h"
 
+/* R = Rot(a1, x1) Rot(a2, x2) Rot(a3, x3): both Euler forms are such a
+ * product of three elementary rotations. */
+static void rot3(kc_axis a1, kc_real x1, kc_axis a2, kc_real x2, kc_axis a3, kc_real x3, kc_mat3 *dest)
+{
+    kc_mat3 r1, r2, r3;
+    kc_mat3_rot(a1, x1, &r1);
+    kc_mat3_rot(a2, x2, &r2);
+    kc_mat3_rot(a3, x3, &r3);
+    kc_mat3_mul(&r1, &r2, dest);
+    kc_mat3_mul(dest, &r3, dest);
+}
+
 void kc_orient_rpy_to_mat3(const kc_euler *rpy, kc_mat3 *dest)
 {
-    kc_mat3 rz, ry, rx;
-    kc_mat3_rot(KC_AXIS_Z, rpy->phi, &rz);
-    kc_mat3_rot(KC_AXIS_Y, rpy->theta, &ry);
-    kc_mat3_rot(KC_AXIS_X, rpy->psi, &rx);
-    kc_mat3_mul(&rz, &ry, dest);
-    kc_mat3_mul(dest, &rx, dest);
+    rot3(KC_AXIS_Z, rpy->phi, KC_AXIS_Y, rpy->theta, KC_AXIS_X, rpy->psi, dest);
 }
 
 int kc_orient_mat3_to_rpy(const kc_mat3 *R, kc_euler *dest)
@@ -33,12 +40,7 @@ int kc_orient_mat3_to_rpy(const kc_mat3 *R, kc_euler *dest)
 
 void kc_orient_zyz_to_mat3(const kc_euler *zyz, kc_mat3 *dest)
 {
-    kc_mat3 rz1, ry, rz2;
-    kc_mat3_rot(KC_AXIS_Z, zyz->phi, &rz1);
-    kc_mat3_rot(KC_AXIS_Y, zyz->theta, &ry);
-    kc_mat3_rot(KC_AXIS_Z, zyz->psi, &rz2);
-    kc_mat3_mul(&rz1, &ry, dest);
-    kc_mat3_mul(dest, &rz2, dest);
+    rot3(KC_AXIS_Z, zyz->phi, KC_AXIS_Y, zyz->theta, KC_AXIS_Z, zyz->psi, dest);
 }
 
 int kc_orient_mat3_to_zyz(const kc_mat3 *R, kc_euler *dest)

@@ -232,17 +232,6 @@ kc_status kc_pose_from_mat4(const kc_mat4 *a, kc_pose *dest)
     return KC_OK;
 }
 
-void kc_pose_from_xyz_rpy(const kc_real xyz[3], const kc_real rpy[3], kc_pose *dest)
-{
-    kc_mat3 rz, ry, rx;
-    kc_mat3_rot(KC_AXIS_Z, rpy[2], &rz);
-    kc_mat3_rot(KC_AXIS_Y, rpy[1], &ry);
-    kc_mat3_rot(KC_AXIS_X, rpy[0], &rx);
-    kc_mat3_mul(&rz, &ry, &dest->R);
-    kc_mat3_mul(&dest->R, &rx, &dest->R);
-    dest->t = kc_vec3_make(xyz[0], xyz[1], xyz[2]);
-}
-
 int kc_pose_isfinite(const kc_pose *a)
 {
     for (int i = 0; i < 3; i++)

@@ -1,6 +1,7 @@
 /* desc.c - reads robot description files with libconfig and builds chains
  * with the core's builders (format: kinctl/desc.h, examples: models/). */
 #include "kinctl/desc.h"
+#include "kinctl/orient.h"
 
 #include <errno.h>
 #include <libconfig.h>
@@ -226,7 +227,11 @@ static kc_status read_pose(reader *r, const config_setting_t *robot, const char 
     snprintf(what, sizeof what, "%s rpy", key);
     if (s != NULL && (st = vector_of(r, s, what, 3, r->deg ? KC_DEG : KC_R(1.0), rpy)) != KC_OK)
         return st;
-    kc_pose_from_xyz_rpy(xyz, rpy, out);
+    /* URDF's rpy [about x, about y, about z] is R = Rz Ry Rx: seed 001's
+     * roll-pitch-yaw with phi about z, theta about y, psi about x. */
+    kc_euler e = {rpy[2], rpy[1], rpy[0]};
+    kc_orient_rpy_to_mat3(&e, &out->R);
+    out->t = kc_vec3_make(xyz[0], xyz[1], xyz[2]);
     return KC_OK;
 }
 

@@ -101,10 +101,6 @@ void kc_pose_to_mat4(const kc_pose *a, kc_mat4 *dest);
 /* Accepts a 4x4 only if its last row is 0 0 0 1 and its 3x3 block is a
  * rotation within KC_TOL_ORTHONORMAL; otherwise KC_E_ARG, dest untouched. */
 kc_status kc_pose_from_mat4(const kc_mat4 *a, kc_pose *dest);
-/* Pose from translation (m) and a rotation in roll-pitch-yaw form
- * R = Rz(rpy[2]) Ry(rpy[1]) Rx(rpy[0]) (URDF's order; seed 001 lab 2 writes
- * the same product as Rz(phi) Ry(theta) Rx(psi)). */
-void kc_pose_from_xyz_rpy(const kc_real xyz[3], const kc_real rpy[3], kc_pose *dest);
 int kc_pose_isfinite(const kc_pose *a);
 
 /* ---- mat4: seed 001 lab 1 ---- */
