@@ -9,5 +9,8 @@
 #include "kinctl/chain.h"
 #include "kinctl/fk.h"
 #include "kinctl/ik.h"
+#include "kinctl/profile.h"
+#include "kinctl/interp.h"
+#include "kinctl/path.h"
 
 #endif /* KINCTL_KINCTL_H */

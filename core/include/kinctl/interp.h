@@ -1,0 +1,268 @@
+/*
+ * kinctl/interp.h - single-segment interpolators, planned once and evaluated
+ * at integer ticks: the joint move of seed 001 lab 4, the Cartesian straight
+ * line of lab 5 and the circular arc of lab 6.
+ *
+ * Every segment works the same way. A caller-owned plan struct is filled by
+ * kc_interp_<kind>_plan(...), which validates every input and returns a
+ * kc_status, leaving the plan untouched on error. The plan holds one
+ * kinctl/profile.h profile of the fraction u of the segment (0 at the start,
+ * 1 at the end) and the geometry; kc_interp_<kind>_eval(plan, k, out) gives
+ * the setpoint at tick k (t = k dt, dt fixed at planning) in O(1) time with
+ * no allocation. The duration in ticks is plan->prof.ticks: eval returns
+ * KC_OK for k < ticks and KC_DONE from then on, with the state exactly at
+ * the segment's end (target position, velocity and acceleration zero). eval
+ * is pure and safe to call in the control cycle and from several threads on
+ * one plan; planning is bounded (no loop runs longer than KC_MAX_JOINTS) and
+ * allocation-free, so it is cycle-safe too, though it costs more (trig
+ * functions and square roots).
+ *
+ * Speed laws. The fraction u follows a trapezoid (triangle when short) from
+ * rest to rest, with the limits of u chosen so that every physical limit
+ * holds: for a quantity that moves by D over the segment with limits
+ * (vmax, amax), u' <= vmax / D and u'' <= amax / D, and u takes the
+ * smallest of these bounds. Where one quantity binds, this is exactly the
+ * seed's trapezoid on it (lab 4 eqs. 4.6-4.12, see kinctl/profile.h).
+ *
+ * Units: positions in m (joint moves: rad or m per joint), times in s,
+ * angles in rad; everything in the base frame unless said otherwise.
+ * Quaternions are (w, x, y, z), Hamilton product (kinctl/se3.h).
+ */
+#ifndef KINCTL_INTERP_H
+#define KINCTL_INTERP_H
+
+#include <stdint.h>
+
+#include "kinctl/chain.h"
+#include "kinctl/profile.h"
+
+/*
+ * Three points are taken as collinear when the sine of the angle at the
+ * start point between the chords to the via and end points is at most this:
+ * the circumcentre then carries a relative error of about eps / sin, i.e.
+ * 1e-8 in double (radius up to 1e8 chords) and 1e-3 in float.
+ */
+#ifdef KC_REAL_FLOAT
+#define KC_INTERP_TOL_COLLINEAR KC_R(1e-4)
+#else
+#define KC_INTERP_TOL_COLLINEAR KC_R(1e-8)
+#endif
+
+/* ======================================================================
+ * Joint move (seed 001 lab 4): every joint starts and ends together and at
+ * every tick has covered the same fraction u of its own move:
+ *     dq_i = q1_i - q0_i                      (4.1)
+ *     q_i(t) = q0_i + dq_i u(t),  qd_i = dq_i u',  qdd_i = dq_i u''
+ * which is the seed's q_i = q0_i + K_i s(t) (4.3, 4.10-4.12) with
+ * K_i = dq_i / q_lead and s = q_lead u. The seed assumes equal limits for
+ * all joints and takes the joint with the largest |dq_i| as the leading one
+ * (4.2); here each joint keeps its own limits: the common profile of u uses
+ *     u' <= V = min_i qd_max_i / |dq_i|,   u'' <= A = min_i qdd_max_i / |dq_i|
+ * (joints that do not move impose nothing), so no joint exceeds either of
+ * its limits and the move is the fastest one of this shape. The leading
+ * joint is the one whose own time-optimal move is longest; when a single
+ * joint sets both V and A (always so with equal limits) the common profile
+ * is exactly its trapezoid, as in the seed, otherwise it is somewhat longer.
+ * ====================================================================== */
+
+typedef struct kc_interp_joint {
+    int n;                                            /* joints */
+    kc_real q0[KC_MAX_JOINTS], q1[KC_MAX_JOINTS];     /* start, end */
+    kc_real dq[KC_MAX_JOINTS];                        /* q1 - q0 (4.1) */
+    int lead;     /* leading joint (0-based; ties: lowest index), -1 if nothing moves */
+    int lead_vel; /* joint whose velocity limit sets V, -1 if nothing moves */
+    int lead_acc; /* joint whose acceleration limit sets A, -1 if nothing moves */
+    kc_profile prof; /* u from 0 to 1 */
+} kc_interp_joint;
+
+typedef struct kc_interp_joint_state {
+    kc_real q[KC_MAX_JOINTS], qd[KC_MAX_JOINTS], qdd[KC_MAX_JOINTS];
+    kc_real u, ud, udd; /* fraction of the move and its rates (1/s, 1/s^2) */
+    int phase;          /* 1 accelerate, 2 cruise, 3 brake, 4 finished */
+} kc_interp_joint_state;
+
+/* Plans a joint move of n joints (1..KC_MAX_JOINTS) from q0 to q1 (rad or
+ * m) with per-joint limits qd_max (> 0, +infinity allowed) and qdd_max
+ * (> 0, finite). duration (s): 0 for the fastest move, or a longer time to
+ * stretch it to (kinctl/profile.h: acceleration kept, cruise lowered; for
+ * synchronising with other axes). dt > 0: tick period (s).
+ * Returns KC_OK; KC_E_ARG for NULL pointers, n < 1, a non-finite q, a bad
+ * limit, a negative or non-finite duration or a bad dt; KC_E_CAPACITY for
+ * n > KC_MAX_JOINTS or a move longer than KC_PROFILE_MAX_TICKS ticks;
+ * KC_E_LIMIT when duration is shorter than the limits allow. Limits on q
+ * itself are the caller's business (kc_chain_check_q): a straight line in
+ * joint space stays inside a box of position limits when both ends do. */
+kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, const kc_real *q1,
+                               const kc_real *qd_max, const kc_real *qdd_max, kc_real duration, kc_real dt);
+
+/* Setpoint at tick k >= 0: KC_OK while moving, KC_DONE from
+ * plan->prof.ticks on (q = q1 exactly, qd = qdd = 0), KC_E_ARG for NULL
+ * arguments or k < 0. Writes the first plan->n entries of each array. */
+kc_status kc_interp_joint_eval(const kc_interp_joint *plan, int64_t k, kc_interp_joint_state *out);
+
+/* ======================================================================
+ * Cartesian segments: limits and the setpoint.
+ * ====================================================================== */
+
+/* Limits of a Cartesian segment. v and a bound the speed and the
+ * acceleration of the tool point along its path (m/s, m/s^2; a finite);
+ * w and dw bound the tool's angular speed and angular acceleration (rad/s,
+ * rad/s^2), +infinity meaning unlimited: the seed's methods, where the
+ * orientation simply follows the path parameter. All must be > 0. */
+typedef struct kc_interp_limits {
+    kc_real v, a;
+    kc_real w, dw;
+} kc_interp_limits;
+
+/* Angular limits off (infinite), v and a zero: set them before planning. */
+kc_interp_limits kc_interp_limits_default(void);
+
+/* Setpoint of a Cartesian segment. */
+typedef struct kc_interp_cart_state {
+    kc_vec3 p;          /* tool position (m) */
+    kc_quat q;          /* tool orientation; sign continuous along the segment */
+    kc_vec3 v;          /* linear velocity of the tool point (m/s) */
+    kc_vec3 w;          /* angular velocity (rad/s) */
+    kc_real s, sd, sdd; /* path length so far (m) and its first two time derivatives;
+                           for a pure rotation (no path) the rotation angle (rad) */
+    kc_real u;          /* fraction of the segment done, 0..1 */
+    int phase;          /* 1 accelerate, 2 cruise, 3 brake, 4 finished */
+} kc_interp_cart_state;
+
+/* ======================================================================
+ * Straight line (seed 001 lab 5) from pose P1 to pose P2.
+ *
+ * Position: P3 = P1^-1 P2 (5.1), S = |p3| (5.7); the tool point moves on the
+ * segment p(u) = p1 + u (p2 - p1), which is P1 T_j with x_3j = K_x S_j
+ * etc. (5.8-5.13), S_j = S u.
+ *
+ * Orientation, KC_INTERP_TWO_ROTATIONS (the seed's method, 5.14-5.25): with
+ * n, o, a the columns of R3 = R1^T R2,
+ *     psi   = atan2(a_y, a_x) in [-pi, pi), 0 when a_x = a_y = 0    (5.18)
+ *     theta = atan2(sqrt(a_x^2 + a_y^2), a_z) in [0, pi]            (5.19)
+ *     phi   = atan2(S_phi, C_phi) in [-pi, pi)                      (5.20)
+ *     S_phi = -s_psi c_psi V n_x + (c_psi^2 V + c_theta) n_y - s_psi s_theta n_z
+ *     C_phi = -s_psi c_psi V o_x + (c_psi^2 V + c_theta) o_y - s_psi s_theta o_z
+ *             (5.21), V = 1 - cos(theta)
+ *     R(u) = R1 Ra(psi, theta u) Rz(phi u)          (5.16, 5.24-5.25)
+ * where Ra(psi, x) turns by x about (-sin psi, cos psi, 0) (5.14). Typos
+ * fixed (vectors/README.md): (5.14) element (3,3) is cos(theta), not
+ * cos(psi) (#15); (5.21) needs the minus signs on the s_psi c_psi V terms
+ * (#16); (5.17) is n = o x a (#17); theta = pi is reachable, so the range is
+ * [0, pi] (#22). theta u and phi u are the seed's K_theta S_j and K_phi S_j
+ * (5.22-5.25). The tool turns about the first axis and about its own z at
+ * once, at angular speed |w| = u' sqrt(theta^2 + phi^2) (the two axes are
+ * perpendicular).
+ *
+ * Orientation, KC_INTERP_SLERP: R(u) = R1 Rot(k, alpha u), k and alpha in
+ * [0, pi] from R1^T R2 (the short way; at exactly pi either way is short
+ * and the axis is the one R1^T R2's quaternion gives). |w| = u' alpha.
+ *
+ * Speed law: trapezoid on u with u' <= min(v / S, w / Theta) and
+ * u'' <= min(a / S, dw / Theta), Theta = sqrt(theta^2 + phi^2) or alpha;
+ * with w = dw = infinity this is the seed's trapezoid on the path length S
+ * (5.3-5.7.3). dw bounds the part of the angular acceleration along the
+ * angular velocity; two rotations also turn the velocity's direction,
+ * adding u'^2 |theta phi| that dw does not bound (slerp has no such term).
+ *
+ * Degenerate cases: a_x = a_y = 0 sets psi = 0 as the seed says (theta is
+ * then 0 or pi). A pure rotation (S = 0, seed's K_theta = theta / S
+ * undefined, #22) runs its speed law on the rotation measure Theta with
+ * the limits w and dw, which must then be finite; s, sd and sdd report the
+ * angle turned (rad). A rotation of at most 16 units of roundoff counts as
+ * none: with S = 0 too the segment is a zero motion of 0 ticks.
+ * ====================================================================== */
+
+typedef enum kc_interp_orient {
+    KC_INTERP_TWO_ROTATIONS = 0, /* seed 001 lab 5 */
+    KC_INTERP_SLERP = 1          /* quaternion spherical interpolation */
+} kc_interp_orient;
+
+typedef struct kc_interp_line {
+    kc_vec3 p1, p2;          /* start and end position (m) */
+    kc_vec3 dp;              /* p2 - p1 */
+    kc_real length;          /* S (m) */
+    kc_quat q1, q2;          /* start and end orientation (q2's sign as the path ends) */
+    kc_mat3 R1;              /* start rotation */
+    kc_interp_orient orient; /* method */
+    kc_real psi, theta, phi; /* two rotations (5.18-5.21), rad */
+    kc_vec3 k1;              /* two rotations: first axis (-sin psi, cos psi, 0) in the start frame */
+    kc_vec3 axis;            /* slerp: unit axis in the start frame */
+    kc_real angle;           /* Theta: sqrt(theta^2 + phi^2), or slerp's angle (rad) */
+    kc_profile prof;         /* u from 0 to 1 */
+} kc_interp_line;
+
+/* Plans a line from `from` to `to` (rotations orthonormal within
+ * KC_TOL_ORTHONORMAL, positions finite), with limits lim and the orientation
+ * method orient; dt > 0 the tick period (s). Returns KC_OK; KC_E_ARG for a
+ * NULL pointer, a non-finite or non-rigid pose, an unknown method, a bad
+ * limit or dt, or a pure rotation with an infinite dw; KC_E_CAPACITY when
+ * the segment exceeds KC_PROFILE_MAX_TICKS ticks or S overflows. */
+kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const kc_pose *to,
+                              const kc_interp_limits *lim, kc_interp_orient orient, kc_real dt);
+
+/* Setpoint at tick k >= 0: KC_OK while moving, KC_DONE from
+ * plan->prof.ticks on (exactly the end pose: p2, q2; velocities zero),
+ * KC_E_ARG for NULL arguments or k < 0 (out untouched). */
+kc_status kc_interp_line_eval(const kc_interp_line *plan, int64_t k, kc_interp_cart_state *out);
+
+/* ======================================================================
+ * Arc (seed 001 lab 6) from pose T1 through the via point T2 to the end
+ * point T3 (positions; the orientation follows the arc).
+ *
+ * The circle through the three points: with a = T2 - T1, b = T3 - T1 and
+ * m = a x b, the centre is c = T1 + (|a|^2 b x m + |b|^2 m x a) / (2 |m|^2),
+ * R = |T1 - c|, and the unit normal N = m / |m| makes T1 -> T2 -> T3
+ * counter-clockwise (this replaces 6.3-6.17; the seed's centre formulas and
+ * normal-sign rule are garbled or undefined, vectors/README.md #23-25). The
+ * swept angle alpha is the counter-clockwise angle from T1 to T3 about N,
+ * in (0, 2 pi): the arc that passes through T2, whose own angle lies in
+ * (0, alpha). The seed's alpha = atan(Y_L / X_L) in (-pi, pi] (6.21) takes
+ * the short arc whether or not it passes T2, wrong beyond 180 degrees (#26).
+ *
+ * Pose: T(alpha_i) = P Rz(alpha_i) I (6.1, 6.19) with P the circle's frame
+ * (origin c, x towards T1, z = N) and I = P^-1 T1: the tool turns with the
+ * arc, keeping its orientation relative to the tangent (the text says the
+ * tool keeps its orientation, but 6.1 rotates it; 6.1 is followed, #30):
+ *     p = c + cos(alpha_i) r + sin(alpha_i) N x r,   r = T1 - c,
+ *     q = (cos(alpha_i / 2), sin(alpha_i / 2) N) q1.
+ *
+ * Speed law on the angle (6.23-6.25 corrected, #27): the lab 4 trapezoid on
+ * alpha with omega = v / R and epsilon = a / R, further bounded by w and dw
+ * (the tool turns at alpha'), run on u = alpha_i / alpha. a bounds the
+ * tangential acceleration only, as in the seed: the centripetal part
+ * (R alpha'^2 = v^2 / R at speed v) is not limited; lower v to
+ * sqrt(a_n R) to bound it by a_n. s = R alpha_i.
+ *
+ * Rejected: coincident or collinear points (sine of the angle at T1 at most
+ * KC_INTERP_TOL_COLLINEAR): KC_E_SINGULAR, as no circle or more than one
+ * passes through them. A full circle (T3 = T1) is two arcs.
+ * ====================================================================== */
+
+typedef struct kc_interp_arc {
+    kc_vec3 centre;    /* c (m) */
+    kc_vec3 normal;    /* N, unit: the motion is counter-clockwise about it */
+    kc_vec3 r, nr;     /* T1 - c and N x (T1 - c) */
+    kc_real radius;    /* R (m) */
+    kc_real angle;     /* swept angle alpha in (0, 2 pi) */
+    kc_real angle_via; /* where the via point is passed, in (0, angle) */
+    kc_real length;    /* R alpha (m) */
+    kc_vec3 p1, p3;    /* start and end position */
+    kc_quat q1, q3;    /* start orientation, and the end orientation by (6.1) */
+    kc_profile prof;   /* u = alpha_i / alpha from 0 to 1 */
+} kc_interp_arc;
+
+/* Plans an arc from `from` through `via` to `to` (positions in m) with
+ * limits lim; dt > 0 the tick period (s). Returns KC_OK; KC_E_ARG for a NULL
+ * pointer, a non-finite or non-rigid pose, a non-finite point, a bad limit
+ * or dt; KC_E_SINGULAR for coincident or collinear points; KC_E_CAPACITY
+ * when the segment exceeds KC_PROFILE_MAX_TICKS ticks. */
+kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_vec3 *via, const kc_vec3 *to,
+                             const kc_interp_limits *lim, kc_real dt);
+
+/* Setpoint at tick k >= 0: KC_OK while moving, KC_DONE from
+ * plan->prof.ticks on (exactly p3 and q3, velocities zero), KC_E_ARG for
+ * NULL arguments or k < 0 (out untouched). */
+kc_status kc_interp_arc_eval(const kc_interp_arc *plan, int64_t k, kc_interp_cart_state *out);
+
+#endif /* KINCTL_INTERP_H */

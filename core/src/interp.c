@@ -1,0 +1,421 @@
+/* interp.c - joint move (seed 001 lab 4), straight line with the
+ * two-rotations method or slerp (lab 5) and arc through three points
+ * (lab 6). The formulas and the seed's typos are in kinctl/interp.h. */
+#include "kinctl/interp.h"
+
+#include <string.h>
+
+#define INF ((kc_real)INFINITY)
+
+/* Limits of u for a quantity moving by D with limits (vmax, amax): the
+ * running minimum of vmax / D and amax / D. D = 0 imposes nothing; the
+ * quotients may overflow to infinity for a tiny D, which is right. */
+static void bound_u(kc_real D, kc_real vmax, kc_real amax, kc_real *V, kc_real *A)
+{
+    if (D > KC_R(0.0)) {
+        *V = kc_min(*V, vmax / D);
+        *A = kc_min(*A, amax / D);
+    }
+}
+
+/* The profile of u from 0 to 1 with limits V and A; a zero motion (nothing
+ * bounds A, i.e. nothing moves by a representable amount) takes 0 ticks. */
+static kc_status plan_u(kc_profile *prof, kc_real V, kc_real A, kc_real duration, kc_real dt)
+{
+    if (!kc_isfinite(A)) /* already there: u = 1 throughout */
+        return duration > KC_R(0.0) ? kc_profile_plan_duration(prof, KC_R(1.0), KC_R(1.0), INF, KC_R(1.0), duration, dt)
+                                    : kc_profile_plan(prof, KC_R(1.0), KC_R(0.0), KC_R(1.0), INF, KC_R(1.0), dt);
+    if (duration > KC_R(0.0))
+        return kc_profile_plan_duration(prof, KC_R(0.0), KC_R(1.0), V, A, duration, dt);
+    return kc_profile_plan(prof, KC_R(0.0), KC_R(0.0), KC_R(1.0), V, A, dt);
+}
+
+/* ---- joint move ---- */
+
+/* Time-optimal rest-to-rest time over D with (v, a). */
+static kc_real move_time(kc_real D, kc_real v, kc_real a)
+{
+    if (D * a >= v * v) /* trapezoid (4.6-4.9): T = D / v + v / a */
+        return D / v + v / a;
+    return KC_R(2.0) * kc_sqrt(D / a); /* triangle */
+}
+
+kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, const kc_real *q1,
+                               const kc_real *qd_max, const kc_real *qdd_max, kc_real duration, kc_real dt)
+{
+    kc_interp_joint r;
+    kc_real V = INF, A = INF, T_lead = KC_R(-1.0), best_v = KC_R(0.0), best_a = KC_R(0.0);
+    if (plan == NULL || q0 == NULL || q1 == NULL || qd_max == NULL || qdd_max == NULL || n < 1)
+        return KC_E_ARG;
+    if (n > KC_MAX_JOINTS)
+        return KC_E_CAPACITY;
+    if (!kc_isfinite(duration) || duration < KC_R(0.0) || !(dt > KC_R(0.0)) || !kc_isfinite(dt))
+        return KC_E_ARG;
+    memset(&r, 0, sizeof r);
+    r.n = n;
+    r.lead = r.lead_vel = r.lead_acc = -1;
+    for (int i = 0; i < n; i++) {
+        if (!kc_isfinite(q0[i]) || !kc_isfinite(q1[i]) || !(qd_max[i] > KC_R(0.0)) || !(qdd_max[i] > KC_R(0.0)) ||
+            !kc_isfinite(qdd_max[i]))
+            return KC_E_ARG;
+        r.q0[i] = q0[i];
+        r.q1[i] = q1[i];
+        r.dq[i] = q1[i] - q0[i];
+        kc_real D = kc_fabs(r.dq[i]);
+        if (!kc_isfinite(D))
+            return KC_E_ARG;
+        if (D == KC_R(0.0))
+            continue;
+        /* Strict comparisons: ties go to the lowest index, as in (4.2). */
+        kc_real Ti = move_time(D, qd_max[i], qdd_max[i]);
+        if (Ti > T_lead) {
+            T_lead = Ti;
+            r.lead = i;
+        }
+        if (D / qd_max[i] > best_v) {
+            best_v = D / qd_max[i];
+            r.lead_vel = i;
+        }
+        if (D / qdd_max[i] > best_a) {
+            best_a = D / qdd_max[i];
+            r.lead_acc = i;
+        }
+        bound_u(D, qd_max[i], qdd_max[i], &V, &A);
+    }
+    kc_status st = plan_u(&r.prof, V, A, duration, dt);
+    if (st != KC_OK)
+        return st;
+    *plan = r;
+    return KC_OK;
+}
+
+kc_status kc_interp_joint_eval(const kc_interp_joint *plan, int64_t k, kc_interp_joint_state *out)
+{
+    kc_profile_state u;
+    if (plan == NULL || out == NULL)
+        return KC_E_ARG;
+    kc_status st = kc_profile_eval(&plan->prof, k, &u);
+    if (st < 0)
+        return st;
+    int n = plan->n;
+    if (st == KC_DONE) {
+        for (int i = 0; i < n; i++) {
+            out->q[i] = plan->q1[i];
+            out->qd[i] = KC_R(0.0);
+            out->qdd[i] = KC_R(0.0);
+        }
+    } else {
+        for (int i = 0; i < n; i++) {
+            kc_real d = plan->dq[i];
+            out->q[i] = plan->q0[i] + d * u.p;
+            out->qd[i] = d * u.v;
+            out->qdd[i] = d * u.a;
+        }
+    }
+    out->u = u.p;
+    out->ud = u.v;
+    out->udd = u.a;
+    out->phase = u.phase;
+    return st;
+}
+
+/* ---- Cartesian helpers ---- */
+
+kc_interp_limits kc_interp_limits_default(void)
+{
+    kc_interp_limits l = {KC_R(0.0), KC_R(0.0), INF, INF};
+    return l;
+}
+
+static int limits_ok(const kc_interp_limits *l)
+{
+    return l->v > KC_R(0.0) && l->a > KC_R(0.0) && kc_isfinite(l->a) && l->w > KC_R(0.0) && l->dw > KC_R(0.0);
+}
+
+static int pose_ok(const kc_pose *p)
+{
+    return kc_pose_isfinite(p) && kc_mat3_rotation_error(&p->R) <= KC_TOL_ORTHONORMAL;
+}
+
+static int dt_ok(kc_real dt) { return dt > KC_R(0.0) && kc_isfinite(dt); }
+
+static kc_quat quat_neg(const kc_quat *q)
+{
+    kc_quat r = {-q->w, -q->x, -q->y, -q->z};
+    return r;
+}
+
+static kc_real quat_dot(const kc_quat *a, const kc_quat *b)
+{
+    return a->w * b->w + a->x * b->x + a->y * b->y + a->z * b->z;
+}
+
+/* The end orientation q_end with the sign of the path's own end q_path, so
+ * that the last tick continues the sequence instead of flipping it. */
+static kc_quat match_sign(const kc_quat *q_end, const kc_quat *q_path)
+{
+    return quat_dot(q_end, q_path) < KC_R(0.0) ? quat_neg(q_end) : *q_end;
+}
+
+static void state_done(kc_interp_cart_state *out, const kc_vec3 *p, const kc_quat *q, kc_real s)
+{
+    out->p = *p;
+    out->q = *q;
+    out->v = kc_vec3_make(KC_R(0.0), KC_R(0.0), KC_R(0.0));
+    out->w = out->v;
+    out->s = s;
+    out->sd = KC_R(0.0);
+    out->sdd = KC_R(0.0);
+    out->u = KC_R(1.0);
+    out->phase = 4;
+}
+
+/* ---- straight line ---- */
+
+/* Orientation of the line at fraction u, and the angular velocity per unit
+ * u' in the start frame. */
+static void line_rotation(const kc_interp_line *l, kc_real u, kc_quat *q, kc_vec3 *w_local)
+{
+    kc_quat rel;
+    if (l->orient == KC_INTERP_SLERP) {
+        kc_real s, c;
+        kc_sincos(KC_R(0.5) * l->angle * u, &s, &c);
+        rel.w = c;
+        rel.x = s * l->axis.v[0];
+        rel.y = s * l->axis.v[1];
+        rel.z = s * l->axis.v[2];
+        kc_vec3_scale(&l->axis, l->angle, w_local);
+    } else {
+        /* R(u) = Ra(psi, theta u) Rz(phi u) (5.16): the quaternion of the
+         * first turn about k1 = (-s_psi, c_psi, 0) times the second about z. */
+        kc_real s1, c1, s2, c2, sa, ca;
+        kc_sincos(KC_R(0.5) * l->theta * u, &s1, &c1);
+        kc_sincos(KC_R(0.5) * l->phi * u, &s2, &c2);
+        kc_real kx = l->k1.v[0], ky = l->k1.v[1];
+        rel.w = c1 * c2;
+        rel.x = s1 * (kx * c2 + ky * s2);
+        rel.y = s1 * (ky * c2 - kx * s2);
+        rel.z = c1 * s2;
+        /* w = theta k1 + phi a(u), a(u) = Ra(psi, theta u) z = (c_psi sin, s_psi sin, cos)
+         * of theta u; sin and cos from the half angle. */
+        sa = KC_R(2.0) * s1 * c1;
+        ca = KC_R(1.0) - KC_R(2.0) * s1 * s1;
+        /* k1 = (-s_psi, c_psi, 0): c_psi = ky, s_psi = -kx. */
+        w_local->v[0] = l->theta * kx + l->phi * ky * sa;
+        w_local->v[1] = l->theta * ky - l->phi * kx * sa;
+        w_local->v[2] = l->phi * ca;
+    }
+    kc_quat_mul(&l->q1, &rel, q);
+}
+
+kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const kc_pose *to,
+                              const kc_interp_limits *lim, kc_interp_orient orient, kc_real dt)
+{
+    kc_interp_line r;
+    kc_mat3 R3;
+    if (plan == NULL || from == NULL || to == NULL || lim == NULL || !pose_ok(from) || !pose_ok(to) ||
+        !limits_ok(lim) || !dt_ok(dt) || (orient != KC_INTERP_TWO_ROTATIONS && orient != KC_INTERP_SLERP))
+        return KC_E_ARG;
+    memset(&r, 0, sizeof r);
+    r.orient = orient;
+    r.p1 = from->t;
+    r.p2 = to->t;
+    r.R1 = from->R;
+    kc_vec3_sub(&r.p2, &r.p1, &r.dp);
+    /* S = |p3| (5.7): |R1^T (p2 - p1)| = |p2 - p1|. hypot avoids overflow of
+     * the squares. */
+    r.length = kc_hypot(kc_hypot(r.dp.v[0], r.dp.v[1]), r.dp.v[2]);
+    if (!kc_vec3_isfinite(&r.dp) || !kc_isfinite(r.length))
+        return KC_E_CAPACITY;
+    kc_quat_from_mat3(&from->R, &r.q1);
+    kc_mat3_tmul(&from->R, &to->R, &R3); /* rotation of P3 = P1^-1 P2 (5.1) */
+    if (orient == KC_INTERP_SLERP) {
+        kc_quat q2, rel, c1;
+        kc_quat_from_mat3(&to->R, &q2);
+        kc_quat_conj(&r.q1, &c1);
+        kc_quat_mul(&c1, &q2, &rel);
+        if (rel.w < KC_R(0.0))
+            rel = quat_neg(&rel); /* the short way */
+        kc_real sv = kc_sqrt(rel.x * rel.x + rel.y * rel.y + rel.z * rel.z);
+        r.angle = KC_R(2.0) * kc_atan2(sv, rel.w);
+        if (sv > KC_R(0.0))
+            r.axis = kc_vec3_make(rel.x / sv, rel.y / sv, rel.z / sv);
+        else
+            r.axis = kc_vec3_make(KC_R(0.0), KC_R(0.0), KC_R(1.0));
+    } else {
+        kc_real(*m)[3] = R3.m;
+        kc_real ax = m[0][2], ay = m[1][2], az = m[2][2];
+        /* (5.18): psi undefined when a_x = a_y = 0; the seed sets it to 0
+         * (atan2(0, -0) would give pi). */
+        r.psi = ax == KC_R(0.0) && ay == KC_R(0.0) ? KC_R(0.0) : kc_atan2(ay, ax);
+        if (r.psi >= KC_PI)
+            r.psi -= KC_R(2.0) * KC_PI;
+        r.theta = kc_atan2(kc_hypot(ax, ay), az); /* (5.19), [0, pi] */
+        kc_real sp, cp, st, ct, sh, ch;
+        kc_sincos(r.psi, &sp, &cp);
+        kc_sincos(r.theta, &st, &ct);
+        kc_sincos(KC_R(0.5) * r.theta, &sh, &ch);
+        kc_real V = KC_R(2.0) * sh * sh; /* 1 - cos(theta) without cancellation */
+        /* (5.21) with the corrected signs: column 2 of Ra(psi, theta) dotted
+         * with n (S_phi) and o (C_phi). */
+        kc_real y0 = -sp * cp * V, y1 = cp * cp * V + ct, y2 = -sp * st;
+        kc_real Sphi = y0 * m[0][0] + y1 * m[1][0] + y2 * m[2][0];
+        kc_real Cphi = y0 * m[0][1] + y1 * m[1][1] + y2 * m[2][1];
+        r.phi = kc_atan2(Sphi, Cphi); /* (5.20) */
+        if (r.phi >= KC_PI)
+            r.phi -= KC_R(2.0) * KC_PI;
+        r.k1 = kc_vec3_make(-sp, cp, KC_R(0.0));
+        r.angle = kc_sqrt(r.theta * r.theta + r.phi * r.phi);
+    }
+    /* A rotation below the rounding of R1^T R2 is none. */
+    kc_real Theta = r.angle > KC_R(16.0) * KC_REAL_EPS ? r.angle : KC_R(0.0);
+    if (r.length == KC_R(0.0) && Theta > KC_R(0.0) && !kc_isfinite(lim->dw))
+        return KC_E_ARG; /* a pure rotation needs an angular acceleration limit */
+    kc_real V = INF, A = INF;
+    bound_u(r.length, lim->v, lim->a, &V, &A);
+    bound_u(Theta, lim->w, lim->dw, &V, &A);
+    kc_status st = plan_u(&r.prof, V, A, KC_R(0.0), dt);
+    if (st != KC_OK)
+        return st;
+    /* The end orientation, signed as the path arrives there. */
+    kc_quat q_path, q2;
+    kc_vec3 w;
+    line_rotation(&r, KC_R(1.0), &q_path, &w);
+    kc_quat_from_mat3(&to->R, &q2);
+    r.q2 = match_sign(&q2, &q_path);
+    *plan = r;
+    return KC_OK;
+}
+
+kc_status kc_interp_line_eval(const kc_interp_line *plan, int64_t k, kc_interp_cart_state *out)
+{
+    kc_profile_state u;
+    if (plan == NULL || out == NULL)
+        return KC_E_ARG;
+    kc_status st = kc_profile_eval(&plan->prof, k, &u);
+    if (st < 0)
+        return st;
+    /* The speed law's own variable: path length, or the angle when there
+     * is no path. */
+    kc_real D = plan->length > KC_R(0.0) ? plan->length : plan->angle;
+    if (st == KC_DONE) {
+        state_done(out, &plan->p2, &plan->q2, D);
+        return KC_DONE;
+    }
+    kc_vec3 wl;
+    for (int i = 0; i < 3; i++) {
+        out->p.v[i] = plan->p1.v[i] + plan->dp.v[i] * u.p;
+        out->v.v[i] = plan->dp.v[i] * u.v;
+    }
+    line_rotation(plan, u.p, &out->q, &wl);
+    kc_vec3_scale(&wl, u.v, &wl);
+    kc_mat3_mul_vec(&plan->R1, &wl, &out->w);
+    out->s = D * u.p;
+    out->sd = D * u.v;
+    out->sdd = D * u.a;
+    out->u = u.p;
+    out->phase = u.phase;
+    return KC_OK;
+}
+
+/* ---- arc ---- */
+
+kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_vec3 *via, const kc_vec3 *to,
+                             const kc_interp_limits *lim, kc_real dt)
+{
+    kc_interp_arc r;
+    kc_vec3 a, b, m, t1, t2, r3, rv, x;
+    if (plan == NULL || from == NULL || via == NULL || to == NULL || lim == NULL || !pose_ok(from) ||
+        !kc_vec3_isfinite(via) || !kc_vec3_isfinite(to) || !limits_ok(lim) || !dt_ok(dt))
+        return KC_E_ARG;
+    memset(&r, 0, sizeof r);
+    r.p1 = from->t;
+    r.p3 = *to;
+    kc_vec3_sub(via, &r.p1, &a);
+    kc_vec3_sub(to, &r.p1, &b);
+    kc_vec3_cross(&a, &b, &m);
+    kc_real na = kc_vec3_norm(&a), nb = kc_vec3_norm(&b), nm = kc_vec3_norm(&m);
+    if (!kc_isfinite(na) || !kc_isfinite(nb) || !kc_isfinite(nm))
+        return KC_E_CAPACITY;
+    /* Coincident points make a or b (or a x b) zero: all collinear. */
+    if (!(nm > KC_INTERP_TOL_COLLINEAR * na * nb))
+        return KC_E_SINGULAR;
+    /* Circumcentre c = T1 + (|a|^2 b x m + |b|^2 m x a) / (2 |m|^2). */
+    kc_vec3_cross(&b, &m, &t1);
+    kc_vec3_cross(&m, &a, &t2);
+    kc_real k = KC_R(0.5) / (nm * nm);
+    for (int i = 0; i < 3; i++)
+        r.centre.v[i] = r.p1.v[i] + k * (na * na * t1.v[i] + nb * nb * t2.v[i]);
+    kc_vec3_scale(&m, KC_R(1.0) / nm, &r.normal);
+    kc_vec3_sub(&r.p1, &r.centre, &r.r);
+    kc_vec3_cross(&r.normal, &r.r, &r.nr);
+    r.radius = kc_vec3_norm(&r.r);
+    if (!kc_vec3_isfinite(&r.centre) || !(r.radius > KC_R(0.0)) || !kc_isfinite(r.radius))
+        return KC_E_SINGULAR;
+    /* Counter-clockwise angles about N from T1 (in (0, 2 pi)). */
+    kc_vec3_sub(to, &r.centre, &r3);
+    kc_vec3_sub(via, &r.centre, &rv);
+    kc_vec3_cross(&r.r, &r3, &x);
+    r.angle = kc_atan2(kc_vec3_dot(&r.normal, &x), kc_vec3_dot(&r.r, &r3));
+    if (r.angle <= KC_R(0.0))
+        r.angle += KC_R(2.0) * KC_PI;
+    kc_vec3_cross(&r.r, &rv, &x);
+    r.angle_via = kc_atan2(kc_vec3_dot(&r.normal, &x), kc_vec3_dot(&r.r, &rv));
+    if (r.angle_via <= KC_R(0.0))
+        r.angle_via += KC_R(2.0) * KC_PI;
+    /* T1 -> T2 -> T3 is counter-clockwise about N by construction; only
+     * points at the collinearity threshold could round out of order. */
+    if (!(r.angle_via < r.angle))
+        return KC_E_SINGULAR;
+    r.length = r.radius * r.angle;
+    kc_quat_from_mat3(&from->R, &r.q1);
+    /* End orientation by (6.1): the start one turned by alpha about N. */
+    kc_real s, c;
+    kc_sincos(KC_R(0.5) * r.angle, &s, &c);
+    kc_quat turn = {c, s * r.normal.v[0], s * r.normal.v[1], s * r.normal.v[2]};
+    kc_quat_mul(&turn, &r.q1, &r.q3);
+    /* Speed law on the angle: alpha' <= min(v / R, w), alpha'' <= min(a / R, dw). */
+    kc_real V = INF, A = INF;
+    bound_u(r.length, lim->v, lim->a, &V, &A);
+    bound_u(r.angle, lim->w, lim->dw, &V, &A);
+    kc_status st = plan_u(&r.prof, V, A, KC_R(0.0), dt);
+    if (st != KC_OK)
+        return st;
+    *plan = r;
+    return KC_OK;
+}
+
+kc_status kc_interp_arc_eval(const kc_interp_arc *plan, int64_t k, kc_interp_cart_state *out)
+{
+    kc_profile_state u;
+    if (plan == NULL || out == NULL)
+        return KC_E_ARG;
+    kc_status st = kc_profile_eval(&plan->prof, k, &u);
+    if (st < 0)
+        return st;
+    if (st == KC_DONE) {
+        state_done(out, &plan->p3, &plan->q3, plan->length);
+        return KC_DONE;
+    }
+    /* One sincos of the half angle gives the quaternion and, by the double
+     * angle formulas, the position (6.1, 6.19). */
+    kc_real sh, ch;
+    kc_sincos(KC_R(0.5) * plan->angle * u.p, &sh, &ch);
+    kc_real sa = KC_R(2.0) * sh * ch, ca = KC_R(1.0) - KC_R(2.0) * sh * sh;
+    kc_real ad = plan->angle * u.v; /* alpha' */
+    const kc_real *n = plan->normal.v;
+    for (int i = 0; i < 3; i++) {
+        out->p.v[i] = plan->centre.v[i] + ca * plan->r.v[i] + sa * plan->nr.v[i];
+        /* d/dt of the above: alpha' (cos N x r - sin r). */
+        out->v.v[i] = ad * (ca * plan->nr.v[i] - sa * plan->r.v[i]);
+        out->w.v[i] = ad * n[i];
+    }
+    kc_quat turn = {ch, sh * n[0], sh * n[1], sh * n[2]};
+    kc_quat_mul(&turn, &plan->q1, &out->q);
+    out->s = plan->length * u.p;
+    out->sd = plan->length * u.v;
+    out->sdd = plan->length * u.a;
+    out->u = u.p;
+    out->phase = u.phase;
+    return KC_OK;
+}
