@@ -9,6 +9,7 @@
 #include "kinctl/chain.h"
 #include "kinctl/fk.h"
 #include "kinctl/ik.h"
+#include "kinctl/path.h"
 #include "kinctl/profile.h"
 #include "kinctl/interp.h"
 #include "kinctl/path.h"
