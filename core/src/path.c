@@ -135,7 +135,7 @@ static void quintic_coeffs(kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_re
     c[4 * stride] = (-KC_R(30.0) * dp + (KC_R(14.0) * v1 + KC_R(16.0) * v0) * T + (KC_R(3.0) * a0 - KC_R(2.0) * a1) * T2) /
                     (KC_R(2.0) * T3 * T);
     c[5 * stride] =
-        (KC_R(12.0) * dp - KC_R(6.0) * (v1 + v0) * T - (a1 - a0) * T2) / (KC_R(2.0) * T3 * T2);
+        (KC_R(12.0) * dp - KC_R(6.0) * (v1 + v0) * T + (a1 - a0) * T2) / (KC_R(2.0) * T3 * T2);
 }
 
 /* Horner: value and first two derivatives of sum_i c[i*stride] tau^i. */

@@ -18,9 +18,12 @@
  *   |t_i|) + t_span |p^(m+1)(t)|], the first-order perturbation bound for
  *   rounded values and nodes.
  *   Properties compare quantities computed two ways inside one build:
- *   KT_PATH_REL = 1000 u relative to the quantity's scale (1.1e-13 double,
- *   6e-5 float): ~50 roundings in coefficients and Horner times up to 20
- *   for the spread of segment times (0.2 .. 1.5 s).
+ *   KT_PATH_REL = 1000 u (1.1e-13 double, 6e-5 float: ~50 roundings in
+ *   coefficients and Horner, with a factor 20 for cancellation) relative to
+ *   the scale of what the coefficients of derivative m are made from,
+ *   R_m = B_m + B_{m-1} / T_min + B_{m-2} / T_min^2, B_m the rigorous bound
+ *   sum_i |c_i| i!/(i-m)! len^(i-m) of derivative m over the pieces and
+ *   T_min the shortest piece.
  */
 #include "testutil.h"
 
@@ -344,12 +347,239 @@ static void test_spline_vectors(void **state)
     json_decref(root);
 }
 
+/* ---- properties of random joint paths ---- */
+
+/* Rigorous bound of |d^m/dtau^m| of coordinate j over piece p: sum |c_i|
+ * i!/(i-m)! len^(i-m) (the size of Horner's terms, so also the scale of
+ * its rounding). */
+static double piece_bound(const kc_path *path, int p, int j, int m)
+{
+    double L = (double)path->len[p], s = 0;
+    for (int i = m; i < path->n_coeffs; i++) {
+        double f = 1;
+        for (int r = 0; r < m; r++)
+            f *= i - r;
+        s += fabs((double)path->c[p][i][j]) * f * pow(L, i - m);
+    }
+    return s;
+}
+
+static double path_bound(const kc_path *path, int j, int m)
+{
+    double b = 0;
+    for (int p = 0; p < path->n_pieces; p++)
+        b = dmax(b, piece_bound(path, p, j, m));
+    return b;
+}
+
+typedef struct jcase {
+    kc_path_cfg cfg;
+    kc_real q[KC_PATH_MAX_KNOTS * KC_MAX_JOINTS];
+    kc_real t[KC_PATH_MAX_KNOTS];
+    kc_real qd[KC_PATH_MAX_KNOTS * KC_MAX_JOINTS];
+    kc_real qdd[KC_PATH_MAX_KNOTS * KC_MAX_JOINTS];
+} jcase;
+
+static jcase JC;
+
+/* Variants of the methods exercised. */
+enum { V_QUARTIC, V_PARABOLIC, V_LAGRANGE, V_HERMITE, V_CLAMPED, V_NATURAL, V_QUINTIC_GIVEN, V_QUINTIC, V_COUNT };
+static const char *const variant_name[V_COUNT] = {"quartic blend", "parabolic blend", "lagrange", "hermite spline",
+                                                  "clamped spline", "natural spline", "quintic (given)", "quintic"};
+
+static int variant_c2(int v) { return v != V_PARABOLIC && v != V_HERMITE; }
+static int variant_interpolates(int v) { return v != V_QUARTIC && v != V_PARABOLIC; }
+static int variant_rest(int v) { return v != V_LAGRANGE && v != V_NATURAL; }
+
+/* A random case of a variant; times given (and t_acc) or from limits. */
+static void make_case(kt_rng *rng, int v, int given_t)
+{
+    kc_path_cfg *c = &JC.cfg;
+    *c = kc_path_cfg_default();
+    int maxn = v == V_LAGRANGE ? KC_PATH_MAX_LAGRANGE_KNOTS : 12;
+    int n = 2 + (int)(kt_rng_next(rng) % (uint64_t)(maxn - 1));
+    int dim = kt_rng_next(rng) % 4 == 0 ? KC_MAX_JOINTS : 1 + (int)(kt_rng_next(rng) % 6);
+    c->n_knots = n;
+    c->dim = dim;
+    c->dt = kt_rng_next(rng) % 2 ? KC_R(0.001) : KC_R(0.004);
+    c->method = v <= V_PARABOLIC ? KC_PATH_BLEND : v == V_LAGRANGE ? KC_PATH_LAGRANGE
+                : v <= V_NATURAL ? KC_PATH_SPLINE : KC_PATH_QUINTIC;
+    c->blend = v == V_PARABOLIC ? KC_PATH_BLEND_PARABOLIC : KC_PATH_BLEND_QUARTIC;
+    c->spline_end = v == V_NATURAL ? KC_PATH_SPLINE_NATURAL : KC_PATH_SPLINE_CLAMPED;
+    double tmin = 1e9;
+    for (int i = 0; i < n; i++) {
+        JC.t[i] = (kc_real)(i == 0 ? kt_uniform(rng, -1, 1) : (double)JC.t[i - 1] + kt_uniform(rng, 0.2, 1.5));
+        if (i > 0)
+            tmin = fmin(tmin, (double)JC.t[i] - (double)JC.t[i - 1]);
+        for (int j = 0; j < dim; j++) {
+            JC.q[i * dim + j] = (kc_real)kt_uniform(rng, -2, 2);
+            JC.qd[i * dim + j] = (kc_real)(i == 0 || i == n - 1 ? 0.0 : kt_uniform(rng, -2, 2));
+            JC.qdd[i * dim + j] = (kc_real)(i == 0 || i == n - 1 ? 0.0 : kt_uniform(rng, -5, 5));
+        }
+    }
+    c->q = JC.q;
+    c->qd = v == V_HERMITE || v == V_QUINTIC_GIVEN ? JC.qd : NULL;
+    c->qdd = v == V_QUINTIC_GIVEN ? JC.qdd : NULL;
+    if (given_t) {
+        c->t = JC.t;
+        /* Half of the longest allowed, or all of it now and then. */
+        c->t_acc = (kc_real)(tmin / 2 * (kt_rng_next(rng) % 4 == 0 ? 1.0 : kt_uniform(rng, 0.05, 0.99)));
+    } else {
+        c->t = NULL;
+        for (int j = 0; j < dim; j++) {
+            c->vmax[j] = (kc_real)kt_uniform(rng, 0.5, 3);
+            c->amax[j] = (kc_real)kt_uniform(rng, 1, 10);
+        }
+    }
+}
+
+static unsigned long n_joint_cases, n_joint_ticks, n_stretched;
+static double tightest_stretch = 0; /* smallest max(|qd|/v, sqrt(|qdd|/a)) after a stretch */
+
+static void check_joint_case(int v, int given_t, int index)
+{
+    const kc_path_cfg *c = &JC.cfg;
+    char what[160];
+    int n = c->n_knots, dim = c->dim;
+    snprintf(what, sizeof what, "%s case %d (n %d, dim %d, %s)", variant_name[v], index, n, dim,
+             given_t ? "times" : "limits");
+    kc_status st = kc_path_plan(&P, c);
+    if (st != KC_OK)
+        fail_msg("%s: plan returned %s", what, kc_status_str(st));
+    n_joint_cases++;
+    double B[4][KC_MAX_JOINTS], R[3][KC_MAX_JOINTS];
+    double tmin = 1e300;
+    for (int p = 0; p < P.n_pieces; p++)
+        if (P.len[p] > KC_R(0.0))
+            tmin = fmin(tmin, (double)P.len[p]);
+    for (int j = 0; j < dim; j++) {
+        for (int m = 0; m < 4; m++)
+            B[m][j] = path_bound(&P, j, m);
+        /* Scale of the rounding of derivative m: the coefficients come from
+         * positions and velocities divided by piece times. */
+        R[0][j] = B[0][j];
+        R[1][j] = B[1][j] + B[0][j] / tmin;
+        R[2][j] = B[2][j] + B[1][j] / tmin + B[0][j] / (tmin * tmin);
+    }
+    kc_real q[KC_MAX_JOINTS], qd[KC_MAX_JOINTS], qdd[KC_MAX_JOINTS];
+    kc_real q1[KC_MAX_JOINTS], qd1[KC_MAX_JOINTS], qdd1[KC_MAX_JOINTS];
+
+    /* Start exactly on the first knot, at rest where the method starts so. */
+    assert_int_equal(kc_path_eval(&P, 0, q, qd, qdd), KC_OK);
+    for (int j = 0; j < dim; j++) {
+        if (q[j] != c->q[j])
+            fail_msg("%s: q(0)[%d] = %.17g, knot %.17g", what, j, (double)q[j], (double)c->q[j]);
+        if (variant_rest(v) && qd[j] != KC_R(0.0))
+            fail_msg("%s: qd(0)[%d] = %g, not at rest", what, j, (double)qd[j]);
+        kt_checks += 2;
+    }
+    /* End exactly on the last knot from tick `ticks` on. */
+    assert_true(P.ticks >= 1);
+    assert_true((double)(P.ticks - 1) * (double)P.dt < (double)P.duration);
+    assert_true((double)P.ticks * (double)P.dt >= (double)P.duration * (1 - 1e-6));
+    for (int64_t k = P.ticks; k <= P.ticks + 3; k++) {
+        assert_int_equal(kc_path_eval(&P, k, q, qd, qdd), KC_DONE);
+        for (int j = 0; j < dim; j++) {
+            if (q[j] != c->q[(n - 1) * dim + j])
+                fail_msg("%s: end q[%d] = %.17g, knot %.17g", what, j, (double)q[j], (double)c->q[(n - 1) * dim + j]);
+            if (variant_rest(v) && qd[j] != KC_R(0.0))
+                fail_msg("%s: end qd[%d] = %g, not at rest", what, j, (double)qd[j]);
+            kt_checks += 2;
+        }
+    }
+    /* Through every knot at its time (interpolating methods); given knot
+     * velocities and accelerations are met there. */
+    if (variant_interpolates(v)) {
+        for (int i = 0; i + 1 < n; i++) {
+            assert_int_equal(kc_path_eval_time(&P, P.start[i], q, qd, qdd), KC_OK);
+            for (int j = 0; j < dim; j++) {
+                if (q[j] != c->q[i * dim + j])
+                    fail_msg("%s: knot %d q[%d] = %.17g, knot %.17g", what, i, j, (double)q[j], (double)c->q[i * dim + j]);
+                if (c->qd != NULL && qd[j] != c->qd[i * dim + j])
+                    fail_msg("%s: knot %d qd[%d] = %.17g, given %.17g", what, i, j, (double)qd[j], (double)c->qd[i * dim + j]);
+                kt_checks += 2;
+                if (c->qdd != NULL)
+                    kt_near(qdd[j], c->qdd[i * dim + j], KT_PATH_REL * R[2][j], "given knot acceleration");
+            }
+            /* On the knot-time axis too. */
+            if (c->t != NULL) {
+                kc_path_eval_time(&P, (kc_real)((double)c->t[i] - (double)P.t_origin), q, NULL, NULL);
+                for (int j = 0; j < dim; j++)
+                    kt_near(q[j], c->q[i * dim + j], KT_PATH_REL * (B[0][j] + B[1][j] * (double)P.duration), what);
+            }
+        }
+    }
+    /* Continuity where pieces meet, analytically. */
+    for (int p = 0; p + 1 < P.n_pieces; p++) {
+        assert_int_equal(kc_path_eval_piece(&P, p, P.len[p], q, qd, qdd), KC_OK);
+        assert_int_equal(kc_path_eval_piece(&P, p + 1, KC_R(0.0), q1, qd1, qdd1), KC_OK);
+        for (int j = 0; j < dim; j++) {
+            snprintf(what, sizeof what, "%s case %d: piece %d/%d joint %d", variant_name[v], index, p, p + 1, j);
+            kt_near(q[j], q1[j], KT_PATH_REL * R[0][j], what);
+            kt_near(qd[j], qd1[j], KT_PATH_REL * R[1][j], what);
+            if (variant_c2(v))
+                kt_near(qdd[j], qdd1[j], KT_PATH_REL * R[2][j], what);
+        }
+    }
+    /* Tick to tick: every change within the bound of its derivative. */
+    double vpeak = 0, apeak = 0;
+    kc_path_eval(&P, 0, q, qd, qdd);
+    for (int64_t k = 0; k < P.ticks; k++) {
+        kc_path_eval(&P, k + 1, q1, qd1, qdd1);
+        n_joint_ticks++;
+        for (int j = 0; j < dim; j++) {
+            double dt = (double)P.dt;
+            if (fabs((double)(q1[j] - q[j])) > B[1][j] * dt * (1 + 1e-9) + KT_PATH_REL * R[0][j] ||
+                fabs((double)(qd1[j] - qd[j])) > B[2][j] * dt * (1 + 1e-9) + KT_PATH_REL * R[1][j] ||
+                (variant_c2(v) && fabs((double)(qdd1[j] - qdd[j])) > B[3][j] * dt * (1 + 1e-9) + KT_PATH_REL * R[2][j]))
+                fail_msg("%s case %d: jump at tick %ld joint %d: q %g -> %g, qd %g -> %g, qdd %g -> %g", variant_name[v],
+                         index, (long)k, j, (double)q[j], (double)q1[j], (double)qd[j], (double)qd1[j], (double)qdd[j],
+                         (double)qdd1[j]);
+            kt_checks += 3;
+            if (!given_t) {
+                /* Limits: blends by construction, the others by the stretch. */
+                double rv = fabs((double)qd1[j]) / (double)c->vmax[j], ra = fabs((double)qdd1[j]) / (double)c->amax[j];
+                if (v != V_HERMITE && v != V_QUINTIC_GIVEN && (rv > 1 + KT_PATH_REL || ra > 1 + KT_PATH_REL))
+                    fail_msg("%s case %d: tick %ld joint %d: qd %g (limit %g), qdd %g (limit %g)", variant_name[v], index,
+                             (long)k + 1, j, (double)qd1[j], (double)c->vmax[j], (double)qdd1[j], (double)c->amax[j]);
+                vpeak = dmax(vpeak, rv);
+                apeak = dmax(apeak, sqrt(ra));
+                kt_checks += 2;
+            }
+        }
+        memcpy(q, q1, sizeof q);
+        memcpy(qd, qd1, sizeof qd);
+        memcpy(qdd, qdd1, sizeof qdd);
+    }
+    if (P.stretch > KC_R(1.0)) {
+        n_stretched++;
+        double r = dmax(vpeak, apeak);
+        if (tightest_stretch == 0 || r < tightest_stretch)
+            tightest_stretch = r;
+    }
+}
+
+static void test_joint_properties(void **state)
+{
+    (void)state;
+    kt_rng rng = kt_rng_make(0x70617468); /* "path" */
+    for (int v = 0; v < V_COUNT; v++)
+        for (int i = 0; i < 30; i++) {
+            int given_t = i % 2 == 0 || v == V_HERMITE || v == V_QUINTIC_GIVEN ? (i % 3 != 1) : 0;
+            make_case(&rng, v, given_t);
+            check_joint_case(v, given_t, i);
+        }
+    printf("joint paths: %lu random cases, %lu ticks; %lu stretched to the limits, the tightest reaching %.3f of them\n",
+           n_joint_cases, n_joint_ticks, n_stretched, tightest_stretch);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_blend_vectors),
         cmocka_unit_test(test_lagrange_vectors),
         cmocka_unit_test(test_spline_vectors),
+        cmocka_unit_test(test_joint_properties),
     };
     int failed = cmocka_run_group_tests_name("path (" KC_REAL_NAME ")", tests, NULL, NULL);
     printf("smoothing.json: %d/12 blend (7.1 x quartic, parabolic), %d/6 Lagrange (7.2), %d/6 spline (7.3) cases;"
