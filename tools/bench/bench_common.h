@@ -67,17 +67,80 @@ static inline uint64_t bench_splitmix64(uint64_t *state)
     return z ^ (z >> 31);
 }
 
-/* Fills q[BENCH_CONFIGS][BENCH_MAX_JOINTS] for one model; unused joints 0. */
+/* One configuration uniform within the limits into q[BENCH_MAX_JOINTS];
+ * unused joints 0. Draws BENCH_MAX_JOINTS numbers whatever the model. */
+static inline void bench_uniform_q(int model, uint64_t *state, double *q)
+{
+    for (int j = 0; j < BENCH_MAX_JOINTS; j++) {
+        /* 53 random bits scaled to [0, 1): exact, so identical in C and C++. */
+        double u = (double)(bench_splitmix64(state) >> 11) * (1.0 / 9007199254740992.0);
+        double lo = bench_qlim[model][j][0], hi = bench_qlim[model][j][1];
+        q[j] = j < bench_model_joints[model] ? lo + (hi - lo) * u : 0.0;
+    }
+}
+
+/* Fills q[BENCH_CONFIGS][BENCH_MAX_JOINTS] for one model. */
 static inline void bench_make_configs(int model, double q[][BENCH_MAX_JOINTS])
 {
     uint64_t state = BENCH_SEED + (uint64_t)model;
     for (int k = 0; k < BENCH_CONFIGS; k++)
-        for (int j = 0; j < BENCH_MAX_JOINTS; j++) {
-            /* 53 random bits scaled to [0, 1): exact, so identical in C and C++. */
-            double u = (double)(bench_splitmix64(&state) >> 11) * (1.0 / 9007199254740992.0);
-            double lo = bench_qlim[model][j][0], hi = bench_qlim[model][j][1];
-            q[k][j] = j < bench_model_joints[model] ? lo + (hi - lo) * u : 0.0;
-        }
+        bench_uniform_q(model, &state, q[k]);
+}
+
+/* ---- inverse kinematics (ik_bench) ----
+ *
+ * The IK set of a model: BENCH_IK_TARGETS joint vectors q_true uniform
+ * within the limits, each with a random start q_start drawn right after it
+ * (uniform within the limits, from the same stream), and one fixed start.
+ * The targets are kinctl's double FK of q_true; the driver writes targets
+ * and starts to a file (format below) that the helpers and the Python
+ * script read, so every library solves the very same numbers.
+ *
+ * Solve times are per solve (each solve is a different problem, 1 to 1000
+ * us), one CLOCK_MONOTONIC read before and after; the drift of the machine
+ * is spread over the libraries by solving the targets in BENCH_IK_ROUNDS
+ * blocks, each library's block of a round right after the others'. Each
+ * block starts with BENCH_IK_WARMUP untimed solves of its first targets.
+ */
+#define BENCH_IK_TARGETS 1000
+#define BENCH_IK_ROUNDS 5 /* divides BENCH_IK_TARGETS */
+#define BENCH_IK_WARMUP 10
+#define BENCH_IK_SEED 20240603u
+/* vectors/ik.json's acceptance: max |FK(q) - T| over the 12 entries of
+ * [R | t] (m and direction cosines). */
+#define BENCH_IK_TOL 1e-6
+
+/* kc_ik_step: BENCH_STEP_RUNS runs (each from a random start towards a
+ * target of the set, starting at rest) of at most BENCH_STEP_CYCLES cycles
+ * at BENCH_STEP_DT, each call timed; a run ends early when the step says
+ * KC_DONE. Blocks of BENCH_STEP_RUNS / BENCH_IK_ROUNDS runs. */
+#define BENCH_STEP_RUNS 100
+#define BENCH_STEP_CYCLES 1000
+#define BENCH_STEP_DT 1e-3
+
+/* The fixed start: rtb's Puma560.qn for puma560 (the start of vectors/
+ * ik.json; the puma's mid-range has the elbow nearly straight, q3 = -pi/2),
+ * the middle of every joint's range for panda. */
+static inline void bench_ik_fixed_start(int model, double *q)
+{
+    static const double puma_qn[6] = {0.0, 0.7853981633974483, -3.141592653589793, 0.0, 0.7853981633974483, 0.0};
+    for (int j = 0; j < BENCH_MAX_JOINTS; j++) {
+        if (j >= bench_model_joints[model])
+            q[j] = 0.0;
+        else if (model == BENCH_PUMA560)
+            q[j] = puma_qn[j];
+        else
+            q[j] = 0.5 * (bench_qlim[model][j][0] + bench_qlim[model][j][1]);
+    }
+}
+
+static inline void bench_make_ik_set(int model, double q_true[][BENCH_MAX_JOINTS], double q_start[][BENCH_MAX_JOINTS])
+{
+    uint64_t state = BENCH_IK_SEED + (uint64_t)model;
+    for (int k = 0; k < BENCH_IK_TARGETS; k++) {
+        bench_uniform_q(model, &state, q_true[k]);
+        bench_uniform_q(model, &state, q_start[k]);
+    }
 }
 
 static inline double bench_now_ns(void)
@@ -131,12 +194,31 @@ static inline bench_stats bench_summarize(double *ns, int n)
 }
 
 /*
+ * IK set file (text, numbers in %.17g, one file per model):
+ *   kinctl-ik-set <model> <joints n> <targets N>
+ *   fixed <q n>
+ *   N lines: <T: R row-major 9, t 3> <q_true n> <q_start n>
+ */
+#define BENCH_IK_SET_MAGIC "kinctl-ik-set"
+
+/*
  * Helper protocol. `helper check` prints, numbers in %.17g:
  *   check <model> <config> pose <R row-major 9> <t 3>
  *   check <model> <config> jac <6 x n row-major, rows vx vy vz wx wy wz>
  * `helper time <model> <fk|jac> <batches>` prints one block:
  *   ns <per-call ns of each batch...>
  *   checksum <sum>
+ * `helper fk <model> <file of q, n per line>` prints for each line
+ *   pose <R row-major 9> <t 3> <1 if kc_chain_check_q accepts q, else 0>
+ * `helper ik <model> <set file> <fixed|random> <first> <count>` solves
+ * targets first..first+count-1 with kc_ik_solve (default cfg) and prints
+ *   ik <k> <ns> <1 if KC_OK> <steps> <restarts> <q n>
+ * preceded by `status <k> <kc_status_str>` when kc_ik_solve did not
+ * return KC_OK.
+ * (ik_bench_rtb.py prints the same lines for rtb's ik_LM).
+ * `helper step <model> <set file> <first run> <runs>` prints one block:
+ *   ns <per-call ns of every kc_ik_step call...>
+ *   done <runs that reached KC_DONE>
  * Anything else (an error text) makes the driver stop.
  */
 
