@@ -974,15 +974,108 @@ static int piece_is_line(const kc_path *pos, int p)
     return 1;
 }
 
-/* Length of piece p from its start to tau. */
-static kc_real arc_length(const kc_path *pos, int p, kc_real tau)
+/* 8-point Gauss-Legendre of |p'| over [a, b] of piece p. */
+static kc_real arc_gl8(const kc_path *pos, int p, kc_real a, kc_real b)
 {
-    if (piece_is_line(pos, p))
-        return speed_at(pos, p, KC_R(0.0)) * tau;
-    kc_real s = KC_R(0.0);
+    kc_real s = KC_R(0.0), h = b - a;
     for (int i = 0; i < 8; i++)
-        s += gl_w[i] * speed_at(pos, p, gl_x[i] * tau);
-    return s * tau;
+        s += gl_w[i] * speed_at(pos, p, a + gl_x[i] * h);
+    return s * h;
+}
+
+/* Path length at tau on piece p: the table's entry at or below tau plus
+ * the quadrature from there (lines: speed times tau). */
+static kc_real arc_length(const kc_path_cart *path, int p, kc_real tau)
+{
+    const kc_path *pos = &path->pos;
+    if (piece_is_line(pos, p))
+        return path->s_arc[p][0] + speed_at(pos, p, KC_R(0.0)) * tau;
+    int lo = 0, hi = path->n_arc[p] - 2;
+    while (lo < hi) {
+        int mid = (lo + hi + 1) / 2;
+        if (path->tau_arc[p][mid] <= tau)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    return path->s_arc[p][lo] + arc_gl8(pos, p, path->tau_arc[p][lo], tau);
+}
+
+/* p'.p'' of piece p at tau: half the rate of the squared speed. */
+static kc_real speed2_rate(const kc_path *pos, int p, kc_real tau)
+{
+    kc_real r = KC_R(0.0);
+    for (int j = 0; j < 3; j++) {
+        kc_real q, qd, qdd;
+        horner3(&pos->c[p][0][j], pos->n_coeffs, KC_MAX_JOINTS, tau, &q, &qd, &qdd);
+        r += qd * qdd;
+    }
+    return r;
+}
+
+/* Compensated (Kahan) sum: *sum += x with the lost low part kept in *comp,
+ * so the table's rounding does not grow with its length. */
+static kc_real kahan_add(kc_real *sum, kc_real *comp, kc_real x)
+{
+    kc_real y = x - *comp;
+    kc_real t = *sum + y;
+    *comp = (t - *sum) - y;
+    *sum = t;
+    return t;
+}
+
+/* The length table of piece p (see kc_path_cart), continuing the running
+ * compensated sum (*s, *comp). */
+static void arc_table(kc_path_cart *path, int p, kc_real *s, kc_real *comp)
+{
+    const kc_path *pos = &path->pos;
+    kc_real L = pos->len[p];
+    kc_real minima[KC_PATH_ARC_MINIMA];
+    int nm = 0;
+    if (!piece_is_line(pos, p) && L > KC_R(0.0)) {
+        /* Local minima of the speed: p'.p'' changes from - to +. */
+        const int samples = 64;
+        kc_real prev = speed2_rate(pos, p, KC_R(0.0));
+        for (int i = 1; i <= samples && nm < KC_PATH_ARC_MINIMA; i++) {
+            kc_real b = L * (kc_real)i / (kc_real)samples;
+            kc_real cur = speed2_rate(pos, p, b);
+            if (prev < KC_R(0.0) && cur >= KC_R(0.0) && i < samples) {
+                kc_real a = L * (kc_real)(i - 1) / (kc_real)samples, hb = b;
+                for (int it = 0; it < 60; it++) {
+                    kc_real m = KC_R(0.5) * (a + hb);
+                    if (speed2_rate(pos, p, m) < KC_R(0.0))
+                        a = m;
+                    else
+                        hb = m;
+                }
+                minima[nm++] = KC_R(0.5) * (a + hb);
+            }
+            prev = cur;
+        }
+    }
+    /* Merge the uniform points with the minima. */
+    kc_real h = L / (kc_real)KC_PATH_ARC_SPLITS;
+    int n = 0, m = 0;
+    int line = piece_is_line(pos, p);
+    kc_real speed = speed_at(pos, p, KC_R(0.0));
+    path->tau_arc[p][n] = KC_R(0.0);
+    path->s_arc[p][n++] = *s;
+    for (int i = 1; i <= KC_PATH_ARC_SPLITS; i++) {
+        kc_real u = i == KC_PATH_ARC_SPLITS ? L : (kc_real)i * h;
+        while (m < nm && minima[m] < u) {
+            if (minima[m] > path->tau_arc[p][n - 1]) {
+                path->tau_arc[p][n] = minima[m];
+                path->s_arc[p][n] = kahan_add(s, comp, arc_gl8(pos, p, path->tau_arc[p][n - 1], minima[m]));
+                n++;
+            }
+            m++;
+        }
+        path->tau_arc[p][n] = u;
+        path->s_arc[p][n] = kahan_add(s, comp, line ? speed * (u - path->tau_arc[p][n - 1])
+                                                     : arc_gl8(pos, p, path->tau_arc[p][n - 1], u));
+        n++;
+    }
+    path->n_arc[p] = n;
 }
 
 kc_path_cart_cfg kc_path_cart_cfg_default(void)
@@ -1102,15 +1195,16 @@ kc_status kc_path_plan_cart(kc_path_cart *path, const kc_path_cart_cfg *cfg)
     }
     commit(&path->pos, &K);
     memset(path->rc, 0, sizeof path->rc);
+    memset(path->tau_arc, 0, sizeof path->tau_arc);
+    memset(path->s_arc, 0, sizeof path->s_arc);
     for (int p = 0; p < KC_PATH_MAX_PIECES; p++) {
         kc_quat_identity(&path->base[p]);
-        path->s_start[p] = KC_R(0.0);
+        path->n_arc[p] = 0;
     }
-    kc_real s = KC_R(0.0);
+    kc_real s = KC_R(0.0), comp = KC_R(0.0);
     for (int p = 0; p < np; p++) {
         build_rot_piece(&K, &R, p, &path->base[p], path->rc[p]);
-        path->s_start[p] = s;
-        s += arc_length(&path->pos, p, path->pos.len[p]);
+        arc_table(path, p, &s, &comp);
     }
     path->length = s;
     path->r_end = R.r[n - 1];
@@ -1155,7 +1249,7 @@ static void eval_cart_piece(const kc_path_cart *path, int p, kc_real tau, kc_pat
     out->v = kc_vec3_make(qd[0], qd[1], qd[2]);
     out->a = kc_vec3_make(qdd[0], qdd[1], qdd[2]);
     eval_rot(path, p, tau, &out->r, &out->w);
-    out->s = path->s_start[p] + arc_length(&path->pos, p, tau);
+    out->s = arc_length(path, p, tau);
     speed_terms(&out->v, &out->a, 0, &out->sd, &out->sdd);
 }
 

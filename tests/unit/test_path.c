@@ -41,6 +41,7 @@
 
 /* Plans are large (tens of kB): static, one at a time. */
 static kc_path P;
+static kc_path_cart PC;
 
 static double dmax(double a, double b) { return a > b ? a : b; }
 
@@ -573,6 +574,347 @@ static void test_joint_properties(void **state)
            n_joint_cases, n_joint_ticks, n_stretched, tightest_stretch);
 }
 
+/* ---- properties of random Cartesian paths ---- */
+
+typedef struct ccase {
+    kc_path_cart_cfg cfg;
+    kc_vec3 p[KC_PATH_MAX_KNOTS], v[KC_PATH_MAX_KNOTS], a[KC_PATH_MAX_KNOTS];
+    kc_quat r[KC_PATH_MAX_KNOTS];
+    kc_real t[KC_PATH_MAX_KNOTS];
+} ccase;
+
+static ccase CC;
+
+static kc_quat quat_scale(kc_quat q, double s)
+{
+    kc_quat r = {(kc_real)((double)q.w * s), (kc_real)((double)q.x * s), (kc_real)((double)q.y * s),
+                 (kc_real)((double)q.z * s)};
+    return r;
+}
+
+static double quat_dot(const kc_quat *a, const kc_quat *b)
+{
+    return (double)a->w * (double)b->w + (double)a->x * (double)b->x + (double)a->y * (double)b->y +
+           (double)a->z * (double)b->z;
+}
+
+/* A rotation by angle about a random axis, applied after q. */
+static kc_quat turn(kt_rng *rng, kc_quat q, double angle)
+{
+    kc_vec3 k = kt_rand_unit(rng), w;
+    kc_quat e, r;
+    kc_vec3_scale(&k, (kc_real)angle, &w);
+    kc_quat_exp(&w, &e);
+    kc_quat_mul(&q, &e, &r);
+    return r;
+}
+
+static void make_cart_case(kt_rng *rng, int v, int given_t)
+{
+    kc_path_cart_cfg *c = &CC.cfg;
+    *c = kc_path_cart_cfg_default();
+    int maxn = v == V_LAGRANGE ? KC_PATH_MAX_LAGRANGE_KNOTS : 10;
+    int n = 2 + (int)(kt_rng_next(rng) % (uint64_t)(maxn - 1));
+    c->n_knots = n;
+    c->dt = KC_R(0.001);
+    c->method = v <= V_PARABOLIC ? KC_PATH_BLEND : v == V_LAGRANGE ? KC_PATH_LAGRANGE
+                : v <= V_NATURAL ? KC_PATH_SPLINE : KC_PATH_QUINTIC;
+    c->blend = v == V_PARABOLIC ? KC_PATH_BLEND_PARABOLIC : KC_PATH_BLEND_QUARTIC;
+    c->spline_end = v == V_NATURAL ? KC_PATH_SPLINE_NATURAL : KC_PATH_SPLINE_CLAMPED;
+    double tmin = 1e9;
+    kc_quat unit = {1, 0, 0, 0};
+    for (int i = 0; i < n; i++) {
+        CC.t[i] = (kc_real)(i == 0 ? kt_uniform(rng, 0, 2) : (double)CC.t[i - 1] + kt_uniform(rng, 0.2, 1.5));
+        if (i > 0)
+            tmin = fmin(tmin, (double)CC.t[i] - (double)CC.t[i - 1]);
+        CC.p[i] = kc_vec3_make((kc_real)kt_uniform(rng, -1, 1), (kc_real)kt_uniform(rng, -1, 1),
+                               (kc_real)kt_uniform(rng, -1, 1));
+        int rest = i == 0 || i == n - 1;
+        CC.v[i] = kc_vec3_make((kc_real)(rest ? 0 : kt_uniform(rng, -1, 1)), (kc_real)(rest ? 0 : kt_uniform(rng, -1, 1)),
+                               (kc_real)(rest ? 0 : kt_uniform(rng, -1, 1)));
+        CC.a[i] = kc_vec3_make((kc_real)(rest ? 0 : kt_uniform(rng, -3, 3)), (kc_real)(rest ? 0 : kt_uniform(rng, -3, 3)),
+                               (kc_real)(rest ? 0 : kt_uniform(rng, -3, 3)));
+        /* Orientations: random, or the previous one's other sign (no turn),
+         * the same, a tiny turn (series), a turn just short of pi. */
+        int kind = i == 0 ? 0 : (int)(kt_rng_next(rng) % 8);
+        switch (kind) {
+        case 1: unit = quat_scale(unit, -1); break;
+        case 2: break;
+        case 3: unit = turn(rng, unit, 1e-4); break;
+        case 4: unit = turn(rng, unit, KT_PI - 1e-3); break;
+        case 5: unit = turn(rng, unit, kt_uniform(rng, 0.05, 0.5)); break;
+        default: unit = kt_rand_quat(rng); break;
+        }
+        /* Off unit norm by less than the accepted tolerance, now and then. */
+        CC.r[i] = kt_rng_next(rng) % 5 == 0 ? quat_scale(unit, 1 + kt_uniform(rng, -5e-4, 5e-4)) : unit;
+    }
+    c->p = CC.p;
+    c->r = CC.r;
+    c->v = v == V_HERMITE || v == V_QUINTIC_GIVEN ? CC.v : NULL;
+    c->a = v == V_QUINTIC_GIVEN ? CC.a : NULL;
+    if (given_t) {
+        c->t = CC.t;
+        c->t_acc = (kc_real)(tmin / 2 * kt_uniform(rng, 0.05, 1.0));
+    } else {
+        c->t = NULL;
+        c->v_max = (kc_real)kt_uniform(rng, 0.3, 2);
+        c->a_max = (kc_real)kt_uniform(rng, 1, 5);
+        if (kt_rng_next(rng) % 2) {
+            c->w_max = (kc_real)kt_uniform(rng, 0.5, 3);
+            c->alpha_max = (kc_real)kt_uniform(rng, 1, 10);
+        }
+    }
+}
+
+/* Angular velocity from orientations alone: central differences of the
+ * world-frame rotation between t - h and t + h, Richardson-extrapolated
+ * over h and h/2 (the error is even in h: O(h^4) remains). */
+static kc_vec3 fd_omega(double t, double h)
+{
+    double w[2][3];
+    for (int s = 0; s < 2; s++) {
+        double hh = s == 0 ? h : h / 2;
+        kc_path_pose a, b;
+        kc_quat ca, rel;
+        kc_vec3 d, dw;
+        kc_path_eval_cart_time(&PC, (kc_real)(t - hh), &a);
+        kc_path_eval_cart_time(&PC, (kc_real)(t + hh), &b);
+        kc_quat_conj(&a.r, &ca);
+        kc_quat_mul(&ca, &b.r, &rel);
+        kc_quat_log(&rel, &d);
+        kc_quat_rotate(&a.r, &d, &dw);
+        for (int x = 0; x < 3; x++)
+            w[s][x] = (double)dw.v[x] / (2 * hh);
+    }
+    return kc_vec3_make((kc_real)((4 * w[1][0] - w[0][0]) / 3), (kc_real)((4 * w[1][1] - w[0][1]) / 3),
+                        (kc_real)((4 * w[1][2] - w[0][2]) / 3));
+}
+
+static double speed_at_time(double t)
+{
+    kc_path_pose e;
+    kc_path_eval_cart_time(&PC, (kc_real)t, &e);
+    return (double)e.sd;
+}
+
+/* Simpson's rule on the speed over [a, b], split where pieces meet (the
+ * speed's slope may jump there). */
+static double simpson_speed(double a, double b)
+{
+    double s = 0, x0 = a;
+    for (int p = 1; p <= PC.pos.n_pieces; p++) {
+        double x1 = p < PC.pos.n_pieces ? (double)PC.pos.start[p] : b;
+        if (x1 <= x0)
+            continue;
+        x1 = fmin(x1, b);
+        s += (x1 - x0) / 6 * (speed_at_time(x0) + 4 * speed_at_time((x0 + x1) / 2) + speed_at_time(x1));
+        x0 = x1;
+        if (x0 >= b)
+            break;
+    }
+    return s;
+}
+
+static unsigned long n_cart_cases, n_cart_ticks;
+static double worst_omega_fd, worst_alpha_jump, worst_length_rel;
+
+static void check_cart_case(int v, int given_t, int index)
+{
+    const kc_path_cart_cfg *c = &CC.cfg;
+    char what[160];
+    int n = c->n_knots;
+    snprintf(what, sizeof what, "cartesian %s case %d (n %d, %s)", variant_name[v], index, n, given_t ? "times" : "limits");
+    kc_status st = kc_path_plan_cart(&PC, c);
+    if (st != KC_OK)
+        fail_msg("%s: plan returned %s", what, kc_status_str(st));
+    n_cart_cases++;
+    const kc_path *pos = &PC.pos;
+    double B[4][3], R[3][3], tmin = 1e300;
+    for (int p = 0; p < pos->n_pieces; p++)
+        if (pos->len[p] > KC_R(0.0))
+            tmin = fmin(tmin, (double)pos->len[p]);
+    for (int j = 0; j < 3; j++) {
+        for (int m = 0; m < 4; m++)
+            B[m][j] = path_bound(pos, j, m);
+        R[0][j] = B[0][j];
+        R[1][j] = B[1][j] + B[0][j] / tmin;
+        R[2][j] = B[2][j] + B[1][j] / tmin + B[0][j] / (tmin * tmin);
+    }
+    /* Scale of the angular velocity's rounding: the rotation vectors' rates
+     * and angles (<= pi + the blend's reach) over the shortest piece. */
+    double wscale = 0, jscale = 0;
+    for (int p = 0; p < pos->n_pieces; p++)
+        for (int x = 0; x < 3; x++) {
+            double b0 = 0, b1 = 0, L = (double)pos->len[p];
+            for (int i = 0; i < 6; i++) {
+                b0 += fabs((double)PC.rc[p][i][x]) * pow(L, i);
+                if (i > 0)
+                    b1 += fabs((double)PC.rc[p][i][x]) * i * pow(L, i - 1);
+            }
+            wscale = dmax(wscale, (1 + b0) * (1 + b0) * (b1 + b0 / tmin));
+            /* d^3 omega / dt^3 is made of v'''', v''' v', v''^2, v'' v'^2
+             * and v'^4 through J_r and its derivatives (coefficients of
+             * order 1; the multiplicities of Faa di Bruno's formula). */
+            double b2 = 0, b3 = 0, b4 = 0;
+            for (int i = 2; i < 6; i++)
+                b2 += fabs((double)PC.rc[p][i][x]) * i * (i - 1) * pow(L, i - 2);
+            for (int i = 3; i < 6; i++)
+                b3 += fabs((double)PC.rc[p][i][x]) * i * (i - 1) * (i - 2) * pow(L, i - 3);
+            for (int i = 4; i < 6; i++)
+                b4 += fabs((double)PC.rc[p][i][x]) * i * (i - 1) * (i - 2) * (i - 3) * pow(L, i - 4);
+            jscale = dmax(jscale, (1 + b0) * (1 + b0) *
+                                      (b4 + 4 * b3 * b1 + 3 * b2 * b2 + 6 * b2 * b1 * b1 + b1 * b1 * b1 * b1));
+        }
+    kc_quat r0u, rnu;
+    kc_quat_normalize(&c->r[0], &r0u);
+    kc_quat_normalize(&c->r[n - 1], &rnu);
+    kc_path_pose s0, s1;
+
+    /* Start: first knot exactly, its orientation (sign as given), s = 0. */
+    assert_int_equal(kc_path_eval_cart(&PC, 0, &s0), KC_OK);
+    for (int x = 0; x < 3; x++)
+        if (s0.p.v[x] != c->p[0].v[x])
+            fail_msg("%s: p(0) differs from the first knot", what);
+    kt_near_quat(&s0.r, &r0u, 4 * U, "start orientation");
+    assert_true(s0.s == KC_R(0.0));
+    if (variant_rest(v))
+        kt_near(s0.sd, 0, 0, "start speed");
+    /* End: last knot exactly, at rest in rotation, s = length. */
+    for (int64_t k = pos->ticks; k <= pos->ticks + 2; k++) {
+        assert_int_equal(kc_path_eval_cart(&PC, k, &s1), KC_DONE);
+        for (int x = 0; x < 3; x++)
+            if (s1.p.v[x] != c->p[n - 1].v[x])
+                fail_msg("%s: end p differs from the last knot", what);
+        kt_near(fabs(quat_dot(&s1.r, &rnu)), 1, 16 * U, "end orientation");
+        kt_near(kc_vec3_norm(&s1.w), 0, 0, "end angular velocity");
+        kt_near(s1.s, PC.length, 0, "end s");
+    }
+    /* Knots at their times (interpolating methods). */
+    if (variant_interpolates(v))
+        for (int i = 0; i + 1 < n; i++) {
+            kc_quat ri;
+            kc_path_eval_cart_time(&PC, pos->start[i], &s0);
+            for (int x = 0; x < 3; x++)
+                if (s0.p.v[x] != c->p[i].v[x])
+                    fail_msg("%s: knot %d position missed", what, i);
+            kc_quat_normalize(&c->r[i], &ri);
+            kt_near(fabs(quat_dot(&s0.r, &ri)), 1, 64 * U, "knot orientation");
+        }
+    /* Analytic continuity where pieces meet. */
+    for (int p = 0; p + 1 < pos->n_pieces; p++) {
+        if (pos->len[p] <= KC_R(0.0))
+            continue;
+        kc_path_eval_cart_piece(&PC, p, pos->len[p], &s0);
+        kc_path_eval_cart_piece(&PC, p + 1, KC_R(0.0), &s1);
+        snprintf(what, sizeof what, "cartesian %s case %d: pieces %d/%d", variant_name[v], index, p, p + 1);
+        for (int x = 0; x < 3; x++) {
+            kt_near(s0.p.v[x], s1.p.v[x], KT_PATH_REL * R[0][x], what);
+            kt_near(s0.v.v[x], s1.v.v[x], KT_PATH_REL * R[1][x], what);
+            if (variant_c2(v))
+                kt_near(s0.a.v[x], s1.a.v[x], KT_PATH_REL * R[2][x], what);
+            kt_near(s0.w.v[x], s1.w.v[x], KT_PATH_REL * wscale, what);
+        }
+        kt_near_quat(&s0.r, &s1.r, KT_PATH_REL, what);
+        /* Angular acceleration (double only: float rounding over h). */
+        if (!IS_FLOAT && v != V_PARABOLIC) {
+            const double h = 1e-4;
+            kc_path_pose l1, l2, r1, r2;
+            kc_path_eval_cart_piece(&PC, p, (kc_real)((double)pos->len[p] - h), &l1);
+            kc_path_eval_cart_piece(&PC, p, (kc_real)((double)pos->len[p] - 2 * h), &l2);
+            kc_path_eval_cart_piece(&PC, p + 1, (kc_real)h, &r1);
+            kc_path_eval_cart_piece(&PC, p + 1, (kc_real)(2 * h), &r2);
+            for (int x = 0; x < 3; x++) {
+                double al = (3 * (double)s0.w.v[x] - 4 * (double)l1.w.v[x] + (double)l2.w.v[x]) / (2 * h);
+                double ar = (-3 * (double)s1.w.v[x] + 4 * (double)r1.w.v[x] - (double)r2.w.v[x]) / (2 * h);
+                /* Truncation of the one-sided differences h^2/3 |omega'''|
+                 * on each side, rounding 8 u |omega| / h. */
+                double tol = 2 * h * h / 3 * jscale + 8 * U * (1 + wscale) / h;
+                worst_alpha_jump = dmax(worst_alpha_jump, fabs(al - ar) / tol);
+                kt_near(al, ar, tol, "angular acceleration across a boundary");
+            }
+        }
+    }
+    /* Reference length: composite Simpson with 2000 intervals per piece. */
+    double ref_len = 0, s_ref = 0;
+    for (int p = 0; p < pos->n_pieces; p++) {
+        const int m = 2000;
+        double L = (double)pos->len[p], acc = 0;
+        for (int i = 0; i <= m; i++) {
+            kc_path_pose e;
+            kc_path_eval_cart_piece(&PC, p, (kc_real)(L * i / m), &e);
+            acc += (i == 0 || i == m ? 1 : i % 2 ? 4 : 2) * (double)e.sd;
+        }
+        ref_len += acc * L / (3 * m);
+    }
+    /* Every tick: unit quaternion, sign continuity, position steps within
+     * their bound, s. */
+    snprintf(what, sizeof what, "cartesian %s case %d", variant_name[v], index);
+    kc_path_eval_cart(&PC, 0, &s0);
+    for (int64_t k = 0; k < pos->ticks; k++) {
+        kc_path_eval_cart(&PC, k + 1, &s1);
+        n_cart_ticks++;
+        double dt = (double)pos->dt;
+        kt_near(kc_quat_norm(&s1.r), 1, 64 * U, "unit orientation");
+        if (!(quat_dot(&s0.r, &s1.r) > 0))
+            fail_msg("%s: orientation sign flips at tick %ld", what, (long)k);
+        for (int x = 0; x < 3; x++)
+            if (fabs((double)(s1.p.v[x] - s0.p.v[x])) > B[1][x] * dt * (1 + 1e-9) + KT_PATH_REL * R[0][x])
+                fail_msg("%s: position jump at tick %ld", what, (long)k);
+        /* s: non-decreasing, and against Simpson's rule on the speed
+         * accumulated over the ticks: 1e-7 of the length, plus the
+         * rounding of s itself (compensated table, 8-term quadrature: 16 u s). */
+        s_ref += simpson_speed((double)k * dt, fmin((double)(k + 1) * dt, (double)pos->duration));
+        if ((double)s1.s < (double)s0.s - 8 * U * (double)s1.s)
+            fail_msg("%s: s decreases at tick %ld: %.17g -> %.17g", what, (long)k, (double)s0.s, (double)s1.s);
+        double err = fabs((double)s1.s - s_ref);
+        worst_length_rel = dmax(worst_length_rel, err / dmax(ref_len, 1e-12));
+        if (err > 1e-7 * ref_len + 16 * U * s_ref + 1e-15)
+            fail_msg("%s: s = %.12g at tick %ld, reference %.12g (length %.12g, Simpson %.12g, duration %g, pieces %d)", what, (double)s1.s, (long)k + 1, s_ref, (double)PC.length, ref_len, (double)pos->duration, pos->n_pieces);
+        kt_checks += 6;
+        s0 = s1;
+    }
+    /* Angular velocity against the orientations (double only). */
+    if (!IS_FLOAT) {
+        kt_rng rng = kt_rng_make((uint64_t)index * 7919u + (uint64_t)v);
+        /* Inside one piece (omega is smooth there), h <= len/64: the
+         * Richardson error ~ (h/len)^4 |omega| / 80 stays below 1e-6 (1 +
+         * |omega|) for the pieces here, rounding 8 u / h far below. */
+        for (int i = 0; i < 64; i++) {
+            int p = (int)(kt_rng_next(&rng) % (uint64_t)pos->n_pieces);
+            double L = (double)pos->len[p], h = fmin(1e-3, L / 64);
+            if (!(L > 0))
+                continue;
+            double t = (double)pos->start[p] + kt_uniform(&rng, 2 * h, L - 2 * h);
+            kc_path_pose e;
+            kc_path_eval_cart_time(&PC, (kc_real)t, &e);
+            kc_vec3 fd = fd_omega(t, h);
+            double tol = 1e-6 * (1 + (double)kc_vec3_norm(&e.w));
+            for (int x = 0; x < 3; x++) {
+                worst_omega_fd = dmax(worst_omega_fd, fabs((double)fd.v[x] - (double)e.w.v[x]) / tol);
+                kt_near(fd.v[x], e.w.v[x], tol, "angular velocity vs orientations");
+            }
+        }
+    }
+}
+
+static void test_cartesian_properties(void **state)
+{
+    (void)state;
+    kt_rng rng = kt_rng_make(0x63617274); /* "cart" */
+    for (int v = 0; v < V_COUNT; v++)
+        for (int i = 0; i < 16; i++) {
+            int given_t = v == V_HERMITE || v == V_QUINTIC_GIVEN ? 1 : i % 2 == 0;
+            make_cart_case(&rng, v, given_t);
+            check_cart_case(v, given_t, i);
+        }
+    printf("cartesian paths: %lu random cases, %lu ticks; |s - Simpson| / length at most %.2g\n", n_cart_cases,
+           n_cart_ticks, worst_length_rel);
+    if (!IS_FLOAT)
+        printf("cartesian paths: |omega - FD of orientations| at most %.2g of its tolerance, angular acceleration"
+               " jump (FD) at most %.2g of its allowance\n",
+               worst_omega_fd, worst_alpha_jump);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -580,6 +922,7 @@ int main(void)
         cmocka_unit_test(test_lagrange_vectors),
         cmocka_unit_test(test_spline_vectors),
         cmocka_unit_test(test_joint_properties),
+        cmocka_unit_test(test_cartesian_properties),
     };
     int failed = cmocka_run_group_tests_name("path (" KC_REAL_NAME ")", tests, NULL, NULL);
     printf("smoothing.json: %d/12 blend (7.1 x quartic, parabolic), %d/6 Lagrange (7.2), %d/6 spline (7.3) cases;"
