@@ -59,6 +59,7 @@ typedef struct calc_ctx {
     jw *out;
     char err[1024];
     json_t *warnings; /* array of strings */
+    int csv;          /* interp on the command line: rows go to stdout as CSV */
 } calc_ctx;
 
 /* Sets ctx->err and returns -1. */
@@ -149,5 +150,40 @@ int req_q(calc_ctx *ctx, const json_t *req, const kc_chain *chain, int deg, kc_r
 /* ik.c: inverse kinematics to a target pose. */
 extern const calc_opt ik_opts[];
 int run_ik(const json_t *req, calc_ctx *ctx);
+
+/*
+ * interp.c: `kinctl-calc interp KIND [OPTIONS]`, sampled motions.
+ *
+ * Dispatch: main() hands every argument after "interp" to calc_interp_main,
+ * which takes the second word as KIND and looks it up in interp.c's table
+ * of kinds: joint, line and arc (run_interp_joint/line/arc in interp.c) and
+ * path (run_interp_path, interp_path.c). Each kind is a calc_cmd of its own
+ * (its option table and run function), so its options are parsed and
+ * checked exactly like a subcommand's, and `interp KIND --help` prints them.
+ * In batch the op is "interp" with "kind": KIND and the kind's keys
+ * (run_interp); interp_opts lists every kind's keys for batch --help.
+ *
+ * A kind's run(req, ctx) writes its samples with the calc_rows_* calls
+ * below, one row per tick from t = 0 to the end inclusive: CSV with a header
+ * row on the command line (ctx->csv), "columns" and "rows" members in batch.
+ *
+ * The path kind plugs in as the one function run_interp_path, defined in
+ * interp_path.c; its options are interp_path_opts in interp.c (the issue's
+ * list: space, method, points, times, velocities, tacc, v, a, dt; add a line
+ * there for another). tools/CMakeLists.txt compiles interp_path.c in when
+ * it exists (KINCTL_CALC_HAVE_INTERP_PATH); until then `interp path`
+ * answers that it is not yet available.
+ */
+extern const calc_opt interp_opts[];
+extern const calc_opt interp_path_opts[];
+int calc_interp_main(int argc, char **argv);
+int run_interp(const json_t *req, calc_ctx *ctx);
+int run_interp_path(const json_t *req, calc_ctx *ctx);
+
+/* Rows of samples: begin with the ncol column names, add rows of ncol
+ * values (the same ncol), end. */
+void calc_rows_begin(calc_ctx *ctx, int ncol, const char *const *names);
+void calc_rows_add(calc_ctx *ctx, int ncol, const kc_real *row);
+void calc_rows_end(calc_ctx *ctx);
 
 #endif /* KINCTL_CALC_H */

@@ -408,6 +408,8 @@ static const calc_cmd commands[] = {
      "whatever the status (it is the answer), 2 for bad input.\n"
      "Example: kinctl-calc ik --model puma560 --target 0.5,-0.15,0.6,0,0.7071068,0,0.7071068",
      ik_opts, run_ik},
+    {"interp", "sampled motions: joint move, line, arc, path (CSV; kinctl-calc interp --help)",
+     "kinctl-calc interp KIND [OPTIONS]   (KIND: joint, line, arc, path; see interp.c)", interp_opts, run_interp},
     {"batch", "many requests: JSON lines on stdin, one answer line each",
      "kinctl-calc batch < requests.jsonl\n"
      "Each line is one request object with \"op\" (fk, jacobian, ik, orient, transform) and the\n"
@@ -644,6 +646,8 @@ int main(int argc, char **argv)
         print_main_help(argc < 2 ? stderr : stdout);
         return argc < 2 ? EXIT_BAD_INPUT : 0;
     }
+    if (strcmp(argv[1], "interp") == 0) /* dispatches on its second word: calc.h */
+        return calc_interp_main(argc - 2, argv + 2);
     const calc_cmd *cmd = find_command(argv[1]);
     if (cmd == NULL) {
         fprintf(stderr, "kinctl-calc: unknown subcommand \"%s\" (kinctl-calc --help lists them)\n", argv[1]);

@@ -1,0 +1,363 @@
+"""Black-box tests of `kinctl-calc interp`: its CSV rows against
+tests/vectors (joint_trapezoid, cartesian_line, circle: every case), batch
+rows equal to CSV rows, and bad input.
+
+Tolerances as in tests/unit/test_interp.c: the files' 1e-9 in double; in
+float 64 float ulps (7.6e-6) of the largest value of each quantity in a case
+(at least 1): the float build rounds every input and evaluates each value in
+a few tens of operations, each within half an ulp of that scale. Samples that
+fall on a phase boundary (the files' *_ambiguous_indices; in float also those
+within 8 ulps of one) are not compared for acceleration.
+
+Environment: KINCTL_CALC, KINCTL_VECTORS, KINCTL_REAL (see test_calc.py).
+"""
+import json
+import math
+import os
+import struct
+import subprocess
+
+import pytest
+
+CALC = os.environ.get("KINCTL_CALC", "kinctl-calc")
+VECTORS = os.environ.get("KINCTL_VECTORS", os.path.join(os.path.dirname(__file__), "..", "vectors"))
+FLOAT = os.environ.get("KINCTL_REAL", "double") == "float"
+EPS = 1.1920929e-07 if FLOAT else 2.220446049250313e-16
+
+
+def load(name):
+    with open(os.path.join(VECTORS, name)) as f:
+        return json.load(f)
+
+
+JOINT = load("joint_trapezoid.json")
+LINE = load("cartesian_line.json")
+CIRCLE = load("circle.json")
+
+
+def tol(scale):
+    return 64 * EPS * max(scale, 1.0) if FLOAT else 1e-9
+
+
+def run(args, stdin=None):
+    return subprocess.run([CALC] + [str(a) for a in args], input=stdin, capture_output=True, text=True, timeout=120)
+
+
+def csv_rows(args):
+    r = run(args)
+    assert r.returncode == 0, f"{args}: exit {r.returncode}, stderr: {r.stderr}"
+    lines = r.stdout.splitlines()
+    header = lines[0].split(",")
+    rows = [[float(x) for x in line.split(",")] for line in lines[1:]]
+    assert all(len(row) == len(header) for row in rows)
+    return header, rows
+
+
+def nums(values):
+    return ",".join(repr(float(v)) for v in values)
+
+
+def flat(m):
+    return [x for row in m for x in row]
+
+
+def max_abs(values):
+    if isinstance(values, list):
+        return max((max_abs(v) for v in values), default=0.0)
+    return abs(values)
+
+
+def near(got, want, t, what):
+    assert abs(got - want) <= t, f"{what}: {got} vs {want} (tol {t})"
+
+
+def on_boundary(t, bounds):
+    return FLOAT and any(abs(t - b) <= 8 * EPS * max(b, 1.0) for b in bounds)
+
+
+def quat_to_matrix(w, x, y, z):
+    return [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
+            2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+            2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]
+
+
+def f32(x):
+    return struct.unpack("f", struct.pack("f", x))[0]
+
+
+def exact(got, want):
+    """The build's own rounding of want: the CLI's rows hold exactly what was
+    given (9 digits in float, which read back as the float value)."""
+    return [f32(g) for g in got] == [f32(w) for w in want] if FLOAT else got == want
+
+
+def pair_rows(rows, ts, T, dt=0.01):
+    """Pairs (row, sample index, compare accelerations) of the CLI's rows and
+    the file's samples: one row per tick from 0 to the end inclusive, at k dt;
+    the last row is the first tick at or after T, the file's last sample is T
+    itself. In float, T within rounding of a tick may end one tick later:
+    that extra row lies within rounding of T and is compared to the last
+    sample too (not its acceleration, which jumps there)."""
+    n = len(ts)
+    extra = len(rows) - n
+    assert extra == 0 or (FLOAT and extra == 1 and on_boundary(rows[-2][0], [T])), (len(rows), n)
+    for k, row in enumerate(rows):
+        near(row[0], k * dt, 1e-12 if not FLOAT else 1e-6 * max(1.0, k * dt), f"t of row {k}")
+    assert rows[-1][0] >= T - 1e-6 and (len(rows) == 1 or rows[-2][0] < T + (1e-6 if FLOAT else 0.0))
+    pairs = [(rows[i], i, True) for i in range(n - 1)]
+    if extra:
+        pairs.append((rows[n - 1], n - 1, False))
+    pairs.append((rows[-1], n - 1, True))
+    return pairs
+
+
+# ---- joint_trapezoid.json ----
+
+JOINT_ARGS = [(c["case"], c) for c in JOINT["cases"]]
+
+
+@pytest.mark.parametrize("name,case", JOINT_ARGS, ids=[c[0] for c in JOINT_ARGS])
+def test_joint_vectors(name, case):
+    header, rows = csv_rows(["interp", "joint", "--model", "planar2", "--deg", "--q0", nums(case["q_start_deg"]),
+                             "--q1", nums(case["q_end_deg"]), "--vmax", case["v_deg_s"], "--amax", case["A_deg_s2"],
+                             "--dt", "0.01"])
+    assert header == ["t", "q1", "q2", "qd1", "qd2", "qdd1", "qdd2"]
+    s = case["samples"]
+    T = case["T_total_s"]
+    bounds = [case["t_p_s"], case["t_p_s"] + case["t_pv_s"], T]
+    amb = set(s["qddot_ambiguous_indices"])
+    tq, tv, ta = tol(max_abs(s["q_deg"])), tol(max_abs(s["qdot_deg_s"])), tol(max_abs(s["qddot_deg_s2"]))
+    for row, i, acc in pair_rows(rows, s["t_s"], T):
+        t = s["t_s"][i]
+        for j in range(2):
+            near(row[1 + j], s["q_deg"][j][i], tq, f"q{j + 1} at {t}")
+            near(row[3 + j], s["qdot_deg_s"][j][i], tv, f"qdot{j + 1} at {t}")
+            if acc and i not in amb and not on_boundary(t, bounds):
+                near(row[5 + j], s["qddot_deg_s2"][j][i], ta, f"qddot{j + 1} at {t}")
+    # Ends exactly where asked, at rest.
+    assert exact(rows[0][1:3], case["q_start_deg"])
+    assert exact(rows[-1][1:3], case["q_end_deg"]) and rows[-1][3:] == [0.0] * 4
+
+
+def test_joint_radians_equal_degrees():
+    c = JOINT["cases"][2]
+    _, deg = csv_rows(["interp", "joint", "--model", "planar2", "--deg", "--q0", nums(c["q_start_deg"]),
+                       "--q1", nums(c["q_end_deg"]), "--vmax", c["v_deg_s"], "--amax", c["A_deg_s2"], "--dt", "0.002"])
+    r = math.radians
+    _, rad = csv_rows(["interp", "joint", "--model", "planar2", "--q0", nums(map(r, c["q_start_deg"])),
+                       "--q1", nums(map(r, c["q_end_deg"])), "--vmax", r(c["v_deg_s"]), "--amax", r(c["A_deg_s2"]),
+                       "--dt", "0.002"])
+    assert len(deg) == len(rad)
+    for a, b in zip(deg, rad):
+        for x, y in zip(a[1:], b[1:]):
+            near(math.radians(x), y, 1e-9 if not FLOAT else 1e-4, "deg vs rad")
+
+
+def test_joint_model_limits_and_per_joint():
+    # planar2's limits are 80 deg/s and 800 deg/s^2 for both joints.
+    _, model = csv_rows(["interp", "joint", "--model", "planar2", "--deg", "--q0", "0,0", "--q1", "90,-30", "--dt", "0.01"])
+    _, given = csv_rows(["interp", "joint", "--model", "planar2", "--deg", "--q0", "0,0", "--q1", "90,-30",
+                         "--vmax", "80,80", "--amax", "800", "--dt", "0.01"])
+    assert model == given
+    # Per-joint limits: joint 2 slow. Every joint within its own limits,
+    # both at the same fraction of their moves.
+    _, rows = csv_rows(["interp", "joint", "--model", "planar2", "--deg", "--q0", "0,0", "--q1", "90,-30",
+                        "--vmax", "80,10", "--amax", "800,50", "--dt", "0.01"])
+    for row in rows:
+        assert abs(row[3]) <= 80 * (1 + 1e-6) and abs(row[4]) <= 10 * (1 + 1e-6)
+        assert abs(row[5]) <= 800 * (1 + 1e-6) and abs(row[6]) <= 50 * (1 + 1e-6)
+        near(row[1] / 90.0, row[2] / -30.0, 1e-9 if not FLOAT else 1e-5, "same fraction")
+    assert max(abs(row[4]) for row in rows) >= 10 * (1 - 1e-6)  # joint 2 leads
+    # Stretched to 3 s: the last row is the first tick at or after 3 s.
+    _, rows = csv_rows(["interp", "joint", "--model", "planar2", "--deg", "--q0", "0,0", "--q1", "90,-30",
+                        "--duration", "3", "--dt", "0.01"])
+    near(rows[-1][0], 3.0, 1e-9 if not FLOAT else 1e-5, "stretched end")
+
+
+# ---- cartesian_line.json ----
+
+LINE_ARGS = [(c["case"], c) for c in LINE["cases"]]
+
+
+@pytest.mark.parametrize("name,case", LINE_ARGS, ids=[c[0] for c in LINE_ARGS])
+def test_line_vectors(name, case):
+    header, rows = csv_rows(["interp", "line", "--from", nums(flat(case["P1_corrected"])),
+                             "--to", nums(flat(case["P2_corrected"])), "--v", case["v"], "--a", case["A_used"],
+                             "--dt", "0.01"])
+    assert header == ["t", "x", "y", "z", "qw", "qx", "qy", "qz", "s", "sd", "sdd"]
+    s, tm = case["samples"], case["timing"]
+    bounds = [tm["t_p"], tm["t_p"] + tm["t_pv"], tm["T_total"]]
+    amb = set(s["qddot_ambiguous_indices"])
+    tp, ts_, tsd, tsdd = tol(max_abs(s["p"])), tol(max_abs(s["S"])), tol(max_abs(s["Sdot"])), tol(max_abs(s["Sddot"]))
+    for row, i, acc in pair_rows(rows, s["t_s"], tm["T_total"]):
+        t = s["t_s"][i]
+        for k in range(3):
+            near(row[1 + k], s["p"][i][k], tp, f"p[{k}] at {t}")
+        for got, want in zip(quat_to_matrix(*row[4:8]), s["R_rowmajor"][i]):
+            near(got, want, tol(1.0), f"R at {t}")
+        near(row[8], s["S"][i], ts_, f"S at {t}")
+        near(row[9], s["Sdot"][i], tsd, f"Sdot at {t}")
+        if acc and i not in amb and not on_boundary(t, bounds):
+            near(row[10], s["Sddot"][i], tsdd, f"Sddot at {t}")
+
+
+def test_line_slerp_and_pure_rotation():
+    # Same ends by either method; a pure rotation needs angular limits.
+    args = ["interp", "line", "--from", "0.4,0,0.5,1,0,0,0", "--to", "0.4,0.3,0.4,0,1,0,0", "--v", "0.5", "--a", "2",
+            "--dt", "0.005"]
+    _, two = csv_rows(args)
+    _, sl = csv_rows(args + ["--orientation", "slerp"])
+    assert two[-1][1:4] == sl[-1][1:4] and exact(sl[-1][1:4], [0.4, 0.3, 0.4])
+    for a, b in zip(quat_to_matrix(*two[-1][4:8]), quat_to_matrix(*sl[-1][4:8])):
+        near(a, b, 1e-9 if not FLOAT else 1e-5, "same end orientation")
+    r = run(["interp", "line", "--from", "0,0,0,1,0,0,0", "--to", "0,0,0,0,0,0,1", "--v", "1", "--a", "1", "--dt", "0.01"])
+    assert r.returncode == 2 and "give --omega and --epsilon" in r.stderr and r.stdout == ""
+    _, rows = csv_rows(["interp", "line", "--from", "0,0,0,1,0,0,0", "--to", "0,0,0,0,0,0,1", "--v", "1", "--a", "1",
+                        "--omega", "1", "--epsilon", "2", "--dt", "0.01"])
+    assert all(row[1:4] == [0.0, 0.0, 0.0] for row in rows)
+    near(rows[-1][8], math.pi, 1e-9 if not FLOAT else 1e-5, "s is the angle")
+    assert max(row[9] for row in rows) <= 1.0 * (1 + 1e-6)
+    # The quaternions keep the sign the start was given with.
+    _, rows = csv_rows(["interp", "line", "--from", "0,0,0,-1,0,0,0", "--to", "1,0,0,-1,0,0,0", "--v", "1", "--a", "1",
+                        "--dt", "0.1"])
+    assert all(row[4] == -1.0 for row in rows)
+
+
+# ---- circle.json ----
+
+CIRCLE_ARGS = [(c["case"], c) for c in CIRCLE["cases"]]
+
+
+@pytest.mark.parametrize("name,case", CIRCLE_ARGS, ids=[c[0] for c in CIRCLE_ARGS])
+def test_circle_vectors(name, case):
+    header, rows = csv_rows(["interp", "arc", "--from", nums(flat(case["T1_corrected"])),
+                             "--via", nums(case["T2_position"]), "--to", nums(case["T3_position"]),
+                             "--v", case["v"], "--a", case["A_used"], "--dt", "0.01"])
+    assert header == ["t", "x", "y", "z", "qw", "qx", "qy", "qz", "s", "sd", "sdd"]
+    s, tm, R = case["samples"], case["timing"], case["radius"]
+    bounds = [tm["t_p"], tm["t_p"] + tm["t_pv"], tm["T_total"]]
+    amb = set(s["qddot_ambiguous_indices"])
+    tp, ta, tad, tadd = tol(max_abs(s["p"])), tol(2 * math.pi), tol(max_abs(s["alphadot"])), tol(max_abs(s["alphaddot"]))
+    for row, i, acc in pair_rows(rows, s["t_s"], tm["T_total"]):
+        t = s["t_s"][i]
+        for k in range(3):
+            near(row[1 + k], s["p"][i][k], tp, f"p[{k}] at {t}")
+        for got, want in zip(quat_to_matrix(*row[4:8]), s["R_rowmajor"][i]):
+            near(got, want, tol(1.0), f"R at {t}")
+        near(row[8] / R, s["alpha"][i], ta, f"alpha at {t}")
+        near(row[9] / R, s["alphadot"][i], tad, f"alphadot at {t}")
+        if acc and i not in amb and not on_boundary(t, bounds):
+            near(row[10] / R, s["alphaddot"][i], tadd, f"alphaddot at {t}")
+    assert exact(rows[-1][1:4], case["T3_position"])  # exactly the end point
+
+
+# ---- batch ----
+
+def test_batch_rows_equal_csv():
+    c = JOINT["cases"][0]
+    _, rows = csv_rows(["interp", "joint", "--model", "planar2", "--deg", "--q0", nums(c["q_start_deg"]),
+                        "--q1", nums(c["q_end_deg"]), "--vmax", c["v_deg_s"], "--amax", c["A_deg_s2"], "--dt", "0.01"])
+    a = CIRCLE["cases"][10]
+    _, arc = csv_rows(["interp", "arc", "--from", nums(flat(a["T1_corrected"])), "--via", nums(a["T2_position"]),
+                       "--to", nums(a["T3_position"]), "--v", a["v"], "--a", a["A_used"], "--dt", "0.05"])
+    reqs = [
+        {"op": "interp", "kind": "joint", "model": "planar2", "deg": True, "q0": c["q_start_deg"],
+         "q1": c["q_end_deg"], "vmax": [c["v_deg_s"]], "amax": [c["A_deg_s2"]], "dt": 0.01, "id": "j"},
+        {"op": "interp", "kind": "arc", "from": flat(a["T1_corrected"]), "via": a["T2_position"],
+         "to": a["T3_position"], "v": a["v"], "a": a["A_used"], "dt": 0.05},
+        {"op": "interp", "kind": "line", "from": [0, 0, 0, 1, 0, 0, 0], "to": [1, 0, 0, 1, 0, 0, 0], "v": 1, "a": 1,
+         "dt": 0.01, "q0": [1]},
+        {"op": "interp", "kind": "spiral"},
+        {"op": "interp", "from": [0, 0, 0, 1, 0, 0, 0]},
+        {"op": "interp", "kind": "arc", "from": [0, 0, 0, 1, 0, 0, 0], "via": [1, 0, 0], "to": [2, 0, 0], "v": 1,
+         "a": 1, "dt": 0.01},
+    ]
+    r = run(["batch"], "\n".join(json.dumps(q) for q in reqs) + "\n")
+    assert r.returncode == 0, r.stderr
+    ans = [json.loads(line) for line in r.stdout.splitlines()]
+    assert len(ans) == len(reqs)
+    assert ans[0]["columns"] == ["t", "q1", "q2", "qd1", "qd2", "qdd1", "qdd2"] and ans[0]["id"] == "j"
+    assert ans[0]["rows"] == rows
+    assert ans[1]["columns"][8] == "s" and ans[1]["rows"] == arc
+    assert "unknown key \"q0\" for interp line" in ans[2]["error"]
+    assert "unknown interp kind \"spiral\"" in ans[3]["error"]
+    assert "missing kind" in ans[4]["error"]
+    assert "collinear" in ans[5]["error"]
+
+
+# ---- bad input ----
+
+J = ["interp", "joint", "--model", "planar2", "--q0", "0,0", "--q1", "1,1"]
+L = ["interp", "line", "--from", "0,0,0,1,0,0,0", "--to", "1,0,0,1,0,0,0"]
+A = ["interp", "arc", "--from", "0,0,0,1,0,0,0", "--via", "1,1,0", "--to", "2,0,0"]
+
+BAD = [
+    (J, "missing dt"),
+    (J + ["--dt", "0"], "dt must be > 0"),
+    (J + ["--dt", "-0.001"], "dt must be > 0"),
+    (J + ["--dt", "nan"], "not a finite number"),
+    (J + ["--dt", "0.001", "--vmax", "0"], "vmax must be > 0"),
+    (J + ["--dt", "0.001", "--amax", "-5"], "amax must be > 0"),
+    (J + ["--dt", "0.001", "--vmax", "1,2,3"], "vmax has 3 values"),
+    (J + ["--dt", "0.001", "--amax", "1,inf"], "not a finite number"),
+    (J + ["--dt", "0.001", "--duration", "0.1"], "shorter than the limits allow"),
+    (J + ["--dt", "0.001", "--duration", "-1"], "duration must be >= 0"),
+    (J + ["--dt", "1e-9"], "use a larger --dt"),
+    (["interp", "joint", "--model", "planar2", "--q0", "0,0,0", "--q1", "1,1", "--dt", "0.01"], "q0 has 3 values"),
+    (["interp", "joint", "--model", "planar2", "--q0", "0,nan", "--q1", "1,1", "--dt", "0.01"], "not a finite number"),
+    (["interp", "joint", "--q0", "0", "--q1", "1", "--dt", "0.01"], "give a model"),
+    (L + ["--v", "1", "--dt", "0.01"], "missing a"),
+    (L + ["--v", "0", "--a", "1", "--dt", "0.01"], "v must be > 0"),
+    (L + ["--v", "1", "--a", "1", "--omega", "-1", "--dt", "0.01"], "omega must be > 0"),
+    (L + ["--v", "1", "--a", "1", "--orientation", "euler", "--dt", "0.01"], "unknown orientation method \"euler\""),
+    (["interp", "line", "--from", "0,0,0,0,0,0,0", "--to", "1,0,0,1,0,0,0", "--v", "1", "--a", "1", "--dt", "0.01"],
+     "quaternion qw,qx,qy,qz is zero"),
+    (["interp", "line", "--from", "0,0,0,1,0,0", "--to", "1,0,0,1,0,0,0", "--v", "1", "--a", "1", "--dt", "0.01"],
+     "from has 6 numbers"),
+    (["interp", "line", "--from", nums([2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]), "--to", "1,0,0,1,0,0,0",
+      "--v", "1", "--a", "1", "--dt", "0.01"], "not a rigid transform"),
+    (L + ["--v", "1e-9", "--a", "1", "--dt", "0.001"], "ticks"),
+    (A + ["--v", "1", "--dt", "0.01"], "missing a"),
+    (["interp", "arc", "--from", "0,0,0,1,0,0,0", "--via", "1,0,0", "--to", "2,0,0", "--v", "1", "--a", "1",
+      "--dt", "0.01"], "collinear"),
+    (["interp", "arc", "--from", "0,0,0,1,0,0,0", "--via", "1,1,0", "--to", "0,0,0", "--v", "1", "--a", "1",
+      "--dt", "0.01"], "coincide"),
+    (["interp", "arc", "--from", "0,0,0,1,0,0,0", "--via", "1,1", "--to", "2,0,0", "--v", "1", "--a", "1",
+      "--dt", "0.01"], "via has 2 numbers"),
+    (A + ["--v", "1", "--a", "1", "--dt", "0.01", "--q0", "1"], "unknown option \"--q0\""),
+    (["interp", "spiral"], "unknown kind \"spiral\""),
+    (["interp"], "usage: kinctl-calc interp KIND"),
+]
+
+
+@pytest.mark.parametrize("args,message", BAD, ids=[" ".join(a[1:]) for a, _ in BAD])
+def test_bad_input(args, message):
+    r = run(args)
+    assert r.returncode == 2
+    assert message in r.stderr, r.stderr
+    assert r.stdout == ""
+
+
+def test_path_plugs_in():
+    # interp path belongs to interp_path.c; whether or not it is built in,
+    # an incomplete request is bad input with a message and no rows.
+    r = run(["interp", "path", "--dt", "0.01"])
+    assert r.returncode == 2 and r.stdout == "" and r.stderr != ""
+
+
+def test_warnings_on_stderr():
+    r = run(["interp", "joint", "--model", "planar2", "--deg", "--q0", "0,0", "--q1", "200,0", "--vmax", "100",
+             "--dt", "0.01"])
+    assert r.returncode == 0
+    assert "outside joint 1's limits" in r.stderr and "exceeds the model's limit" in r.stderr
+    assert r.stdout.startswith("t,q1,q2,")
+
+
+@pytest.mark.parametrize("kind", ["joint", "line", "arc", "path"])
+def test_help(kind):
+    r = run(["interp", kind, "--help"])
+    assert r.returncode == 0 and r.stdout.startswith("usage: kinctl-calc interp " + kind)
+    r = run(["interp", "--help"])
+    assert r.returncode == 0 and f"\n  {kind} " in r.stdout
+    r = run(["--help"])
+    assert "\n  interp " in r.stdout
