@@ -915,6 +915,357 @@ static void test_cartesian_properties(void **state)
                worst_omega_fd, worst_alpha_jump);
 }
 
+/* ---- ticks, limits rule, special orientations ---- */
+
+static kc_real q3[3] = {0, 1, 3}, t3[3] = {0, KC_R(1.0005), 2};
+
+static void test_ticks(void **state)
+{
+    (void)state;
+    kc_real q[1], qd[1], qdd[1];
+    kc_path_cfg c = kc_path_cfg_default();
+    c.method = KC_PATH_QUINTIC;
+    c.n_knots = 2;
+    c.dim = 1;
+    c.q = q3;
+    c.t = t3;
+    c.dt = KC_R(0.001);
+    /* 1.0005 s: the first tick at or after the end is 1001. */
+    assert_int_equal(kc_path_plan(&P, &c), KC_OK);
+    assert_int_equal((long)P.ticks, 1001);
+    assert_int_equal(kc_path_eval(&P, 1000, q, qd, qdd), KC_OK);
+    assert_true(q[0] <= KC_R(1.0)); /* 1 - 1.25e-9: rounds to 1 in float */
+    assert_int_equal(kc_path_eval(&P, 1001, q, qd, qdd), KC_DONE);
+    assert_true(q[0] == KC_R(1.0) && qd[0] == KC_R(0.0) && qdd[0] == KC_R(0.0));
+    /* On the grid: 2 s at 0.1 s is 20 ticks, not 21 (2 / 0.1 rounds up). */
+    kc_real t2[2] = {0, 2};
+    c.t = t2;
+    c.dt = KC_R(0.1);
+    assert_int_equal(kc_path_plan(&P, &c), KC_OK);
+    assert_int_equal((long)P.ticks, 20);
+    /* Shorter than a tick: the end at tick 1. */
+    kc_real t4[2] = {0, KC_R(0.0005)};
+    c.t = t4;
+    c.dt = KC_R(0.001);
+    assert_int_equal(kc_path_plan(&P, &c), KC_OK);
+    assert_int_equal((long)P.ticks, 1);
+    assert_int_equal(kc_path_eval(&P, 1, q, qd, qdd), KC_DONE);
+    assert_true(q[0] == KC_R(1.0));
+    /* Blend: tick 0 is t_0 - t_acc; knot times kept. */
+    c = kc_path_cfg_default();
+    c.n_knots = 3;
+    c.dim = 1;
+    c.q = q3;
+    c.t = t3;
+    c.t_acc = KC_R(0.25);
+    assert_int_equal(kc_path_plan(&P, &c), KC_OK);
+    kt_near(P.t_origin, -0.25, 0, "t_origin");
+    kt_near(P.duration, (double)t3[2] + 0.5, 4 * U * 3, "blend duration");
+    assert_int_equal(P.n_pieces, 5);
+    /* t_acc exactly half the shortest segment: the line between vanishes. */
+    c.t_acc = KC_R(0.5);
+    kc_real t5[3] = {0, 1, 2};
+    c.t = t5;
+    assert_int_equal(kc_path_plan(&P, &c), KC_OK);
+    kt_near(P.len[1], 0, 0, "zero-length line");
+    kc_path_eval(&P, 0, q, qd, qdd);
+    for (int64_t k = 1; k <= P.ticks; k++) {
+        kc_real qn[1], qdn[1], qddn[1];
+        kc_path_eval(&P, k, qn, qdn, qddn);
+        assert_true(fabs((double)(qdn[0] - qd[0])) <= 0.75 * 2 / 0.5 * 0.001 * 1.01 + 1e-5);
+        q[0] = qn[0];
+        qd[0] = qdn[0];
+    }
+}
+
+static void test_computed_times(void **state)
+{
+    (void)state;
+    /* Two joints: distances 1 and 0.2 with vmax 1, amax 2: trapezoid
+     * 1/1 + 1/2 = 1.5 s for joint 1 (triangular 2 sqrt(0.1) for joint 2). */
+    kc_real q[4] = {0, 0, 1, KC_R(0.2)}, v[4] = {0, 0, 0, 0};
+    kc_path_cfg c = kc_path_cfg_default();
+    c.method = KC_PATH_SPLINE;
+    c.n_knots = 2;
+    c.dim = 2;
+    c.q = q;
+    c.qd = v; /* given velocities: the rule alone, no stretch */
+    c.vmax[0] = c.vmax[1] = 1;
+    c.amax[0] = c.amax[1] = 2;
+    assert_int_equal(kc_path_plan(&P, &c), KC_OK);
+    kt_near(P.t_knot[1] - P.t_knot[0], 1.5, 4 * U, "trapezoid rule");
+    kt_near(P.stretch, 1, 0, "no stretch with given velocities");
+    /* Computed velocities: the cubic peaks at 1.5 D / T = 1 and 6 D / T^2
+     * = 2.67 > 2: stretched by sqrt(2.67 / 2) (within the bound's slack). */
+    c.qd = NULL;
+    assert_int_equal(kc_path_plan(&P, &c), KC_OK);
+    assert_true(P.stretch > KC_R(1.15) && P.stretch < KC_R(1.2));
+    /* Blends: t_acc = 1.5 vmax / amax = 0.75, T = max(1.5, 2 t_acc). */
+    c.method = KC_PATH_BLEND;
+    c.qd = NULL;
+    assert_int_equal(kc_path_plan(&P, &c), KC_OK);
+    kt_near(P.t_acc, 0.75, 4 * U, "t_acc rule");
+    kt_near(P.t_knot[1] - P.t_knot[0], 1.5, 4 * U, "blend segment");
+    c.blend = KC_PATH_BLEND_PARABOLIC;
+    assert_int_equal(kc_path_plan(&P, &c), KC_OK);
+    kt_near(P.t_acc, 0.5, 4 * U, "parabolic t_acc rule");
+}
+
+static kc_quat qmake(double w, double x, double y, double z)
+{
+    kc_quat q = {(kc_real)w, (kc_real)x, (kc_real)y, (kc_real)z};
+    return q;
+}
+
+static void test_special_orientations(void **state)
+{
+    (void)state;
+    kc_vec3 p[3] = {{{0, 0, 0}}, {{1, 0, 0}}, {{1, 1, 0}}};
+    kc_quat r[3];
+    kc_real t[3] = {0, 1, 2};
+    kc_path_pose e;
+    kc_path_cart_cfg c = kc_path_cart_cfg_default();
+    c.n_knots = 3;
+    c.p = p;
+    c.r = r;
+    c.t = t;
+    c.t_acc = KC_R(0.2);
+    /* The same rotation with either sign: no turn at all. */
+    r[0] = qmake(0.5, 0.5, 0.5, 0.5);
+    r[1] = qmake(-0.5, -0.5, -0.5, -0.5);
+    r[2] = r[0];
+    for (int m = 0; m < 4; m++) {
+        c.method = (kc_path_method)m;
+        assert_int_equal(kc_path_plan_cart(&PC, &c), KC_OK);
+        for (int64_t k = 0; k <= PC.pos.ticks; k += 7) {
+            kc_path_eval_cart(&PC, k, &e);
+            kt_near(fabs(quat_dot(&e.r, &r[0])), 1, 8 * U, "double cover: constant orientation");
+            kt_near(kc_vec3_norm(&e.w), 0, 8 * U, "double cover: no angular velocity");
+        }
+    }
+    /* Exactly half a turn: reached, finite throughout. */
+    r[0] = qmake(1, 0, 0, 0);
+    r[1] = qmake(0, 0, 0, 1);
+    r[2] = qmake(0, 1, 0, 0);
+    for (int m = 0; m < 4; m++) {
+        c.method = (kc_path_method)m;
+        assert_int_equal(kc_path_plan_cart(&PC, &c), KC_OK);
+        for (int64_t k = 0; k <= PC.pos.ticks; k++) {
+            kc_path_eval_cart(&PC, k, &e);
+            assert_true(kc_quat_norm(&e.r) > KC_R(0.999) && kc_vec3_isfinite(&e.w));
+        }
+        kt_near(fabs(quat_dot(&e.r, &r[2])), 1, 8 * U, "half turn reached");
+        if (m != KC_PATH_BLEND) {
+            kc_path_eval_cart_time(&PC, PC.pos.start[1], &e);
+            kt_near(fabs(quat_dot(&e.r, &r[1])), 1, 64 * U, "half turn through the knot");
+        }
+    }
+    /* Pure rotation with times from the limits: the angular limits set
+     * them; without them only blends (T >= 2 t_acc) can plan it. */
+    kc_vec3 same[3] = {{{KC_R(0.3), KC_R(0.2), KC_R(0.1)}}, {{KC_R(0.3), KC_R(0.2), KC_R(0.1)}}, {{KC_R(0.3), KC_R(0.2), KC_R(0.1)}}};
+    c.p = same;
+    c.t = NULL;
+    c.t_acc = 0;
+    c.method = KC_PATH_QUINTIC;
+    assert_int_equal(kc_path_plan_cart(&PC, &c), KC_E_ARG);
+    c.w_max = 1;
+    c.alpha_max = 2;
+    assert_int_equal(kc_path_plan_cart(&PC, &c), KC_OK);
+    /* Half a turn at 1 rad/s, 2 rad/s^2: pi / 1 + 1 / 2. */
+    kt_near(PC.pos.t_knot[1], KT_PI + 0.5, 8 * U * 4, "angular trapezoid rule");
+    kc_path_eval_cart(&PC, PC.pos.ticks / 3, &e);
+    kt_near(e.s, 0, 0, "no path length when only turning");
+    kt_near(e.sd, 0, 0, "no speed when only turning");
+    c.method = KC_PATH_BLEND;
+    c.w_max = c.alpha_max = 0;
+    assert_int_equal(kc_path_plan_cart(&PC, &c), KC_OK);
+}
+
+/* ---- bad inputs ---- */
+
+static kc_status plan_untouched(const kc_path_cfg *c)
+{
+    memset(&P, KT_SENTINEL, sizeof P);
+    kc_status st = kc_path_plan(&P, c);
+    if (st != KC_OK)
+        assert_true(kt_is_sentinel(&P, sizeof P));
+    return st;
+}
+
+static kc_status plan_cart_untouched(const kc_path_cart_cfg *c)
+{
+    memset(&PC, KT_SENTINEL, sizeof PC);
+    kc_status st = kc_path_plan_cart(&PC, c);
+    if (st != KC_OK)
+        assert_true(kt_is_sentinel(&PC, sizeof PC));
+    return st;
+}
+
+static int n_bad;
+#define EXPECT(call, status)                                                                                          \
+    do {                                                                                                              \
+        kc_status st_ = (call);                                                                                       \
+        if (st_ != (status))                                                                                          \
+            fail_msg("%s: %s, expected %s", #call, kc_status_str(st_), kc_status_str(status));                       \
+        n_bad++;                                                                                                      \
+    } while (0)
+
+static void test_bad_inputs(void **state)
+{
+    (void)state;
+    kc_real q[KC_PATH_MAX_KNOTS + 1], t[KC_PATH_MAX_KNOTS + 1], v[KC_PATH_MAX_KNOTS + 1];
+    for (int i = 0; i <= KC_PATH_MAX_KNOTS; i++) {
+        q[i] = (kc_real)(i % 3);
+        t[i] = (kc_real)i;
+        v[i] = 0;
+    }
+    const kc_real nan = (kc_real)NAN, inf = (kc_real)INFINITY;
+    kc_path_cfg good = kc_path_cfg_default(), c;
+    good.n_knots = 4;
+    good.dim = 1;
+    good.q = q;
+    good.t = t;
+    good.t_acc = KC_R(0.3);
+    good.dt = KC_R(0.01);
+    EXPECT(plan_untouched(&good), KC_OK);
+
+    EXPECT(kc_path_plan(NULL, &good), KC_E_ARG);
+    EXPECT(plan_untouched(NULL), KC_E_ARG);
+    c = good; c.q = NULL; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.dim = 0; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.dim = KC_MAX_JOINTS + 1; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.n_knots = 1; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.n_knots = -3; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.n_knots = KC_PATH_MAX_KNOTS + 1; EXPECT(plan_untouched(&c), KC_E_CAPACITY);
+    c = good; c.n_knots = KC_PATH_MAX_KNOTS; EXPECT(plan_untouched(&c), KC_OK);
+    c = good; c.method = KC_PATH_LAGRANGE; c.n_knots = KC_PATH_MAX_LAGRANGE_KNOTS + 1;
+    EXPECT(plan_untouched(&c), KC_E_CAPACITY);
+    c = good; c.method = (kc_path_method)7; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.blend = (kc_path_blend)5; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.spline_end = (kc_path_spline_end)-1; EXPECT(plan_untouched(&c), KC_E_ARG);
+    /* Numbers. */
+    kc_real qb[4] = {0, 1, nan, 2}, qi[4] = {0, inf, 1, 2};
+    c = good; c.q = qb; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.q = qi; EXPECT(plan_untouched(&c), KC_E_ARG);
+    kc_real tn[4] = {0, 1, nan, 3}, te[4] = {0, 1, 1, 3}, td[4] = {0, 2, 1, 3};
+    c = good; c.t = tn; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.t = te; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.t = td; EXPECT(plan_untouched(&c), KC_E_ARG);
+    /* t_acc with given times: positive, at most half the shortest segment. */
+    c = good; c.t_acc = 0; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.t_acc = -KC_R(0.1); EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.t_acc = nan; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.t_acc = KC_R(0.51); EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.t_acc = KC_R(0.5); EXPECT(plan_untouched(&c), KC_OK);
+    c = good; c.method = KC_PATH_SPLINE; c.t_acc = -1; EXPECT(plan_untouched(&c), KC_E_ARG);
+    /* Derivatives only where the method takes them. */
+    c = good; c.qd = v; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.method = KC_PATH_LAGRANGE; c.qd = v; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.method = KC_PATH_SPLINE; c.qdd = v; EXPECT(plan_untouched(&c), KC_E_ARG);
+    kc_real vn[4] = {0, nan, 0, 0};
+    c = good; c.method = KC_PATH_SPLINE; c.qd = vn; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.method = KC_PATH_QUINTIC; c.qdd = vn; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.method = KC_PATH_QUINTIC; c.qd = v; c.qdd = v; EXPECT(plan_untouched(&c), KC_OK);
+    /* dt. */
+    c = good; c.dt = 0; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.dt = -KC_R(0.001); EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.dt = nan; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.dt = inf; EXPECT(plan_untouched(&c), KC_E_ARG);
+    /* Limits, with times computed. */
+    kc_path_cfg lim = good;
+    lim.t = NULL;
+    lim.t_acc = 0;
+    EXPECT(plan_untouched(&lim), KC_OK);
+    c = lim; c.vmax[0] = 0; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = lim; c.vmax[0] = -1; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = lim; c.vmax[0] = nan; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = lim; c.vmax[0] = inf; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = lim; c.amax[0] = 0; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = lim; c.amax[0] = nan; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = lim; c.vmax[1] = -1; EXPECT(plan_untouched(&c), KC_OK); /* beyond dim: unused */
+    /* A given t_acc too short for amax: q 0 -> 1 -> 2 -> 0 at vmax 1 needs
+     * up to 0.75 * 2 / t_acc <= 1. */
+    c = lim; c.t_acc = KC_R(0.1); EXPECT(plan_untouched(&c), KC_E_LIMIT);
+    c = lim; c.t_acc = KC_R(1.5); EXPECT(plan_untouched(&c), KC_OK);
+    /* A segment without motion: no time from the limits (blends excepted). */
+    kc_real qs[4] = {0, 1, 1, 2};
+    c = lim; c.q = qs; EXPECT(plan_untouched(&c), KC_OK);
+    c = lim; c.q = qs; c.method = KC_PATH_SPLINE; EXPECT(plan_untouched(&c), KC_E_ARG);
+    c = good; c.q = qs; c.method = KC_PATH_SPLINE; EXPECT(plan_untouched(&c), KC_OK); /* given times: fine */
+    /* Too long for the tick counter; overflowing coefficients. */
+    kc_real tl[4] = {0, 1, 2, KC_R(1e5)};
+    c = good; c.t = tl; c.dt = KC_R(0.001); EXPECT(plan_untouched(&c), KC_E_CAPACITY);
+#ifdef KC_REAL_FLOAT
+    kc_real tt[2] = {0, KC_R(1e-20)}, qq[2] = {0, KC_R(1e30)}; /* T^3 underflows: c3 = inf */
+#else
+    kc_real tt[2] = {0, KC_R(1e-100)}, qq[2] = {0, KC_R(1e200)}; /* c5 = 1e700 */
+#endif
+    c = good; c.method = KC_PATH_QUINTIC; c.n_knots = 2; c.t = tt; c.q = qq; EXPECT(plan_untouched(&c), KC_E_ARG);
+
+    /* Evaluation. */
+    assert_int_equal(kc_path_plan(&P, &good), KC_OK);
+    kc_real out[3] = {7, 7, 7};
+    EXPECT(kc_path_eval(&P, -1, &out[0], &out[1], &out[2]), KC_E_ARG);
+    assert_true(out[0] == 7 && out[1] == 7 && out[2] == 7);
+    EXPECT(kc_path_eval(NULL, 0, &out[0], NULL, NULL), KC_E_ARG);
+    EXPECT(kc_path_eval(&P, 0, NULL, NULL, NULL), KC_E_ARG);
+    EXPECT(kc_path_eval(&P, 0, &out[0], NULL, NULL), KC_OK);
+    EXPECT(kc_path_eval_time(&P, nan, &out[0], NULL, NULL), KC_E_ARG);
+    EXPECT(kc_path_eval_time(&P, -KC_R(0.1), &out[0], NULL, NULL), KC_E_ARG);
+    EXPECT(kc_path_eval_time(&P, KC_R(1e9), &out[0], NULL, NULL), KC_DONE);
+    EXPECT(kc_path_eval_piece(&P, P.n_pieces, 0, &out[0], NULL, NULL), KC_E_ARG);
+    EXPECT(kc_path_eval_piece(&P, -1, 0, &out[0], NULL, NULL), KC_E_ARG);
+    EXPECT(kc_path_eval_piece(&P, 0, nan, &out[0], NULL, NULL), KC_E_ARG);
+
+    /* Cartesian. */
+    kc_vec3 p[3] = {{{0, 0, 0}}, {{1, 0, 0}}, {{1, 1, 0}}};
+    kc_quat r[3] = {{1, 0, 0, 0}, {1, 0, 0, 0}, {1, 0, 0, 0}};
+    kc_vec3 pv[3] = {{{0, 0, 0}}, {{1, 0, 0}}, {{0, 0, 0}}};
+    kc_path_cart_cfg cg = kc_path_cart_cfg_default(), cc;
+    cg.n_knots = 3;
+    cg.p = p;
+    cg.r = r;
+    EXPECT(plan_cart_untouched(&cg), KC_OK);
+    EXPECT(kc_path_plan_cart(NULL, &cg), KC_E_ARG);
+    EXPECT(plan_cart_untouched(NULL), KC_E_ARG);
+    cc = cg; cc.p = NULL; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
+    cc = cg; cc.r = NULL; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
+    kc_quat rz[3] = {{1, 0, 0, 0}, {0, 0, 0, 0}, {1, 0, 0, 0}};
+    kc_quat r2[3] = {{1, 0, 0, 0}, {KC_R(1.01), 0, 0, 0}, {1, 0, 0, 0}};
+    kc_quat rn[3] = {{1, 0, 0, 0}, {nan, 0, 0, 0}, {1, 0, 0, 0}};
+    kc_quat rok[3] = {{1, 0, 0, 0}, {KC_R(0.70710), KC_R(0.70710), 0, 0}, {1, 0, 0, 0}};
+    cc = cg; cc.r = rz; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
+    cc = cg; cc.r = r2; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
+    cc = cg; cc.r = rn; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
+    cc = cg; cc.r = rok; EXPECT(plan_cart_untouched(&cc), KC_OK); /* 4 digits: within 1e-3 */
+    kc_vec3 pn[3] = {{{0, 0, 0}}, {{1, nan, 0}}, {{1, 1, 0}}};
+    cc = cg; cc.p = pn; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
+    cc = cg; cc.v_max = 0; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
+    cc = cg; cc.a_max = -1; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
+    cc = cg; cc.w_max = 1; EXPECT(plan_cart_untouched(&cc), KC_E_ARG); /* alpha_max missing */
+    cc = cg; cc.w_max = -1; cc.alpha_max = -1; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
+    cc = cg; cc.alpha_max = nan; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
+    cc = cg; cc.v = pv; EXPECT(plan_cart_untouched(&cc), KC_E_ARG); /* blend takes no velocities */
+    cc = cg; cc.v = pv; cc.method = KC_PATH_SPLINE; EXPECT(plan_cart_untouched(&cc), KC_OK);
+    cc = cg; cc.a = pv; cc.method = KC_PATH_SPLINE; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
+    cc = cg; cc.n_knots = KC_PATH_MAX_KNOTS + 1; EXPECT(plan_cart_untouched(&cc), KC_E_CAPACITY);
+    cc = cg; cc.n_knots = 1; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
+    cc = cg; cc.dt = 0; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
+    cc = cg; cc.t = td; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
+    cc = cg; cc.t = t; cc.t_acc = KC_R(0.6); EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
+    cc = cg; cc.t_acc = KC_R(0.01); EXPECT(plan_cart_untouched(&cc), KC_E_LIMIT);
+    assert_int_equal(kc_path_plan_cart(&PC, &cg), KC_OK);
+    kc_path_pose e;
+    memset(&e, KT_SENTINEL, sizeof e);
+    EXPECT(kc_path_eval_cart(&PC, -1, &e), KC_E_ARG);
+    assert_true(kt_is_sentinel(&e, sizeof e));
+    EXPECT(kc_path_eval_cart(&PC, 0, NULL), KC_E_ARG);
+    EXPECT(kc_path_eval_cart(NULL, 0, &e), KC_E_ARG);
+    EXPECT(kc_path_eval_cart_time(&PC, nan, &e), KC_E_ARG);
+    EXPECT(kc_path_eval_cart_piece(&PC, PC.pos.n_pieces, 0, &e), KC_E_ARG);
+    printf("bad inputs: %d calls with the expected status\n", n_bad);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -923,6 +1274,10 @@ int main(void)
         cmocka_unit_test(test_spline_vectors),
         cmocka_unit_test(test_joint_properties),
         cmocka_unit_test(test_cartesian_properties),
+        cmocka_unit_test(test_ticks),
+        cmocka_unit_test(test_computed_times),
+        cmocka_unit_test(test_special_orientations),
+        cmocka_unit_test(test_bad_inputs),
     };
     int failed = cmocka_run_group_tests_name("path (" KC_REAL_NAME ")", tests, NULL, NULL);
     printf("smoothing.json: %d/12 blend (7.1 x quartic, parabolic), %d/6 Lagrange (7.2), %d/6 spline (7.3) cases;"
