@@ -45,6 +45,9 @@ static kc_path_cart PC;
 
 static double dmax(double a, double b) { return a > b ? a : b; }
 
+/* kt_near in double, whatever the precision of its arguments. */
+#define NEAR(a, e, tol, what) kt_near((double)(a), (double)(e), (tol), (what))
+
 /* ---- smoothing.json ---- */
 
 typedef struct series {
@@ -106,7 +109,7 @@ static double worst_ratio;
 static void near_track(double a, double e, double tol, const char *what)
 {
     worst_ratio = dmax(worst_ratio, fabs(a - e) / tol);
-    kt_near(a, e, tol, what);
+    NEAR(a, e, tol, what);
 }
 
 /* Compares the plan's ticks with the series; dt = 0.01 s. */
@@ -114,20 +117,20 @@ static void check_series(const char *label, tols tol, int lagrange)
 {
     char what[128];
     assert_int_equal((long)P.ticks, (long)(S.n - 1));
-    kt_near(P.t_origin, S.t[0], IS_FLOAT ? 4 * U * 20 : 1e-15, "t_origin");
+    NEAR(P.t_origin, S.t[0], IS_FLOAT ? 4 * U * 20 : 1e-15, "t_origin");
     for (size_t k = 0; k < S.n; k++) {
         kc_real q, qd, qdd;
         kc_status st = kc_path_eval(&P, (int64_t)k, &q, &qd, &qdd);
         assert_int_equal(st, k + 1 < S.n ? KC_OK : KC_DONE);
         double rq = lagrange && !IS_FLOAT ? 1e-10 : 0;
         snprintf(what, sizeof what, "%s q at t = %.2f", label, S.t[k]);
-        near_track(q, S.q[k], dmax(tol.q, rq * fabs(S.q[k])), what);
+        near_track((double)q, S.q[k], dmax(tol.q, rq * fabs(S.q[k])), what);
         snprintf(what, sizeof what, "%s qdot at t = %.2f", label, S.t[k]);
-        near_track(qd, S.qd[k], dmax(tol.qd, rq * fabs(S.qd[k])), what);
+        near_track((double)qd, S.qd[k], dmax(tol.qd, rq * fabs(S.qd[k])), what);
         if (S.ambiguous[k])
             continue;
         snprintf(what, sizeof what, "%s qddot at t = %.2f", label, S.t[k]);
-        near_track(qdd, S.qdd[k], dmax(tol.qdd, rq * fabs(S.qdd[k])), what);
+        near_track((double)qdd, S.qdd[k], dmax(tol.qdd, rq * fabs(S.qdd[k])), what);
     }
 }
 
@@ -178,7 +181,7 @@ static void test_blend_vectors(void **state)
                 double tk = kt_num_of(b, "t_knot");
                 kc_path_eval_time(&P, (kc_real)(tk - (double)P.t_origin), &qk, NULL, NULL);
                 snprintf(what, sizeof what, "%s q at knot %zu", label, j);
-                kt_near(qk, kt_num_of(b, shape == 0 ? "q_at_knot_time_quartic" : "q_at_knot_time_parabolic"),
+                NEAR(qk, kt_num_of(b, shape == 0 ? "q_at_knot_time_quartic" : "q_at_knot_time_parabolic"),
                         tol.q, what);
             }
             n_blend_cases++;
@@ -275,7 +278,7 @@ static void test_lagrange_vectors(void **state)
                 double e = kt_num(kt_at(cj, i));
                 char what[96];
                 snprintf(what, sizeof what, "%s coefficient %zu", label, i);
-                kt_near(P.c[0][i][0], e, dmax(1e-9, 1e-10 * fabs(e)), what);
+                NEAR(P.c[0][i][0], e, dmax(1e-9, 1e-10 * fabs(e)), what);
             }
         }
         n_lagrange_cases++;
@@ -323,7 +326,7 @@ static void test_spline_vectors(void **state)
                                (v1 * T + v0 * T + 2 * a1 + 2 * a0) / (T * T * T)};
             for (size_t i = 0; i < 4; i++) {
                 snprintf(what, sizeof what, "%s segment %zu K%zu", label, s, i);
-                kt_near(P.c[s][i][0], kt_num(kt_at(K, i)), IS_FLOAT ? 64 * U * terms[i] : 1e-9, what);
+                NEAR(P.c[s][i][0], kt_num(kt_at(K, i)), IS_FLOAT ? 64 * U * terms[i] : 1e-9, what);
             }
         }
         /* The acceleration jumps at the interior knots. */
@@ -335,13 +338,13 @@ static void test_spline_vectors(void **state)
             assert_int_equal(kc_path_eval_piece(&P, knot - 1, P.len[knot - 1], &ql, &qdl, &qddl), KC_OK);
             assert_int_equal(kc_path_eval_piece(&P, knot, KC_R(0.0), &qr, &qdr, &qddr), KC_OK);
             snprintf(what, sizeof what, "%s qddot left of knot %d", label, knot);
-            kt_near(qddl, kt_num_of(j, "qddot_left"), tol.qdd, what);
+            NEAR(qddl, kt_num_of(j, "qddot_left"), tol.qdd, what);
             snprintf(what, sizeof what, "%s qddot right of knot %d", label, knot);
-            kt_near(qddr, kt_num_of(j, "qddot_right"), tol.qdd, what);
+            NEAR(qddr, kt_num_of(j, "qddot_right"), tol.qdd, what);
             snprintf(what, sizeof what, "%s q continuous at knot %d", label, knot);
-            kt_near(ql, qr, tol.q, what);
+            NEAR(ql, qr, tol.q, what);
             snprintf(what, sizeof what, "%s qdot continuous at knot %d", label, knot);
-            kt_near(qdl, qdr, tol.qd, what);
+            NEAR(qdl, qdr, tol.qd, what);
         }
         n_spline_cases++;
     }
@@ -500,13 +503,13 @@ static void check_joint_case(int v, int given_t, int index)
                     fail_msg("%s: knot %d qd[%d] = %.17g, given %.17g", what, i, j, (double)qd[j], (double)c->qd[i * dim + j]);
                 kt_checks += 2;
                 if (c->qdd != NULL)
-                    kt_near(qdd[j], c->qdd[i * dim + j], KT_PATH_REL * R[2][j], "given knot acceleration");
+                    NEAR(qdd[j], c->qdd[i * dim + j], KT_PATH_REL * R[2][j], "given knot acceleration");
             }
             /* On the knot-time axis too. */
             if (c->t != NULL) {
                 kc_path_eval_time(&P, (kc_real)((double)c->t[i] - (double)P.t_origin), q, NULL, NULL);
                 for (int j = 0; j < dim; j++)
-                    kt_near(q[j], c->q[i * dim + j], KT_PATH_REL * (B[0][j] + B[1][j] * (double)P.duration), what);
+                    NEAR(q[j], c->q[i * dim + j], KT_PATH_REL * (B[0][j] + B[1][j] * (double)P.duration), what);
             }
         }
     }
@@ -516,10 +519,10 @@ static void check_joint_case(int v, int given_t, int index)
         assert_int_equal(kc_path_eval_piece(&P, p + 1, KC_R(0.0), q1, qd1, qdd1), KC_OK);
         for (int j = 0; j < dim; j++) {
             snprintf(what, sizeof what, "%s case %d: piece %d/%d joint %d", variant_name[v], index, p, p + 1, j);
-            kt_near(q[j], q1[j], KT_PATH_REL * R[0][j], what);
-            kt_near(qd[j], qd1[j], KT_PATH_REL * R[1][j], what);
+            NEAR(q[j], q1[j], KT_PATH_REL * R[0][j], what);
+            NEAR(qd[j], qd1[j], KT_PATH_REL * R[1][j], what);
             if (variant_c2(v))
-                kt_near(qdd[j], qdd1[j], KT_PATH_REL * R[2][j], what);
+                NEAR(qdd[j], qdd1[j], KT_PATH_REL * R[2][j], what);
         }
     }
     /* Tick to tick: every change within the bound of its derivative. */
@@ -778,16 +781,16 @@ static void check_cart_case(int v, int given_t, int index)
     kt_near_quat(&s0.r, &r0u, 4 * U, "start orientation");
     assert_true(s0.s == KC_R(0.0));
     if (variant_rest(v))
-        kt_near(s0.sd, 0, 0, "start speed");
+        NEAR(s0.sd, 0, 0, "start speed");
     /* End: last knot exactly, at rest in rotation, s = length. */
     for (int64_t k = pos->ticks; k <= pos->ticks + 2; k++) {
         assert_int_equal(kc_path_eval_cart(&PC, k, &s1), KC_DONE);
         for (int x = 0; x < 3; x++)
             if (s1.p.v[x] != c->p[n - 1].v[x])
                 fail_msg("%s: end p differs from the last knot", what);
-        kt_near(fabs(quat_dot(&s1.r, &rnu)), 1, 16 * U, "end orientation");
-        kt_near(kc_vec3_norm(&s1.w), 0, 0, "end angular velocity");
-        kt_near(s1.s, PC.length, 0, "end s");
+        NEAR(fabs(quat_dot(&s1.r, &rnu)), 1, 16 * U, "end orientation");
+        NEAR(kc_vec3_norm(&s1.w), 0, 0, "end angular velocity");
+        NEAR(s1.s, PC.length, 0, "end s");
     }
     /* Knots at their times (interpolating methods). */
     if (variant_interpolates(v))
@@ -798,7 +801,7 @@ static void check_cart_case(int v, int given_t, int index)
                 if (s0.p.v[x] != c->p[i].v[x])
                     fail_msg("%s: knot %d position missed", what, i);
             kc_quat_normalize(&c->r[i], &ri);
-            kt_near(fabs(quat_dot(&s0.r, &ri)), 1, 64 * U, "knot orientation");
+            NEAR(fabs(quat_dot(&s0.r, &ri)), 1, 64 * U, "knot orientation");
         }
     /* Analytic continuity where pieces meet. */
     for (int p = 0; p + 1 < pos->n_pieces; p++) {
@@ -808,11 +811,11 @@ static void check_cart_case(int v, int given_t, int index)
         kc_path_eval_cart_piece(&PC, p + 1, KC_R(0.0), &s1);
         snprintf(what, sizeof what, "cartesian %s case %d: pieces %d/%d", variant_name[v], index, p, p + 1);
         for (int x = 0; x < 3; x++) {
-            kt_near(s0.p.v[x], s1.p.v[x], KT_PATH_REL * R[0][x], what);
-            kt_near(s0.v.v[x], s1.v.v[x], KT_PATH_REL * R[1][x], what);
+            NEAR(s0.p.v[x], s1.p.v[x], KT_PATH_REL * R[0][x], what);
+            NEAR(s0.v.v[x], s1.v.v[x], KT_PATH_REL * R[1][x], what);
             if (variant_c2(v))
-                kt_near(s0.a.v[x], s1.a.v[x], KT_PATH_REL * R[2][x], what);
-            kt_near(s0.w.v[x], s1.w.v[x], KT_PATH_REL * wscale, what);
+                NEAR(s0.a.v[x], s1.a.v[x], KT_PATH_REL * R[2][x], what);
+            NEAR(s0.w.v[x], s1.w.v[x], KT_PATH_REL * wscale, what);
         }
         kt_near_quat(&s0.r, &s1.r, KT_PATH_REL, what);
         /* Angular acceleration (double only: float rounding over h). */
@@ -830,7 +833,7 @@ static void check_cart_case(int v, int given_t, int index)
                  * on each side, rounding 8 u |omega| / h. */
                 double tol = 2 * h * h / 3 * jscale + 8 * U * (1 + wscale) / h;
                 worst_alpha_jump = dmax(worst_alpha_jump, fabs(al - ar) / tol);
-                kt_near(al, ar, tol, "angular acceleration across a boundary");
+                NEAR(al, ar, tol, "angular acceleration across a boundary");
             }
         }
     }
@@ -854,7 +857,7 @@ static void check_cart_case(int v, int given_t, int index)
         kc_path_eval_cart(&PC, k + 1, &s1);
         n_cart_ticks++;
         double dt = (double)pos->dt;
-        kt_near(kc_quat_norm(&s1.r), 1, 64 * U, "unit orientation");
+        NEAR(kc_quat_norm(&s1.r), 1, 64 * U, "unit orientation");
         if (!(quat_dot(&s0.r, &s1.r) > 0))
             fail_msg("%s: orientation sign flips at tick %ld", what, (long)k);
         for (int x = 0; x < 3; x++)
@@ -891,7 +894,7 @@ static void check_cart_case(int v, int given_t, int index)
             double tol = 1e-6 * (1 + (double)kc_vec3_norm(&e.w));
             for (int x = 0; x < 3; x++) {
                 worst_omega_fd = dmax(worst_omega_fd, fabs((double)fd.v[x] - (double)e.w.v[x]) / tol);
-                kt_near(fd.v[x], e.w.v[x], tol, "angular velocity vs orientations");
+                NEAR(fd.v[x], e.w.v[x], tol, "angular velocity vs orientations");
             }
         }
     }
@@ -959,15 +962,15 @@ static void test_ticks(void **state)
     c.t = t3;
     c.t_acc = KC_R(0.25);
     assert_int_equal(kc_path_plan(&P, &c), KC_OK);
-    kt_near(P.t_origin, -0.25, 0, "t_origin");
-    kt_near(P.duration, (double)t3[2] + 0.5, 4 * U * 3, "blend duration");
+    NEAR(P.t_origin, -0.25, 0, "t_origin");
+    NEAR(P.duration, (double)t3[2] + 0.5, 4 * U * 3, "blend duration");
     assert_int_equal(P.n_pieces, 5);
     /* t_acc exactly half the shortest segment: the line between vanishes. */
     c.t_acc = KC_R(0.5);
     kc_real t5[3] = {0, 1, 2};
     c.t = t5;
     assert_int_equal(kc_path_plan(&P, &c), KC_OK);
-    kt_near(P.len[1], 0, 0, "zero-length line");
+    NEAR(P.len[1], 0, 0, "zero-length line");
     kc_path_eval(&P, 0, q, qd, qdd);
     for (int64_t k = 1; k <= P.ticks; k++) {
         kc_real qn[1], qdn[1], qddn[1];
@@ -993,8 +996,8 @@ static void test_computed_times(void **state)
     c.vmax[0] = c.vmax[1] = 1;
     c.amax[0] = c.amax[1] = 2;
     assert_int_equal(kc_path_plan(&P, &c), KC_OK);
-    kt_near(P.t_knot[1] - P.t_knot[0], 1.5, 4 * U, "trapezoid rule");
-    kt_near(P.stretch, 1, 0, "no stretch with given velocities");
+    NEAR(P.t_knot[1] - P.t_knot[0], 1.5, 4 * U, "trapezoid rule");
+    NEAR(P.stretch, 1, 0, "no stretch with given velocities");
     /* Computed velocities: the cubic peaks at 1.5 D / T = 1 and 6 D / T^2
      * = 2.67 > 2: stretched by sqrt(2.67 / 2) (within the bound's slack). */
     c.qd = NULL;
@@ -1004,11 +1007,11 @@ static void test_computed_times(void **state)
     c.method = KC_PATH_BLEND;
     c.qd = NULL;
     assert_int_equal(kc_path_plan(&P, &c), KC_OK);
-    kt_near(P.t_acc, 0.75, 4 * U, "t_acc rule");
-    kt_near(P.t_knot[1] - P.t_knot[0], 1.5, 4 * U, "blend segment");
+    NEAR(P.t_acc, 0.75, 4 * U, "t_acc rule");
+    NEAR(P.t_knot[1] - P.t_knot[0], 1.5, 4 * U, "blend segment");
     c.blend = KC_PATH_BLEND_PARABOLIC;
     assert_int_equal(kc_path_plan(&P, &c), KC_OK);
-    kt_near(P.t_acc, 0.5, 4 * U, "parabolic t_acc rule");
+    NEAR(P.t_acc, 0.5, 4 * U, "parabolic t_acc rule");
 }
 
 static kc_quat qmake(double w, double x, double y, double z)
@@ -1039,8 +1042,8 @@ static void test_special_orientations(void **state)
         assert_int_equal(kc_path_plan_cart(&PC, &c), KC_OK);
         for (int64_t k = 0; k <= PC.pos.ticks; k += 7) {
             kc_path_eval_cart(&PC, k, &e);
-            kt_near(fabs(quat_dot(&e.r, &r[0])), 1, 8 * U, "double cover: constant orientation");
-            kt_near(kc_vec3_norm(&e.w), 0, 8 * U, "double cover: no angular velocity");
+            NEAR(fabs(quat_dot(&e.r, &r[0])), 1, 8 * U, "double cover: constant orientation");
+            NEAR(kc_vec3_norm(&e.w), 0, 8 * U, "double cover: no angular velocity");
         }
     }
     /* Exactly half a turn: reached, finite throughout. */
@@ -1054,10 +1057,10 @@ static void test_special_orientations(void **state)
             kc_path_eval_cart(&PC, k, &e);
             assert_true(kc_quat_norm(&e.r) > KC_R(0.999) && kc_vec3_isfinite(&e.w));
         }
-        kt_near(fabs(quat_dot(&e.r, &r[2])), 1, 8 * U, "half turn reached");
+        NEAR(fabs(quat_dot(&e.r, &r[2])), 1, 8 * U, "half turn reached");
         if (m != KC_PATH_BLEND) {
             kc_path_eval_cart_time(&PC, PC.pos.start[1], &e);
-            kt_near(fabs(quat_dot(&e.r, &r[1])), 1, 64 * U, "half turn through the knot");
+            NEAR(fabs(quat_dot(&e.r, &r[1])), 1, 64 * U, "half turn through the knot");
         }
     }
     /* Pure rotation with times from the limits: the angular limits set
@@ -1072,10 +1075,10 @@ static void test_special_orientations(void **state)
     c.alpha_max = 2;
     assert_int_equal(kc_path_plan_cart(&PC, &c), KC_OK);
     /* Half a turn at 1 rad/s, 2 rad/s^2: pi / 1 + 1 / 2. */
-    kt_near(PC.pos.t_knot[1], KT_PI + 0.5, 8 * U * 4, "angular trapezoid rule");
+    NEAR(PC.pos.t_knot[1], KT_PI + 0.5, 8 * U * 4, "angular trapezoid rule");
     kc_path_eval_cart(&PC, PC.pos.ticks / 3, &e);
-    kt_near(e.s, 0, 0, "no path length when only turning");
-    kt_near(e.sd, 0, 0, "no speed when only turning");
+    NEAR(e.s, 0, 0, "no path length when only turning");
+    NEAR(e.sd, 0, 0, "no speed when only turning");
     c.method = KC_PATH_BLEND;
     c.w_max = c.alpha_max = 0;
     assert_int_equal(kc_path_plan_cart(&PC, &c), KC_OK);
