@@ -34,6 +34,8 @@
 #define N_RANDOM 300
 #define LIMIT_SLACK (16.0 * (double)KC_REAL_EPS)
 #define INF ((kc_real)INFINITY)
+#define DINF ((double)INFINITY)
+#define DNAN ((double)NAN)
 
 static double vec_tol(double scale)
 {
@@ -202,7 +204,7 @@ static void test_line_vectors(void **state)
         kt_read_pose(kt_get(cs, "P1_corrected"), &P1);
         kt_read_pose(kt_get(cs, "P2_corrected"), &P2);
         double v = kt_num_of(cs, "v"), A = kt_num_of(cs, "A_used"), T = kt_num_of(tm, "T_total");
-        kc_interp_limits lim = limits(v, A, INFINITY, INFINITY);
+        kc_interp_limits lim = limits(v, A, DINF, DINF);
         kc_interp_line plan;
         assert_int_equal(kc_interp_line_plan(&plan, &P1, &P2, &lim, KC_INTERP_TWO_ROTATIONS, KC_R(0.01)), KC_OK);
         /* P3 (5.1), S (5.7), K (5.8-5.10). */
@@ -305,7 +307,7 @@ static void test_circle_vectors(void **state)
         kt_read_reals(kt_get(cs, "T3_position"), T3.v, 3);
         double v = kt_num_of(cs, "v"), A = kt_num_of(cs, "A_used"), T = kt_num_of(tm, "T_total");
         double pscale = max_abs(kt_get(cs, "T1_corrected")) + max_abs(kt_get(cs, "T3_position"));
-        kc_interp_limits lim = limits(v, A, INFINITY, INFINITY);
+        kc_interp_limits lim = limits(v, A, DINF, DINF);
         kc_interp_arc plan;
         assert_int_equal(kc_interp_arc_plan(&plan, &T1, &T2, &T3, &lim, KC_R(0.01)), KC_OK);
         snprintf(what, sizeof what, "%s: centre", name);
@@ -692,10 +694,10 @@ static void test_line_degenerate(void **state)
         kt_near((double)st.s, Th, 0.0, "pure rotation: s is the angle");
     }
     /* ... and needs a finite dw. */
-    kc_interp_limits nodw = limits(0.5, 2.0, 0.8, INFINITY);
+    kc_interp_limits nodw = limits(0.5, 2.0, 0.8, DINF);
     assert_int_equal(kc_interp_line_plan(&p, &a, &b, &nodw, KC_INTERP_SLERP, KC_R(0.001)), KC_E_ARG);
     /* Zero motion: 0 ticks, the target at once; angular limits may be off. */
-    kc_interp_limits seed = limits(0.5, 2.0, INFINITY, INFINITY);
+    kc_interp_limits seed = limits(0.5, 2.0, DINF, DINF);
     for (int m = 0; m < 2; m++) {
         assert_int_equal(kc_interp_line_plan(&p, &a, &a, &seed, (kc_interp_orient)m, KC_R(0.001)), KC_OK);
         assert_true(p.prof.ticks == 0);
@@ -826,7 +828,7 @@ static void test_arc_degenerate(void **state)
     (void)state;
     kc_interp_arc p;
     kc_pose from;
-    kc_interp_limits lim = limits(0.5, 2.0, INFINITY, INFINITY);
+    kc_interp_limits lim = limits(0.5, 2.0, DINF, DINF);
     kc_pose_identity(&from);
     kc_vec3 a = kc_vec3_make(1, 0, 0), b = kc_vec3_make(2, 0, 0), o = kc_vec3_make(0, 0, 0);
     memset(&p, KT_SENTINEL, sizeof p);
@@ -921,7 +923,7 @@ static void test_bad_inputs(void **state)
     kc_interp_line lp;
     kc_interp_arc ap;
     kc_interp_cart_state cs;
-    kc_interp_limits lim = limits(0.5, 2.0, INFINITY, INFINITY);
+    kc_interp_limits lim = limits(0.5, 2.0, DINF, DINF);
     kc_pose_identity(&a);
     b = a;
     b.t.v[0] = KC_R(1.0);
@@ -944,9 +946,9 @@ static void test_bad_inputs(void **state)
     EXPECT(kc_interp_arc_plan(&ap, &a, NULL, &to, &lim, dt), KC_E_ARG, ap);
     EXPECT(kc_interp_line_plan(&lp, &a, &b, &lim, KC_INTERP_SLERP, -dt), KC_E_ARG, lp);
     EXPECT(kc_interp_arc_plan(&ap, &a, &via, &to, &lim, 0), KC_E_ARG, ap);
-    const double bl[][4] = {{0, 1, 1, 1},  {-1, 1, 1, 1}, {NAN, 1, 1, 1}, {1, 0, 1, 1},   {1, INFINITY, 1, 1},
-                            {1, NAN, 1, 1}, {1, 1, 0, 1},  {1, 1, -1, 1},  {1, 1, NAN, 1}, {1, 1, 1, 0},
-                            {1, 1, 1, -2},  {1, 1, 1, NAN}};
+    const double bl[][4] = {{0, 1, 1, 1},  {-1, 1, 1, 1}, {DNAN, 1, 1, 1}, {1, 0, 1, 1},   {1, DINF, 1, 1},
+                            {1, DNAN, 1, 1}, {1, 1, 0, 1},  {1, 1, -1, 1},  {1, 1, DNAN, 1}, {1, 1, 1, 0},
+                            {1, 1, 1, -2},  {1, 1, 1, DNAN}};
     for (size_t i = 0; i < sizeof bl / sizeof bl[0]; i++) {
         kc_interp_limits l = limits(bl[i][0], bl[i][1], bl[i][2], bl[i][3]);
         EXPECT(kc_interp_line_plan(&lp, &a, &b, &l, KC_INTERP_TWO_ROTATIONS, dt), KC_E_ARG, lp);
