@@ -143,6 +143,11 @@ const calc_opt interp_path_opts[] = {
     {"--tacc", "tacc", CALC_VALUE, calc_conv_real, "T", "blend time (s)"},
     {"--v", "v", CALC_VALUE, calc_conv_reals, "V", "speed limit(s)"},
     {"--a", "a", CALC_VALUE, calc_conv_reals, "A", "acceleration limit(s)"},
+    {"--blend", "blend", CALC_VALUE, calc_conv_string, "quartic|parabolic", "blend shape (default quartic, C2)"},
+    {"--ends", "ends", CALC_VALUE, calc_conv_string, "clamped|natural", "ends of a computed spline (default clamped)"},
+    {"--accelerations", "accelerations", CALC_VALUE, conv_points, "A;A;...", "quintic knot accelerations"},
+    {"--omega", "omega", CALC_VALUE, calc_conv_real, "W", "cartesian: angular speed limit (rad/s)"},
+    {"--epsilon", "epsilon", CALC_VALUE, calc_conv_real, "E", "cartesian: angular acceleration limit (rad/s^2)"},
     DT_OPT,
     {NULL, NULL, CALC_FLAG, NULL, NULL, NULL},
 };
@@ -171,6 +176,9 @@ const calc_opt interp_opts[] = {
     {"--times", "times", CALC_VALUE, NULL, NULL, NULL},
     {"--velocities", "velocities", CALC_VALUE, NULL, NULL, NULL},
     {"--tacc", "tacc", CALC_VALUE, NULL, NULL, NULL},
+    {"--blend", "blend", CALC_VALUE, NULL, NULL, NULL},
+    {"--ends", "ends", CALC_VALUE, NULL, NULL, NULL},
+    {"--accelerations", "accelerations", CALC_VALUE, NULL, NULL, NULL},
     DT_OPT,
     {NULL, NULL, CALC_FLAG, NULL, NULL, NULL},
 };
@@ -513,8 +521,22 @@ static const calc_cmd kinds[] = {
     {"path", "multi-point path, seed 001 lab 7",
      "kinctl-calc interp path --space joint|cartesian --method blend|lagrange|spline|quintic\n"
      "       --points \"P;P;...\" [--times T0,T1,...] [--velocities \"V;V;...\"] [--tacc T]\n"
-     "       [--v V --a A] --dt DT\n"
-     "A point is comma-separated numbers. Prints CSV, one row per tick.",
+     "       [--v V --a A] [--omega W --epsilon E] [--blend quartic|parabolic] [--ends clamped|natural]\n"
+     "       [--accelerations \"A;A;...\"] --dt DT\n"
+     "A point is comma-separated numbers: joint values (rad or m), or x,y,z,qw,qx,qy,qz in cartesian\n"
+     "space (quaternions normalised; velocities and accelerations then x,y,z). Methods (kinctl/path.h):\n"
+     "  blend     lines with blends of half-length --tacc around each knot: quartic (Paul, C2) or\n"
+     "            parabolic (C1); cuts the corners, starts at rest at t0 - tacc, ends at tn + tacc\n"
+     "  lagrange  one polynomial through all knots (at most 8: it oscillates)\n"
+     "  spline    cubic: Hermite with --velocities, else C2 with clamped (at rest) or natural ends\n"
+     "  quintic   C2 at the knots: --velocities and --accelerations, or computed\n"
+     "Times: --times (blend: also --tacc), or from --v and --a (one value, or one per joint; cartesian:\n"
+     "along the path, plus --omega/--epsilon for the turns): each segment takes the trapezoid time of\n"
+     "its largest move. Cartesian orientation goes through the knot orientations on the same times.\n"
+     "Prints CSV: t,q1..qn,qd1..qdn,qdd1..qddn (joint) or t,x,y,z,qw,qx,qy,qz,s,sd,sdd (cartesian, s:\n"
+     "path length so far), one row per tick from t = 0 (the motion's start) to the end inclusive.\n"
+     "Example: kinctl-calc interp path --space joint --method blend --points \"0,0;1,0.5;2,0\" "
+     "--times 0,1,2 --tacc 0.2 --dt 0.01",
      interp_path_opts, PATH_RUN},
 };
 
