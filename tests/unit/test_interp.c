@@ -401,8 +401,12 @@ static void check_joint_walk(const kc_interp_joint *p, const kc_real *qdmax, con
             double lim_v = (double)qdmax[i], lim_a = (double)qddmax[i], d = (double)p->dq[i];
             assert_true(fabs((double)st.qd[i]) <= lim_v * (1.0 + LIMIT_SLACK));
             assert_true(fabs((double)st.qdd[i]) <= lim_a * (1.0 + LIMIT_SLACK));
+            /* Within qdd_max dt per tick, up to the rounding of qd (of the
+             * speed limit's size) and of t = k dt (qdd_max eps t). */
+            double lim_vi = isfinite(lim_v) ? lim_v : fabs((double)p->prof.vc * d);
             kt_near((double)st.qd[i], (double)prev.qd[i],
-                    lim_a * dt * (1.0 + LIMIT_SLACK) + 4.0 * (double)KC_REAL_EPS * fabs(d) / dt, what);
+                    lim_a * dt * (1.0 + LIMIT_SLACK) + 4.0 * (double)KC_REAL_EPS * (lim_vi + lim_a * (double)k * dt),
+                    what);
             kt_near((double)(st.q[i] - prev.q[i]), 0.5 * (double)(st.qd[i] + prev.qd[i]) * dt,
                     0.25 * lim_a * dt * dt + 16.0 * (double)KC_REAL_EPS * (fabs((double)p->q0[i]) + fabs(d)), what);
             if (d != 0.0 && fabs(d) > 1e-3) {
