@@ -204,10 +204,11 @@ static void null_gradient(const ik_problem *p, const kc_real *q, kc_real *g)
  * is the error damping; the singularity damping is added here. Returns the
  * manipulability of the unfrozen task Jacobian.
  */
-static kc_real dls_solve(const ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], const kc_real *u, kc_real lambda2,
-                         kc_real null_scale, kc_real null_bound, const kc_real *q, const uint8_t *frozen, kc_real *dq)
+KC_ALWAYS_INLINE kc_real dls_kernel(const ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], const kc_real *u,
+                                 kc_real lambda2, kc_real null_scale, kc_real null_bound, const kc_real *q,
+                                 const uint8_t *frozen, kc_real *dq, const int r)
 {
-    int n = p->n, r = p->r;
+    int n = p->n;
     kc_real a[KC_LINALG_MAX][KC_LINALG_MAX];
     kc_real z[KC_MAX_JOINTS];
     kc_real y[KC_LINALG_MAX], yz[KC_LINALG_MAX];
@@ -230,19 +231,34 @@ static kc_real dls_solve(const ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], cons
         for (int j = 0; j < n; j++)
             z[j] = frozen[j] ? KC_R(0.0) : -null_scale * z[j];
     }
+    /* A = Jt Jt^T and Jt z, column by column: the r x r work inside is of
+     * constant size and unrolls. */
     for (int i = 0; i < r; i++) {
-        for (int k = 0; k <= i; k++) {
-            kc_real s = KC_R(0.0);
-            for (int j = 0; j < n; j++)
-                s += jt[i][j] * jt[k][j];
-            a[i][k] = a[k][i] = s;
-        }
+        for (int k = 0; k < r; k++)
+            a[i][k] = KC_R(0.0);
         y[i] = u[i];
         yz[i] = KC_R(0.0);
-        if (redundant)
-            for (int j = 0; j < n; j++)
-                yz[i] += jt[i][j] * z[j];
     }
+    for (int j = 0; j < n; j++) {
+        kc_real c[6];
+        KC_UNROLL
+        for (int i = 0; i < r; i++)
+            c[i] = jt[i][j];
+        KC_UNROLL
+        for (int i = 0; i < r; i++) {
+            KC_UNROLL
+            for (int k = 0; k <= i; k++)
+                a[i][k] += c[i] * c[k];
+        }
+        if (redundant) {
+            KC_UNROLL
+            for (int i = 0; i < r; i++)
+                yz[i] += c[i] * z[j];
+        }
+    }
+    for (int i = 0; i < r; i++)
+        for (int k = 0; k < i; k++)
+            a[k][i] = a[i][k];
 
     kc_real damp = lambda2, w = KC_REAL_MAX;
     if (p->singular_damping) {
@@ -270,6 +286,7 @@ static kc_real dls_solve(const ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], cons
     kc_cholesky_solve(a, r, y);
     for (int j = 0; j < n; j++) {
         kc_real t = KC_R(0.0);
+        KC_UNROLL
         for (int i = 0; i < r; i++)
             t += jt[i][j] * y[i];
         dq[j] = t;
@@ -289,6 +306,18 @@ static kc_real dls_solve(const ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], cons
             dq[j] += ns * z[j];
     }
     return w;
+}
+
+/* The kernel with the task size as a constant, so that the compiler
+ * unrolls the r x r products and the factorisation for each task. */
+static kc_real dls_solve(const ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], const kc_real *u, kc_real lambda2,
+                         kc_real null_scale, kc_real null_bound, const kc_real *q, const uint8_t *frozen, kc_real *dq)
+{
+    switch (p->r) {
+    case 3: return dls_kernel(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq, 3);
+    case 5: return dls_kernel(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq, 5);
+    default: return dls_kernel(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq, 6);
+    }
 }
 
 /* Solves, then freezes every joint at a limit that the step would push

@@ -8,14 +8,34 @@
 
 #define KC_LINALG_MAX 6
 
+/* Inlining that the compiler must not decline: the solvers instantiate a
+ * kernel once per task size so its loops have constant bounds. */
+#if defined(__GNUC__) || defined(__clang__)
+#define KC_ALWAYS_INLINE static inline __attribute__((always_inline))
+#else
+#define KC_ALWAYS_INLINE static inline
+#endif
+
+/* Complete unrolling of a loop with a small constant trip count, which -O2
+ * does not do on its own for nested triangular loops. */
+#if defined(__clang__)
+#define KC_UNROLL _Pragma("unroll")
+#elif defined(__GNUC__)
+#define KC_UNROLL _Pragma("GCC unroll 8")
+#else
+#define KC_UNROLL
+#endif
+
 /* In place: the lower triangle of a becomes L with a = L L^T. Returns 0 when
  * a pivot is not positive (a is then not positive definite), else 1. *det
  * receives det(a) = prod(L_ii)^2 when det is not NULL. */
-static inline int kc_cholesky(kc_real a[KC_LINALG_MAX][KC_LINALG_MAX], int r, kc_real *det)
+KC_ALWAYS_INLINE int kc_cholesky(kc_real a[KC_LINALG_MAX][KC_LINALG_MAX], int r, kc_real *det)
 {
     kc_real d = KC_R(1.0);
+    KC_UNROLL
     for (int j = 0; j < r; j++) {
         kc_real s = a[j][j];
+        KC_UNROLL
         for (int k = 0; k < j; k++)
             s -= a[j][k] * a[j][k];
         if (!(s > KC_R(0.0))) {
@@ -27,8 +47,10 @@ static inline int kc_cholesky(kc_real a[KC_LINALG_MAX][KC_LINALG_MAX], int r, kc
         kc_real ljj = kc_sqrt(s);
         a[j][j] = ljj;
         kc_real inv = KC_R(1.0) / ljj;
+        KC_UNROLL
         for (int i = j + 1; i < r; i++) {
             kc_real t = a[i][j];
+            KC_UNROLL
             for (int k = 0; k < j; k++)
                 t -= a[i][k] * a[j][k];
             a[i][j] = t * inv;
@@ -40,16 +62,20 @@ static inline int kc_cholesky(kc_real a[KC_LINALG_MAX][KC_LINALG_MAX], int r, kc
 }
 
 /* Solves L L^T x = b in place in b, with L from kc_cholesky. */
-static inline void kc_cholesky_solve(kc_real l[KC_LINALG_MAX][KC_LINALG_MAX], int r, kc_real b[KC_LINALG_MAX])
+KC_ALWAYS_INLINE void kc_cholesky_solve(kc_real l[KC_LINALG_MAX][KC_LINALG_MAX], int r, kc_real b[KC_LINALG_MAX])
 {
+    KC_UNROLL
     for (int i = 0; i < r; i++) {
         kc_real t = b[i];
+        KC_UNROLL
         for (int k = 0; k < i; k++)
             t -= l[i][k] * b[k];
         b[i] = t / l[i][i];
     }
+    KC_UNROLL
     for (int i = r - 1; i >= 0; i--) {
         kc_real t = b[i];
+        KC_UNROLL
         for (int k = i + 1; k < r; k++)
             t -= l[k][i] * b[k];
         b[i] = t / l[i][i];
