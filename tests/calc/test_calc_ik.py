@@ -102,8 +102,10 @@ def test_deg_reports_the_same_solution_in_degrees():
     deg = json.loads(run(["ik", "--model", "puma560", "--deg", "--target", csv(flat(T)),
                           "--q0", csv([math.degrees(v) for v in q0])]).stdout)
     assert deg["status"] == "converged"
+    # The same solve; only the unit of q differs (a float build rounds the
+    # conversion to about 1e-7 relative).
     for r, d in zip(rad["q"], deg["q"]):
-        assert abs(math.radians(d) - r) <= 1e-9
+        assert abs(math.radians(d) - r) <= (1e-6 if FLOAT else 1e-9)
 
 
 def test_position_mask_reaches_the_point():

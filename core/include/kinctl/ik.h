@@ -99,7 +99,7 @@ typedef struct kc_ik_cfg {
 } kc_ik_cfg;
 
 /* Defaults: full task, k = 20 1/s online, k h = 1, tolerances 1e-10 m and
- * 1e-10 rad (double; 1e-5 m and 1e-4 rad in float), 100 steps, 30 restarts,
+ * 1e-10 rad (double; 1e-5 m and 1e-4 rad in float), 100 steps, 100 restarts,
  * max step 1 rad, damping_max 0.05, manipulability threshold 1e-3,
  * null-space gain 0.5, margin 5 %, rest = mid-range. */
 kc_ik_cfg kc_ik_cfg_default(void);
