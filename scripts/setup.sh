@@ -10,9 +10,11 @@ shift || true
 say() { printf '\033[1m[setup]\033[0m %s\n' "$*"; }
 
 # Debian packages: compilers and build tools, cmocka for the C unit tests,
-# libconfig for description files, jansson for JSON in kinctl-calc.
+# libconfig for description files, jansson for JSON in kinctl-calc; glib (which
+# the LCM wheel's lcm-gen and liblcm load) and a JDK (javac and jar build the
+# message jar for lcm-spy).
 apt_packages=(build-essential cmake ninja-build clang pkg-config python3 python3-venv
-              libcmocka-dev libconfig-dev libjansson-dev)
+              libcmocka-dev libconfig-dev libjansson-dev libglib2.0-0 default-jdk-headless)
 missing=()
 for p in "${apt_packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -44,6 +46,12 @@ else
     say "Python packages present"
 fi
 
+# LCM comes from the `lcm` wheel: its prefix is site-packages, with bin/lcm-gen,
+# lib/liblcm.so, include/lcm and the CMake package config in lib/lcm/cmake.
+lcm_prefix=$(.venv/bin/python -c 'import lcm, os; print(os.path.dirname(os.path.dirname(lcm.__file__)))')
+"$lcm_prefix/bin/lcm-gen" --version >/dev/null || { say "lcm-gen from the lcm wheel does not run"; exit 1; }
+
 say "configuring and building in $build_dir"
-cmake -S . -B "$build_dir" -G Ninja -DPython3_EXECUTABLE="$PWD/.venv/bin/python" "$@" >/dev/null
+cmake -S . -B "$build_dir" -G Ninja -DPython3_EXECUTABLE="$PWD/.venv/bin/python" \
+    -Dlcm_DIR="$lcm_prefix/lib/lcm/cmake" "$@" >/dev/null
 cmake --build "$build_dir"
