@@ -558,8 +558,9 @@ kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose
 
 /* ---- one online step ---- */
 
-kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose *target, kc_real dt,
-                     const kc_real *q, const kc_real *qd, kc_real *q_next, kc_real *qd_next, kc_ik_result *res)
+kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose *target, const kc_real *twist_ff,
+                     kc_real dt, const kc_real *q, const kc_real *qd, kc_real *q_next, kc_real *qd_next,
+                     kc_ik_result *res)
 {
     if (chain == NULL || cfg == NULL || target == NULL || q == NULL || qd == NULL || q_next == NULL ||
         qd_next == NULL || res == NULL)
@@ -584,9 +585,29 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
     res->pos_err = pos_err;
     res->rot_err = rot_err;
 
-    /* Done when within tolerance and slow enough to stop in this tick
-     * without exceeding an acceleration limit. */
-    int at_rest = 1;
+    /* The feed-forward twist in the task's rows (as task_jacobian). */
+    kc_real ff[6] = {KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(0.0)};
+    int moving_target = 0;
+    if (twist_ff != NULL) {
+        for (int i = 0; i < 6; i++) {
+            if (!kc_isfinite(twist_ff[i]))
+                return KC_E_ARG;
+            moving_target |= twist_ff[i] != KC_R(0.0);
+        }
+        for (int i = 0; i < 3; i++)
+            ff[i] = twist_ff[i];
+        if (cfg->mask == KC_IK_MASK_FULL) {
+            for (int i = 3; i < 6; i++)
+                ff[i] = twist_ff[i];
+        } else if (cfg->mask == KC_IK_MASK_AXIS) {
+            for (int a = 0; a < 2; a++)
+                ff[3 + a] = cur.R.m[0][a] * twist_ff[3] + cur.R.m[1][a] * twist_ff[4] + cur.R.m[2][a] * twist_ff[5];
+        }
+    }
+
+    /* Done when within tolerance, the target still, and slow enough to stop
+     * in this tick without exceeding an acceleration limit. */
+    int at_rest = !moving_target;
     for (int j = 0; j < n; j++)
         at_rest = at_rest && kc_fabs(qd[j]) <= chain->joints[j].limits.qdd_max * dt;
     if (pos_err <= cfg->tol_pos && rot_err <= cfg->tol_rot && at_rest) {
@@ -600,7 +621,7 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
 
     kc_real u[6];
     for (int i = 0; i < p.r; i++)
-        u[i] = (i < 3 ? cfg->gain_pos : cfg->gain_rot) * e[i];
+        u[i] = ff[i] + (i < 3 ? cfg->gain_pos : cfg->gain_rot) * e[i];
     task_jacobian(cfg->mask, &jac, &cur, n, jt);
     /* The null-space velocity stays below half the slowest joint's limit. */
     kc_real null_bound = KC_REAL_MAX;

@@ -243,7 +243,7 @@ static int step_block(int model, const char *path, int first, int runs)
         to_real(ik_set.q_start[r], n, q);
         for (int c = 0; c < BENCH_STEP_CYCLES; c++) {
             double t0 = bench_now_ns();
-            kc_status st = kc_ik_step(&chain, &cfg, &ik_set.target[r], dt, q, qd, q, qd, &res);
+            kc_status st = kc_ik_step(&chain, &cfg, &ik_set.target[r], NULL, dt, q, qd, q, qd, &res);
             double t1 = bench_now_ns();
             step_ns[n_ns++] = t1 - t0;
             if (st == KC_DONE) {

@@ -137,21 +137,29 @@ kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose
 
 /*
  * One step of the online law for the control cycle: from joint state (q, qd)
- * towards target, over the period dt (s). Commands qd_next = DLS(k e) plus the
- * null-space term, scaled down as a whole to respect every joint's velocity
- * limit and its acceleration limit relative to qd, then q_next = q +
- * qd_next dt clamped into the position limits.
+ * towards target, over the period dt (s). target and twist_ff describe the
+ * target at the instant of (q, qd); the step heads for where it will be
+ * after dt. Commands
+ *     qd_next = J^+ (twist_ff + k e) + null-space term,
+ * twist_ff being the target's own velocity [v; w] (base frame, m/s and
+ * rad/s; NULL for a fixed target): with it a moving target is tracked with
+ * an error of the order of its acceleration times dt^2, not v/k. The command
+ * is scaled down as a whole to respect every joint's velocity limit and its
+ * acceleration limit relative to qd, then q_next = q + qd_next dt is
+ * clamped into the position limits.
  *   KC_OK            stepped; res holds the error before the step.
- *   KC_DONE          within the tolerances and every |qd| <= qdd_max dt:
- *                    q_next = q, qd_next = 0 (a stop within the limits).
+ *   KC_DONE          within the tolerances, twist_ff zero or NULL, and
+ *                    every |qd| <= qdd_max dt: q_next = q, qd_next = 0 (a
+ *                    stop within the limits).
  *   KC_E_LIMIT       stepped, but a joint was stopped at a position limit.
  *   KC_E_SINGULAR    stepped, but the singularity damping is active (the
  *                    tool will not follow the commanded twist exactly).
  *   KC_E_ARG         bad input; outputs untouched.
  * q_next and qd_next may alias q and qd.
  */
-kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose *target, kc_real dt,
-                     const kc_real *q, const kc_real *qd, kc_real *q_next, kc_real *qd_next, kc_ik_result *res);
+kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose *target, const kc_real *twist_ff,
+                     kc_real dt, const kc_real *q, const kc_real *qd, kc_real *q_next, kc_real *qd_next,
+                     kc_ik_result *res);
 
 /* Distance from the base origin beyond which no configuration reaches: the
  * sum of every constant translation, the largest prismatic travels and the
