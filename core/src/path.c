@@ -442,14 +442,14 @@ static kc_status check_blends(const knots *K, const limits *L)
     return KC_OK;
 }
 
-/* Dry run over every piece: finite coefficients, and the stretch factor the
- * limits ask for. */
-static kc_status dry_run(const knots *K, const limits *L, kc_real *lambda)
+/* Dry run over every piece: finite coefficients, and (bounds) the stretch
+ * factor the limits ask for. */
+static kc_status dry_run(const knots *K, const limits *L, int bounds, kc_real *lambda)
 {
     piece_coeffs c;
     kc_real vb[KC_MAX_JOINTS], ab[KC_MAX_JOINTS];
     kc_real lam = KC_R(1.0);
-    int want = L->computed && stretchable(K);
+    int want = bounds && L->computed && stretchable(K);
     for (int p = 0; p < n_pieces(K); p++) {
         build_piece(K, p, c);
         if (!coeffs_finite(K, c))
@@ -504,15 +504,18 @@ static kc_status prepare(knots *K, const limits *L)
     K->stretch = KC_R(1.0);
     derive_knot_data(K);
     kc_real lambda = KC_R(1.0);
-    kc_status st = dry_run(K, L, &lambda);
+    kc_status st = dry_run(K, L, 1, &lambda);
     if (st != KC_OK)
         return st;
     if (lambda > KC_R(1.0)) {
+        /* Every knot derivative is computed from the times, so the path
+         * becomes q(t / lambda): velocities scale by 1/lambda,
+         * accelerations by 1/lambda^2, and the bounds with them. */
         for (int i = 0; i < K->n; i++)
             K->d[i] *= lambda;
         K->stretch = lambda;
         derive_knot_data(K);
-        st = dry_run(K, L, &lambda);
+        st = dry_run(K, L, 0, &lambda);
         if (st != KC_OK)
             return st;
     }
@@ -855,15 +858,6 @@ static void jr_coeffs(kc_real th, kc_real *ca, kc_real *cb, kc_real *dca, kc_rea
     *dcb = (KC_R(1.0) - c) / (t2 * t2) - KC_R(3.0) * (th - s) / (t2 * t2 * th);
 }
 
-/* J_r(v) x */
-static kc_vec3 jr_apply(kc_vec3 v, kc_vec3 x)
-{
-    kc_real ca, cb, dca, dcb;
-    jr_coeffs(kc_vec3_norm(&v), &ca, &cb, &dca, &dcb);
-    kc_vec3 vx = v3_cross(v, x);
-    return v3_add(x, v3_add(v3_scale(vx, -ca), v3_scale(v3_cross(v, vx), cb)));
-}
-
 /* J_r(v)^-1 x = x + 1/2 v x x + ce v x (v x x), ce = 1/th^2 - cot(th/2) /
  * (2 th): finite for th in [0, pi]. */
 static kc_vec3 jr_inv_apply(kc_vec3 v, kc_vec3 x)
@@ -943,26 +937,30 @@ static void knot_rates(const knots *K, rot_knots *R)
     }
 }
 
-/* 8-point Gauss-Legendre on [0, 1]. */
-static const kc_real gl_x[8] = {
-    KC_R(0.01985507175123188), KC_R(0.10166676129318664), KC_R(0.2372337950418355), KC_R(0.40828267875217511),
-    KC_R(0.59171732124782489), KC_R(0.7627662049581645),  KC_R(0.89833323870681336), KC_R(0.98014492824876812),
+/* 6-point Gauss-Legendre on [0, 1]: over a table sub-interval (at most
+ * 1/32 of a piece, split at the speed's minima, so |p'| is smooth on it)
+ * it integrates polynomials of degree 11 exactly. */
+#define PATH_GL_POINTS 6
+static const kc_real gl_x[PATH_GL_POINTS] = {
+    KC_R(0.033765242898423987), KC_R(0.16939530676686775), KC_R(0.38069040695840155),
+    KC_R(0.61930959304159845),  KC_R(0.83060469323313225), KC_R(0.96623475710157601),
 };
-static const kc_real gl_w[8] = {
-    KC_R(0.050614268145188129), KC_R(0.11119051722668724), KC_R(0.15685332293894364), KC_R(0.18134189168918099),
-    KC_R(0.18134189168918099),  KC_R(0.15685332293894364), KC_R(0.11119051722668724), KC_R(0.050614268145188129),
+static const kc_real gl_w[PATH_GL_POINTS] = {
+    KC_R(0.085662246189585173), KC_R(0.18038078652406930), KC_R(0.23395696728634552),
+    KC_R(0.23395696728634552),  KC_R(0.18038078652406930), KC_R(0.085662246189585173),
 };
 
-static kc_real speed_at(const kc_path *pos, int p, kc_real tau)
+/* |p'| of piece p at tau from the velocity coefficients. */
+static kc_real speed_at(const kc_path_cart *path, int p, kc_real tau)
 {
-    kc_real s2 = KC_R(0.0);
-    for (int j = 0; j < 3; j++) {
-        kc_real d1 = KC_R(0.0);
-        for (int i = pos->n_coeffs - 1; i >= 1; i--)
-            d1 = d1 * tau + (kc_real)i * pos->c[p][i][j];
-        s2 += d1 * d1;
+    const kc_real(*vc)[3] = path->vc[p];
+    kc_real x = KC_R(0.0), y = KC_R(0.0), z = KC_R(0.0);
+    for (int i = path->pos.n_coeffs - 2; i >= 0; i--) {
+        x = x * tau + vc[i][0];
+        y = y * tau + vc[i][1];
+        z = z * tau + vc[i][2];
     }
-    return kc_sqrt(s2);
+    return kc_sqrt(x * x + y * y + z * z);
 }
 
 static int piece_is_line(const kc_path *pos, int p)
@@ -974,12 +972,12 @@ static int piece_is_line(const kc_path *pos, int p)
     return 1;
 }
 
-/* 8-point Gauss-Legendre of |p'| over [a, b] of piece p. */
-static kc_real arc_gl8(const kc_path *pos, int p, kc_real a, kc_real b)
+/* Gauss-Legendre of |p'| over [a, b] of piece p. */
+static kc_real arc_gl(const kc_path_cart *path, int p, kc_real a, kc_real b)
 {
     kc_real s = KC_R(0.0), h = b - a;
-    for (int i = 0; i < 8; i++)
-        s += gl_w[i] * speed_at(pos, p, a + gl_x[i] * h);
+    for (int i = 0; i < PATH_GL_POINTS; i++)
+        s += gl_w[i] * speed_at(path, p, a + gl_x[i] * h);
     return s * h;
 }
 
@@ -989,7 +987,7 @@ static kc_real arc_length(const kc_path_cart *path, int p, kc_real tau)
 {
     const kc_path *pos = &path->pos;
     if (piece_is_line(pos, p))
-        return path->s_arc[p][0] + speed_at(pos, p, KC_R(0.0)) * tau;
+        return path->s_arc[p][0] + speed_at(path, p, KC_R(0.0)) * tau;
     int lo = 0, hi = path->n_arc[p] - 2;
     while (lo < hi) {
         int mid = (lo + hi + 1) / 2;
@@ -998,7 +996,7 @@ static kc_real arc_length(const kc_path_cart *path, int p, kc_real tau)
         else
             hi = mid - 1;
     }
-    return path->s_arc[p][lo] + arc_gl8(pos, p, path->tau_arc[p][lo], tau);
+    return path->s_arc[p][lo] + arc_gl(path, p, path->tau_arc[p][lo], tau);
 }
 
 /* p'.p'' of piece p at tau: half the rate of the squared speed. */
@@ -1057,7 +1055,7 @@ static void arc_table(kc_path_cart *path, int p, kc_real *s, kc_real *comp)
     kc_real h = L / (kc_real)KC_PATH_ARC_SPLITS;
     int n = 0, m = 0;
     int line = piece_is_line(pos, p);
-    kc_real speed = speed_at(pos, p, KC_R(0.0));
+    kc_real speed = speed_at(path, p, KC_R(0.0));
     path->tau_arc[p][n] = KC_R(0.0);
     path->s_arc[p][n++] = *s;
     for (int i = 1; i <= KC_PATH_ARC_SPLITS; i++) {
@@ -1065,14 +1063,14 @@ static void arc_table(kc_path_cart *path, int p, kc_real *s, kc_real *comp)
         while (m < nm && minima[m] < u) {
             if (minima[m] > path->tau_arc[p][n - 1]) {
                 path->tau_arc[p][n] = minima[m];
-                path->s_arc[p][n] = kahan_add(s, comp, arc_gl8(pos, p, path->tau_arc[p][n - 1], minima[m]));
+                path->s_arc[p][n] = kahan_add(s, comp, arc_gl(path, p, path->tau_arc[p][n - 1], minima[m]));
                 n++;
             }
             m++;
         }
         path->tau_arc[p][n] = u;
         path->s_arc[p][n] = kahan_add(s, comp, line ? speed * (u - path->tau_arc[p][n - 1])
-                                                     : arc_gl8(pos, p, path->tau_arc[p][n - 1], u));
+                                                     : arc_gl(path, p, path->tau_arc[p][n - 1], u));
         n++;
     }
     path->n_arc[p] = n;
@@ -1195,15 +1193,22 @@ kc_status kc_path_plan_cart(kc_path_cart *path, const kc_path_cart_cfg *cfg)
     }
     commit(&path->pos, &K);
     memset(path->rc, 0, sizeof path->rc);
+    memset(path->vc, 0, sizeof path->vc);
+    for (int p = 0; p < np; p++)
+        for (int i = 1; i < path->pos.n_coeffs; i++)
+            for (int x = 0; x < 3; x++)
+                path->vc[p][i - 1][x] = (kc_real)i * path->pos.c[p][i][x];
     memset(path->tau_arc, 0, sizeof path->tau_arc);
     memset(path->s_arc, 0, sizeof path->s_arc);
     for (int p = 0; p < KC_PATH_MAX_PIECES; p++) {
         kc_quat_identity(&path->base[p]);
+        kc_mat3_identity(&path->base_R[p]);
         path->n_arc[p] = 0;
     }
     kc_real s = KC_R(0.0), comp = KC_R(0.0);
     for (int p = 0; p < np; p++) {
         build_rot_piece(&K, &R, p, &path->base[p], path->rc[p]);
+        kc_quat_to_mat3(&path->base[p], &path->base_R[p]);
         arc_table(path, p, &s, &comp);
     }
     path->length = s;
@@ -1211,23 +1216,48 @@ kc_status kc_path_plan_cart(kc_path_cart *path, const kc_path_cart_cfg *cfg)
     return KC_OK;
 }
 
-/* Orientation and angular velocity of piece p at tau. */
+/* Orientation and angular velocity of piece p at tau: r = base exp(v) and
+ * w = R(r) J_r(v) v' = R(base) J_l(v) v' (R(exp v) J_r(v) = J_l(v) = I +
+ * ca [v]x + cb [v]x^2), with exp and J_l from one sine and cosine of
+ * |v|/2: exp(v) = (cos(th/2), sin(th/2) v/th), ca = (1 - cos th)/th^2 =
+ * 2 (sin(th/2)/th)^2, cb = (th - sin th)/th^3, sin th = 2 sin(th/2)
+ * cos(th/2). */
 static void eval_rot(const kc_path_cart *path, int p, kc_real tau, kc_quat *r, kc_vec3 *w)
 {
     int nr = path->pos.method == KC_PATH_BLEND ? 5 : 6;
     kc_vec3 v, vd;
     for (int x = 0; x < 3; x++) {
-        kc_real a, b, c;
-        horner3(&path->rc[p][0][x], nr, 3, tau, &a, &b, &c);
+        kc_real a = KC_R(0.0), b = KC_R(0.0);
+        for (int i = nr - 1; i >= 0; i--) {
+            b = b * tau + a;
+            a = a * tau + path->rc[p][i][x];
+        }
         v.v[x] = a;
         vd.v[x] = b;
     }
-    kc_quat e, q;
-    kc_quat_exp(&v, &e);
-    kc_quat_mul(&path->base[p], &e, &q);
-    *r = q;
-    kc_vec3 wb = jr_apply(v, vd);
-    kc_quat_rotate(&q, &wb, w);
+    kc_real th = kc_vec3_norm(&v), sh, ch, k, cb;
+    kc_sincos(KC_R(0.5) * th, &sh, &ch);
+    kc_real t2 = th * th;
+    /* sin(th/2)/th has no cancellation: only th ~ 0 needs its series. */
+    k = th < KC_TOL_SMALL_ANGLE ? KC_R(0.5) - t2 / KC_R(48.0) : sh / th;
+    if (th < PATH_SERIES_ANGLE)
+        cb = KC_R(1.0) / KC_R(6.0) - t2 / KC_R(120.0) + t2 * t2 / KC_R(5040.0) - t2 * t2 * t2 / KC_R(362880.0);
+    else
+        cb = (th - KC_R(2.0) * sh * ch) / (t2 * th);
+    /* r = base (ch, k v), the Hamilton product written out. */
+    const kc_quat *b = &path->base[p];
+    kc_real ex = k * v.v[0], ey = k * v.v[1], ez = k * v.v[2];
+    r->w = b->w * ch - b->x * ex - b->y * ey - b->z * ez;
+    r->x = b->w * ex + b->x * ch + b->y * ez - b->z * ey;
+    r->y = b->w * ey - b->x * ez + b->y * ch + b->z * ex;
+    r->z = b->w * ez + b->x * ey - b->y * ex + b->z * ch;
+    kc_real ca = KC_R(2.0) * k * k;
+    kc_vec3 vx = v3_cross(v, vd), vvx = v3_cross(v, vx);
+    kc_vec3 wb = kc_vec3_make(vd.v[0] + ca * vx.v[0] + cb * vvx.v[0], vd.v[1] + ca * vx.v[1] + cb * vvx.v[1],
+                              vd.v[2] + ca * vx.v[2] + cb * vvx.v[2]);
+    const kc_mat3 *R = &path->base_R[p];
+    for (int i = 0; i < 3; i++)
+        w->v[i] = R->m[i][0] * wb.v[0] + R->m[i][1] * wb.v[1] + R->m[i][2] * wb.v[2];
 }
 
 /* sd and sdd from p' and p'' (path.h: the one-sided rate where |p'| = 0). */
