@@ -394,7 +394,7 @@ static const double_field double_fields[] = {
 
 static void test_nonfinite(void **state)
 {
-    const double values[3] = {NAN, (double)INFINITY, -(double)INFINITY};
+    const double values[3] = {(double)NAN, (double)INFINITY, -(double)INFINITY};
     size_t i;
     int v;
     (void)state;
@@ -418,7 +418,7 @@ static void test_nonfinite(void **state)
                 kd_msg_any m;
                 char needle[48];
                 msg_sample(KD_MSG_GOAL_PATH, 16, &m, NULL);
-                m.goal_path.points[k][j] = NAN;
+                m.goal_path.points[k][j] = (double)NAN;
                 (void)snprintf(needle, sizeof needle, "points[%d][%d] is NaN", k, j);
                 expect_decode(KD_MSG_GOAL_PATH, encode(KD_MSG_GOAL_PATH, &m), KD_MSG_E_NONFINITE,
                               needle);
