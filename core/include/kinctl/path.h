@@ -6,9 +6,10 @@
  * A path goes through n knots q_0 .. q_{n-1} (2 <= n <= KC_PATH_MAX_KNOTS,
  * each of dimension 1 .. KC_MAX_JOINTS) at knot times t_0 < .. < t_{n-1}.
  * Every method turns them into a sequence of polynomial pieces in the local
- * time tau of each piece; planning is bounded (every loop runs over at most
- * KC_PATH_MAX_KNOTS knots), evaluation finds the piece by a bisection of at
- * most 6 steps and runs Horner's scheme: no state is kept between ticks.
+ * time tau of each piece; planning is bounded (every loop runs over the
+ * knots, the pieces or a fixed count of samples and bisection steps),
+ * evaluation finds the piece by a bisection of at most 6 steps and runs
+ * Horner's scheme: no state is kept between ticks.
  *
  * Methods (T_i = t_{i+1} - t_i, delta_i = (q_{i+1} - q_i) / T_i):
  *
@@ -60,8 +61,9 @@
  *   acceleration at both knots, so acceleration is continuous at the knots
  *   (seed sec. 4: six conditions, fifth degree). Knot velocities given
  *   (cfg.qd) or computed by the rule of Siciliano et al. (Robotics:
- *   Modelling, Planning and Control, sec. 4.2.1): v_0 = v_{n-1} = 0, v_i = 0 where delta_{i-1} and
- *   delta_i differ in sign (or one is zero), else (delta_{i-1} + delta_i)/2;
+ *   Modelling, Planning and Control, sec. 4.2.1): v_0 = v_{n-1} = 0,
+ *   v_i = 0 where delta_{i-1} and delta_i differ in sign (or one is zero),
+ *   else (delta_{i-1} + delta_i) / 2;
  *   knot accelerations given (cfg.qdd) or computed as the mean of the two
  *   accelerations that cubic Hermite pieces with the same knot velocities
  *   would have at the knot (left (-6 dq + 2 v_{i-1} T + 4 v_i T) / T^2 and
@@ -74,8 +76,8 @@
  *     t_trap(D, v, a) = D / v + v / a   if D >= v^2 / a,  2 sqrt(D / a) else,
  * with t_0 = 0. Blends: t_acc (if not given) = 1.5 max_j vmax_j / amax_j
  * (quartic; max_j vmax_j / amax_j parabolic), so that the largest possible
- * velocity change 2 vmax_j keeps |qdd| <= amax_j, and T_i >= 2 t_acc; a given t_acc that would need more than amax_j in a
- * blend is KC_E_LIMIT. Lagrange, and splines and quintics whose knot
+ * velocity change 2 vmax_j keeps |qdd| <= amax_j, and T_i >= 2 t_acc; a
+ * given t_acc that would need more than amax_j in a blend is KC_E_LIMIT. Lagrange, and splines and quintics whose knot
  * derivatives are all computed: the whole timing is then stretched by the
  * factor lambda = max(1, Vb / vmax, sqrt(Ab / amax)) (per joint), where Vb
  * and Ab bound |qd| and |qdd| rigorously (Bernstein coefficients on eight
