@@ -233,3 +233,23 @@ def test_jar_has_every_type():
     names = set(zipfile.ZipFile(jar).namelist())
     for t in TYPES:
         assert f"kinctl/{t}.class" in names, f"{t} missing from {jar}"
+
+
+def test_java_decodes_what_python_encodes(tmp_path):
+    """The jar's classes (what lcm-spy decodes with) read Python's bytes and
+    write the same bytes back, for every type."""
+    jar = os.environ.get("KINCTL_LCMTYPES_JAR")
+    javac, java, lcm_jar = (os.environ.get(k) for k in ("KINCTL_JAVAC", "KINCTL_JAVA", "KINCTL_LCM_JAR"))
+    if not (jar and javac and java and lcm_jar):
+        pytest.skip("no jar, javac or java in this build")
+    cp = os.pathsep.join([lcm_jar, jar, str(tmp_path)])
+    src = pathlib.Path(__file__).with_name("JavaRoundTrip.java")
+    subprocess.run([javac, "-nowarn", "-cp", cp, "-d", str(tmp_path), str(src)], check=True)
+    rng = random.Random(5)
+    lines = []
+    for t in TYPES:
+        for _ in range(5):
+            lines.append(f"{t} {random_message(t, rng).encode().hex()}")
+    r = subprocess.run([java, "-cp", cp, "JavaRoundTrip"], input="\n".join(lines) + "\n",
+                       capture_output=True, text=True, check=True)
+    assert r.stdout.split("\n")[:-1] == lines
