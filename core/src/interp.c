@@ -82,6 +82,8 @@ kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, 
         }
         bound_u(D, qd_max[i], qdd_max[i], &V, &A);
     }
+    r.u_vmax = V;
+    r.u_amax = A;
     kc_status st = plan_u(&r.prof, V, A, duration, dt);
     if (st != KC_OK)
         return st;
@@ -89,14 +91,11 @@ kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, 
     return KC_OK;
 }
 
-kc_status kc_interp_joint_eval(const kc_interp_joint *plan, int64_t k, kc_interp_joint_state *out)
+/* The joint move's state for one state of its u profile (st: KC_OK or
+ * KC_DONE from the profile). */
+static kc_status joint_at(const kc_interp_joint *plan, kc_status st, const kc_profile_state *u,
+                          kc_interp_joint_state *out)
 {
-    kc_profile_state u;
-    if (plan == NULL || out == NULL)
-        return KC_E_ARG;
-    kc_status st = kc_profile_eval(&plan->prof, k, &u);
-    if (st < 0)
-        return st;
     int n = plan->n;
     if (st == KC_DONE) {
         for (int i = 0; i < n; i++) {
@@ -107,15 +106,39 @@ kc_status kc_interp_joint_eval(const kc_interp_joint *plan, int64_t k, kc_interp
     } else {
         for (int i = 0; i < n; i++) {
             kc_real d = plan->dq[i];
-            out->q[i] = plan->q0[i] + d * u.p;
-            out->qd[i] = d * u.v;
-            out->qdd[i] = d * u.a;
+            out->q[i] = plan->q0[i] + d * u->p;
+            out->qd[i] = d * u->v;
+            out->qdd[i] = d * u->a;
         }
     }
-    out->u = u.p;
-    out->ud = u.v;
-    out->udd = u.a;
-    out->phase = u.phase;
+    out->u = u->p;
+    out->ud = u->v;
+    out->udd = u->a;
+    out->phase = u->phase;
+    return st;
+}
+
+kc_status kc_interp_joint_eval(const kc_interp_joint *plan, int64_t k, kc_interp_joint_state *out)
+{
+    kc_profile_state u;
+    if (plan == NULL || out == NULL)
+        return KC_E_ARG;
+    kc_status st = kc_profile_eval(&plan->prof, k, &u);
+    return st < 0 ? st : joint_at(plan, st, &u, out);
+}
+
+kc_status kc_interp_joint_eval_profile(const kc_interp_joint *plan, const kc_profile *prof, int64_t k,
+                                       kc_interp_joint_state *out)
+{
+    kc_profile_state u;
+    if (plan == NULL || prof == NULL || out == NULL)
+        return KC_E_ARG;
+    kc_status st = kc_profile_eval(prof, k, &u);
+    if (st < 0)
+        return st;
+    /* Another profile of u ends where it ends: exactly at the end state only
+     * when it has finished at u = 1. */
+    joint_at(plan, st == KC_DONE && u.p >= KC_R(1.0) ? KC_DONE : KC_OK, &u, out);
     return st;
 }
 
@@ -274,6 +297,8 @@ kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const k
     kc_real V = INF, A = INF;
     bound_u(r.length, lim->v, lim->a, &V, &A);
     bound_u(Theta, lim->w, lim->dw, &V, &A);
+    r.u_vmax = V;
+    r.u_amax = A;
     kc_status st = plan_u(&r.prof, V, A, KC_R(0.0), dt);
     if (st != KC_OK)
         return st;
@@ -287,14 +312,11 @@ kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const k
     return KC_OK;
 }
 
-kc_status kc_interp_line_eval(const kc_interp_line *plan, int64_t k, kc_interp_cart_state *out)
+/* The line's state for one state of a u profile; end: the exact end. */
+static kc_status line_at(const kc_interp_line *plan, kc_status st, const kc_profile_state *u_state,
+                         kc_interp_cart_state *out)
 {
-    kc_profile_state u;
-    if (plan == NULL || out == NULL)
-        return KC_E_ARG;
-    kc_status st = kc_profile_eval(&plan->prof, k, &u);
-    if (st < 0)
-        return st;
+    const kc_profile_state u = *u_state;
     /* The speed law's own variable: path length, or the angle when there
      * is no path. */
     kc_real D = plan->length > KC_R(0.0) ? plan->length : plan->angle;
@@ -316,6 +338,28 @@ kc_status kc_interp_line_eval(const kc_interp_line *plan, int64_t k, kc_interp_c
     out->u = u.p;
     out->phase = u.phase;
     return KC_OK;
+}
+
+kc_status kc_interp_line_eval(const kc_interp_line *plan, int64_t k, kc_interp_cart_state *out)
+{
+    kc_profile_state u;
+    if (plan == NULL || out == NULL)
+        return KC_E_ARG;
+    kc_status st = kc_profile_eval(&plan->prof, k, &u);
+    return st < 0 ? st : line_at(plan, st, &u, out);
+}
+
+kc_status kc_interp_line_eval_profile(const kc_interp_line *plan, const kc_profile *prof, int64_t k,
+                                      kc_interp_cart_state *out)
+{
+    kc_profile_state u;
+    if (plan == NULL || prof == NULL || out == NULL)
+        return KC_E_ARG;
+    kc_status st = kc_profile_eval(prof, k, &u);
+    if (st < 0)
+        return st;
+    line_at(plan, st == KC_DONE && u.p >= KC_R(1.0) ? KC_DONE : KC_OK, &u, out);
+    return st;
 }
 
 /* ---- arc ---- */
@@ -378,6 +422,8 @@ kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_
     kc_real V = INF, A = INF;
     bound_u(r.length, lim->v, lim->a, &V, &A);
     bound_u(r.angle, lim->w, lim->dw, &V, &A);
+    r.u_vmax = V;
+    r.u_amax = A;
     kc_status st = plan_u(&r.prof, V, A, KC_R(0.0), dt);
     if (st != KC_OK)
         return st;
@@ -385,14 +431,11 @@ kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_
     return KC_OK;
 }
 
-kc_status kc_interp_arc_eval(const kc_interp_arc *plan, int64_t k, kc_interp_cart_state *out)
+/* The arc's state for one state of a u profile. */
+static kc_status arc_at(const kc_interp_arc *plan, kc_status st, const kc_profile_state *u_state,
+                        kc_interp_cart_state *out)
 {
-    kc_profile_state u;
-    if (plan == NULL || out == NULL)
-        return KC_E_ARG;
-    kc_status st = kc_profile_eval(&plan->prof, k, &u);
-    if (st < 0)
-        return st;
+    const kc_profile_state u = *u_state;
     if (st == KC_DONE) {
         state_done(out, &plan->p3, &plan->q3, plan->length);
         return KC_DONE;
@@ -418,4 +461,26 @@ kc_status kc_interp_arc_eval(const kc_interp_arc *plan, int64_t k, kc_interp_car
     out->u = u.p;
     out->phase = u.phase;
     return KC_OK;
+}
+
+kc_status kc_interp_arc_eval(const kc_interp_arc *plan, int64_t k, kc_interp_cart_state *out)
+{
+    kc_profile_state u;
+    if (plan == NULL || out == NULL)
+        return KC_E_ARG;
+    kc_status st = kc_profile_eval(&plan->prof, k, &u);
+    return st < 0 ? st : arc_at(plan, st, &u, out);
+}
+
+kc_status kc_interp_arc_eval_profile(const kc_interp_arc *plan, const kc_profile *prof, int64_t k,
+                                     kc_interp_cart_state *out)
+{
+    kc_profile_state u;
+    if (plan == NULL || prof == NULL || out == NULL)
+        return KC_E_ARG;
+    kc_status st = kc_profile_eval(prof, k, &u);
+    if (st < 0)
+        return st;
+    arc_at(plan, st == KC_DONE && u.p >= KC_R(1.0) ? KC_DONE : KC_OK, &u, out);
+    return st;
 }

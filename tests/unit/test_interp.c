@@ -976,6 +976,75 @@ static void test_bad_inputs(void **state)
     assert_int_equal(kc_interp_arc_eval(&ap, 0, NULL), KC_E_ARG);
 }
 
+/* Stopping on the path: at random ticks of random lines, arcs and joint
+ * moves, a stop profile of u from the state there (kc_profile_plan_stop
+ * with the plan's u_amax) drives the same geometry: it continues the
+ * motion without a jump in position or velocity, decelerates within the
+ * plan's acceleration bound, stays on the segment (the line's points are on
+ * the line, the arc's at radius R) and ends at rest short of the end. */
+static void test_stop_on_path(void **state)
+{
+    (void)state;
+    kt_rng r = kt_rng_make(77);
+    const kc_real dt = KC_R(0.001);
+    for (int trial = 0; trial < 100; trial++) {
+        kc_pose from = kt_rand_pose(&r), to = kt_rand_pose(&r);
+        kc_vec3 via = kc_vec3_make(KC_R(0.5) * (from.t.v[0] + to.t.v[0]) + KC_R(0.3),
+                                   KC_R(0.5) * (from.t.v[1] + to.t.v[1]) - KC_R(0.2),
+                                   KC_R(0.5) * (from.t.v[2] + to.t.v[2]) + KC_R(0.1));
+        kc_interp_limits lim = kc_interp_limits_default();
+        lim.v = (kc_real)kt_uniform(&r, 0.1, 1.0);
+        lim.a = (kc_real)kt_uniform(&r, 0.5, 5.0);
+        kc_interp_line line;
+        kc_interp_arc arc;
+        assert_int_equal(kc_interp_line_plan(&line, &from, &to, &lim, KC_INTERP_SLERP, dt), KC_OK);
+        assert_int_equal(kc_interp_arc_plan(&arc, &from, &via, &to.t, &lim, dt), KC_OK);
+        for (int which = 0; which < 2; which++) {
+            const kc_profile *prof = which == 0 ? &line.prof : &arc.prof;
+            kc_real u_amax = which == 0 ? line.u_amax : arc.u_amax;
+            int64_t k0 = (int64_t)kt_uniform(&r, 1.0, (double)prof->ticks - 1.0);
+            kc_profile_state u0;
+            kc_profile_eval(prof, k0, &u0);
+            kc_profile stop;
+            assert_int_equal(kc_profile_plan_stop(&stop, u0.p, u0.v, u_amax, dt), KC_OK);
+            kc_interp_cart_state a, b, prev;
+            if (which == 0) {
+                kc_interp_line_eval(&line, k0, &a);
+                kc_interp_line_eval_profile(&line, &stop, 0, &b);
+            } else {
+                kc_interp_arc_eval(&arc, k0, &a);
+                kc_interp_arc_eval_profile(&arc, &stop, 0, &b);
+            }
+            kt_near_vec3(&b.p, &a.p, 1e-9 + 16.0 * (double)KC_REAL_EPS, "stop starts where the motion is");
+            kt_near_vec3(&b.v, &a.v, 1e-9 + 16.0 * (double)KC_REAL_EPS, "stop starts at the motion's velocity");
+            prev = b;
+            kc_status st = KC_OK;
+            for (int64_t k = 1; st == KC_OK; k++) {
+                st = which == 0 ? kc_interp_line_eval_profile(&line, &stop, k, &b)
+                                : kc_interp_arc_eval_profile(&arc, &stop, k, &b);
+                assert_true(st == KC_OK || st == KC_DONE);
+                /* deceleration along the path within the plan's bound */
+                /* plus the rounding of the speeds, v0 - A k dt: of the order
+                 * of eps times the speed the stop started from */
+                double limit = (double)lim.a * (double)dt * (1.0 + LIMIT_SLACK) +
+                               8.0 * (double)KC_REAL_EPS * fabs((double)a.sd);
+                if (!(fabs((double)(b.sd - prev.sd)) <= limit))
+                    fail_msg("trial %d %s k %ld: speed step %g > %g (sd %g -> %g)", trial, which ? "arc" : "line",
+                             (long)k, fabs((double)(b.sd - prev.sd)), limit, (double)prev.sd, (double)b.sd);
+                if (which == 1) {
+                    kc_vec3 d;
+                    kc_vec3_sub(&b.p, &arc.centre, &d);
+                    kt_near((double)kc_vec3_norm(&d), (double)arc.radius, 1e-9 + 64.0 * (double)KC_REAL_EPS,
+                            "stops on the circle");
+                }
+                prev = b;
+            }
+            kt_near((double)b.sd, 0.0, 0.0, "at rest");
+            kt_near((double)b.u <= 1.0 + 4.0 * (double)KC_REAL_EPS, 1.0, 0.0, "not past the end");
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -983,7 +1052,7 @@ int main(void)
         cmocka_unit_test(test_circle_vectors),   cmocka_unit_test(test_joint_properties),
         cmocka_unit_test(test_line_properties),  cmocka_unit_test(test_line_degenerate),
         cmocka_unit_test(test_arc_properties),   cmocka_unit_test(test_arc_degenerate),
-        cmocka_unit_test(test_bad_inputs),
+        cmocka_unit_test(test_bad_inputs),       cmocka_unit_test(test_stop_on_path),
     };
     int failed = cmocka_run_group_tests_name("interp (" KC_REAL_NAME ")", tests, NULL, NULL);
     kt_report("interp");

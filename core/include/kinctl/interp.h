@@ -73,6 +73,9 @@ typedef struct kc_interp_joint {
     int lead_vel; /* joint whose velocity limit sets V, -1 if nothing moves */
     int lead_acc; /* joint whose acceleration limit sets A, -1 if nothing moves */
     kc_profile prof; /* u from 0 to 1 */
+    /* The bounds of u' and u'' the profile was planned with (1/s, 1/s^2;
+     * infinite for a zero motion): a stop on the path uses u_amax. */
+    kc_real u_vmax, u_amax;
 } kc_interp_joint;
 
 typedef struct kc_interp_joint_state {
@@ -99,6 +102,13 @@ kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, 
  * plan->prof.ticks on (q = q1 exactly, qd = qdd = 0), KC_E_ARG for NULL
  * arguments or k < 0. Writes the first plan->n entries of each array. */
 kc_status kc_interp_joint_eval(const kc_interp_joint *plan, int64_t k, kc_interp_joint_state *out);
+
+/* The move's geometry driven by another profile of u (for instance one
+ * that stops on the path, kc_profile_plan_stop, or resumes from there): the
+ * state at that profile's tick k. The end state is exact when the profile
+ * ends at u = 1. Return codes as kc_profile_eval. */
+kc_status kc_interp_joint_eval_profile(const kc_interp_joint *plan, const kc_profile *prof, int64_t k,
+                                       kc_interp_joint_state *out);
 
 /* ======================================================================
  * Cartesian segments: limits and the setpoint.
@@ -190,6 +200,9 @@ typedef struct kc_interp_line {
     kc_vec3 axis;            /* slerp: unit axis in the start frame */
     kc_real angle;           /* Theta: sqrt(theta^2 + phi^2), or slerp's angle (rad) */
     kc_profile prof;         /* u from 0 to 1 */
+    /* The bounds of u' and u'' the profile was planned with (1/s, 1/s^2;
+     * infinite for a zero motion): a stop on the path uses u_amax. */
+    kc_real u_vmax, u_amax;
 } kc_interp_line;
 
 /* Plans a line from `from` to `to` (rotations orthonormal within
@@ -205,6 +218,10 @@ kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const k
  * plan->prof.ticks on (exactly the end pose: p2, q2; velocities zero),
  * KC_E_ARG for NULL arguments or k < 0 (out untouched). */
 kc_status kc_interp_line_eval(const kc_interp_line *plan, int64_t k, kc_interp_cart_state *out);
+
+/* As kc_interp_joint_eval_profile, for the line. */
+kc_status kc_interp_line_eval_profile(const kc_interp_line *plan, const kc_profile *prof, int64_t k,
+                                      kc_interp_cart_state *out);
 
 /* ======================================================================
  * Arc (seed 001 lab 6) from pose T1 through the via point T2 to the end
@@ -250,6 +267,9 @@ typedef struct kc_interp_arc {
     kc_vec3 p1, p3;    /* start and end position */
     kc_quat q1, q3;    /* start orientation, and the end orientation by (6.1) */
     kc_profile prof;   /* u = alpha_i / alpha from 0 to 1 */
+    /* The bounds of u' and u'' the profile was planned with (1/s, 1/s^2;
+     * infinite for a zero motion): a stop on the path uses u_amax. */
+    kc_real u_vmax, u_amax;
 } kc_interp_arc;
 
 /* Plans an arc from `from` through `via` to `to` (positions in m) with
@@ -264,5 +284,9 @@ kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_
  * plan->prof.ticks on (exactly p3 and q3, velocities zero), KC_E_ARG for
  * NULL arguments or k < 0 (out untouched). */
 kc_status kc_interp_arc_eval(const kc_interp_arc *plan, int64_t k, kc_interp_cart_state *out);
+
+/* As kc_interp_joint_eval_profile, for the arc. */
+kc_status kc_interp_arc_eval_profile(const kc_interp_arc *plan, const kc_profile *prof, int64_t k,
+                                     kc_interp_cart_state *out);
 
 #endif /* KINCTL_INTERP_H */
