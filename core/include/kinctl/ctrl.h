@@ -1,0 +1,268 @@
+/*
+ * kinctl/ctrl.h - the controller step: goals in, one joint setpoint out per
+ * tick. Pure and deterministic: no I/O, no clock, no allocation; the daemon
+ * is thin I/O around kc_ctrl_step, and a unit test can run thousands of
+ * cycles of it.
+ *
+ * Motion. A goal becomes a segment when it starts, planned from where the
+ * arm is then (at rest: every segment ends at rest):
+ *   joint move      kc_interp_joint (lab 4), the joints' limits times
+ *                   vel_scale and acc_scale;
+ *   line, arc       kc_interp_line / kc_interp_arc (labs 5, 6) from the tool
+ *                   pose of the current joints;
+ *   path            kc_path through the current joints and the goal's
+ *                   points, or kc_path_cart through the current pose and the
+ *                   goal's poses (lab 7);
+ *   servo           a target pose (or a twist that moves it) followed by the
+ *                   online IK law until the stream goes quiet.
+ * Cartesian segments give a pose and twist each tick; one kc_ik_step with
+ * the twist fed forward turns them into the joint setpoint. If the tool
+ * falls more than cfg.track_tol behind (a joint limit, a singularity) the
+ * arm stops on the path and the controller faults, naming the segment and
+ * the path length where it happened.
+ *
+ * Goals wait in a queue of KC_CTRL_QUEUE_MAX. A goal with replace set
+ * preempts: the queue is dropped, the active segment stops on its path at
+ * its acceleration limits, and the new goal starts from where the arm comes
+ * to rest. Setpoints stay continuous in position and velocity throughout.
+ *
+ * Commands. STOP: stop on the path, drop the queue, back to idle. PAUSE:
+ * stop on the path and hold; RESUME: continue the same segment from there.
+ * ESTOP: every joint decelerates at its own acceleration limit (off the
+ * path: as hard as the limits allow), then the controller latches in ESTOP.
+ * RESET: leaves FAULT or ESTOP (at rest) for IDLE.
+ *
+ * Stopping on the path. Interpolated segments are driven by a profile of
+ * their path parameter u; a stop replaces it with kc_profile_plan_stop at
+ * the plan's own bound on u'', resume with a profile from there to u = 1.
+ * Paths are driven by their plan time tau; a stop makes tau' fall from 1 to
+ * 0 at a constant rate c, chosen (and its start delayed while the path is
+ * itself braking hard) so that every joint's q'' tau'^2 + q' tau'' stays
+ * within its limit on sampled instants of the stop.
+ *
+ * Every setpoint is checked before it leaves: finite, inside the position
+ * limits, |qd| within the velocity limits, and the change of qd within
+ * qdd_max dt (both with a relative slack of cfg.limit_slack for rounding).
+ * A violation is a bug or a bad model, never a normal outcome: the
+ * controller then holds the last good setpoint's position and faults.
+ *
+ * Threads. kc_ctrl_step is for one thread (the cycle); kc_ctrl_check may run
+ * on another thread with its own scratch kc_ctrl (it needs about
+ * sizeof(kc_ctrl) of storage and runs the goal through the same step code:
+ * one IK step per tick of a Cartesian motion).
+ */
+#ifndef KINCTL_CTRL_H
+#define KINCTL_CTRL_H
+
+#include <stdint.h>
+
+#include "kinctl/ik.h"
+#include "kinctl/interp.h"
+#include "kinctl/path.h"
+#include "kinctl/profile.h"
+
+#define KC_CTRL_QUEUE_MAX 8
+#define KC_CTRL_EVENTS_MAX 8
+
+typedef enum kc_ctrl_state {
+    KC_CTRL_IDLE = 0,
+    KC_CTRL_MOVING = 1,
+    KC_CTRL_PAUSED = 2,
+    KC_CTRL_STOPPING = 3,
+    KC_CTRL_FAULT = 4,
+    KC_CTRL_ESTOP = 5
+} kc_ctrl_state;
+
+typedef enum kc_goal_kind {
+    KC_GOAL_JOINT = 0,
+    KC_GOAL_LINE = 1,
+    KC_GOAL_ARC = 2,
+    KC_GOAL_PATH = 3,      /* joint space */
+    KC_GOAL_PATH_CART = 4, /* Cartesian */
+    KC_GOAL_SERVO = 5
+} kc_goal_kind;
+
+typedef enum kc_ctrl_command {
+    KC_CMD_NONE = 0,
+    KC_CMD_STOP = 1,
+    KC_CMD_ESTOP = 2,
+    KC_CMD_PAUSE = 3,
+    KC_CMD_RESUME = 4,
+    KC_CMD_RESET = 5
+} kc_ctrl_command;
+
+/* A goal as a client describes it. Fields a kind does not use are ignored. */
+typedef struct kc_goal {
+    int64_t id;        /* chosen by the client, echoed in events and setpoints */
+    kc_goal_kind kind;
+    int replace;       /* 0: queue behind the others; 1: preempt */
+    /* Fractions of the joints' velocity and acceleration limits, (0, 1]. */
+    kc_real vel_scale, acc_scale;
+    /* Cartesian speed and acceleration of the tool point (m/s, m/s^2); 0
+     * takes the configured defaults. */
+    kc_real speed, accel;
+    kc_interp_orient orient;             /* line */
+    kc_real q[KC_MAX_JOINTS];            /* joint move: the target */
+    kc_pose pose;                        /* line, arc: end pose; servo: target */
+    kc_vec3 via;                         /* arc */
+    /* Paths: n_points knots after the current state, joint values or
+     * x y z qw qx qy qz each; times (s, from the start, increasing) if
+     * has_times, else from the limits; blend_time for blends (0: the rule
+     * of kinctl/path.h). */
+    kc_path_method method;
+    int n_points;
+    kc_real points[KC_PATH_MAX_KNOTS - 1][KC_MAX_JOINTS];
+    int has_times;
+    kc_real times[KC_PATH_MAX_KNOTS - 1];
+    kc_real blend_time;
+    /* Servo: follow pose, or with servo_twist move the target by twist
+     * (vx vy vz wx wy wz, base frame, m/s and rad/s). A servo goal with the
+     * id of the active servo updates it. */
+    int servo_twist;
+    kc_real twist[6];
+} kc_goal;
+
+/* Why a goal was refused or a motion ended abnormally. */
+typedef enum kc_ctrl_reason {
+    KC_REASON_NONE = 0,
+    KC_REASON_BAD_GOAL,      /* non-finite or out-of-domain field */
+    KC_REASON_JOINT_COUNT,   /* wrong number of joints in the goal */
+    KC_REASON_JOINT_LIMIT,   /* a target outside the position limits */
+    KC_REASON_QUEUE_FULL,    /* KC_CTRL_QUEUE_MAX goals waiting */
+    KC_REASON_STATE,         /* not accepted in FAULT or ESTOP: reset first */
+    KC_REASON_PLAN,          /* the planner refused it (degenerate arc, too long...) */
+    KC_REASON_UNREACHABLE,   /* Cartesian: the arm cannot follow (checked by dry run) */
+    KC_REASON_TRACKING,      /* fault: the tool fell behind the Cartesian path */
+    KC_REASON_LIMIT_GUARD,   /* fault: a setpoint failed the final check */
+    KC_REASON_SERVO_TIMEOUT, /* the servo stream went quiet: stopped */
+    KC_REASON_COUNT
+} kc_ctrl_reason;
+
+/* A readable text for a reason (never NULL). */
+const char *kc_ctrl_reason_str(kc_ctrl_reason reason);
+
+typedef enum kc_ctrl_event_kind {
+    KC_EVENT_ACCEPTED = 1,
+    KC_EVENT_REJECTED = 2,
+    KC_EVENT_STARTED = 3,
+    KC_EVENT_COMPLETED = 4,
+    KC_EVENT_PREEMPTED = 5, /* replaced by a newer goal, or dropped from the queue */
+    KC_EVENT_ABORTED = 6,   /* stopped by a command or a fault */
+    KC_EVENT_FAULT = 7
+} kc_ctrl_event_kind;
+
+typedef struct kc_ctrl_event {
+    kc_ctrl_event_kind kind;
+    int64_t goal_id;
+    kc_ctrl_reason reason;
+    kc_real where; /* path length (m) or fraction where a fault happened */
+} kc_ctrl_event;
+
+typedef struct kc_ctrl_cfg {
+    kc_real dt;                    /* tick period (s) */
+    kc_real cart_speed, cart_accel; /* defaults for Cartesian goals (m/s, m/s^2) */
+    kc_real cart_omega, cart_alpha; /* tool angular speed and acceleration bound (rad/s, rad/s^2) */
+    kc_real track_tol;             /* largest tool position error while following (m) */
+    kc_real limit_slack;           /* relative slack of the final limit check */
+    int64_t servo_timeout_ticks;   /* default servo staleness */
+    kc_ik_cfg ik;                  /* the online law for Cartesian motion */
+} kc_ctrl_cfg;
+
+/* 1 kHz, 0.25 m/s and 1 m/s^2, 1 rad/s and 4 rad/s^2, tracking 1 mm,
+ * slack 1e-6 (1e-4 in float), servo timeout 100 ticks, kc_ik_cfg_default. */
+kc_ctrl_cfg kc_ctrl_cfg_default(void);
+
+/* Inputs of one tick. */
+typedef struct kc_ctrl_input {
+    const kc_goal *goal;     /* a new goal, or NULL */
+    kc_ctrl_command command; /* KC_CMD_NONE mostly */
+    int servo_stale;         /* 1: the servo stream has gone quiet (the caller's clock) */
+} kc_ctrl_input;
+
+/* The setpoint of one tick and what happened. */
+typedef struct kc_ctrl_output {
+    int64_t cycle;
+    int64_t goal_id; /* active goal, 0 when none */
+    kc_ctrl_state state;
+    kc_real q[KC_MAX_JOINTS], qd[KC_MAX_JOINTS], qdd[KC_MAX_JOINTS];
+    kc_pose pose; /* FK of q */
+    kc_real progress; /* of the active segment, 0..1 */
+    int queue_length;
+    int n_events;
+    kc_ctrl_event events[KC_CTRL_EVENTS_MAX];
+} kc_ctrl_output;
+
+/* The active segment's plan. */
+typedef union kc_ctrl_plan {
+    kc_interp_joint joint;
+    kc_interp_line line;
+    kc_interp_arc arc;
+    kc_path path;
+    kc_path_cart path_cart;
+} kc_ctrl_plan;
+
+/* How the active segment is driven. */
+typedef enum kc_ctrl_drive {
+    KC_DRIVE_NOMINAL = 0, /* its own timing */
+    KC_DRIVE_PROFILE = 1, /* interp: u from drive_prof; path: tau from drive_prof */
+    KC_DRIVE_STOPPING_WAIT = 2 /* path: a stop is pending until it is feasible */
+} kc_ctrl_drive;
+
+/* The controller: caller-owned, large (the plan of a 32-knot Cartesian
+ * path), never copied in the cycle. Read its fields, change them only
+ * through the functions here. */
+typedef struct kc_ctrl {
+    const kc_chain *chain;
+    kc_ctrl_cfg cfg;
+    kc_ctrl_state state;
+    int64_t cycle;
+    /* The last setpoint (the state everything continues from). */
+    kc_real q[KC_MAX_JOINTS], qd[KC_MAX_JOINTS], qdd[KC_MAX_JOINTS];
+    /* Queue (ring buffer). */
+    kc_goal queue[KC_CTRL_QUEUE_MAX];
+    int queue_head, queue_len;
+    /* Active segment. */
+    int active;
+    kc_goal goal;
+    kc_ctrl_plan plan;
+    int64_t k0;                /* tick of the segment's start (or of its drive profile) */
+    kc_ctrl_drive drive;
+    kc_profile drive_prof;
+    int stop_intent;           /* KC_CMD_STOP/PAUSE or 1 for a preemption: what the stop is for */
+    kc_ctrl_reason fault_reason;
+    kc_real path_length;       /* Cartesian segments: length (m) */
+    /* Servo. */
+    kc_pose servo_target;
+    int64_t servo_last;        /* tick of the last servo update */
+    /* E-stop: per-joint stop profiles. */
+    kc_profile estop[KC_MAX_JOINTS];
+    int64_t estop_k0;
+    kc_ctrl_state after_stop;  /* the state a joint-space stop ends in */
+} kc_ctrl;
+
+/* Starts at rest at q0 (inside the limits), idle. chain must outlive ctrl
+ * and stay unchanged. KC_E_ARG for a bad cfg (see kc_ctrl_cfg_check), a
+ * chain that fails kc_chain_check, or q0 not finite or outside the limits. */
+kc_status kc_ctrl_init(kc_ctrl *ctrl, const kc_chain *chain, const kc_ctrl_cfg *cfg, const kc_real *q0);
+
+kc_status kc_ctrl_cfg_check(const kc_ctrl_cfg *cfg, const kc_chain *chain);
+
+/* The cheap checks of a goal: finite fields, scales in (0, 1], joint
+ * targets inside the limits, knot counts and times. KC_OK or KC_E_ARG with
+ * *reason set. Cycle-safe. */
+kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *goal, kc_ctrl_reason *reason);
+
+/* One tick. Cycle-safe: bounded work (planning a segment when one starts:
+ * see kinctl/path.h for the cost of long paths), no allocation. */
+kc_status kc_ctrl_step(kc_ctrl *ctrl, const kc_ctrl_input *in, kc_ctrl_output *out);
+
+/* Dry run: checks that goal, started at rest at q_start, runs to its end
+ * without a fault, by stepping a scratch controller through it (at most
+ * max_ticks ticks). KC_OK with *q_end the final joints, or KC_E_ARG /
+ * KC_E_UNREACHABLE / KC_E_CAPACITY with *reason and *where (path length or
+ * fraction) set. Not for the cycle: it costs one step per tick of motion. */
+kc_status kc_ctrl_check(kc_ctrl *scratch, const kc_chain *chain, const kc_ctrl_cfg *cfg, const kc_goal *goal,
+                        const kc_real *q_start, int64_t max_ticks, kc_real *q_end, kc_ctrl_reason *reason,
+                        kc_real *where);
+
+#endif /* KINCTL_CTRL_H */
