@@ -22,6 +22,7 @@
 #define KINCTL_BENCH_COMMON_H
 
 #include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <time.h>
 
@@ -67,13 +68,18 @@ static inline uint64_t bench_splitmix64(uint64_t *state)
     return z ^ (z >> 31);
 }
 
+/* 53 random bits scaled to [0, 1): exact, so identical in C and C++. */
+static inline double bench_uniform01(uint64_t *state)
+{
+    return (double)(bench_splitmix64(state) >> 11) * (1.0 / 9007199254740992.0);
+}
+
 /* One configuration uniform within the limits into q[BENCH_MAX_JOINTS];
  * unused joints 0. Draws BENCH_MAX_JOINTS numbers whatever the model. */
 static inline void bench_uniform_q(int model, uint64_t *state, double *q)
 {
     for (int j = 0; j < BENCH_MAX_JOINTS; j++) {
-        /* 53 random bits scaled to [0, 1): exact, so identical in C and C++. */
-        double u = (double)(bench_splitmix64(state) >> 11) * (1.0 / 9007199254740992.0);
+        double u = bench_uniform01(state);
         double lo = bench_qlim[model][j][0], hi = bench_qlim[model][j][1];
         q[j] = j < bench_model_joints[model] ? lo + (hi - lo) * u : 0.0;
     }
@@ -143,6 +149,43 @@ static inline void bench_make_ik_set(int model, double q_true[][BENCH_MAX_JOINTS
     }
 }
 
+/* ---- motion profiles and interpolators (interp_bench) ----
+ *
+ * The joint-move set: BENCH_CONFIGS moves of the puma560 (6 joints, kinctl's
+ * model limits), start q0 and goal q1 both uniform within the position
+ * limits, and with each move a fraction f in [0, 1) that picks the tick
+ * bench_interp_tick(f, ticks) in [0, ticks]: the tick series evaluate
+ * random ticks over the whole motion, every phase and the end included.
+ * Plan series call the planner on move k for call k (inputs change every
+ * call). Tick series evaluate sample k on plan k / BENCH_INTERP_TICKS_PER_PLAN
+ * of the first BENCH_INTERP_TICK_PLANS moves, so a batch of BENCH_BATCH
+ * ticks stays on one plan, as a controller's cycle does.
+ */
+#define BENCH_INTERP_SEED 20240607u
+#define BENCH_INTERP_DT 1e-3
+#define BENCH_INTERP_TICK_PLANS 16
+#define BENCH_INTERP_TICKS_PER_PLAN (BENCH_CONFIGS / BENCH_INTERP_TICK_PLANS)
+/* Plans are slower than ticks: their series time fewer batches a round. */
+#define BENCH_INTERP_PLAN_BATCHES 100
+/* Fractions of the duration at which the cross-check compares positions. */
+#define BENCH_INTERP_CHECK_POINTS 7
+static const double bench_interp_check_at[BENCH_INTERP_CHECK_POINTS] = {0.0, 0.1, 0.25, 0.5, 0.75, 0.9, 1.0};
+
+static inline void bench_make_moves(double q0[][BENCH_MAX_JOINTS], double q1[][BENCH_MAX_JOINTS], double *frac)
+{
+    uint64_t state = BENCH_INTERP_SEED;
+    for (int k = 0; k < BENCH_CONFIGS; k++) {
+        bench_uniform_q(BENCH_PUMA560, &state, q0[k]);
+        bench_uniform_q(BENCH_PUMA560, &state, q1[k]);
+        frac[k] = bench_uniform01(&state);
+    }
+}
+
+static inline int64_t bench_interp_tick(double frac, int64_t ticks)
+{
+    return (int64_t)(frac * (double)(ticks + 1));
+}
+
 static inline double bench_now_ns(void)
 {
     struct timespec ts;
@@ -193,6 +236,15 @@ static inline bench_stats bench_summarize(double *ns, int n)
     return s;
 }
 
+/* The `ns` and `checksum` lines of one timed block (protocol below). */
+static inline void bench_print_block(const double *ns, int n, double checksum)
+{
+    printf("ns");
+    for (int b = 0; b < n; b++)
+        printf(" %.3f", ns[b]);
+    printf("\nchecksum %.17g\n", checksum);
+}
+
 /*
  * IK set file (text, numbers in %.17g, one file per model):
  *   kinctl-ik-set <model> <joints n> <targets N>
@@ -219,6 +271,14 @@ static inline bench_stats bench_summarize(double *ns, int n)
  * `helper step <model> <set file> <first run> <runs>` prints one block:
  *   ns <per-call ns of every kc_ik_step call...>
  *   done <runs that reached KC_DONE>
+ * interp_helper.c (kinctl_interp_<precision>):
+ * `helper check` prints, numbers in %.17g,
+ *   limits <qd_max 6> <qdd_max 6> <qddd_max 6>     (kinctl's puma560)
+ *   motion <name> <plans that succeeded> <set size> <ticks min> <median> <max>
+ *   joint <move> <duration s> <ticks> <lead joint>
+ *   pos <move> <tick> <q 6>       (the ticks of bench_interp_check_at)
+ * `helper time <motion> <plan|tick> <batches>` prints one block as `time`
+ * above (ns, checksum).
  * Anything else (an error text) makes the driver stop.
  */
 

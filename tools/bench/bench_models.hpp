@@ -2,7 +2,7 @@
 // share, so each exists once: the puma560 and panda models written
 // independently of kinctl from the tables in tests/vectors/fk.json, built
 // as KDL chains and Pinocchio models; running a kinctl helper and parsing
-// its numbers; pinning to one CPU.
+// its numbers and timed blocks; pinning to one CPU.
 //
 // The models are factored differently from kinctl's builders (fixed
 // placement, then Rz(q)), so agreement with kinctl also tests its models.
@@ -14,6 +14,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -204,6 +205,29 @@ inline std::vector<double> parse_numbers(const char *s)
         s = end;
     }
     return v;
+}
+
+// One timed block from a helper (`helper time <what> <n_batches>`, see
+// bench_common.h): appends its per-batch times to ns, adds its checksum.
+inline bool helper_block(const char *path, const std::string &what, int n_batches, std::vector<double> &ns,
+                         double &checksum)
+{
+    std::string out;
+    if (!run_helper(path, "time " + what + " " + std::to_string(n_batches), out))
+        return false;
+    size_t ns_at = out.find("ns "), sum_at = out.find("checksum ");
+    if (ns_at != 0 || sum_at == std::string::npos) {
+        std::printf("error: %s: unexpected output:\n%s\n", path, out.c_str());
+        return false;
+    }
+    std::vector<double> v = parse_numbers(out.c_str() + 3);
+    if (v.size() != (size_t)n_batches) {
+        std::printf("error: %s gave %zu timings, not %d\n", path, v.size(), n_batches);
+        return false;
+    }
+    ns.insert(ns.end(), v.begin(), v.end());
+    checksum += std::strtod(out.c_str() + sum_at + 9, nullptr);
+    return true;
 }
 
 // The last CPU we may run on: on a small machine CPU 0 takes most interrupts.

@@ -1,14 +1,20 @@
-# bench_setup.sh - sourced by run_fk_bench.sh and run_ik_bench.sh: installs
-# what the benchmarks need, configures build-bench and builds the given
-# targets, so both scripts set up the same way.
+# bench_setup.sh - sourced by run_fk_bench.sh, run_ik_bench.sh and
+# run_interp_bench.sh: installs what the benchmarks need, configures
+# build-bench and builds the given targets, so all scripts set up the same
+# way.
 #
 # Installs what is missing: g++, cmake and liborocos-kdl-dev with apt-get
-# (needs root), the pin wheel with pip into the project venv (.venv). Then
+# (needs root), tools/requirements.txt (the lcm wheel, which the tree's
+# CMake needs) and the pin wheel with pip into the project venv (.venv). Then
 # configures $build (Release, -O2, KINCTL_BUILD_BENCH=ON) and builds only the
 # targets asked for. If Pinocchio cannot be had or built against, the
-# benchmarks are built without it and pin_note says why.
+# benchmarks are built without it and pin_note says why; likewise Ruckig,
+# whose source a script may fetch first (ruckig_src, or ruckig_note saying
+# why not).
 #
 # Expects root (the repository), build and venv; sets pin_note, pin_prefix.
+ruckig_src=${ruckig_src:-}
+ruckig_note=${ruckig_note:-}
 
 bench_log() { echo "$(basename "$0"): $*" >&2; }
 
@@ -29,12 +35,22 @@ bench_install() {
             { cat "$build/apt.log" >&2; exit 1; }
     fi
 
+    # ---- the project's own Python requirements: the tree's CMake needs the
+    # lcm wheel (lcmtypes/CMakeLists.txt) ----
+    if [[ ! -x $venv/bin/python ]] && ! python3 -m venv "$venv" >"$build/venv.log" 2>&1; then
+        cat "$build/venv.log" >&2
+        exit 1
+    fi
+    if ! "$venv/bin/python" -c 'import lcm' >/dev/null 2>&1; then
+        bench_log "pip install -r tools/requirements.txt into $venv"
+        "$venv/bin/pip" install -q -r "$root/tools/requirements.txt" >"$build/pip-requirements.log" 2>&1 ||
+            { cat "$build/pip-requirements.log" >&2; exit 1; }
+    fi
+
     # ---- Pinocchio from the pin wheel (optional) ----
     pin_note=""
     pin_prefix=""
-    if [[ ! -x $venv/bin/python ]] && ! python3 -m venv "$venv" >"$build/venv.log" 2>&1; then
-        pin_note="cannot create the venv $venv (see $build/venv.log)"
-    elif ! "$venv/bin/pip" show pin >/dev/null 2>&1; then
+    if ! "$venv/bin/pip" show pin >/dev/null 2>&1; then
         bench_log "pip install pin into $venv"
         "$venv/bin/pip" install -q pin >"$build/pip-pin.log" 2>&1 ||
             pin_note="pip install pin failed (see $build/pip-pin.log)"
@@ -46,10 +62,11 @@ bench_install() {
 }
 
 bench_configure() {
-    cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release \
+    cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Release -DPython3_EXECUTABLE="$venv/bin/python" \
         -DCMAKE_C_FLAGS_RELEASE="-O2 -DNDEBUG" -DCMAKE_CXX_FLAGS_RELEASE="-O2 -DNDEBUG" \
         -DKINCTL_BUILD_BENCH=ON -DKINCTL_BUILD_TESTS=OFF \
         -DKINCTL_PINOCCHIO_PREFIX="$pin_prefix" -DKINCTL_PINOCCHIO_NOTE="$pin_note" \
+        -DKINCTL_RUCKIG_SOURCE="$ruckig_src" -DKINCTL_RUCKIG_NOTE="$ruckig_note" \
         >"$build/configure.log" 2>&1 || { cat "$build/configure.log" >&2; exit 1; }
 }
 
@@ -59,24 +76,37 @@ bench_build() {
     cmake --build "$build" --target "$@" --parallel 2 >"$build/build.log" 2>&1
 }
 
-# Install, configure, build "$@"; without Pinocchio when building against it fails.
+# After a failed build, leaves out one optional library (Ruckig first, then
+# Pinocchio) and says why; false when none is left to leave out.
+bench_drop_optional() {
+    local log note
+    if [[ -n $ruckig_src ]]; then
+        log=$build/ruckig-build.log
+        note="building Ruckig from $ruckig_src failed (see $log)"
+        ruckig_note=$note
+        ruckig_src=""
+    elif [[ -n $pin_prefix ]]; then
+        log=$build/pinocchio-build.log
+        note="building against the pin wheel in $pin_prefix failed (see $log)"
+        pin_note=$note
+        pin_prefix=""
+    else
+        return 1
+    fi
+    cp "$build/build.log" "$log"
+    bench_log "$note; building without it"
+}
+
+# Install, configure, build "$@"; without an optional library when building
+# with it fails.
 bench_setup() {
     mkdir -p "$build"
     bench_install
     bench_configure
-    if ! bench_build "$@"; then
-        if [[ -n $pin_prefix ]]; then
-            cp "$build/build.log" "$build/pinocchio-build.log"
-            pin_note="building against the pin wheel in $pin_prefix failed (see $build/pinocchio-build.log)"
-            pin_prefix=""
-            bench_log "$pin_note; building without Pinocchio"
-            bench_configure
-            bench_build "$@" || { cat "$build/build.log" >&2; exit 1; }
-        else
-            cat "$build/build.log" >&2
-            exit 1
-        fi
-    fi
+    until bench_build "$@"; do
+        bench_drop_optional || { cat "$build/build.log" >&2; exit 1; }
+        bench_configure
+    done
 }
 
 bench_machine_notes() {

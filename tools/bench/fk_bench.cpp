@@ -127,28 +127,6 @@ bool helper_checks(const char *path, std::map<std::string, std::vector<Result>> 
     return true;
 }
 
-// One timed block from a helper: appends its per-batch times to ns.
-bool helper_block(const char *path, const std::string &model, const std::string &op, std::vector<double> &ns,
-                  double &checksum)
-{
-    std::string out;
-    if (!run_helper(path, "time " + model + " " + op + " " + std::to_string(BENCH_BATCHES_PER_ROUND), out))
-        return false;
-    size_t ns_at = out.find("ns "), sum_at = out.find("checksum ");
-    if (ns_at != 0 || sum_at == std::string::npos) {
-        std::printf("error: %s: unexpected output:\n%s\n", path, out.c_str());
-        return false;
-    }
-    std::vector<double> v = parse_numbers(out.c_str() + 3);
-    if (v.size() != BENCH_BATCHES_PER_ROUND) {
-        std::printf("error: %s gave %zu timings, not %d\n", path, v.size(), BENCH_BATCHES_PER_ROUND);
-        return false;
-    }
-    ns.insert(ns.end(), v.begin(), v.end());
-    checksum += std::strtod(out.c_str() + sum_at + 9, nullptr);
-    return true;
-}
-
 // ---- checks ----
 
 double max_diff(const std::vector<double> &a, const std::vector<double> &b)
@@ -312,7 +290,7 @@ int main()
             for (const char *prec : {"double", "float"}) {
                 const char *path = std::strcmp(prec, "double") == 0 ? KC_BENCH_HELPER_DOUBLE : KC_BENCH_HELPER_FLOAT;
                 rows.push_back(Series{"kinctl", name, prec, op, [=](std::vector<double> &ns, double &sum) {
-                                          return helper_block(path, name, op, ns, sum);
+                                          return helper_block(path, name + " " + op, BENCH_BATCHES_PER_ROUND, ns, sum);
                                       }, {}, {}});
             }
             // The checksum reads one output of every call, so no call can be

@@ -89,10 +89,7 @@ static int time_block(int model, const char *op, int n_batches)
         printf("error: unknown op %s\n", op);
         return 1;
     }
-    printf("ns");
-    for (int b = 0; b < n_batches; b++)
-        printf(" %.3f", timings_ns[b]);
-    printf("\nchecksum %.17g\n", sum);
+    bench_print_block(timings_ns, n_batches, sum);
     return 0;
 }
 
