@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Builds and runs interp_bench: planning and per-tick cost of kinctl's joint
+# move, lines, arcs and multi-point paths, beside Orocos KDL's
+# VelocityProfile_Trap and Ruckig on the same 6-joint moves (issue 4); one
+# table in one run.
+#
+# bench_setup.sh installs and builds as for fk_bench. Ruckig's PyPI wheel
+# holds only its Python extension, so its C++ source comes from the sdist:
+# pip download --no-binary :all: into build-bench/ruckig (once; never
+# committed), compiled into the benchmark. If it cannot be downloaded or
+# built, the rest runs and the output says why Ruckig is absent.
+#
+# Usage: tools/bench/run_interp_bench.sh    (BUILD_DIR overrides build-bench)
+set -euo pipefail
+
+root=$(cd "$(dirname "$0")/../.." && pwd)
+build=${BUILD_DIR:-$root/build-bench}
+venv=$root/.venv
+. "$root/tools/bench/bench_setup.sh"
+
+# ---- Ruckig's C++ source (optional) ----
+mkdir -p "$build/ruckig"
+ruckig_src=$(find "$build/ruckig" -mindepth 1 -maxdepth 1 -type d -name 'ruckig-*' | sort | tail -1)
+if [[ -z $ruckig_src ]]; then
+    bench_log "pip download the ruckig sdist into $build/ruckig"
+    if python3 -m pip download -q --no-binary :all: --no-deps ruckig -d "$build/ruckig" \
+        >"$build/ruckig/download.log" 2>&1; then
+        sdist=$(find "$build/ruckig" -maxdepth 1 -name 'ruckig-*.tar.gz' | sort | tail -1)
+        if [[ -n $sdist ]] && tar -xzf "$sdist" -C "$build/ruckig" >>"$build/ruckig/download.log" 2>&1; then
+            ruckig_src=${sdist%.tar.gz}
+        else
+            ruckig_note="the ruckig sdist did not unpack (see $build/ruckig/download.log)"
+        fi
+    else
+        ruckig_note="pip download --no-binary :all: ruckig failed (see $build/ruckig/download.log)"
+    fi
+fi
+[[ -z $ruckig_src || -f $ruckig_src/include/ruckig/ruckig.hpp ]] ||
+    { ruckig_note="no include/ruckig/ruckig.hpp in $ruckig_src"; ruckig_src=""; }
+
+bench_setup interp_bench
+bench_machine_notes
+if [[ -n $ruckig_src ]]; then
+    echo "Ruckig $(basename "$ruckig_src" | sed 's/^ruckig-//') (sdist, community calculator, compiled with the flags above)"
+else
+    echo "Ruckig: left out: $ruckig_note"
+fi
+"$build/tools/bench/interp_bench" | tee "$build/interp_bench.txt"
