@@ -168,7 +168,7 @@ typedef struct kc_ctrl_cfg {
     kc_ik_cfg ik;                  /* the online law for Cartesian motion */
 } kc_ctrl_cfg;
 
-/* 1 kHz, 0.25 m/s and 1 m/s^2, 1 rad/s and 4 rad/s^2, tracking 1 mm,
+/* 1 kHz, 0.25 m/s and 0.5 m/s^2, 1 rad/s and 4 rad/s^2, tracking 1 mm,
  * slack 1e-6 (1e-4 in float), servo timeout 100 ticks, kc_ik_cfg_default. */
 kc_ctrl_cfg kc_ctrl_cfg_default(void);
 
@@ -234,10 +234,13 @@ typedef struct kc_ctrl {
     /* Servo. */
     kc_pose servo_target;
     int64_t servo_last;        /* tick of the last servo update */
-    /* E-stop: per-joint stop profiles. */
-    kc_profile estop[KC_MAX_JOINTS];
-    int64_t estop_k0;
-    kc_ctrl_state after_stop;  /* the state a joint-space stop ends in */
+    int settle;                /* ticks a Cartesian segment has waited for the tool to settle */
+    /* A stop in joint space (e-stop, servo, a fault off the path): per-joint
+     * stop profiles from tick jstop_k0, ending in state after_stop. */
+    int jstop;
+    kc_profile jstop_prof[KC_MAX_JOINTS];
+    int64_t jstop_k0;
+    kc_ctrl_state after_stop;
 } kc_ctrl;
 
 /* Starts at rest at q0 (inside the limits), idle. chain must outlive ctrl

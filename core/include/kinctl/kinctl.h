@@ -9,9 +9,9 @@
 #include "kinctl/chain.h"
 #include "kinctl/fk.h"
 #include "kinctl/ik.h"
-#include "kinctl/path.h"
 #include "kinctl/profile.h"
 #include "kinctl/interp.h"
 #include "kinctl/path.h"
+#include "kinctl/ctrl.h"
 
 #endif /* KINCTL_KINCTL_H */

@@ -1,0 +1,469 @@
+/* test_ctrl.c - the controller step (kinctl/ctrl.h) over thousands of
+ * cycles: every goal kind to its end, the queue, preemption, stop, pause,
+ * resume, e-stop, reset, rejections, servo and its timeout, the dry run,
+ * and determinism. Every tick of every test goes through the same checks:
+ * finite, inside the position limits, within the velocity limits, and a
+ * change of velocity within qdd_max dt. */
+#include <string.h>
+
+#include "testutil.h"
+
+/* Rounding allowed in the per-tick limit checks (relative). */
+#ifdef KC_REAL_FLOAT
+#define SLACK 1e-4
+#define TOL_POSE 1e-4
+#else
+#define SLACK 1e-6
+#define TOL_POSE 1e-6
+#endif
+
+typedef struct harness {
+    kc_chain chain;
+    kc_ctrl_cfg cfg;
+    kc_ctrl ctrl;
+    kc_ctrl_output out;
+    kc_real qd_prev[KC_MAX_JOINTS];
+    int64_t last_cycle;
+    /* events seen, by kind, and the last one of each */
+    int count[8];
+    kc_ctrl_event last[8];
+} harness;
+
+static harness H; /* large (kc_ctrl holds a path plan): not on the stack */
+
+static void setup(kc_model model, const kc_real *q0)
+{
+    memset(&H, 0, sizeof H);
+    assert_int_equal(kc_chain_init_model(&H.chain, model, NULL), KC_OK);
+    H.cfg = kc_ctrl_cfg_default();
+    assert_int_equal(kc_ctrl_init(&H.ctrl, &H.chain, &H.cfg, q0), KC_OK);
+}
+
+static const kc_real PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
+
+/* One tick with the invariants checked. */
+static void tick(const kc_goal *g, kc_ctrl_command cmd)
+{
+    kc_ctrl_input in = {g, cmd, 0};
+    assert_int_equal(kc_ctrl_step(&H.ctrl, &in, &H.out), KC_OK);
+    assert_true(H.out.cycle == H.last_cycle + 1);
+    H.last_cycle = H.out.cycle;
+    for (int j = 0; j < H.chain.n_joints; j++) {
+        const kc_joint_limits *l = &H.chain.joints[j].limits;
+        double q = (double)H.out.q[j], qd = (double)H.out.qd[j];
+        if (!(q >= (double)l->q_min - 1e-9 && q <= (double)l->q_max + 1e-9))
+            fail_msg("cycle %ld: q[%d] = %g outside the limits", (long)H.out.cycle, j, q);
+        if (!(fabs(qd) <= (double)l->qd_max * (1.0 + SLACK)))
+            fail_msg("cycle %ld: qd[%d] = %g beyond %g", (long)H.out.cycle, j, qd, (double)l->qd_max);
+        double dv = fabs(qd - (double)H.qd_prev[j]), lim = (double)l->qdd_max * (double)H.cfg.dt * (1.0 + SLACK) +
+                                                           SLACK * fabs((double)H.qd_prev[j]);
+        if (!(dv <= lim))
+            fail_msg("cycle %ld: qd[%d] jumps by %g > %g (state %d)", (long)H.out.cycle, j, dv, lim, H.out.state);
+        H.qd_prev[j] = H.out.qd[j];
+    }
+    for (int e = 0; e < H.out.n_events; e++) {
+        const kc_ctrl_event *ev = &H.out.events[e];
+        assert_true(ev->kind >= 1 && ev->kind <= 7);
+        H.count[ev->kind]++;
+        H.last[ev->kind] = *ev;
+    }
+}
+
+/* Ticks without input until the controller is idle (or in state), at most
+ * max ticks; returns the ticks taken. */
+static int run_until_state(kc_ctrl_state state, int max)
+{
+    for (int k = 1; k <= max; k++) {
+        tick(NULL, KC_CMD_NONE);
+        if (H.out.state == state && H.out.n_events == 0)
+            return k;
+    }
+    fail_msg("state %d not reached in %d ticks (state %d)", state, max, H.out.state);
+    return -1;
+}
+
+static kc_goal joint_goal(int64_t id, const kc_real *q)
+{
+    kc_goal g;
+    memset(&g, 0, sizeof g);
+    g.id = id;
+    g.kind = KC_GOAL_JOINT;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    memcpy(g.q, q, sizeof(kc_real) * 6);
+    return g;
+}
+
+static kc_goal line_goal(int64_t id, const kc_pose *to)
+{
+    kc_goal g;
+    memset(&g, 0, sizeof g);
+    g.id = id;
+    g.kind = KC_GOAL_LINE;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    g.pose = *to;
+    g.orient = KC_INTERP_SLERP;
+    return g;
+}
+
+static kc_pose pose_of(const kc_real *q)
+{
+    kc_pose p;
+    kc_fk_eval(&H.chain, q, &p);
+    return p;
+}
+
+static void assert_pose_near(const kc_pose *a, const kc_pose *b, double tol)
+{
+    kt_near_vec3(&a->t, &b->t, tol, "position");
+    kt_near_mat3(&a->R, &b->R, tol, "orientation");
+}
+
+static void test_joint_goal(void **state)
+{
+    (void)state;
+    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    const kc_real target[6] = {KC_R(-0.5), KC_R(0.3), KC_R(-1.5), KC_R(0.8), KC_R(-0.4), KC_R(1.0)};
+    kc_goal g = joint_goal(7, target);
+    tick(&g, KC_CMD_NONE);
+    assert_int_equal(H.count[KC_EVENT_ACCEPTED], 1);
+    assert_int_equal(H.count[KC_EVENT_STARTED], 1);
+    assert_int_equal(H.out.goal_id, 7);
+    assert_int_equal(H.out.state, KC_CTRL_MOVING);
+    run_until_state(KC_CTRL_IDLE, 20000);
+    assert_int_equal(H.count[KC_EVENT_COMPLETED], 1);
+    assert_int_equal(H.last[KC_EVENT_COMPLETED].goal_id, 7);
+    for (int j = 0; j < 6; j++)
+        kt_near((double)H.out.q[j], (double)target[j], 0.0, "joint goal reached exactly");
+}
+
+static void test_line_goal(void **state)
+{
+    (void)state;
+    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    kc_pose start = pose_of(PUMA_Q0), to = start;
+    to.t.v[0] += KC_R(0.1);
+    to.t.v[1] += KC_R(0.15);
+    to.t.v[2] -= KC_R(0.05);
+    kc_mat3 turn;
+    kc_mat3_rot(KC_AXIS_Z, KC_R(0.3), &turn);
+    kc_mat3_mul(&turn, &start.R, &to.R);
+    kc_goal g = line_goal(11, &to);
+    tick(&g, KC_CMD_NONE);
+    kc_vec3 dir;
+    kc_vec3_sub(&to.t, &start.t, &dir);
+    kc_real len = kc_vec3_norm(&dir);
+    kc_vec3_scale(&dir, KC_R(1.0) / len, &dir);
+    double worst = 0.0;
+    for (int k = 0; k < 20000 && H.out.state != KC_CTRL_IDLE; k++) {
+        tick(NULL, KC_CMD_NONE);
+        /* On the line within the tracking tolerance the controller enforces
+         * (the elbow's acceleration limit binds near the end here). */
+        kc_vec3 d, c;
+        kc_vec3_sub(&H.out.pose.t, &start.t, &d);
+        kc_vec3_cross(&d, &dir, &c);
+        double dist = (double)kc_vec3_norm(&c);
+        worst = dist > worst ? dist : worst;
+        kt_near(dist, 0.0, (double)H.cfg.track_tol, "distance from the line");
+    }
+    print_message("line: worst distance from the line %.3g m\n", worst);
+    assert_int_equal(H.count[KC_EVENT_COMPLETED], 1);
+    assert_pose_near(&H.out.pose, &to, TOL_POSE);
+}
+
+static void test_arc_and_paths(void **state)
+{
+    (void)state;
+    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    kc_pose start = pose_of(PUMA_Q0);
+    kc_goal g;
+    memset(&g, 0, sizeof g);
+    g.id = 21;
+    g.kind = KC_GOAL_ARC;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    g.via = start.t;
+    g.via.v[1] += KC_R(0.1);
+    g.via.v[0] += KC_R(0.05);
+    g.pose = start;
+    g.pose.t.v[1] += KC_R(0.2);
+    tick(&g, KC_CMD_NONE);
+    run_until_state(KC_CTRL_IDLE, 20000);
+    assert_int_equal(H.count[KC_EVENT_COMPLETED], 1);
+    kt_near_vec3(&H.out.pose.t, &g.pose.t, TOL_POSE, "arc end");
+
+    /* A joint-space spline through two points, then a Cartesian blend path
+     * back through two poses. */
+    kc_goal p;
+    memset(&p, 0, sizeof p);
+    p.id = 22;
+    p.kind = KC_GOAL_PATH;
+    p.vel_scale = p.acc_scale = KC_R(1.0);
+    p.method = KC_PATH_SPLINE;
+    p.n_points = 2;
+    for (int j = 0; j < 6; j++) {
+        p.points[0][j] = H.out.q[j] + KC_R(0.2);
+        p.points[1][j] = H.out.q[j] - KC_R(0.1);
+    }
+    tick(&p, KC_CMD_NONE);
+    run_until_state(KC_CTRL_IDLE, 20000);
+    assert_int_equal(H.count[KC_EVENT_COMPLETED], 2);
+    for (int j = 0; j < 6; j++)
+        kt_near((double)H.out.q[j], (double)p.points[1][j], 1e-9, "joint path end");
+
+    kc_pose here = H.out.pose;
+    kc_quat r;
+    kc_quat_from_mat3(&here.R, &r);
+    memset(&p, 0, sizeof p);
+    p.id = 23;
+    p.kind = KC_GOAL_PATH_CART;
+    p.vel_scale = p.acc_scale = KC_R(1.0);
+    p.method = KC_PATH_BLEND;
+    p.n_points = 2;
+    const kc_real off[2][3] = {{KC_R(0.05), KC_R(0.05), KC_R(0.0)}, {KC_R(0.1), KC_R(0.0), KC_R(-0.05)}};
+    for (int i = 0; i < 2; i++) {
+        for (int k = 0; k < 3; k++)
+            p.points[i][k] = here.t.v[k] + off[i][k];
+        p.points[i][3] = r.w;
+        p.points[i][4] = r.x;
+        p.points[i][5] = r.y;
+        p.points[i][6] = r.z;
+    }
+    tick(&p, KC_CMD_NONE);
+    run_until_state(KC_CTRL_IDLE, 20000);
+    assert_int_equal(H.count[KC_EVENT_COMPLETED], 3);
+    kc_vec3 end = kc_vec3_make(p.points[1][0], p.points[1][1], p.points[1][2]);
+    kt_near_vec3(&H.out.pose.t, &end, TOL_POSE, "Cartesian path end");
+}
+
+static void test_queue_and_preemption(void **state)
+{
+    (void)state;
+    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    kc_real a[6], b[6], c[6];
+    for (int j = 0; j < 6; j++) {
+        a[j] = PUMA_Q0[j] + KC_R(0.3);
+        b[j] = PUMA_Q0[j] - KC_R(0.2);
+        c[j] = PUMA_Q0[j] + KC_R(0.1);
+    }
+    kc_goal ga = joint_goal(1, a), gb = joint_goal(2, b), gc = joint_goal(3, c);
+    tick(&ga, KC_CMD_NONE);
+    tick(&gb, KC_CMD_NONE);
+    assert_int_equal(H.out.queue_length, 1);
+    run_until_state(KC_CTRL_IDLE, 40000);
+    assert_int_equal(H.count[KC_EVENT_COMPLETED], 2);
+    assert_int_equal(H.last[KC_EVENT_COMPLETED].goal_id, 2);
+
+    /* Preempt a moving goal: it stops on its path, the new one completes. */
+    tick(&ga, KC_CMD_NONE);
+    for (int k = 0; k < 200; k++)
+        tick(NULL, KC_CMD_NONE);
+    gc.replace = 1;
+    tick(&gc, KC_CMD_NONE);
+    run_until_state(KC_CTRL_IDLE, 40000);
+    assert_int_equal(H.count[KC_EVENT_PREEMPTED], 1);
+    assert_int_equal(H.last[KC_EVENT_PREEMPTED].goal_id, 1);
+    assert_int_equal(H.last[KC_EVENT_COMPLETED].goal_id, 3);
+    for (int j = 0; j < 6; j++)
+        kt_near((double)H.out.q[j], (double)c[j], 0.0, "replacing goal reached");
+
+    /* A full queue refuses more. */
+    for (int i = 0; i < KC_CTRL_QUEUE_MAX + 2; i++) {
+        kc_goal g = joint_goal(100 + i, (i % 2) ? a : b);
+        tick(&g, KC_CMD_NONE);
+    }
+    assert_int_equal(H.count[KC_EVENT_REJECTED], 1);
+    assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_QUEUE_FULL);
+}
+
+static void test_stop_pause_resume(void **state)
+{
+    (void)state;
+    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    kc_pose start = pose_of(PUMA_Q0), to = start;
+    to.t.v[1] += KC_R(0.25);
+    kc_goal g = line_goal(31, &to);
+    tick(&g, KC_CMD_NONE);
+    for (int k = 0; k < 300; k++)
+        tick(NULL, KC_CMD_NONE);
+    tick(NULL, KC_CMD_PAUSE);
+    run_until_state(KC_CTRL_PAUSED, 5000);
+    for (int j = 0; j < 6; j++)
+        kt_near((double)H.out.qd[j], 0.0, 0.0, "paused at rest");
+    kt_near((double)H.out.pose.t.v[0], (double)start.t.v[0], 1e-5, "paused on the line (x)");
+    for (int k = 0; k < 100; k++)
+        tick(NULL, KC_CMD_NONE);
+    tick(NULL, KC_CMD_RESUME);
+    run_until_state(KC_CTRL_IDLE, 20000);
+    assert_int_equal(H.count[KC_EVENT_COMPLETED], 1);
+    assert_pose_near(&H.out.pose, &to, TOL_POSE);
+
+    /* Stop: on the path, the goal aborted, the queue dropped. */
+    kc_goal back = line_goal(32, &start), again = line_goal(33, &to);
+    tick(&back, KC_CMD_NONE);
+    tick(&again, KC_CMD_NONE);
+    for (int k = 0; k < 300; k++)
+        tick(NULL, KC_CMD_NONE);
+    tick(NULL, KC_CMD_STOP);
+    run_until_state(KC_CTRL_IDLE, 5000);
+    assert_int_equal(H.last[KC_EVENT_ABORTED].goal_id, 32);
+    assert_int_equal(H.last[KC_EVENT_PREEMPTED].goal_id, 33);
+    assert_int_equal(H.out.queue_length, 0);
+    kt_near((double)H.out.pose.t.v[0], (double)start.t.v[0], 1e-5, "stopped on the line (x)");
+}
+
+static void test_estop_and_reset(void **state)
+{
+    (void)state;
+    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    kc_real a[6];
+    for (int j = 0; j < 6; j++)
+        a[j] = PUMA_Q0[j] + KC_R(0.5);
+    kc_goal g = joint_goal(41, a);
+    tick(&g, KC_CMD_NONE);
+    for (int k = 0; k < 400; k++)
+        tick(NULL, KC_CMD_NONE);
+    tick(NULL, KC_CMD_ESTOP);
+    assert_int_equal(H.out.state, KC_CTRL_ESTOP);
+    assert_int_equal(H.last[KC_EVENT_ABORTED].goal_id, 41);
+    for (int k = 0; k < 2000; k++)
+        tick(NULL, KC_CMD_NONE);
+    assert_int_equal(H.out.state, KC_CTRL_ESTOP); /* latched */
+    for (int j = 0; j < 6; j++)
+        kt_near((double)H.out.qd[j], 0.0, 0.0, "at rest after e-stop");
+    kc_goal g2 = joint_goal(42, PUMA_Q0);
+    tick(&g2, KC_CMD_NONE);
+    assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_STATE);
+    tick(NULL, KC_CMD_RESET);
+    assert_int_equal(H.out.state, KC_CTRL_IDLE);
+    tick(&g2, KC_CMD_NONE);
+    run_until_state(KC_CTRL_IDLE, 20000);
+    assert_int_equal(H.last[KC_EVENT_COMPLETED].goal_id, 42);
+}
+
+static void test_rejections(void **state)
+{
+    (void)state;
+    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    kc_real far[6];
+    memcpy(far, PUMA_Q0, sizeof far);
+    far[4] = KC_R(2.5); /* beyond q5's limit */
+    kc_goal g = joint_goal(51, far);
+    tick(&g, KC_CMD_NONE);
+    assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_JOINT_LIMIT);
+    g = joint_goal(52, PUMA_Q0);
+    g.q[2] = (kc_real)NAN;
+    tick(&g, KC_CMD_NONE);
+    assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_BAD_GOAL);
+    g = joint_goal(53, PUMA_Q0);
+    g.vel_scale = KC_R(1.5);
+    tick(&g, KC_CMD_NONE);
+    assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_BAD_GOAL);
+    kc_pose bad = pose_of(PUMA_Q0);
+    bad.R.m[0][0] = KC_R(3.0);
+    g = line_goal(54, &bad);
+    tick(&g, KC_CMD_NONE);
+    assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_BAD_GOAL);
+    assert_int_equal(H.count[KC_EVENT_REJECTED], 4);
+    assert_int_equal(H.count[KC_EVENT_ACCEPTED], 0);
+    assert_int_equal(H.out.state, KC_CTRL_IDLE);
+}
+
+static void test_servo(void **state)
+{
+    (void)state;
+    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    kc_pose start = pose_of(PUMA_Q0);
+    kc_goal g;
+    memset(&g, 0, sizeof g);
+    g.id = 61;
+    g.kind = KC_GOAL_SERVO;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    g.pose = start;
+    /* A target moving 1 mm per tick update, streamed for 300 ticks. */
+    for (int k = 0; k < 300; k++) {
+        g.pose.t.v[1] = start.t.v[1] + KC_R(0.0001) * (kc_real)k;
+        tick(&g, KC_CMD_NONE);
+    }
+    assert_int_equal(H.count[KC_EVENT_ACCEPTED], 1); /* updates are not new goals */
+    for (int k = 0; k < 50; k++)
+        tick(&g, KC_CMD_NONE);
+    kt_near((double)H.out.pose.t.v[1], (double)g.pose.t.v[1], 1e-3, "servo follows");
+    /* The stream stops: after the timeout the arm stops and the goal ends. */
+    run_until_state(KC_CTRL_IDLE, 2000);
+    assert_int_equal(H.last[KC_EVENT_ABORTED].reason, KC_REASON_SERVO_TIMEOUT);
+    for (int j = 0; j < 6; j++)
+        kt_near((double)H.out.qd[j], 0.0, 0.0, "at rest after the timeout");
+}
+
+static kc_ctrl SCRATCH;
+
+static void test_dry_run(void **state)
+{
+    (void)state;
+    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    kc_real q_end[6];
+    kc_ctrl_reason why;
+    kc_real where;
+    kc_pose to = pose_of(PUMA_Q0);
+    to.t.v[1] += KC_R(0.2);
+    kc_goal g = line_goal(71, &to);
+    assert_int_equal(kc_ctrl_check(&SCRATCH, &H.chain, &H.cfg, &g, PUMA_Q0, 100000, q_end, &why, &where), KC_OK);
+    kc_pose end = pose_of(q_end);
+    assert_pose_near(&end, &to, TOL_POSE);
+    /* A line out of the workspace: the arm cannot follow it to its end. */
+    to.t.v[0] += KC_R(2.0);
+    g = line_goal(72, &to);
+    kc_status st = kc_ctrl_check(&SCRATCH, &H.chain, &H.cfg, &g, PUMA_Q0, 100000, q_end, &why, &where);
+    assert_int_equal(st, KC_E_UNREACHABLE);
+    assert_int_equal(why, KC_REASON_UNREACHABLE);
+    assert_true((double)where > 0.0 && (double)where < 2.0);
+    /* A bad goal is refused without running. */
+    g.pose.t.v[0] = (kc_real)NAN;
+    assert_int_equal(kc_ctrl_check(&SCRATCH, &H.chain, &H.cfg, &g, PUMA_Q0, 100000, q_end, &why, &where), KC_E_ARG);
+    assert_int_equal(why, KC_REASON_BAD_GOAL);
+}
+
+/* FNV-1a over the bytes of every output's setpoint. */
+static uint64_t hash_run(void)
+{
+    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    uint64_t h = 1469598103934665603ULL;
+    kc_pose to = pose_of(PUMA_Q0);
+    to.t.v[1] += KC_R(0.2);
+    kc_goal l = line_goal(81, &to);
+    kc_real a[6];
+    for (int j = 0; j < 6; j++)
+        a[j] = PUMA_Q0[j] + KC_R(0.2);
+    kc_goal jg = joint_goal(82, a);
+    for (int k = 0; k < 6000; k++) {
+        const kc_goal *g = k == 0 ? &l : (k == 1 ? &jg : NULL);
+        kc_ctrl_command cmd = k == 500 ? KC_CMD_PAUSE : (k == 900 ? KC_CMD_RESUME : KC_CMD_NONE);
+        tick(g, cmd);
+        const unsigned char *b = (const unsigned char *)H.out.q;
+        for (size_t i = 0; i < sizeof(kc_real) * 18; i++) /* q, qd, qdd */
+            h = (h ^ b[i]) * 1099511628211ULL;
+    }
+    assert_int_equal(H.count[KC_EVENT_COMPLETED], 2);
+    return h;
+}
+
+static void test_determinism(void **state)
+{
+    (void)state;
+    uint64_t a = hash_run(), b = hash_run();
+    print_message("determinism hash (%s): %016llx\n", KC_REAL_NAME, (unsigned long long)a);
+    assert_true(a == b);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_joint_goal),        cmocka_unit_test(test_line_goal),
+        cmocka_unit_test(test_arc_and_paths),     cmocka_unit_test(test_queue_and_preemption),
+        cmocka_unit_test(test_stop_pause_resume), cmocka_unit_test(test_estop_and_reset),
+        cmocka_unit_test(test_rejections),        cmocka_unit_test(test_servo),
+        cmocka_unit_test(test_dry_run),           cmocka_unit_test(test_determinism),
+    };
+    int failed = cmocka_run_group_tests(tests, NULL, NULL);
+    kt_report("ctrl");
+    return failed;
+}
