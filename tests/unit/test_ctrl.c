@@ -394,6 +394,66 @@ static void test_servo(void **state)
         kt_near((double)H.out.qd[j], 0.0, 0.0, "at rest after the timeout");
 }
 
+/* Paths stop on the path too: tau' falls to zero at a rate that keeps
+ * every joint within its limits (the per-tick checks), then resumes. */
+static void test_path_pause_stop(void **state)
+{
+    (void)state;
+    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    kc_goal p;
+    memset(&p, 0, sizeof p);
+    p.id = 91;
+    p.kind = KC_GOAL_PATH;
+    p.vel_scale = p.acc_scale = KC_R(1.0);
+    p.method = KC_PATH_BLEND;
+    p.n_points = 3;
+    for (int j = 0; j < 6; j++) {
+        p.points[0][j] = PUMA_Q0[j] + KC_R(0.3);
+        p.points[1][j] = PUMA_Q0[j] - KC_R(0.2);
+        p.points[2][j] = PUMA_Q0[j] + KC_R(0.1);
+    }
+    tick(&p, KC_CMD_NONE);
+    for (int k = 0; k < 400; k++)
+        tick(NULL, KC_CMD_NONE);
+    tick(NULL, KC_CMD_PAUSE);
+    run_until_state(KC_CTRL_PAUSED, 5000);
+    for (int k = 0; k < 50; k++)
+        tick(NULL, KC_CMD_NONE);
+    tick(NULL, KC_CMD_RESUME);
+    run_until_state(KC_CTRL_IDLE, 40000);
+    assert_int_equal(H.last[KC_EVENT_COMPLETED].goal_id, 91);
+    for (int j = 0; j < 6; j++)
+        kt_near((double)H.out.q[j], (double)p.points[2][j], 1e-9, "path end after pause and resume");
+
+    /* A Cartesian path stopped half way ends at rest, aborted. */
+    kc_pose here = H.out.pose;
+    kc_quat r;
+    kc_quat_from_mat3(&here.R, &r);
+    memset(&p, 0, sizeof p);
+    p.id = 92;
+    p.kind = KC_GOAL_PATH_CART;
+    p.vel_scale = p.acc_scale = KC_R(1.0);
+    p.method = KC_PATH_SPLINE;
+    p.n_points = 2;
+    const kc_real off[2][3] = {{KC_R(0.0), KC_R(0.1), KC_R(0.0)}, {KC_R(0.05), KC_R(0.2), KC_R(0.0)}};
+    for (int i = 0; i < 2; i++) {
+        for (int k = 0; k < 3; k++)
+            p.points[i][k] = here.t.v[k] + off[i][k];
+        p.points[i][3] = r.w;
+        p.points[i][4] = r.x;
+        p.points[i][5] = r.y;
+        p.points[i][6] = r.z;
+    }
+    tick(&p, KC_CMD_NONE);
+    for (int k = 0; k < 300; k++)
+        tick(NULL, KC_CMD_NONE);
+    tick(NULL, KC_CMD_STOP);
+    run_until_state(KC_CTRL_IDLE, 5000);
+    assert_int_equal(H.last[KC_EVENT_ABORTED].goal_id, 92);
+    for (int j = 0; j < 6; j++)
+        kt_near((double)H.out.qd[j], 0.0, 0.0, "stopped");
+}
+
 static kc_ctrl SCRATCH;
 
 static void test_dry_run(void **state)
@@ -462,6 +522,7 @@ int main(void)
         cmocka_unit_test(test_stop_pause_resume), cmocka_unit_test(test_estop_and_reset),
         cmocka_unit_test(test_rejections),        cmocka_unit_test(test_servo),
         cmocka_unit_test(test_dry_run),           cmocka_unit_test(test_determinism),
+        cmocka_unit_test(test_path_pause_stop),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
     kt_report("ctrl");
