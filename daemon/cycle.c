@@ -1,0 +1,270 @@
+/* cycle.c - the cycle thread (cycle.h). */
+#define _GNU_SOURCE /* pthread_setaffinity_np, CPU_SET */
+#include "cycle.h"
+
+#include <errno.h>
+#include <sched.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define KD_NS 1000000000LL
+#define KD_CYCLE_STACK (8u << 20)    /* kc_ctrl_step plans paths on its stack */
+#define KD_PREFAULT_STACK (256u << 10) /* touched once so no tick page-faults */
+
+int64_t kd_now_ns(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (int64_t)ts.tv_sec * KD_NS + ts.tv_nsec;
+}
+
+int kd_cycle_init(kd_cycle *c, const kd_config *cfg, kc_ctrl *ctrl, kc_goal *goal_storage, size_t goal_capacity,
+                  kd_cmd *cmd_storage, kd_tick *tick_storage)
+{
+    memset(c, 0, sizeof *c);
+    c->cfg = cfg;
+    c->ctrl = ctrl;
+    c->period_ns = cfg->period_ns;
+    if (kd_spsc_init(&c->goals, goal_storage, goal_capacity, sizeof(kc_goal)) != 0 ||
+        kd_spsc_init(&c->cmds, cmd_storage, KD_CMD_RING, sizeof(kd_cmd)) != 0 ||
+        kd_spsc_init(&c->ticks, tick_storage, KD_TICK_RING, sizeof(kd_tick)) != 0)
+        return -1;
+    if (kd_plant_init(&c->plant, cfg->chain.n_joints, cfg->home, (double)cfg->period_ns * 1e-9, cfg->plant_lag_s) != 0)
+        return -1;
+    atomic_init(&c->servo_deadline_ns, 0);
+    atomic_init(&c->cycles, 0);
+    atomic_init(&c->overruns, 0);
+    atomic_init(&c->ticks_dropped, 0);
+    atomic_init(&c->step_errors, 0);
+    atomic_init(&c->thread_live, 0);
+    atomic_init(&c->state, (int)ctrl->state);
+    atomic_init(&c->hist_active, 0);
+    atomic_init(&c->swap_request, 0);
+    atomic_init(&c->run, 0);
+    atomic_init(&c->started, 0);
+    kd_hist_clear(&c->lat[0]);
+    kd_hist_clear(&c->lat[1]);
+    kd_hist_clear(&c->comp[0]);
+    kd_hist_clear(&c->comp[1]);
+    return 0;
+}
+
+/* Touches the stack the ticks will use, so that with mlockall its pages are
+ * resident before the first deadline. */
+static void prefault_stack(void)
+{
+    volatile unsigned char buf[KD_PREFAULT_STACK];
+    size_t i;
+    for (i = 0; i < sizeof buf; i += 4096)
+        buf[i] = 0;
+}
+
+/* One tick: everything between two sleeps. */
+static void tick(kd_cycle *c, int64_t deadline_ns, int64_t consecutive_missed, int *policy_latched)
+{
+    kd_tick *t = kd_spsc_slot_write(&c->ticks);
+    int to_ring = t != NULL;
+    const kc_goal *goal = kd_spsc_slot_read(&c->goals);
+    kc_ctrl_input in;
+    kd_cmd cmd;
+    int64_t servo_deadline;
+    kc_status st;
+    const kc_real *q_cmd;
+    const kc_real *qd_cmd;
+
+    if (!to_ring)
+        t = &c->spare; /* the tick is dropped, but the controller still steps */
+    in.goal = goal;
+    in.command = KC_CMD_NONE;
+    t->policy_cmd = KC_CMD_NONE;
+    t->policy_missed = 0;
+    /* The overrun policy, once per run of missed cycles; the command ring
+     * waits a tick then, so no command is lost. */
+    if (c->cfg->overrun_missed > 0 && consecutive_missed >= c->cfg->overrun_missed && !*policy_latched) {
+        *policy_latched = 1;
+        in.command = c->cfg->overrun_action;
+        t->policy_cmd = c->cfg->overrun_action;
+        t->policy_missed = consecutive_missed;
+    } else if (kd_spsc_pop(&c->cmds, &cmd) == 0) {
+        in.command = cmd.command;
+        c->cmds_taken_total++;
+    }
+    if (consecutive_missed == 0)
+        *policy_latched = 0;
+    servo_deadline = atomic_load_explicit(&c->servo_deadline_ns, memory_order_acquire);
+    in.servo_stale = servo_deadline != 0 && deadline_ns > servo_deadline;
+
+    st = kc_ctrl_step(c->ctrl, &in, &t->out);
+    if (goal != NULL) {
+        kd_spsc_release(&c->goals);
+        c->goals_taken_total++;
+    }
+    if (st < 0) {
+        /* The controller refused the step (a bug: its inputs come validated);
+         * its output is untouched, so there is no setpoint to send. */
+        atomic_fetch_add_explicit(&c->step_errors, 1, memory_order_relaxed);
+        return;
+    }
+    q_cmd = t->out.q;
+    qd_cmd = t->out.qd;
+    kd_plant_step(&c->plant, q_cmd, qd_cmd, t->q_meas, t->qd_meas);
+    t->deadline_ns = deadline_ns;
+    t->goals_taken = c->goals_taken_total;
+    t->cmds_taken = c->cmds_taken_total;
+    t->missed_total = atomic_load_explicit(&c->overruns, memory_order_relaxed);
+    atomic_store_explicit(&c->state, (int)t->out.state, memory_order_relaxed);
+    atomic_fetch_add_explicit(&c->cycles, 1, memory_order_relaxed);
+    if (to_ring)
+        kd_spsc_commit(&c->ticks);
+    else
+        atomic_fetch_add_explicit(&c->ticks_dropped, 1, memory_order_relaxed);
+}
+
+static void *cycle_main(void *arg)
+{
+    kd_cycle *c = arg;
+    const int64_t period = c->period_ns;
+    int64_t next, consecutive = 0;
+    int policy_latched = 0;
+
+    prefault_stack();
+    next = kd_now_ns() + period;
+    while (atomic_load_explicit(&c->run, memory_order_acquire)) {
+        struct timespec ts;
+        int64_t wake, late, missed, done;
+        int active;
+        ts.tv_sec = (time_t)(next / KD_NS);
+        ts.tv_nsec = (long)(next % KD_NS);
+        while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, NULL) == EINTR) {
+        }
+        wake = kd_now_ns();
+        late = wake - next;
+        /* Deadlines slept through are skipped, never made up: the tick runs
+         * once, for the latest deadline that has passed. */
+        missed = late >= period ? late / period : 0;
+        if (missed > 0) {
+            next += missed * period;
+            consecutive += missed;
+            atomic_fetch_add_explicit(&c->overruns, missed, memory_order_relaxed);
+        } else {
+            consecutive = 0;
+        }
+        if (atomic_load_explicit(&c->swap_request, memory_order_acquire)) {
+            atomic_store_explicit(&c->hist_active, atomic_load_explicit(&c->hist_active, memory_order_relaxed) ^ 1,
+                                  memory_order_relaxed);
+            atomic_store_explicit(&c->swap_request, 0, memory_order_release);
+        }
+        tick(c, next, consecutive, &policy_latched);
+        done = kd_now_ns();
+        active = atomic_load_explicit(&c->hist_active, memory_order_relaxed);
+        kd_hist_add(&c->lat[active], late);
+        kd_hist_add(&c->comp[active], done - wake);
+        atomic_store_explicit(&c->started, 1, memory_order_release);
+        next += period;
+    }
+    return NULL;
+}
+
+int kd_cycle_start(kd_cycle *c)
+{
+    pthread_attr_t attr;
+    int rc;
+    c->rt_applied = 0;
+    atomic_store(&c->run, 1);
+    /* Live before it exists: the I/O thread must never touch the cycle's
+     * histograms from the moment it could run. */
+    atomic_store(&c->thread_live, 1);
+    pthread_attr_init(&attr);
+    pthread_attr_setstacksize(&attr, KD_CYCLE_STACK);
+    if (c->cfg->rt_enable) {
+        struct sched_param sp;
+        memset(&sp, 0, sizeof sp);
+        sp.sched_priority = c->cfg->rt_priority;
+        pthread_attr_setinheritsched(&attr, PTHREAD_EXPLICIT_SCHED);
+        pthread_attr_setschedpolicy(&attr, SCHED_FIFO);
+        pthread_attr_setschedparam(&attr, &sp);
+        rc = pthread_create(&c->thread, &attr, cycle_main, c);
+        if (rc == 0) {
+            c->rt_applied |= 1;
+        } else {
+            fprintf(stderr, "kinctld: warning: no SCHED_FIFO priority %d for the cycle (%s); running it as a normal "
+                            "thread (grant CAP_SYS_NICE or LimitRTPRIO)\n",
+                    c->cfg->rt_priority, strerror(rc));
+            pthread_attr_setinheritsched(&attr, PTHREAD_INHERIT_SCHED);
+            rc = pthread_create(&c->thread, &attr, cycle_main, c);
+        }
+    } else {
+        rc = pthread_create(&c->thread, &attr, cycle_main, c);
+    }
+    pthread_attr_destroy(&attr);
+    if (rc != 0) {
+        atomic_store(&c->run, 0);
+        atomic_store(&c->thread_live, 0);
+        fprintf(stderr, "kinctld: cannot start the cycle thread: %s\n", strerror(rc));
+        return -1;
+    }
+    if (c->cfg->rt_enable) {
+        long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
+        int cpu = c->cfg->rt_cpu;
+        if (cpu < 0 && ncpu > 1)
+            cpu = (int)ncpu - 1;
+        if (cpu >= 0 && cpu < CPU_SETSIZE) {
+            cpu_set_t set;
+            CPU_ZERO(&set);
+            CPU_SET((size_t)cpu, &set);
+            rc = pthread_setaffinity_np(c->thread, sizeof set, &set);
+            if (rc == 0)
+                c->rt_applied |= 2;
+            else
+                fprintf(stderr, "kinctld: warning: cannot pin the cycle to CPU %d (%s); it runs on any CPU\n", cpu,
+                        strerror(rc));
+        }
+    }
+    return 0;
+}
+
+void kd_cycle_stop(kd_cycle *c)
+{
+    atomic_store(&c->run, 0);
+    if (atomic_load(&c->thread_live)) {
+        pthread_join(c->thread, NULL);
+        atomic_store(&c->thread_live, 0);
+    }
+}
+
+int kd_cycle_stats_take(kd_cycle *c, kd_cycle_stats *s)
+{
+    int retired;
+    kd_hist *lat, *comp;
+    if (!c->stats_pending) {
+        if (atomic_load(&c->thread_live)) {
+            atomic_store_explicit(&c->swap_request, 1, memory_order_release);
+            c->stats_pending = 1;
+            return 0;
+        }
+        /* No cycle running: nothing writes the histograms; swap here. */
+        atomic_store(&c->hist_active, atomic_load(&c->hist_active) ^ 1);
+    } else if (atomic_load_explicit(&c->swap_request, memory_order_acquire)) {
+        if (atomic_load(&c->thread_live))
+            return 0; /* not swapped yet */
+        atomic_store(&c->hist_active, atomic_load(&c->hist_active) ^ 1);
+        atomic_store(&c->swap_request, 0);
+    }
+    c->stats_pending = 0;
+    retired = atomic_load_explicit(&c->hist_active, memory_order_acquire) ^ 1;
+    lat = &c->lat[retired];
+    comp = &c->comp[retired];
+    s->count = lat->count;
+    s->lat_p50 = kd_hist_percentile(lat, 0.50);
+    s->lat_p99 = kd_hist_percentile(lat, 0.99);
+    s->lat_p999 = kd_hist_percentile(lat, 0.999);
+    s->lat_max = lat->max;
+    s->comp_p50 = kd_hist_percentile(comp, 0.50);
+    s->comp_p99 = kd_hist_percentile(comp, 0.99);
+    s->comp_max = comp->max;
+    kd_hist_clear(lat);
+    kd_hist_clear(comp);
+    return 1;
+}

@@ -1,0 +1,126 @@
+/* cycle.h - kinctld's cycle thread: kc_ctrl_step once per period on
+ * absolute deadlines.
+ *
+ * Deadlines are start + k period on CLOCK_MONOTONIC, slept to with
+ * clock_nanosleep(TIMER_ABSTIME), so that no error accumulates. Each tick:
+ * take at most one goal and one command from the I/O thread's rings, step
+ * the controller, step the simulated plant, and write the tick (setpoint,
+ * events, timing) into the ring to the I/O thread, or drop and count it when
+ * that ring is full. Nothing here allocates, locks, logs, decodes, publishes
+ * or makes a system call other than reading the clock and sleeping.
+ *
+ * Stalls. When the thread wakes a whole period or more after its deadline
+ * (the machine stalled it), the deadlines it slept through are missed: they
+ * are counted (overruns) and skipped, so the thread neither bursts to catch
+ * up nor jumps the trajectory: the controller counts its own ticks, and
+ * trajectory time advances by cycles actually executed. The optional
+ * overrun policy sends STOP or ESTOP after a number of consecutive missed
+ * cycles.
+ *
+ * Timing. Wake-up latency (wake-up minus deadline) and compute time (the
+ * tick's work) go into a pair of histograms: the cycle writes one while the
+ * I/O thread reads the other, swapped on request (kd_cycle_stats_take).
+ *
+ * Threads: kd_cycle_init and kd_cycle_start/stop from the main thread;
+ * the rings' other ends and kd_cycle_stats_take from the I/O thread only.
+ */
+#ifndef KINCTL_DAEMON_CYCLE_H
+#define KINCTL_DAEMON_CYCLE_H
+
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdint.h>
+
+#include "config.h"
+#include "hist.h"
+#include "kinctl/ctrl.h"
+#include "plant.h"
+#include "spsc.h"
+
+/* One tick as the I/O thread receives it. */
+typedef struct kd_tick {
+    kc_ctrl_output out;
+    int64_t deadline_ns;  /* this tick's deadline, CLOCK_MONOTONIC */
+    int64_t goals_taken;  /* goals taken from the goal ring so far */
+    int64_t cmds_taken;   /* commands taken so far */
+    int64_t missed_total; /* overruns so far */
+    kc_ctrl_command policy_cmd; /* the overrun policy fired this tick (or NONE) */
+    int64_t policy_missed;      /* ... after this many consecutive missed cycles */
+    kc_real q_meas[KC_MAX_JOINTS], qd_meas[KC_MAX_JOINTS];
+} kd_tick;
+
+/* A command with what the I/O thread wants done about it. */
+typedef struct kd_cmd {
+    kc_ctrl_command command;
+} kd_cmd;
+
+#define KD_TICK_RING 2048 /* ticks in flight to the I/O thread (2 s at 1 kHz) */
+#define KD_CMD_RING 64
+
+typedef struct kd_cycle {
+    /* Configuration and the controller (caller-owned, large). */
+    const kd_config *cfg;
+    kc_ctrl *ctrl;
+    kd_plant plant;
+    int64_t period_ns;
+
+    /* Rings: goals and commands in (the I/O thread produces), ticks out. */
+    kd_spsc goals, cmds, ticks;
+
+    /* The servo stream's staleness deadline (CLOCK_MONOTONIC ns; 0: none),
+     * written by the I/O thread at each servo message's receipt. */
+    atomic_llong servo_deadline_ns;
+
+    /* Counters (written by the cycle, read anywhere). */
+    atomic_llong cycles;        /* ticks executed */
+    atomic_llong overruns;      /* deadlines missed */
+    atomic_llong ticks_dropped; /* tick ring full */
+    atomic_llong step_errors;   /* kc_ctrl_step refused a tick (a bug) */
+    atomic_int state;           /* kc_ctrl_state of the last tick */
+    int64_t goals_taken_total, cmds_taken_total; /* the cycle's own */
+    kd_tick spare;              /* the cycle's output when the tick ring is full */
+
+    /* Histograms: hist[active] is the cycle's. */
+    kd_hist lat[2], comp[2];
+    atomic_int hist_active;
+    atomic_int swap_request; /* I/O sets 1; the cycle swaps and clears it */
+    int stats_pending;       /* the I/O thread's: a swap was asked for */
+
+    /* Lifecycle. */
+    atomic_int run;
+    atomic_int started; /* 1 once the first tick ran */
+    int rt_applied;     /* what the thread got: bit 0 SCHED_FIFO, 1 affinity */
+    pthread_t thread;
+    atomic_int thread_live;
+} kd_cycle;
+
+/* Sets up the cycle over the caller's controller (kc_ctrl_init done) and
+ * the ring storage (capacities as kd_spsc_init wants: goal_storage holds
+ * goal_capacity kc_goal). Returns 0 or -1. */
+int kd_cycle_init(kd_cycle *c, const kd_config *cfg, kc_ctrl *ctrl, kc_goal *goal_storage, size_t goal_capacity,
+                  kd_cmd *cmd_storage, kd_tick *tick_storage);
+
+/* Starts the thread: SCHED_FIFO at cfg->rt_priority and on cfg->rt_cpu when
+ * cfg->rt_enable and permitted, otherwise a warning on stderr and a normal
+ * thread. Returns 0 or -1 (no thread could be created). */
+int kd_cycle_start(kd_cycle *c);
+
+/* Stops the thread after its current tick and joins it. */
+void kd_cycle_stop(kd_cycle *c);
+
+/* Timing of the cycles since the previous take. */
+typedef struct kd_cycle_stats {
+    int64_t count;
+    int64_t lat_p50, lat_p99, lat_p999, lat_max;
+    int64_t comp_p50, comp_p99, comp_max;
+} kd_cycle_stats;
+
+/* I/O thread: asks the cycle to swap histograms (returns 0: asked, come
+ * back later) and, once it has, reads and clears the retired pair (returns
+ * 1 with *s filled). Never waits. */
+int kd_cycle_stats_take(kd_cycle *c, kd_cycle_stats *s);
+
+/* CLOCK_MONOTONIC in ns. */
+int64_t kd_now_ns(void);
+
+#endif

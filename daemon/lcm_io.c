@@ -1,0 +1,514 @@
+/* lcm_io.c - the I/O thread (lcm_io.h). */
+#define _GNU_SOURCE /* ppoll */
+#include "lcm_io.h"
+
+#include <errno.h>
+#include <poll.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#include "kinctl/se3.h"
+
+#define KD_NS 1000000000LL
+#define KD_LCM_QUEUE 10000 /* datagrams LCM may hold per subscription before we read them */
+#define KD_HANDLE_BURST 64 /* datagrams per wake-up before the tick ring is drained again */
+
+/* ---- publishing -------------------------------------------------------- */
+
+static void publish(kd_io *io, kd_msg_type type, const void *msg)
+{
+    size_t len = 0;
+    if (kd_msg_encode(type, msg, io->buf, sizeof io->buf, &len) != KD_MSG_OK ||
+        lcm_publish(io->lcm, io->channel[type], io->buf, (unsigned)len) != 0) {
+        io->publish_errors++;
+        io->msgs_dropped++;
+        return;
+    }
+    io->msgs_out++;
+}
+
+static int64_t utime_of(const kd_io *io, int64_t mono_ns)
+{
+    return (mono_ns + io->realtime_offset_ns) / 1000;
+}
+
+static void publish_setpoint(kd_io *io, const kd_tick *t)
+{
+    kinctl_setpoint_t *sp = &io->sp;
+    const kc_ctrl_output *o = &t->out;
+    int j, n = io->cfg->chain.n_joints;
+    kc_quat q;
+    memset(sp, 0, sizeof *sp);
+    sp->utime = utime_of(io, t->deadline_ns);
+    sp->cycle = o->cycle;
+    sp->goal_id = o->goal_id;
+    sp->state = (int8_t)o->state;
+    sp->n = n;
+    for (j = 0; j < n; j++) {
+        sp->q[j] = (double)o->q[j];
+        sp->qd[j] = (double)o->qd[j];
+        sp->qdd[j] = (double)o->qdd[j];
+    }
+    for (j = 0; j < 3; j++)
+        sp->position[j] = (double)o->pose.t.v[j];
+    kc_quat_from_mat3(&o->pose.R, &q);
+    sp->orientation[0] = (double)q.w;
+    sp->orientation[1] = (double)q.x;
+    sp->orientation[2] = (double)q.y;
+    sp->orientation[3] = (double)q.z;
+    publish(io, KD_MSG_SETPOINT, sp);
+}
+
+/* A status from the latest tick, with an event about goal_id. */
+static void publish_status(kd_io *io, int8_t event, int64_t goal_id, kc_status code, const char *reason)
+{
+    kinctl_status_t *st = &io->st;
+    int j, n = io->cfg->chain.n_joints;
+    memset(st, 0, sizeof *st);
+    st->utime = utime_of(io, kd_now_ns());
+    st->n = n;
+    if (io->have_last) {
+        const kc_ctrl_output *o = &io->last.out;
+        st->cycle = o->cycle;
+        st->state = (int8_t)o->state;
+        st->active_goal_id = o->goal_id;
+        st->progress = (double)o->progress;
+        st->queue_length = o->queue_length;
+        for (j = 0; j < n; j++) {
+            st->q_measured[j] = (double)io->last.q_meas[j];
+            st->qd_measured[j] = (double)io->last.qd_meas[j];
+        }
+    } else {
+        st->state = KINCTL_STATUS_T_IDLE;
+        for (j = 0; j < n; j++)
+            st->q_measured[j] = (double)io->cfg->home[j];
+    }
+    st->event = event;
+    st->event_goal_id = goal_id;
+    st->code = (int32_t)code;
+    snprintf(io->reason, sizeof io->reason, "%s", reason != NULL ? reason : "");
+    st->reason = io->reason;
+    publish(io, KD_MSG_STATUS, st);
+}
+
+static void reject(kd_io *io, int64_t goal_id, const kd_reject *rej)
+{
+    io->rejections++;
+    publish_status(io, KINCTL_STATUS_T_REJECTED, goal_id, rej->code, rej->text);
+}
+
+static void publish_stats(kd_io *io, const kd_cycle_stats *cs)
+{
+    kinctl_stats_t *s = &io->stats;
+    memset(s, 0, sizeof *s);
+    s->utime = utime_of(io, kd_now_ns());
+    s->period_ns = io->cfg->period_ns;
+    s->cycles = atomic_load(&io->cycle->cycles);
+    s->latency_p50_ns = cs->lat_p50;
+    s->latency_p99_ns = cs->lat_p99;
+    s->latency_p999_ns = cs->lat_p999;
+    s->latency_max_ns = cs->lat_max;
+    s->compute_p50_ns = cs->comp_p50;
+    s->compute_p99_ns = cs->comp_p99;
+    s->compute_max_ns = cs->comp_max;
+    s->overruns = atomic_load(&io->cycle->overruns);
+    s->msgs_in = io->msgs_in;
+    s->msgs_invalid = io->msgs_invalid;
+    s->msgs_dropped = io->msgs_dropped + atomic_load(&io->cycle->ticks_dropped);
+    s->rejections = io->rejections;
+    s->can_frames = 0;
+    s->can_errors = 0;
+    /* Counted before it goes out, so that it counts itself. */
+    s->msgs_out = io->msgs_out + 1;
+    publish(io, KD_MSG_STATS, s);
+}
+
+/* ---- ticks from the cycle ---------------------------------------------- */
+
+static int8_t status_event_of(kc_ctrl_event_kind kind)
+{
+    switch (kind) {
+    case KC_EVENT_ACCEPTED: return KINCTL_STATUS_T_ACCEPTED;
+    case KC_EVENT_REJECTED: return KINCTL_STATUS_T_REJECTED;
+    case KC_EVENT_COMPLETED: return KINCTL_STATUS_T_COMPLETED;
+    case KC_EVENT_PREEMPTED: return KINCTL_STATUS_T_PREEMPTED;
+    case KC_EVENT_ABORTED: return KINCTL_STATUS_T_ABORTED;
+    case KC_EVENT_FAULT: return KINCTL_STATUS_T_EVENT_FAULT;
+    case KC_EVENT_STARTED: break;
+    }
+    return KINCTL_STATUS_T_NONE;
+}
+
+static void publish_event(kd_io *io, const kc_ctrl_event *e)
+{
+    int8_t ev = status_event_of(e->kind);
+    kd_reject rej;
+    if (e->kind == KC_EVENT_REJECTED || e->kind == KC_EVENT_ABORTED || e->kind == KC_EVENT_FAULT) {
+        if (e->kind == KC_EVENT_REJECTED)
+            io->rejections++;
+        if (e->kind == KC_EVENT_FAULT || e->reason == KC_REASON_TRACKING)
+            kd_reject_set(&rej, e->reason, "%s (at %.6g)", kc_ctrl_reason_str(e->reason), (double)e->where);
+        else
+            kd_reject_set(&rej, e->reason, "%s", kc_ctrl_reason_str(e->reason));
+        if (e->reason == KC_REASON_NONE)
+            rej.code = KC_OK;
+        publish_status(io, ev, e->goal_id, rej.code, rej.text);
+    } else {
+        publish_status(io, ev, e->goal_id, KC_OK, "");
+    }
+}
+
+static void track_shadow(kd_io *io, const kd_tick *t)
+{
+    const kc_ctrl_output *o = &t->out;
+    int i, n = io->cfg->chain.n_joints;
+    for (i = 0; i < o->n_events && i < KC_CTRL_EVENTS_MAX; i++) {
+        /* The controller refused the goal last checked: the next one starts
+         * where that one would have. */
+        if (o->events[i].kind == KC_EVENT_REJECTED && o->events[i].goal_id == io->last_goal_id &&
+            io->last_goal_id != 0) {
+            memcpy(io->shadow_q, io->last_start, sizeof(kc_real) * (size_t)n);
+            io->last_goal_id = 0;
+        }
+    }
+    /* At rest with nothing queued or in flight: the next goal starts here. */
+    if ((o->state == KC_CTRL_IDLE || o->state == KC_CTRL_FAULT || o->state == KC_CTRL_ESTOP) && o->goal_id == 0 &&
+        o->queue_length == 0 && t->goals_taken == io->goals_pushed)
+        memcpy(io->shadow_q, o->q, sizeof(kc_real) * (size_t)n);
+}
+
+static void drain_ticks(kd_io *io)
+{
+    const kd_tick *t;
+    int64_t step_errors;
+    while ((t = kd_spsc_slot_read(&io->cycle->ticks)) != NULL) {
+        int i;
+        memcpy(&io->last, t, sizeof *t);
+        io->have_last = 1;
+        kd_spsc_release(&io->cycle->ticks);
+        t = &io->last;
+        publish_setpoint(io, t);
+        for (i = 0; i < t->out.n_events && i < KC_CTRL_EVENTS_MAX; i++)
+            publish_event(io, &t->out.events[i]);
+        if (t->policy_cmd != KC_CMD_NONE) {
+            kd_reject rej;
+            kd_reject_set(&rej, KD_REASON_OVERRUN, "%lld consecutive missed cycles: %s sent",
+                          (long long)t->policy_missed, t->policy_cmd == KC_CMD_ESTOP ? "ESTOP" : "STOP");
+            fprintf(stderr, "kinctld: %s\n", rej.text);
+            publish_status(io, KINCTL_STATUS_T_NONE, t->out.goal_id, rej.code, rej.text);
+        }
+        track_shadow(io, t);
+    }
+    step_errors = atomic_load_explicit(&io->cycle->step_errors, memory_order_relaxed);
+    if (step_errors != io->step_errors_seen) {
+        fprintf(stderr, "kinctld: error: kc_ctrl_step refused %lld tick(s); no setpoint for them\n",
+                (long long)(step_errors - io->step_errors_seen));
+        io->step_errors_seen = step_errors;
+    }
+}
+
+/* ---- messages in ------------------------------------------------------- */
+
+static const kc_real *latest_q(const kd_io *io)
+{
+    return io->have_last ? io->last.out.q : io->cfg->home;
+}
+
+static void handle_goal(kd_io *io, kd_msg_type type, int64_t received_ns)
+{
+    kc_goal *g = &io->goal;
+    kd_reject rej;
+    int64_t servo_timeout_ns = 0;
+    kc_real q_end[KC_MAX_JOINTS];
+    const kc_real *start;
+    kc_ctrl_reason reason = KC_REASON_NONE;
+    kc_status st;
+    int n = io->cfg->chain.n_joints;
+
+    if (kd_goal_from_msg(type, &io->msg, &io->cfg->chain, io->cfg->servo_timeout_s, g, &servo_timeout_ns, &rej) != 0) {
+        reject(io, g->id, &rej);
+        return;
+    }
+    start = g->replace ? latest_q(io) : io->shadow_q;
+    if (g->kind == KC_GOAL_SERVO) {
+        st = kc_ctrl_goal_check(&io->cfg->chain, g, &reason);
+        memcpy(q_end, latest_q(io), sizeof(kc_real) * (size_t)n);
+    } else {
+        kc_real where = 0;
+        st = kc_ctrl_check(io->scratch, &io->cfg->chain, &io->cfg->ctrl, g, start, io->check_max_ticks, q_end,
+                           &reason, &where);
+        if (st != KC_OK) {
+            if (reason == KC_REASON_NONE)
+                reason = KC_REASON_PLAN;
+            if (reason == KC_REASON_UNREACHABLE || reason == KC_REASON_TRACKING)
+                kd_reject_set(&rej, reason, "%s (%s at %.6g)", kc_ctrl_reason_str(reason), kc_status_str(st),
+                              (double)where);
+            else
+                kd_reject_set(&rej, reason, "%s (%s)", kc_ctrl_reason_str(reason), kc_status_str(st));
+            reject(io, g->id, &rej);
+            return;
+        }
+    }
+    if (st != KC_OK) {
+        kd_reject_set(&rej, reason != KC_REASON_NONE ? reason : KC_REASON_BAD_GOAL, "%s (%s)",
+                      kc_ctrl_reason_str(reason), kc_status_str(st));
+        reject(io, g->id, &rej);
+        return;
+    }
+    /* The staleness clock starts at receipt, before the cycle sees it. */
+    if (g->kind == KC_GOAL_SERVO)
+        atomic_store_explicit(&io->cycle->servo_deadline_ns, received_ns + servo_timeout_ns, memory_order_release);
+    if (kd_spsc_push(&io->cycle->goals, g) != 0) {
+        io->msgs_dropped++;
+        kd_reject_set(&rej, KC_REASON_QUEUE_FULL, "the daemon's goal queue (%d goals) is full", io->cfg->queue_size);
+        reject(io, g->id, &rej);
+        return;
+    }
+    io->goals_pushed++;
+    io->last_goal_id = g->id;
+    memcpy(io->last_start, start, sizeof(kc_real) * (size_t)n);
+    memcpy(io->shadow_q, q_end, sizeof(kc_real) * (size_t)n);
+}
+
+static void push_command(kd_io *io, kc_ctrl_command command)
+{
+    kd_cmd c;
+    c.command = command;
+    if (kd_spsc_push(&io->cycle->cmds, &c) != 0) {
+        io->msgs_dropped++;
+        fprintf(stderr, "kinctld: warning: command ring full, command %d dropped\n", (int)command);
+        return;
+    }
+    io->cmds_pushed++;
+}
+
+static void on_message(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+{
+    const kd_io_sub *sub = user;
+    kd_io *io = sub->io;
+    int64_t received_ns = kd_now_ns();
+    char why[KD_MSG_REASON_SIZE];
+    kd_msg_status ms;
+    size_t len = rbuf->data_size;
+
+    (void)channel;
+    io->msgs_in++;
+    ms = kd_msg_decode(sub->type, rbuf->data, len, &io->msg, why, sizeof why);
+    if (ms != KD_MSG_OK) {
+        kd_msg_type named;
+        int64_t id = 0;
+        io->msgs_invalid++;
+        if (-(int)ms >= 0 && -(int)ms < KD_INVALID_KINDS)
+            io->invalid_by[-(int)ms]++;
+        /* Answer only when the datagram is a kinctl goal (whatever is wrong
+         * with it): a goal_id read from garbage would be noise. */
+        if (kd_msg_identify(rbuf->data, len, &named) == KD_MSG_OK && named <= KD_MSG_GOAL_SERVO)
+            id = kd_goal_id_peek(named, rbuf->data, len);
+        if (id != 0) {
+            kd_reject rej;
+            kd_reject_set(&rej, KC_REASON_BAD_GOAL, "%s on %s: %s", kd_msg_status_str(ms), io->channel[sub->type],
+                          why);
+            reject(io, id, &rej);
+        }
+        return;
+    }
+    if (sub->type == KD_MSG_COMMAND)
+        push_command(io, (kc_ctrl_command)io->msg.command.command);
+    else
+        handle_goal(io, sub->type, received_ns);
+}
+
+/* ---- the thread -------------------------------------------------------- */
+
+static void shutdown_step(kd_io *io)
+{
+    if (!atomic_load(&io->stop_request))
+        return;
+    if (!io->stop_sent) {
+        kd_cmd c;
+        c.command = KC_CMD_STOP;
+        if (kd_spsc_push(&io->cycle->cmds, &c) == 0) {
+            io->cmds_pushed++;
+            io->stop_sent = 1;
+            io->stop_seq = io->cmds_pushed;
+        }
+        return;
+    }
+    if (io->have_last && io->last.cmds_taken >= io->stop_seq) {
+        kc_ctrl_state s = io->last.out.state;
+        if (s == KC_CTRL_IDLE || s == KC_CTRL_FAULT || s == KC_CTRL_ESTOP)
+            atomic_store(&io->stop_done, 1);
+    }
+}
+
+static void timers(kd_io *io)
+{
+    int64_t now = kd_now_ns();
+    kd_cycle_stats cs;
+    if (now >= io->next_status_ns) {
+        publish_status(io, KINCTL_STATUS_T_NONE, 0, KC_OK, "");
+        io->next_status_ns += io->status_period_ns;
+        if (io->next_status_ns <= now)
+            io->next_status_ns = now + io->status_period_ns;
+    }
+    if (now >= io->next_stats_ns) {
+        io->stats_due = 1;
+        io->next_stats_ns += io->stats_period_ns;
+        if (io->next_stats_ns <= now)
+            io->next_stats_ns = now + io->stats_period_ns;
+    }
+    if (io->stats_due && kd_cycle_stats_take(io->cycle, &cs)) {
+        io->stats_due = 0;
+        publish_stats(io, &cs);
+    }
+}
+
+static void *io_main(void *arg)
+{
+    kd_io *io = arg;
+    struct pollfd pfd;
+    struct timespec wait;
+    int64_t now = kd_now_ns();
+    kd_cycle_stats cs;
+
+    pfd.fd = lcm_get_fileno(io->lcm);
+    pfd.events = POLLIN;
+    wait.tv_sec = (time_t)(io->cfg->period_ns / KD_NS);
+    wait.tv_nsec = (long)(io->cfg->period_ns % KD_NS);
+    io->next_status_ns = now + io->status_period_ns;
+    io->next_stats_ns = now + io->stats_period_ns;
+    while (atomic_load(&io->run)) {
+        int burst;
+        drain_ticks(io);
+        shutdown_step(io);
+        timers(io);
+        pfd.revents = 0;
+        if (ppoll(&pfd, 1, &wait, NULL) <= 0)
+            continue;
+        for (burst = 0; burst < KD_HANDLE_BURST; burst++) {
+            if (lcm_handle_timeout(io->lcm, 0) <= 0)
+                break;
+            drain_ticks(io);
+        }
+    }
+    /* The cycle has stopped: publish what it left, then the last word. */
+    drain_ticks(io);
+    {
+        kd_reject rej;
+        kd_reject_set(&rej, KD_REASON_SHUTDOWN, "kinctld exiting (%s)",
+                      atomic_load(&io->stop_done) ? "arm at rest" : "stop timed out");
+        publish_status(io, KINCTL_STATUS_T_NONE, 0, KC_OK, rej.text);
+    }
+    /* Final stats (the cycle is gone: the take swaps itself). */
+    if (kd_cycle_stats_take(io->cycle, &cs) || kd_cycle_stats_take(io->cycle, &cs))
+        publish_stats(io, &cs);
+    return NULL;
+}
+
+/* Escapes the prefix for LCM's channel regular expression. */
+static void channel_regex(const char *channel, char *dest, size_t size)
+{
+    size_t o = 0;
+    for (; *channel != '\0' && o + 3 < size; channel++) {
+        if (*channel == '.')
+            dest[o++] = '\\';
+        dest[o++] = *channel;
+    }
+    dest[o] = '\0';
+}
+
+int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_ctrl *scratch)
+{
+    struct timespec rt, mono;
+    int t, n = cfg->chain.n_joints;
+    memset(io, 0, sizeof *io);
+    io->cfg = cfg;
+    io->cycle = cycle;
+    io->scratch = scratch;
+    kd_msg_init();
+    clock_gettime(CLOCK_REALTIME, &rt);
+    clock_gettime(CLOCK_MONOTONIC, &mono);
+    io->realtime_offset_ns = ((int64_t)rt.tv_sec - (int64_t)mono.tv_sec) * KD_NS + (rt.tv_nsec - mono.tv_nsec);
+    memcpy(io->shadow_q, cfg->home, sizeof(kc_real) * (size_t)n);
+    memcpy(io->last_start, cfg->home, sizeof(kc_real) * (size_t)n);
+    io->check_max_ticks = (int64_t)(cfg->check_max_s / ((double)cfg->period_ns * 1e-9)) + 1;
+    io->status_period_ns = (int64_t)(1e9 / cfg->status_hz);
+    io->stats_period_ns = (int64_t)(1e9 / cfg->stats_hz);
+    atomic_init(&io->run, 0);
+    atomic_init(&io->stop_request, 0);
+    atomic_init(&io->stop_done, 0);
+
+    io->lcm = lcm_create(cfg->lcm_url);
+    if (io->lcm == NULL) {
+        fprintf(stderr, "kinctld: cannot open LCM on \"%s\" (%s): check the URL and the network (multicast route)\n",
+                cfg->lcm_url, cfg->lcm_url_source);
+        return -1;
+    }
+    for (t = 0; t < KD_MSG_TYPE_COUNT; t++) {
+        const kd_msg_info *info = kd_msg_type_info((kd_msg_type)t);
+        snprintf(io->channel[t], sizeof io->channel[t], "%s%s", cfg->prefix, info->channel);
+        io->subs[t].io = io;
+        io->subs[t].type = (kd_msg_type)t;
+        if (info->from_client) {
+            char re[2 * KD_CHANNEL_MAX];
+            lcm_subscription_t *s;
+            channel_regex(io->channel[t], re, sizeof re);
+            s = lcm_subscribe(io->lcm, re, on_message, &io->subs[t]);
+            if (s == NULL) {
+                fprintf(stderr, "kinctld: cannot subscribe to %s\n", io->channel[t]);
+                lcm_destroy(io->lcm);
+                io->lcm = NULL;
+                return -1;
+            }
+            lcm_subscription_set_queue_capacity(s, KD_LCM_QUEUE);
+        }
+    }
+    return 0;
+}
+
+int kd_io_start(kd_io *io)
+{
+    int rc;
+    atomic_store(&io->run, 1);
+    rc = pthread_create(&io->thread, NULL, io_main, io);
+    if (rc != 0) {
+        atomic_store(&io->run, 0);
+        fprintf(stderr, "kinctld: cannot start the I/O thread: %s\n", strerror(rc));
+        return -1;
+    }
+    io->thread_live = 1;
+    return 0;
+}
+
+void kd_io_stop(kd_io *io)
+{
+    atomic_store(&io->run, 0);
+    if (io->thread_live) {
+        pthread_join(io->thread, NULL);
+        io->thread_live = 0;
+    }
+}
+
+void kd_io_destroy(kd_io *io)
+{
+    if (io->lcm != NULL)
+        lcm_destroy(io->lcm);
+    io->lcm = NULL;
+}
+
+void kd_io_summary(const kd_io *io, char *buf, int size)
+{
+    int k, o;
+    if (size <= 0)
+        return;
+    o = snprintf(buf, (size_t)size, "messages in %lld, out %lld, dropped %lld, rejections %lld, invalid %lld",
+                 (long long)io->msgs_in, (long long)io->msgs_out,
+                 (long long)(io->msgs_dropped + atomic_load(&io->cycle->ticks_dropped)), (long long)io->rejections,
+                 (long long)io->msgs_invalid);
+    for (k = 0; k < KD_INVALID_KINDS && o > 0 && o < size; k++)
+        if (io->invalid_by[k] > 0)
+            o += snprintf(buf + o, (size_t)(size - o), ", %s %lld", kd_msg_status_str((kd_msg_status)(-k)),
+                          (long long)io->invalid_by[k]);
+}

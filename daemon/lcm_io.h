@@ -1,0 +1,119 @@
+/* lcm_io.h - kinctld's I/O thread: everything LCM, on one thread.
+ *
+ * In: raw subscriptions (lcm_subscribe with one generic handler, never the
+ * generated *_subscribe stubs, which decode with allocation) on
+ *   <prefix>GOAL_JOINT  GOAL_LINE  GOAL_ARC  GOAL_PATH  GOAL_SERVO  COMMAND
+ * (prefix "KINCTL_" by default). Every datagram goes through kd_msg_decode
+ * (daemon/msg.h); one that fails is counted by its reason and ignored, and
+ * answered with a status REJECTED when it names a goal_id. A valid goal is
+ * turned into a kc_goal (goal.h) and dry-run with kc_ctrl_check on a
+ * scratch controller from where it will start: the end of the last goal
+ * accepted for the queue (a shadow the I/O thread keeps, reset to the
+ * arm's position whenever the controller is idle with nothing in flight),
+ * or the latest setpoint for a replacing goal; servo messages get the cheap
+ * kc_ctrl_goal_check only (they stream). Then it goes to the cycle through
+ * the goal ring. Servo staleness is judged on CLOCK_MONOTONIC at receipt.
+ *
+ * Out, each encoded into a preallocated buffer with kd_msg_encode:
+ *   <prefix>SETPOINT  setpoint_t for every tick the cycle produced
+ *   <prefix>STATUS    status_t on every controller event (ACCEPTED,
+ *                     REJECTED, COMPLETED, PREEMPTED, ABORTED, FAULT; a
+ *                     goal's start as event NONE), on every rejection here,
+ *                     at status_hz (event NONE), and once at shutdown
+ *                     (event NONE, reason "shutdown: ...")
+ *   <prefix>STATS     stats_t at stats_hz
+ *
+ * The loop: drain the tick ring and publish, then wait on LCM's file
+ * descriptor for at most one period and dispatch with lcm_handle_timeout.
+ */
+#ifndef KINCTL_DAEMON_LCM_IO_H
+#define KINCTL_DAEMON_LCM_IO_H
+
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdint.h>
+
+#include <lcm/lcm.h>
+
+#include "config.h"
+#include "cycle.h"
+#include "goal.h"
+#include "msg.h"
+
+#define KD_CHANNEL_MAX (KD_PREFIX_MAX + 24)
+#define KD_INVALID_KINDS 16 /* indexed by -kd_msg_status */
+
+typedef struct kd_io kd_io;
+
+/* What a subscription's handler needs to know. */
+typedef struct kd_io_sub {
+    kd_io *io;
+    kd_msg_type type;
+} kd_io_sub;
+
+struct kd_io {
+    const kd_config *cfg;
+    kd_cycle *cycle;
+    kc_ctrl *scratch; /* kc_ctrl_check's, caller-owned (large) */
+    lcm_t *lcm;
+    char channel[KD_MSG_TYPE_COUNT][KD_CHANNEL_MAX];
+    kd_io_sub subs[KD_MSG_TYPE_COUNT];
+    int64_t realtime_offset_ns; /* CLOCK_REALTIME - CLOCK_MONOTONIC, for utime */
+
+    /* Receive side. */
+    kd_msg_any msg;
+    kc_goal goal;
+    kc_real shadow_q[KC_MAX_JOINTS];  /* where the next queued goal starts */
+    kc_real last_start[KC_MAX_JOINTS]; /* where the last forwarded goal was checked from */
+    int64_t last_goal_id;
+    int64_t goals_pushed, cmds_pushed;
+    int64_t check_max_ticks;
+
+    /* The latest tick seen. */
+    kd_tick last;
+    int have_last;
+
+    /* Counters, the I/O thread's own (stats_t). */
+    int64_t msgs_in, msgs_invalid, msgs_out, msgs_dropped, rejections;
+    int64_t invalid_by[KD_INVALID_KINDS];
+    int64_t publish_errors, step_errors_seen;
+
+    /* Encoding: the messages and one buffer. */
+    kinctl_setpoint_t sp;
+    kinctl_status_t st;
+    kinctl_stats_t stats;
+    char reason[KD_MSG_STATUS_REASON_MAX + 1];
+    unsigned char buf[KD_MSG_MAX_SIZE];
+
+    int64_t next_status_ns, next_stats_ns, status_period_ns, stats_period_ns;
+    int stats_due;
+
+    /* Lifecycle: main asks, the I/O thread answers. */
+    atomic_int run;
+    atomic_int stop_request; /* 1: send STOP and report when at rest */
+    atomic_int stop_done;    /* 1: STOP taken and the arm at rest */
+    int stop_sent;
+    int64_t stop_seq;
+    pthread_t thread;
+    int thread_live;
+};
+
+/* Creates the LCM instance on cfg->lcm_url and subscribes. Returns 0, or -1
+ * with a message on stderr (a bad URL, no network). Main thread, before
+ * the threads start. */
+int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_ctrl *scratch);
+
+/* Starts the I/O thread. Returns 0 or -1. */
+int kd_io_start(kd_io *io);
+
+/* Stops the thread: it drains the tick ring, publishes the final status
+ * (with reason, NULL for none) and stats, and exits; then joins it. */
+void kd_io_stop(kd_io *io);
+
+/* Frees LCM. After kd_io_stop. */
+void kd_io_destroy(kd_io *io);
+
+/* A one-line summary of the counters (invalid messages by reason...). */
+void kd_io_summary(const kd_io *io, char *buf, int size);
+
+#endif
