@@ -1,0 +1,279 @@
+"""Fixtures for kinctld's integration tests: the real daemon over real LCM.
+
+Each test gets its own LCM URL (a multicast group and port of its own, ttl=0,
+so nothing leaves the machine and tests never hear each other), starts
+kinctld as a subprocess on it and talks to it through a Bus: a background
+thread that records every setpoint, status and stats message, and helpers to
+send goals, commands and raw datagrams.
+
+    def test_something(kinctld):
+        d = kinctld()                      # puma560, 1 kHz, --no-rt
+        d.bus.wait_setpoints(100)
+        d.bus.send_goal_joint(7, [0.1] * 6)
+        st = d.bus.wait_event(7, ("COMPLETED", "REJECTED"))
+        assert d.stop() == 0
+
+Environment (set by tests/daemon/CMakeLists.txt): KINCTLD (the binary),
+PYTHONPATH with the generated kinctl_msgs, KINCTL_MODELS (models/).
+KINCTLD_EXTRA_ARGS adds arguments to every start (e.g. "--rt").
+"""
+import itertools
+import math
+import os
+import shlex
+import signal
+import subprocess
+import threading
+import time
+
+import pytest
+
+import lcm
+from kinctl_msgs import (command_t, goal_arc_t, goal_joint_t, goal_line_t, goal_path_t, goal_servo_t, setpoint_t,
+                         stats_t, status_t)
+
+KINCTLD = os.environ.get("KINCTLD", "")
+MODELS = os.environ.get("KINCTL_MODELS", os.path.join(os.path.dirname(__file__), "..", "..", "models"))
+# Slow builds (sanitizers) get more time for everything.
+SLOW = float(os.environ.get("KINCTLD_TEST_SLOWDOWN", "1"))
+
+EVENTS = {"NONE": 0, "ACCEPTED": 1, "REJECTED": 2, "COMPLETED": 3, "PREEMPTED": 4, "ABORTED": 5, "FAULT": 6}
+EVENT_NAMES = {v: k for k, v in EVENTS.items()}
+STATES = {"IDLE": 0, "MOVING": 1, "PAUSED": 2, "STOPPING": 3, "FAULT": 4, "ESTOP": 5}
+
+_counter = itertools.count()
+
+
+def unique_url():
+    """A multicast group and port no other test (or concurrent run) uses."""
+    n = next(_counter)
+    pid = os.getpid()
+    group = 1 + (pid + n) % 250
+    port = 20000 + (pid % 500) * 40 + n % 40
+    return f"udpm://239.255.77.{group}:{port}?ttl=0"
+
+
+def _multicast_works(url):
+    a, b = lcm.LCM(url), lcm.LCM(url)
+    got = []
+    b.subscribe("PROBE", lambda c, d: got.append(d))
+    for _ in range(3):
+        a.publish("PROBE", b"x")
+        b.handle_timeout(200)
+        if got:
+            return True
+    return False
+
+
+@pytest.fixture(scope="session")
+def multicast():
+    """LCM multicast on this machine, set up on lo when needed and permitted."""
+    url = unique_url()
+    if _multicast_works(url):
+        return
+    if os.geteuid() == 0:
+        subprocess.run(["ip", "link", "set", "lo", "multicast", "on"], check=False)
+        subprocess.run(["ip", "route", "add", "224.0.0.0/4", "dev", "lo"], check=False)
+        if _multicast_works(url):
+            return
+    pytest.skip("LCM multicast does not work here (as root the fixture adds a 224.0.0.0/4 route on lo; "
+                "otherwise: sudo ip link set lo multicast on; sudo ip route add 224.0.0.0/4 dev lo)")
+
+
+class Bus:
+    """One LCM instance on the daemon's URL, recording what the daemon sends."""
+
+    def __init__(self, url, prefix="KINCTL_"):
+        self.url, self.prefix = url, prefix
+        self.lc = lcm.LCM(url)
+        self.lock = threading.Condition()
+        self.setpoints, self.statuses, self.stats = [], [], []
+        for name, cls, store in (("SETPOINT", setpoint_t, self.setpoints), ("STATUS", status_t, self.statuses),
+                                 ("STATS", stats_t, self.stats)):
+            self.lc.subscribe(prefix + name, self._handler(cls, store))
+        self._run = True
+        self._thread = threading.Thread(target=self._loop, daemon=True)
+        self._thread.start()
+
+    def _handler(self, cls, store):
+        def handle(channel, data):
+            msg = cls.decode(data)
+            with self.lock:
+                store.append(msg)
+                self.lock.notify_all()
+        return handle
+
+    def _loop(self):
+        while self._run:
+            self.lc.handle_timeout(20)
+
+    def close(self):
+        self._run = False
+        self._thread.join(2)
+
+    # -- waiting ---------------------------------------------------------
+    def wait(self, predicate, timeout=5.0, what="a condition"):
+        """Waits until predicate() (called under the lock) is truthy; returns it."""
+        deadline = time.monotonic() + timeout * SLOW
+        with self.lock:
+            while True:
+                r = predicate()
+                if r:
+                    return r
+                left = deadline - time.monotonic()
+                if left <= 0:
+                    raise AssertionError(f"timed out after {timeout * SLOW:.1f} s waiting for {what}")
+                self.lock.wait(min(left, 0.05))
+
+    def wait_setpoints(self, count, timeout=5.0):
+        """Waits for count setpoints more than have arrived so far; returns them."""
+        with self.lock:
+            start = len(self.setpoints)
+        self.wait(lambda: len(self.setpoints) >= start + count, timeout, f"{count} setpoints")
+        with self.lock:
+            return list(self.setpoints[start:])
+
+    def events(self, goal_id):
+        with self.lock:
+            return [s for s in self.statuses if s.event != 0 and s.event_goal_id == goal_id]
+
+    def wait_event(self, goal_id, kinds, timeout=10.0):
+        """The first status about goal_id whose event is one of kinds (names)."""
+        codes = {EVENTS[k] for k in kinds}
+
+        def find():
+            for s in self.statuses:
+                if s.event_goal_id == goal_id and s.event in codes:
+                    return s
+            return None
+        return self.wait(find, timeout, f"event {'/'.join(kinds)} for goal {goal_id}")
+
+    def wait_stats(self, predicate=lambda s: True, timeout=5.0):
+        with self.lock:
+            start = len(self.stats)
+
+        def find():
+            for s in self.stats[start:]:
+                if predicate(s):
+                    return s
+            return None
+        return self.wait(find, timeout, "a stats_t")
+
+    def wait_idle(self, timeout=10.0):
+        """Waits for an idle setpoint with no goal and returns it."""
+        with self.lock:
+            start = len(self.setpoints)
+
+        def find():
+            for s in self.setpoints[start:]:
+                if s.state == STATES["IDLE"] and s.goal_id == 0:
+                    return s
+            return None
+        return self.wait(find, timeout, "an idle setpoint")
+
+    def last_setpoint(self):
+        with self.lock:
+            return self.setpoints[-1] if self.setpoints else None
+
+    # -- sending ---------------------------------------------------------
+    def send_raw(self, suffix, data):
+        self.lc.publish(self.prefix + suffix, data)
+
+    def send(self, suffix, msg):
+        msg.utime = int(time.time() * 1e6)
+        self.send_raw(suffix, msg.encode())
+
+    def send_goal_joint(self, goal_id, q, replace=False, vel_scale=0.0, acc_scale=0.0, n=None):
+        g = goal_joint_t()
+        g.goal_id = goal_id
+        g.mode = goal_joint_t.REPLACE if replace else goal_joint_t.QUEUE
+        g.n = len(q) if n is None else n
+        g.q = list(q) + [0.0] * (goal_joint_t.MAX_JOINTS - len(q))
+        g.vel_scale, g.acc_scale = vel_scale, acc_scale
+        self.send("GOAL_JOINT", g)
+        return g
+
+    def send_command(self, name):
+        c = command_t()
+        c.command = getattr(command_t, name)
+        self.send("COMMAND", c)
+
+
+class Daemon:
+    def __init__(self, args, url, prefix, env):
+        self.url, self.prefix = url, prefix
+        self.bus = Bus(url, prefix)
+        self.proc = subprocess.Popen([KINCTLD] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                                     env=env)
+        self.stdout = self.stderr = None
+
+    def stop(self, sig=signal.SIGTERM, timeout=15.0):
+        """Signals the daemon, waits for it and returns its exit code."""
+        if self.proc.poll() is None:
+            self.proc.send_signal(sig)
+        try:
+            self.stdout, self.stderr = self.proc.communicate(timeout=timeout * SLOW)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+            self.stdout, self.stderr = self.proc.communicate()
+            raise AssertionError("kinctld did not exit after " + signal.Signals(sig).name)
+        # Give the last datagrams a moment to arrive.
+        time.sleep(0.1)
+        return self.proc.returncode
+
+    def close(self):
+        if self.proc.poll() is None:
+            self.proc.kill()
+            self.proc.communicate()
+        self.bus.close()
+
+
+@pytest.fixture
+def kinctld(multicast):
+    """Factory: kinctld(*args, prefix=..., rt=False, env=...) starts a daemon on
+    a fresh URL, waits for its first setpoints and returns a Daemon."""
+    if not KINCTLD:
+        pytest.skip("KINCTLD is not set (run through ctest)")
+    started = []
+
+    def start(*args, prefix="KINCTL_", rt=False, url=None, env=None, url_flag=True, wait=True):
+        url = url or unique_url()
+        argv = list(args)
+        if url_flag:
+            argv += ["--lcm-url", url]
+        if prefix != "KINCTL_":
+            argv += ["--prefix", prefix]
+        argv.append("--rt" if rt else "--no-rt")
+        argv += shlex.split(os.environ.get("KINCTLD_EXTRA_ARGS", ""))
+        e = dict(os.environ)
+        e.pop("LCM_DEFAULT_URL", None)
+        e.update(env or {})
+        d = Daemon(argv, url, prefix, e)
+        started.append(d)
+        if wait:
+            try:
+                d.bus.wait_setpoints(20, timeout=10.0)
+            except AssertionError:
+                d.close()
+                raise AssertionError(f"kinctld {' '.join(argv)} sent no setpoints; stderr: {d.proc.stderr.read()}")
+        return d
+
+    yield start
+    for d in started:
+        d.close()
+
+
+def run_kinctld(*args, env=None, timeout=10.0):
+    """Runs kinctld to completion (configuration errors, --help, --check)."""
+    e = dict(os.environ)
+    e.update(env or {})
+    return subprocess.run([KINCTLD] + list(args), capture_output=True, text=True, timeout=timeout * SLOW, env=e)
+
+
+def quat_norm(q):
+    return math.sqrt(sum(x * x for x in q))
+
+
+__all__ = ["Bus", "Daemon", "EVENTS", "EVENT_NAMES", "STATES", "MODELS", "SLOW", "run_kinctld", "quat_norm",
+           "unique_url", "goal_joint_t", "goal_line_t", "goal_arc_t", "goal_path_t", "goal_servo_t", "command_t",
+           "setpoint_t", "status_t", "stats_t"]
