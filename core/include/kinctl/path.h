@@ -300,6 +300,8 @@ typedef struct kc_path_cart {
     /* Velocity coefficients of the position, i c[p][i][j] at [p][i-1][j]:
      * the quadrature of s evaluates them several times a tick. */
     kc_real vc[KC_PATH_MAX_PIECES][KC_PATH_MAX_COEFFS - 1][3];
+    /* pos's coefficients packed three to a row, for the tick. */
+    kc_real pc[KC_PATH_MAX_PIECES][KC_PATH_MAX_COEFFS][3];
     /* Path length (m) s_arc[p][i] at local time tau_arc[p][i] of piece p,
      * i < n_arc[p]: from 0 to len[p], increasing. */
     kc_real tau_arc[KC_PATH_MAX_PIECES][KC_PATH_ARC_POINTS];
