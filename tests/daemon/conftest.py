@@ -90,7 +90,10 @@ class Bus:
         self.setpoints, self.statuses, self.stats = [], [], []
         for name, cls, store in (("SETPOINT", setpoint_t, self.setpoints), ("STATUS", status_t, self.statuses),
                                  ("STATS", stats_t, self.stats)):
-            self.lc.subscribe(prefix + name, self._handler(cls, store))
+            sub = self.lc.subscribe(prefix + name, self._handler(cls, store))
+            # LCM keeps 30 messages per subscription by default: a test thread
+            # holding the GIL for 30 ms would lose setpoints, not the daemon.
+            sub.set_queue_capacity(100000)
         self._run = True
         self._thread = threading.Thread(target=self._loop, daemon=True)
         self._thread.start()
