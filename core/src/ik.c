@@ -126,24 +126,19 @@ static void task_error(kc_ik_mask mask, const kc_pose *cur, const kc_dquat *targ
     }
 }
 
-/* The task's rows of the Jacobian: for the axis task the angular rows are
- * taken along the tool's x and y axes, matching task_error. */
-static void task_jacobian(kc_ik_mask mask, const kc_jacobian *jac, const kc_pose *cur, int n,
-                          kc_real jt[6][KC_MAX_JOINTS])
+/* The task's rows of the Jacobian, in place in jac (no copy for the full
+ * and position tasks): for the axis task rows 3 and 4 become the angular
+ * rows along the tool's x and y axes, matching task_error. */
+static kc_real (*task_jacobian(kc_ik_mask mask, kc_jacobian *jac, const kc_pose *cur, int n))[KC_MAX_JOINTS]
 {
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < n; j++)
-            jt[i][j] = jac->m[i][j];
-    if (mask == KC_IK_MASK_FULL) {
-        for (int i = 3; i < 6; i++)
-            for (int j = 0; j < n; j++)
-                jt[i][j] = jac->m[i][j];
-    } else if (mask == KC_IK_MASK_AXIS) {
-        for (int a = 0; a < 2; a++)
-            for (int j = 0; j < n; j++)
-                jt[3 + a][j] = cur->R.m[0][a] * jac->m[3][j] + cur->R.m[1][a] * jac->m[4][j] +
-                               cur->R.m[2][a] * jac->m[5][j];
+    if (mask == KC_IK_MASK_AXIS) {
+        for (int j = 0; j < n; j++) {
+            kc_real wx = jac->m[3][j], wy = jac->m[4][j], wz = jac->m[5][j];
+            jac->m[3][j] = cur->R.m[0][0] * wx + cur->R.m[1][0] * wy + cur->R.m[2][0] * wz;
+            jac->m[4][j] = cur->R.m[0][1] * wx + cur->R.m[1][1] * wy + cur->R.m[2][1] * wz;
+        }
     }
+    return jac->m;
 }
 
 /* ---- one damped least-squares step ---- */
@@ -425,13 +420,13 @@ static kc_status classify_miss(const ik_problem *p, const kc_dquat *target_dq, c
 {
     kc_jacobian jac;
     kc_pose cur;
-    kc_real e[6], pos_err, rot_err, jt[6][KC_MAX_JOINTS], dq[KC_MAX_JOINTS];
+    kc_real e[6], pos_err, rot_err, dq[KC_MAX_JOINTS];
     uint8_t frozen[KC_MAX_JOINTS] = {0};
     ik_problem probe = *p;
     probe.singular_damping = 1; /* to get the manipulability back */
     kc_fk_jacobian(p->chain, q, &jac, &cur);
     task_error(p->cfg->mask, &cur, target_dq, target, e, &pos_err, &rot_err);
-    task_jacobian(p->cfg->mask, &jac, &cur, p->n, jt);
+    kc_real(*jt)[KC_MAX_JOINTS] = task_jacobian(p->cfg->mask, &jac, &cur, p->n);
     kc_real w = dls_solve(&probe, jt, e, KC_R(0.0), KC_R(0.0), KC_R(0.0), q, frozen, dq);
     /* Pushes beyond a limit by more than rounding of the step itself. */
     for (int j = 0; j < p->n; j++)
@@ -470,7 +465,6 @@ kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose
 
     kc_real q[KC_MAX_JOINTS], best_q[KC_MAX_JOINTS], dq[KC_MAX_JOINTS];
     kc_real best_cost = KC_REAL_MAX, best_pos = KC_REAL_MAX, best_rot = KC_REAL_MAX;
-    kc_real jt[6][KC_MAX_JOINTS];
     kc_jacobian jac;
     kc_pose cur;
     uint64_t rng = cfg->seed;
@@ -533,7 +527,7 @@ kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose
             kc_real u[6];
             for (int i = 0; i < p.r; i++)
                 u[i] = cfg->gain_step * e[i];
-            task_jacobian(cfg->mask, &jac, &cur, p.n, jt);
+            kc_real(*jt)[KC_MAX_JOINTS] = task_jacobian(cfg->mask, &jac, &cur, p.n);
             /* Close to the target the null-space motion stops: its curvature
              * would keep feeding a small task error back every step, and
              * plain Gauss-Newton finishes quadratically. */
@@ -592,7 +586,7 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
     kc_dquat_from_pose(target, &target_dq);
     kc_jacobian jac;
     kc_pose cur;
-    kc_real e[6], pos_err, rot_err, jt[6][KC_MAX_JOINTS], qd_des[KC_MAX_JOINTS];
+    kc_real e[6], pos_err, rot_err, qd_des[KC_MAX_JOINTS];
     int n = p.n;
 
     kc_fk_jacobian(chain, q, &jac, &cur);
@@ -639,7 +633,7 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
     kc_real u[6];
     for (int i = 0; i < p.r; i++)
         u[i] = ff[i] + (i < 3 ? cfg->gain_pos : cfg->gain_rot) * e[i];
-    task_jacobian(cfg->mask, &jac, &cur, n, jt);
+    kc_real(*jt)[KC_MAX_JOINTS] = task_jacobian(cfg->mask, &jac, &cur, n);
     /* The null-space velocity stays below half the slowest joint's limit. */
     kc_real null_bound = KC_REAL_MAX;
     for (int j = 0; j < n; j++)
