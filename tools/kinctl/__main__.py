@@ -1,0 +1,6 @@
+"""`python -m kinctl ...` is the `kinctl` command."""
+import sys
+
+from kinctl.cli import main
+
+sys.exit(main())
