@@ -139,6 +139,8 @@ static int line_goal(const kinctl_goal_line_t *m, kc_goal *g, kd_reject *rej)
         return -1;
     g->speed = (kc_real)m->speed;
     g->accel = (kc_real)m->accel;
+    g->omega = (kc_real)m->angular_speed;
+    g->alpha = (kc_real)m->angular_accel;
     g->orient = m->orientation_method == KINCTL_GOAL_LINE_T_SLERP ? KC_INTERP_SLERP : KC_INTERP_TWO_ROTATIONS;
     g->vel_scale = scale_of(m->vel_scale);
     g->acc_scale = scale_of(m->acc_scale);
@@ -154,6 +156,8 @@ static int arc_goal(const kinctl_goal_arc_t *m, kc_goal *g, kd_reject *rej)
         return -1;
     g->speed = (kc_real)m->speed;
     g->accel = (kc_real)m->accel;
+    g->omega = (kc_real)m->angular_speed;
+    g->alpha = (kc_real)m->angular_accel;
     g->vel_scale = scale_of(m->vel_scale);
     g->acc_scale = scale_of(m->acc_scale);
     return 0;
@@ -190,6 +194,8 @@ static int path_goal(const kinctl_goal_path_t *m, const kc_chain *chain, kc_goal
     case KINCTL_GOAL_PATH_T_QUINTIC: g->method = KC_PATH_QUINTIC; break;
     default: g->method = KC_PATH_LAGRANGE; break;
     }
+    g->blend = m->blend_shape == KINCTL_GOAL_PATH_T_BLEND_PARABOLIC ? KC_PATH_BLEND_PARABOLIC : KC_PATH_BLEND_QUARTIC;
+    g->spline_end = m->spline_ends == KINCTL_GOAL_PATH_T_SPLINE_NATURAL ? KC_PATH_SPLINE_NATURAL : KC_PATH_SPLINE_CLAMPED;
     g->n_points = m->n_points;
     for (i = 0; i < m->n_points; i++)
         for (j = 0; j < dim; j++)

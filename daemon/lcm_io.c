@@ -136,7 +136,7 @@ static int8_t status_event_of(kc_ctrl_event_kind kind)
     case KC_EVENT_PREEMPTED: return KINCTL_STATUS_T_PREEMPTED;
     case KC_EVENT_ABORTED: return KINCTL_STATUS_T_ABORTED;
     case KC_EVENT_FAULT: return KINCTL_STATUS_T_EVENT_FAULT;
-    case KC_EVENT_STARTED: break;
+    case KC_EVENT_STARTED: return KINCTL_STATUS_T_STARTED;
     }
     return KINCTL_STATUS_T_NONE;
 }

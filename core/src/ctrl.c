@@ -110,7 +110,8 @@ kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *g, kc_ctrl_re
     int n = chain->n_joints;
     if ((unsigned)g->kind > (unsigned)KC_GOAL_SERVO || !scale_ok(g->vel_scale) || !scale_ok(g->acc_scale))
         return refuse(reason, KC_REASON_BAD_GOAL);
-    if (!kc_isfinite(g->speed) || g->speed < KC_R(0.0) || !kc_isfinite(g->accel) || g->accel < KC_R(0.0))
+    if (!kc_isfinite(g->speed) || g->speed < KC_R(0.0) || !kc_isfinite(g->accel) || g->accel < KC_R(0.0) ||
+        !kc_isfinite(g->omega) || g->omega < KC_R(0.0) || !kc_isfinite(g->alpha) || g->alpha < KC_R(0.0))
         return refuse(reason, KC_REASON_BAD_GOAL);
     switch (g->kind) {
     case KC_GOAL_JOINT: {
@@ -134,7 +135,8 @@ kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *g, kc_ctrl_re
     case KC_GOAL_PATH_CART: {
         int dim = g->kind == KC_GOAL_PATH ? n : 7;
         if (g->n_points < 1 || g->n_points > KC_PATH_MAX_KNOTS - 1 ||
-            (unsigned)g->method > (unsigned)KC_PATH_QUINTIC || !kc_isfinite(g->blend_time) ||
+            (unsigned)g->method > (unsigned)KC_PATH_QUINTIC || (unsigned)g->blend > (unsigned)KC_PATH_BLEND_PARABOLIC ||
+            (unsigned)g->spline_end > (unsigned)KC_PATH_SPLINE_NATURAL || !kc_isfinite(g->blend_time) ||
             g->blend_time < KC_R(0.0))
             return refuse(reason, KC_REASON_BAD_GOAL);
         for (int i = 0; i < g->n_points; i++) {
@@ -224,8 +226,8 @@ static kc_interp_limits cart_limits(const kc_ctrl *c, const kc_goal *g)
     kc_interp_limits l = kc_interp_limits_default();
     l.v = g->speed > KC_R(0.0) ? g->speed : c->cfg.cart_speed;
     l.a = g->accel > KC_R(0.0) ? g->accel : c->cfg.cart_accel;
-    l.w = c->cfg.cart_omega;
-    l.dw = c->cfg.cart_alpha;
+    l.w = g->omega > KC_R(0.0) ? g->omega : c->cfg.cart_omega;
+    l.dw = g->alpha > KC_R(0.0) ? g->alpha : c->cfg.cart_alpha;
     return l;
 }
 
@@ -249,6 +251,8 @@ static kc_status plan_path(kc_ctrl *c, const kc_goal *g)
             for (int j = 0; j < n; j++)
                 knots[i * n + j] = g->points[i - 1][j];
         cfg.method = g->method;
+        cfg.blend = g->blend;
+        cfg.spline_end = g->spline_end;
         cfg.n_knots = m;
         cfg.dim = n;
         cfg.q = knots;
@@ -275,6 +279,8 @@ static kc_status plan_path(kc_ctrl *c, const kc_goal *g)
     kc_interp_limits lim = cart_limits(c, g);
     kc_path_cart_cfg cfg = kc_path_cart_cfg_default();
     cfg.method = g->method;
+    cfg.blend = g->blend;
+    cfg.spline_end = g->spline_end;
     cfg.n_knots = m;
     cfg.p = p;
     cfg.r = r;
@@ -325,6 +331,9 @@ static kc_status plan_goal(kc_ctrl *c)
     return KC_E_ARG;
 }
 
+static kc_real path_ramp_rate(const kc_ctrl *c, kc_real tau0);
+static int path_starts_at_rest(const kc_ctrl *c);
+
 /* Starts the next queued goal, if any; returns 1 when a segment is active. */
 static int start_next(kc_ctrl *c, kc_ctrl_output *out)
 {
@@ -341,6 +350,17 @@ static int start_next(kc_ctrl *c, kc_ctrl_output *out)
         if (plan_goal(c) != KC_OK) {
             emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
             continue;
+        }
+        if (is_path(c->goal.kind) && !path_starts_at_rest(c)) {
+            /* Lagrange's polynomial moves at its first and last knot: run
+             * it on a tau' that ramps up from rest and down into the end. */
+            kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
+            kc_real C = path_ramp_rate(c, KC_R(0.0));
+            if (!(C > KC_R(0.0)) || kc_profile_plan(&c->drive_prof, KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, c->cfg.dt) != KC_OK) {
+                emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
+                continue;
+            }
+            c->drive = KC_DRIVE_PROFILE;
         }
         c->active = 1;
         c->state = KC_CTRL_MOVING;
@@ -546,6 +566,67 @@ static kc_real path_stop_rate(const kc_ctrl *c, kc_real tau, kc_real rate)
     return KC_R(0.0);
 }
 
+/* Largest |q'' tau'^2 + dir q' C| / qdd_max (Cartesian: the tool point's
+ * acceleration over its limit) over a ramp of tau' between 0 and 1 at the
+ * constant rate C, at rest at plan time tau0: dir = +1 speeds up from tau0,
+ * dir = -1 comes to rest at tau0 (tau0 = the end). */
+static kc_real path_ramp_load(const kc_ctrl *c, kc_real tau0, int dir, kc_real C)
+{
+    const kc_goal *g = &c->goal;
+    int n = c->chain->n_joints;
+    kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS], worst = KC_R(0.0);
+    scaled_limits(c, g, vmax, amax);
+    kc_real a_cart = cart_limits(c, g).a, sgn = (kc_real)dir;
+    for (int i = 0; i <= STOP_SAMPLES; i++) {
+        kc_real t = (kc_real)i / ((kc_real)STOP_SAMPLES * C);
+        kc_real r = C * t, at = tau0 + sgn * KC_R(0.5) * C * t * t;
+        if (g->kind == KC_GOAL_PATH) {
+            kc_real q[KC_MAX_JOINTS], d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
+            kc_path_eval_time(&c->plan.path, kc_max(at, KC_R(0.0)), q, d1, d2);
+            for (int j = 0; j < n; j++)
+                worst = kc_max(worst, kc_fabs(d2[j] * r * r + sgn * d1[j] * C) / amax[j]);
+        } else {
+            kc_path_pose s;
+            kc_path_eval_cart_time(&c->plan.path_cart, kc_max(at, KC_R(0.0)), &s);
+            kc_vec3 acc;
+            for (int k = 0; k < 3; k++)
+                acc.v[k] = s.a.v[k] * r * r + sgn * s.v.v[k] * C;
+            worst = kc_max(worst, kc_vec3_norm(&acc) / a_cart);
+        }
+    }
+    return worst;
+}
+
+/* The rate C of a tau' ramp from rest at tau0 up to 1 that, with the same
+ * ramp down into the path's end, keeps every limit (a path that does not
+ * start or end at rest, Lagrange's, and every resume); 0 when none of the
+ * rates tried does. */
+static kc_real path_ramp_rate(const kc_ctrl *c, kc_real tau0)
+{
+    kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
+    kc_real C = KC_R(1.0) / (KC_R(10.0) * c->cfg.dt); /* a ramp of at least ten ticks */
+    for (int tries = 0; tries < 16; tries++, C *= KC_R(0.5))
+        if (path_ramp_load(c, tau0, 1, C) <= KC_R(1.0) && path_ramp_load(c, T, -1, C) <= KC_R(1.0))
+            return C;
+    return KC_R(0.0);
+}
+
+/* Whether the planned path starts at rest (every knot method but Lagrange). */
+static int path_starts_at_rest(const kc_ctrl *c)
+{
+    if (c->goal.kind == KC_GOAL_PATH) {
+        kc_real q[KC_MAX_JOINTS], d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
+        kc_path_eval_time(&c->plan.path, KC_R(0.0), q, d1, d2);
+        for (int j = 0; j < c->chain->n_joints; j++)
+            if (d1[j] != KC_R(0.0))
+                return 0;
+        return 1;
+    }
+    kc_path_pose s;
+    kc_path_eval_cart_time(&c->plan.path_cart, KC_R(0.0), &s);
+    return kc_vec3_norm(&s.v) == KC_R(0.0) && kc_vec3_norm(&s.w) == KC_R(0.0);
+}
+
 /* A stop of every joint in joint space: each at its own acceleration limit
  * (hard, for e-stop) or all synchronised on the current direction of motion
  * (sync). Ends in state `then`. */
@@ -615,12 +696,10 @@ static void resume(kc_ctrl *c)
     drive_state(c, j, &u);
     if (is_path(c->goal.kind)) {
         kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
-        /* Speed tau' back up at the rate a stop from full speed here could
-         * use: the same bound on q' tau'' holds. */
-        kc_real dec = path_stop_rate(c, u.p, KC_R(1.0));
-        if (!(dec > KC_R(0.0)))
-            dec = KC_R(1.0);
-        kc_profile_plan(&c->drive_prof, u.p, KC_R(0.0), T, KC_R(1.0), dec, c->cfg.dt);
+        kc_real C = path_ramp_rate(c, u.p);
+        if (!(C > KC_R(0.0)))
+            C = KC_R(1.0); /* the rates tried all fail: the gentlest ramp there is */
+        kc_profile_plan(&c->drive_prof, u.p, KC_R(0.0), T, KC_R(1.0), C, c->cfg.dt);
     } else {
         const kc_interp_joint *pj = &c->plan.joint;
         kc_real vmax = c->goal.kind == KC_GOAL_JOINT ? pj->u_vmax

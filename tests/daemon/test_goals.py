@@ -101,9 +101,7 @@ def test_arc_completes(kinctld):
     assert d.stop() == 0
 
 
-@pytest.mark.parametrize("method", ["BLEND", "SPLINE", "QUINTIC", pytest.param("LAGRANGE", marks=pytest.mark.xfail(
-    reason="core: a Lagrange path does not start at rest (path.h), so kc_ctrl_check refuses it with limit_guard",
-    strict=False))])
+@pytest.mark.parametrize("method", ["BLEND", "SPLINE", "QUINTIC", "LAGRANGE"])
 def test_joint_path_completes(kinctld, method):
     d = kinctld()
     s0 = go_nominal(d)

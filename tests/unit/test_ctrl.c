@@ -454,6 +454,33 @@ static void test_path_pause_stop(void **state)
         kt_near((double)H.out.qd[j], 0.0, 0.0, "stopped");
 }
 
+/* Lagrange's polynomial moves at its ends: the controller ramps tau' up
+ * from rest and down into the end, within the limits every tick, and the
+ * arm ends exactly on the last knot. */
+static void test_lagrange_path(void **state)
+{
+    (void)state;
+    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    kc_goal p;
+    memset(&p, 0, sizeof p);
+    p.id = 95;
+    p.kind = KC_GOAL_PATH;
+    p.vel_scale = p.acc_scale = KC_R(1.0);
+    p.method = KC_PATH_LAGRANGE;
+    p.n_points = 3;
+    for (int j = 0; j < 6; j++) {
+        p.points[0][j] = PUMA_Q0[j] + KC_R(0.1);
+        p.points[1][j] = PUMA_Q0[j] + KC_R(0.25);
+        p.points[2][j] = PUMA_Q0[j] + KC_R(0.3);
+    }
+    tick(&p, KC_CMD_NONE);
+    run_until_state(KC_CTRL_IDLE, 40000);
+    assert_int_equal(H.last[KC_EVENT_COMPLETED].goal_id, 95);
+    assert_int_equal(H.count[KC_EVENT_ABORTED], 0);
+    for (int j = 0; j < 6; j++)
+        kt_near((double)H.out.q[j], (double)p.points[2][j], 1e-9, "Lagrange path end");
+}
+
 static kc_ctrl SCRATCH;
 
 static void test_dry_run(void **state)
@@ -522,7 +549,7 @@ int main(void)
         cmocka_unit_test(test_stop_pause_resume), cmocka_unit_test(test_estop_and_reset),
         cmocka_unit_test(test_rejections),        cmocka_unit_test(test_servo),
         cmocka_unit_test(test_dry_run),           cmocka_unit_test(test_determinism),
-        cmocka_unit_test(test_path_pause_stop),
+        cmocka_unit_test(test_path_pause_stop),   cmocka_unit_test(test_lagrange_path),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
     kt_report("ctrl");

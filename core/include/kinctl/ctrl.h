@@ -98,9 +98,11 @@ typedef struct kc_goal {
     int replace;       /* 0: queue behind the others; 1: preempt */
     /* Fractions of the joints' velocity and acceleration limits, (0, 1]. */
     kc_real vel_scale, acc_scale;
-    /* Cartesian speed and acceleration of the tool point (m/s, m/s^2); 0
+    /* Cartesian speed and acceleration of the tool point (m/s, m/s^2) and
+     * the tool's angular speed and acceleration bounds (rad/s, rad/s^2); 0
      * takes the configured defaults. */
     kc_real speed, accel;
+    kc_real omega, alpha;
     kc_interp_orient orient;             /* line */
     kc_real q[KC_MAX_JOINTS];            /* joint move: the target */
     kc_pose pose;                        /* line, arc: end pose; servo: target */
@@ -110,6 +112,8 @@ typedef struct kc_goal {
      * has_times, else from the limits; blend_time for blends (0: the rule
      * of kinctl/path.h). */
     kc_path_method method;
+    kc_path_blend blend;           /* blends: quartic (C2) or parabolic (C1) */
+    kc_path_spline_end spline_end; /* C2 splines: clamped or natural ends */
     int n_points;
     kc_real points[KC_PATH_MAX_KNOTS - 1][KC_MAX_JOINTS];
     int has_times;
