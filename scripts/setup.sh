@@ -57,3 +57,21 @@ say "configuring and building in $build_dir"
 cmake -S . -B "$build_dir" -G Ninja -DPython3_EXECUTABLE="$PWD/.venv/bin/python" \
     -Dlcm_DIR="$lcm_prefix/lib/lcm/cmake" "$@" >/dev/null
 cmake --build "$build_dir"
+
+# The kinctl CLI and Python API (tools/kinctl), installed editable into .venv
+# (.venv/bin/kinctl). It imports the message classes kinctl_msgs that the build
+# generates into <build>/lcmtypes/python: a .pth file in the venv names that
+# directory, for the default build dir `build` (or the first one built), so
+# plain `.venv/bin/kinctl` works; ctest sets PYTHONPATH to each build's own.
+site=$(.venv/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
+if [ "$build_dir" = build ] || [ ! -e "$site/kinctl_msgs.pth" ]; then
+    echo "$(cd "$build_dir" && pwd)/lcmtypes/python" >"$site/kinctl_msgs.pth"
+fi
+cli_stamp=.venv/.kinctl-cli.sha256
+cli_sum=$(sha256sum tools/pyproject.toml | cut -d' ' -f1)
+if [ ! -x .venv/bin/kinctl ] || [ "$(cat "$cli_stamp" 2>/dev/null)" != "$cli_sum" ]; then
+    say "installing the kinctl CLI (pip install -e tools)"
+    # (setuptools warns about editable installs on every run: shown on failure only)
+    pip_log=$(.venv/bin/python -m pip install -q --no-deps -e tools 2>&1) || { printf '%s\n' "$pip_log"; exit 1; }
+    echo "$cli_sum" >"$cli_stamp"
+fi
