@@ -343,36 +343,42 @@ def _state(sp):
 
 
 def cmd_goal(args):
+    from kinctl import client as kc
     deg = math.radians(1.0) if args.deg else 1.0
     if args.kind == "servo":
         return cmd_servo(args, deg)
-    with _connect(args) as c:
-        if args.kind == "joint":
-            gid = c.goal_joint([v * deg for v in args.q], args.id, args.replace, args.speed, args.accel)
-        elif args.kind == "line":
-            gid = c.goal_line(args.to, args.id, args.replace, args.speed, args.accel, args.angular_speed * deg,
-                              args.angular_accel * deg, args.slerp, args.joint_speed, args.joint_accel)
-        elif args.kind == "arc":
-            gid = c.goal_arc(args.via, args.to, args.id, args.replace, args.speed, args.accel,
-                             args.angular_speed * deg, args.angular_accel * deg, args.joint_speed,
-                             args.joint_accel)
+    # Build (and check) the message before looking for the daemon: bad input is exit 2.
+    common = dict(goal_id=args.id, replace=args.replace)
+    if args.kind == "joint":
+        msg = kc.make_goal_joint([v * deg for v in args.q], vel_scale=args.speed, acc_scale=args.accel, **common)
+        kind = "joint"
+    elif args.kind in ("line", "arc"):
+        cart = dict(speed=args.speed, accel=args.accel, angular_speed=args.angular_speed * deg,
+                    angular_accel=args.angular_accel * deg, vel_scale=args.joint_speed, acc_scale=args.joint_accel)
+        if args.kind == "line":
+            msg = kc.make_goal_line(args.to, slerp=args.slerp, **cart, **common)
         else:
-            pts = args.points
-            if args.space == "joint":
-                pts = [[v * deg for v in p] for p in pts]
-            gid = c.goal_path(pts, args.space, args.method, args.times, args.blend_time, args.id, args.replace,
-                              args.speed, args.accel, args.joint_speed, args.joint_accel, args.shape, args.ends)
-        return _answer(c, gid, args.kind if args.kind != "path" else f"{args.space} {args.method} path", args)
+            msg = kc.make_goal_arc(args.via, args.to, **cart, **common)
+        kind = args.kind
+    else:
+        pts = [[v * deg for v in p] for p in args.points] if args.space == "joint" else args.points
+        msg = kc.make_goal_path(pts, space=args.space, method=args.method, times=args.times,
+                                blend_time=args.blend_time, speed=args.speed, accel=args.accel,
+                                vel_scale=args.joint_speed, acc_scale=args.joint_accel, shape=args.shape,
+                                ends=args.ends, **common)
+        kind = f"{args.space} {args.method} path"
+    with _connect(args) as c:
+        return _answer(c, c.send(msg), kind, args)
 
 
 def cmd_servo(args, deg):
-    from kinctl.client import new_goal_id
+    from kinctl.client import make_servo_message, new_goal_id
     period = 1.0 / args.rate
     stale = args.stale_ms / 1e3 if args.stale_ms else min(max(3 * period, STALE_MIN_S), STALE_MAX_S)
     twist = None if args.twist is None else args.twist[:3] + [v * deg for v in args.twist[3:]]
+    gid = args.id or new_goal_id()
+    msg = make_servo_message(gid, pose=args.pose, twist=twist, replace=args.replace, timeout_s=stale)
     with _connect(args) as c:
-        gid = args.id or new_goal_id()
-        msg = c.servo_message(gid, pose=args.pose, twist=twist, replace=args.replace, timeout_s=stale)
         sent, t0 = 0, time.monotonic()
         try:
             while time.monotonic() - t0 < args.duration:

@@ -3,7 +3,7 @@
     from kinctl import Client
     with Client(url="udpm://239.255.76.67:7667?ttl=0") as c:
         c.wait_daemon()                          # a setpoint, or DaemonNotFound
-        gid = c.goal_joint([0, 0.7854, -3.1416, 0, 0.7854, 0])
+        gid = c.goal_joint([0, 0.7854, -3.1416, 0, 0.7854, 0], vel_scale=0.5)
         st = c.wait_end(gid, timeout=30)         # status_t: COMPLETED, ...
         print(c.event(st), st.reason)
 
@@ -75,6 +75,131 @@ def _nonneg(name, v):
     if not (math.isfinite(v) and v >= 0.0):
         raise ValueError(f"{name} = {v} must be >= 0 (0 means the controller's default)")
     return v
+
+
+# -- goal messages (ValueError on bad input; nothing is sent) ---------------
+
+
+def make_goal_joint(q, goal_id=None, replace=False, vel_scale=0.0, acc_scale=0.0):
+    """Joint move to q (rad or m); vel_scale, acc_scale in [0, 1] (0 = 1). Returns the message."""
+    g = goal_joint_t()
+    if not 1 <= len(q) <= goal_joint_t.MAX_JOINTS:
+        raise ValueError(f"--q needs 1 to {goal_joint_t.MAX_JOINTS} joint values, got {len(q)}")
+    _finite("q", q)
+    g.goal_id = goal_id or new_goal_id()
+    g.mode = MODES[bool(replace)]
+    g.n = len(q)
+    g.q = list(q) + [0.0] * (goal_joint_t.MAX_JOINTS - len(q))
+    g.vel_scale, g.acc_scale = _scale("speed", vel_scale), _scale("accel", acc_scale)
+    return g
+
+
+def _cartesian(g, speed, accel, angular_speed, angular_accel, vel_scale, acc_scale):
+    g.speed, g.accel = _nonneg("speed", speed), _nonneg("accel", accel)
+    g.angular_speed = _nonneg("angular speed", angular_speed)
+    g.angular_accel = _nonneg("angular accel", angular_accel)
+    g.vel_scale, g.acc_scale = _scale("joint speed", vel_scale), _scale("joint accel", acc_scale)
+
+
+def make_goal_line(to, goal_id=None, replace=False, speed=0.0, accel=0.0, angular_speed=0.0,
+              angular_accel=0.0, slerp=False, vel_scale=0.0, acc_scale=0.0):
+    """Straight line of the tool to pose to = x, y, z (m), qw, qx, qy, qz. Returns the message."""
+    g = goal_line_t()
+    g.goal_id = goal_id or new_goal_id()
+    g.mode = MODES[bool(replace)]
+    g.position, g.orientation = _pose("--to", to)
+    _cartesian(g, speed, accel, angular_speed, angular_accel, vel_scale, acc_scale)
+    g.orientation_method = goal_line_t.SLERP if slerp else goal_line_t.TWO_ROTATIONS
+    return g
+
+
+def make_goal_arc(via, to, goal_id=None, replace=False, speed=0.0, accel=0.0, angular_speed=0.0,
+             angular_accel=0.0, vel_scale=0.0, acc_scale=0.0):
+    """Arc of the tool through via = x, y, z to pose to. Returns the message."""
+    g = goal_arc_t()
+    _count("--via", via, 3)
+    _finite("--via", via)
+    g.goal_id = goal_id or new_goal_id()
+    g.mode = MODES[bool(replace)]
+    g.via = list(via)
+    g.position, g.orientation = _pose("--to", to)
+    _cartesian(g, speed, accel, angular_speed, angular_accel, vel_scale, acc_scale)
+    return g
+
+
+def make_goal_path(points, space="joint", method="blend", times=None, blend_time=0.0, goal_id=None,
+              replace=False, speed=0.0, accel=0.0, vel_scale=0.0, acc_scale=0.0, shape="quartic",
+              ends="clamped"):
+    """Multi-point path through points (joint vectors, or x,y,z,qw,qx,qy,qz poses for
+    space "cartesian"); method blend, spline, quintic or lagrange; times (s) optional. Returns the message."""
+    g = goal_path_t()
+    if not 1 <= len(points) <= goal_path_t.MAX_POINTS:
+        raise ValueError(f"--points needs 1 to {goal_path_t.MAX_POINTS} points, got {len(points)}")
+    if space not in ("joint", "cartesian"):
+        raise ValueError(f"--space {space}: joint or cartesian")
+    if method not in ("blend", "spline", "quintic", "lagrange"):
+        raise ValueError(f"--method {method}: blend, spline, quintic or lagrange")
+    if space == "cartesian":
+        rows = []
+        for i, p in enumerate(points):
+            pos, quat = _pose(f"point {i + 1}", p)
+            rows.append(pos + quat)
+        dim = goal_path_t.CARTESIAN_DIM
+    else:
+        dim = len(points[0])
+        if not 1 <= dim <= goal_path_t.MAX_DIM:
+            raise ValueError(f"a joint point needs 1 to {goal_path_t.MAX_DIM} values, got {dim}")
+        for i, p in enumerate(points):
+            if len(p) != dim:
+                raise ValueError(f"point {i + 1} has {len(p)} values, point 1 has {dim}")
+            _finite(f"point {i + 1}", p)
+        rows = [list(p) for p in points]
+    g.goal_id = goal_id or new_goal_id()
+    g.mode = MODES[bool(replace)]
+    g.space = goal_path_t.CARTESIAN if space == "cartesian" else goal_path_t.JOINT
+    g.method = getattr(goal_path_t, method.upper())
+    g.blend_shape = goal_path_t.BLEND_PARABOLIC if shape == "parabolic" else goal_path_t.BLEND_QUARTIC
+    g.spline_ends = goal_path_t.SPLINE_NATURAL if ends == "natural" else goal_path_t.SPLINE_CLAMPED
+    g.n_points, g.dim = len(rows), dim
+    g.points = [r + [0.0] * (goal_path_t.MAX_DIM - dim) for r in rows] + \
+        [[0.0] * goal_path_t.MAX_DIM for _ in range(goal_path_t.MAX_POINTS - len(rows))]
+    if times:
+        _count("--times", times, len(rows))
+        _finite("--times", times)
+        if any(b <= a for a, b in zip(times, times[1:])) or times[0] <= 0.0:
+            raise ValueError("--times must be positive and increasing (s after the start of the motion)")
+        g.has_times = 1
+        g.times = list(times) + [0.0] * (goal_path_t.MAX_POINTS - len(times))
+    else:
+        g.has_times = 0
+        g.times = [0.0] * goal_path_t.MAX_POINTS
+    g.blend_time = _nonneg("--blend-time", blend_time)
+    g.speed, g.accel = _nonneg("speed", speed), _nonneg("accel", accel)
+    g.vel_scale, g.acc_scale = _scale("joint speed", vel_scale), _scale("joint accel", acc_scale)
+    return g
+
+
+def make_servo_message(goal_id, pose=None, twist=None, replace=False, timeout_s=0.1):
+    """One goal_servo_t of a stream (not sent): a target pose, or a twist
+    vx, vy, vz (m/s), wx, wy, wz (rad/s) in the base frame."""
+    if (pose is None) == (twist is None):
+        raise ValueError("a servo message needs either --pose or --twist")
+    g = goal_servo_t()
+    g.goal_id = goal_id
+    g.mode = MODES[bool(replace)]
+    if pose is not None:
+        g.kind = goal_servo_t.POSE
+        g.position, g.orientation = _pose("--pose", pose)
+    else:
+        _count("--twist", twist, 6)
+        _finite("--twist", twist)
+        g.kind = goal_servo_t.TWIST
+        g.orientation = [1.0, 0.0, 0.0, 0.0]
+        g.twist = list(twist)
+    if not (math.isfinite(timeout_s) and timeout_s > 0):
+        raise ValueError("the servo staleness timeout must be > 0")
+    g.timeout_us = max(1, int(round(timeout_s * 1e6)))
+    return g
 
 
 class Client:
@@ -201,125 +326,26 @@ class Client:
         msg.utime = int(time.time() * 1e6)
         self.lc.publish(self.prefix + CHANNELS[type(msg)], msg.encode())
 
-    def goal_joint(self, q, goal_id=None, replace=False, vel_scale=0.0, acc_scale=0.0):
-        """Joint move to q (rad or m); vel_scale, acc_scale in [0, 1] (0 = 1). Returns the goal id."""
-        g = goal_joint_t()
-        if not 1 <= len(q) <= goal_joint_t.MAX_JOINTS:
-            raise ValueError(f"--q needs 1 to {goal_joint_t.MAX_JOINTS} joint values, got {len(q)}")
-        _finite("q", q)
-        g.goal_id = goal_id or new_goal_id()
-        g.mode = MODES[bool(replace)]
-        g.n = len(q)
-        g.q = list(q) + [0.0] * (goal_joint_t.MAX_JOINTS - len(q))
-        g.vel_scale, g.acc_scale = _scale("speed", vel_scale), _scale("accel", acc_scale)
-        self.publish(g)
-        return g.goal_id
+    def goal_joint(self, q, **kw):
+        """Sends make_goal_joint(q, **kw); returns the goal id."""
+        return self.send(make_goal_joint(q, **kw))
 
-    def _cartesian(self, g, speed, accel, angular_speed, angular_accel, vel_scale, acc_scale):
-        g.speed, g.accel = _nonneg("speed", speed), _nonneg("accel", accel)
-        g.angular_speed = _nonneg("angular speed", angular_speed)
-        g.angular_accel = _nonneg("angular accel", angular_accel)
-        g.vel_scale, g.acc_scale = _scale("joint speed", vel_scale), _scale("joint accel", acc_scale)
+    def goal_line(self, to, **kw):
+        """Sends make_goal_line(to, **kw); returns the goal id."""
+        return self.send(make_goal_line(to, **kw))
 
-    def goal_line(self, to, goal_id=None, replace=False, speed=0.0, accel=0.0, angular_speed=0.0,
-                  angular_accel=0.0, slerp=False, vel_scale=0.0, acc_scale=0.0):
-        """Straight line of the tool to pose to = x, y, z (m), qw, qx, qy, qz. Returns the goal id."""
-        g = goal_line_t()
-        g.goal_id = goal_id or new_goal_id()
-        g.mode = MODES[bool(replace)]
-        g.position, g.orientation = _pose("--to", to)
-        self._cartesian(g, speed, accel, angular_speed, angular_accel, vel_scale, acc_scale)
-        g.orientation_method = goal_line_t.SLERP if slerp else goal_line_t.TWO_ROTATIONS
-        self.publish(g)
-        return g.goal_id
+    def goal_arc(self, via, to, **kw):
+        """Sends make_goal_arc(via, to, **kw); returns the goal id."""
+        return self.send(make_goal_arc(via, to, **kw))
 
-    def goal_arc(self, via, to, goal_id=None, replace=False, speed=0.0, accel=0.0, angular_speed=0.0,
-                 angular_accel=0.0, vel_scale=0.0, acc_scale=0.0):
-        """Arc of the tool through via = x, y, z to pose to. Returns the goal id."""
-        g = goal_arc_t()
-        _count("--via", via, 3)
-        _finite("--via", via)
-        g.goal_id = goal_id or new_goal_id()
-        g.mode = MODES[bool(replace)]
-        g.via = list(via)
-        g.position, g.orientation = _pose("--to", to)
-        self._cartesian(g, speed, accel, angular_speed, angular_accel, vel_scale, acc_scale)
-        self.publish(g)
-        return g.goal_id
+    def goal_path(self, points, **kw):
+        """Sends make_goal_path(points, **kw); returns the goal id."""
+        return self.send(make_goal_path(points, **kw))
 
-    def goal_path(self, points, space="joint", method="blend", times=None, blend_time=0.0, goal_id=None,
-                  replace=False, speed=0.0, accel=0.0, vel_scale=0.0, acc_scale=0.0, shape="quartic",
-                  ends="clamped"):
-        """Multi-point path through points (joint vectors, or x,y,z,qw,qx,qy,qz poses for
-        space "cartesian"); method blend, spline, quintic or lagrange; times (s) optional."""
-        g = goal_path_t()
-        if not 1 <= len(points) <= goal_path_t.MAX_POINTS:
-            raise ValueError(f"--points needs 1 to {goal_path_t.MAX_POINTS} points, got {len(points)}")
-        if space not in ("joint", "cartesian"):
-            raise ValueError(f"--space {space}: joint or cartesian")
-        if method not in ("blend", "spline", "quintic", "lagrange"):
-            raise ValueError(f"--method {method}: blend, spline, quintic or lagrange")
-        if space == "cartesian":
-            rows = []
-            for i, p in enumerate(points):
-                pos, quat = _pose(f"point {i + 1}", p)
-                rows.append(pos + quat)
-            dim = goal_path_t.CARTESIAN_DIM
-        else:
-            dim = len(points[0])
-            if not 1 <= dim <= goal_path_t.MAX_DIM:
-                raise ValueError(f"a joint point needs 1 to {goal_path_t.MAX_DIM} values, got {dim}")
-            for i, p in enumerate(points):
-                if len(p) != dim:
-                    raise ValueError(f"point {i + 1} has {len(p)} values, point 1 has {dim}")
-                _finite(f"point {i + 1}", p)
-            rows = [list(p) for p in points]
-        g.goal_id = goal_id or new_goal_id()
-        g.mode = MODES[bool(replace)]
-        g.space = goal_path_t.CARTESIAN if space == "cartesian" else goal_path_t.JOINT
-        g.method = getattr(goal_path_t, method.upper())
-        g.blend_shape = goal_path_t.BLEND_PARABOLIC if shape == "parabolic" else goal_path_t.BLEND_QUARTIC
-        g.spline_ends = goal_path_t.SPLINE_NATURAL if ends == "natural" else goal_path_t.SPLINE_CLAMPED
-        g.n_points, g.dim = len(rows), dim
-        g.points = [r + [0.0] * (goal_path_t.MAX_DIM - dim) for r in rows] + \
-            [[0.0] * goal_path_t.MAX_DIM for _ in range(goal_path_t.MAX_POINTS - len(rows))]
-        if times:
-            _count("--times", times, len(rows))
-            _finite("--times", times)
-            if any(b <= a for a, b in zip(times, times[1:])) or times[0] <= 0.0:
-                raise ValueError("--times must be positive and increasing (s after the start of the motion)")
-            g.has_times = 1
-            g.times = list(times) + [0.0] * (goal_path_t.MAX_POINTS - len(times))
-        else:
-            g.has_times = 0
-            g.times = [0.0] * goal_path_t.MAX_POINTS
-        g.blend_time = _nonneg("--blend-time", blend_time)
-        g.speed, g.accel = _nonneg("speed", speed), _nonneg("accel", accel)
-        g.vel_scale, g.acc_scale = _scale("joint speed", vel_scale), _scale("joint accel", acc_scale)
-        self.publish(g)
-        return g.goal_id
-
-    def servo_message(self, goal_id, pose=None, twist=None, replace=False, timeout_s=0.1):
-        """One goal_servo_t of a stream (not sent): a target pose, or a twist
-        vx, vy, vz (m/s), wx, wy, wz (rad/s) in the base frame."""
-        if (pose is None) == (twist is None):
-            raise ValueError("a servo message needs either --pose or --twist")
-        g = goal_servo_t()
-        g.goal_id = goal_id
-        g.mode = MODES[bool(replace)]
-        if pose is not None:
-            g.kind = goal_servo_t.POSE
-            g.position, g.orientation = _pose("--pose", pose)
-        else:
-            _count("--twist", twist, 6)
-            _finite("--twist", twist)
-            g.kind = goal_servo_t.TWIST
-            g.orientation = [1.0, 0.0, 0.0, 0.0]
-            g.twist = list(twist)
-        if not (math.isfinite(timeout_s) and timeout_s > 0):
-            raise ValueError("the servo staleness timeout must be > 0")
-        g.timeout_us = max(1, int(round(timeout_s * 1e6)))
-        return g
+    def send(self, goal):
+        """Publishes a goal message; returns its goal id."""
+        self.publish(goal)
+        return goal.goal_id
 
     def command(self, name):
         """stop, estop, pause, resume or reset."""

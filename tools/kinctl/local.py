@@ -46,6 +46,18 @@ MULTICAST_HELP = ("LCM multicast does not loop back on this machine; as root: "
                   "ip link set lo multicast on; ip route add 224.0.0.0/4 dev lo")
 
 
+def ensure_multicast():
+    """True when multicast works, after routing 224.0.0.0/4 on lo when it does
+    not and we are root (as tests/daemon/conftest.py does); else False."""
+    if multicast_works():
+        return True
+    if os.geteuid() == 0:
+        subprocess.run(["ip", "link", "set", "lo", "multicast", "on"], check=False, capture_output=True)
+        subprocess.run(["ip", "route", "add", "224.0.0.0/4", "dev", "lo"], check=False, capture_output=True)
+        return multicast_works()
+    return False
+
+
 def find_kinctld():
     """$KINCTLD, else build/daemon/kinctld of this checkout, else kinctld on PATH."""
     for cand in (os.environ.get("KINCTLD"), os.path.join(SOURCE_DIR, "build", "daemon", "kinctld"),
