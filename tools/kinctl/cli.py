@@ -139,10 +139,14 @@ def _sub(subparsers, name, help_, example, parents):
 def _goal_options(p, cartesian):
     g = p.add_argument_group("goal")
     if cartesian:
+        both = ""
+        if cartesian == "path":
+            both = " (a joint-space path: the fraction of the joint limits, as --joint-speed)"
         g.add_argument("--speed", type=nonneg, default=0.0, metavar="M_S",
-                       help="tool speed (m/s); 0 or absent: the controller's default")
+                       help="tool speed (m/s); 0 or absent: the controller's default" + both)
         g.add_argument("--accel", type=nonneg, default=0.0, metavar="M_S2",
-                       help="tool acceleration (m/s^2); 0 or absent: the controller's default")
+                       help="tool acceleration (m/s^2); 0 or absent: the controller's default"
+                            + both.replace("speed", "accel"))
         g.add_argument("--joint-speed", type=nonneg, default=0.0, metavar="SCALE",
                        help="fraction of the joint velocity limits the motion may use, (0, 1]")
         g.add_argument("--joint-accel", type=nonneg, default=0.0, metavar="SCALE",
@@ -229,8 +233,7 @@ def build_parser():
                       help="blend shape (blend only; default quartic)")
     path.add_argument("--ends", choices=("clamped", "natural"), default="clamped",
                       help="spline ends (spline only; default clamped)")
-    _goal_options(path, cartesian=True)
-    path.set_defaults(joint_path_note=True)
+    _goal_options(path, cartesian="path")
 
     servo = _sub(gsub, "servo", "stream servo messages: track a pose or follow a twist, then let go",
                  "kinctl goal servo --twist 0,0.05,0,0,0,0 --rate 100 --duration 2 --replace --wait", parents)
@@ -361,11 +364,16 @@ def cmd_goal(args):
             msg = kc.make_goal_arc(args.via, args.to, **cart, **common)
         kind = args.kind
     else:
-        pts = [[v * deg for v in p] for p in args.points] if args.space == "joint" else args.points
+        if args.space == "joint":
+            # A joint path has no Cartesian speed: --speed/--accel are the joint scales, as for a joint move.
+            pts = [[v * deg for v in p] for p in args.points]
+            rates = dict(speed=0.0, accel=0.0, vel_scale=args.joint_speed or args.speed,
+                         acc_scale=args.joint_accel or args.accel)
+        else:
+            pts = args.points
+            rates = dict(speed=args.speed, accel=args.accel, vel_scale=args.joint_speed, acc_scale=args.joint_accel)
         msg = kc.make_goal_path(pts, space=args.space, method=args.method, times=args.times,
-                                blend_time=args.blend_time, speed=args.speed, accel=args.accel,
-                                vel_scale=args.joint_speed, acc_scale=args.joint_accel, shape=args.shape,
-                                ends=args.ends, **common)
+                                blend_time=args.blend_time, shape=args.shape, ends=args.ends, **rates, **common)
         kind = f"{args.space} {args.method} path"
     with _connect(args) as c:
         return _answer(c, c.send(msg), kind, args)

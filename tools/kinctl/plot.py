@@ -123,11 +123,11 @@ def plot_run(csv_path, png_path, events=None, title=None, labels=None, dpi=100):
         ax3.plot(x[a:b], y[a:b], z[a:b], color=col, lw=1.8)
         axxy.plot(x[a:b], y[a:b], color=col, lw=1.8, label=lab)
         axxz.plot(x[a:b], z[a:b], color=col, lw=1.8)
-    for axp in (ax3, axxy, axxz):
-        axp.plot([x[0]], [y[0]] if axp is not axxz else [z[0]], *([[z[0]]] if axp is ax3 else []),
-                 marker="o", color="k", ms=4, ls="")
-        axp.plot([x[-1]], [y[-1]] if axp is not axxz else [z[-1]], *([[z[-1]]] if axp is ax3 else []),
-                 marker="s", color="k", ms=4, ls="")
+    # Start (circle) and end (square).
+    for i, marker in ((0, "o"), (-1, "s")):
+        ax3.plot([x[i]], [y[i]], [z[i]], marker=marker, color="k", ms=4, ls="")
+        axxy.plot([x[i]], [y[i]], marker=marker, color="k", ms=4, ls="")
+        axxz.plot([x[i]], [z[i]], marker=marker, color="k", ms=4, ls="")
     ax3.set_title("tool path (● start, ■ end)", loc="left", fontsize=11)
     ax3.set_xlabel("x (m)")
     ax3.set_ylabel("y (m)")
@@ -142,7 +142,8 @@ def plot_run(csv_path, png_path, events=None, title=None, labels=None, dpi=100):
 
     axes = []
     for ax in (axq, axqd, axqdd, ax3, axxy, axxz):
-        axes.append({"title": ax.get_title(loc="left"), "name": ax.name, "xlabel": ax.get_xlabel(), "ylabel": ax.get_ylabel(),
+        axes.append({"title": ax.get_title(loc="left"), "name": ax.name, "xlabel": ax.get_xlabel(),
+                     "ylabel": ax.get_ylabel(),
                      "lines": len(ax.get_lines()),
                      "curves": [ln.get_label() for ln in ax.get_lines() if not ln.get_label().startswith("_")]})
     plt.close(fig)
