@@ -13,6 +13,7 @@
 
 #define KD_NS 1000000000LL
 #define KD_LCM_QUEUE 10000 /* datagrams LCM may hold per subscription before we read them */
+#define KD_LCM_RECV_BUF (4 << 20) /* socket receive buffer asked for on udpm (bytes) */
 #define KD_HANDLE_BURST 64 /* datagrams per wake-up before the tick ring is drained again */
 
 /* ---- publishing -------------------------------------------------------- */
@@ -231,6 +232,16 @@ static void handle_goal(kd_io *io, kd_msg_type type, int64_t received_ns)
         reject(io, g->id, &rej);
         return;
     }
+    /* The controller's queue as the last tick saw it, plus the goals on
+     * their way to it: when that is full the goal is refused at once, with
+     * no dry run, so a flood costs microseconds a goal and every goal is
+     * still answered. A servo update for the active servo is no new goal. */
+    if (!g->replace && g->kind != KC_GOAL_SERVO && io->have_last &&
+        io->last.out.queue_length + (io->goals_pushed - io->last.goals_taken) >= KC_CTRL_QUEUE_MAX) {
+        kd_reject_set(&rej, KC_REASON_QUEUE_FULL, "the controller's goal queue (%d goals) is full", KC_CTRL_QUEUE_MAX);
+        reject(io, g->id, &rej);
+        return;
+    }
     start = g->replace ? latest_q(io) : io->shadow_q;
     if (g->kind == KC_GOAL_SERVO) {
         st = kc_ctrl_goal_check(&io->cfg->chain, g, &reason);
@@ -440,7 +451,16 @@ int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_ctrl *scratc
     atomic_init(&io->stop_request, 0);
     atomic_init(&io->stop_done, 0);
 
-    io->lcm = lcm_create(cfg->lcm_url);
+    /* A burst of goals must wait in the socket, not be dropped by the
+     * kernel: ask for a 4 MiB receive buffer on multicast unless the URL
+     * says otherwise (the kernel caps it at net.core.rmem_max). */
+    char url[KD_URL_MAX + 64];
+    if (strncmp(cfg->lcm_url, "udpm://", 7) == 0 && strstr(cfg->lcm_url, "recv_buf_size") == NULL)
+        snprintf(url, sizeof url, "%s%crecv_buf_size=%d", cfg->lcm_url, strchr(cfg->lcm_url, '?') ? '&' : '?',
+                 KD_LCM_RECV_BUF);
+    else
+        snprintf(url, sizeof url, "%s", cfg->lcm_url);
+    io->lcm = lcm_create(url);
     if (io->lcm == NULL) {
         fprintf(stderr, "kinctld: cannot open LCM on \"%s\" (%s): check the URL and the network (multicast route)\n",
                 cfg->lcm_url, cfg->lcm_url_source);

@@ -1108,6 +1108,18 @@ kc_status kc_ctrl_check(kc_ctrl *scratch, const kc_chain *chain, const kc_ctrl_c
             *reason = KC_REASON_NONE;
         return KC_OK;
     }
+    if (goal->kind == KC_GOAL_JOINT) {
+        /* A joint move is exactly its plan: the plan is the whole check. */
+        kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS];
+        scaled_limits(scratch, goal, vmax, amax);
+        if (kc_interp_joint_plan(&scratch->plan.joint, chain->n_joints, q_start, goal->q, vmax, amax, KC_R(0.0),
+                                 cfg->dt) != KC_OK)
+            return refuse(reason, KC_REASON_PLAN);
+        memcpy(q_end, goal->q, sizeof(kc_real) * (size_t)chain->n_joints);
+        if (reason != NULL)
+            *reason = KC_REASON_NONE;
+        return KC_OK;
+    }
     kc_goal g = *goal;
     g.replace = 0;
     kc_ctrl_input in = {&g, KC_CMD_NONE, 0};

@@ -37,7 +37,7 @@ MODELS = os.environ.get("KINCTL_MODELS", os.path.join(os.path.dirname(__file__),
 # Slow builds (sanitizers) get more time for everything.
 SLOW = float(os.environ.get("KINCTLD_TEST_SLOWDOWN", "1"))
 
-EVENTS = {"NONE": 0, "ACCEPTED": 1, "REJECTED": 2, "COMPLETED": 3, "PREEMPTED": 4, "ABORTED": 5, "FAULT": 6}
+EVENTS = {"NONE": 0, "ACCEPTED": 1, "REJECTED": 2, "COMPLETED": 3, "PREEMPTED": 4, "ABORTED": 5, "FAULT": 6, "STARTED": 7}
 EVENT_NAMES = {v: k for k, v in EVENTS.items()}
 STATES = {"IDLE": 0, "MOVING": 1, "PAUSED": 2, "STOPPING": 3, "FAULT": 4, "ESTOP": 5}
 
@@ -50,7 +50,9 @@ def unique_url():
     pid = os.getpid()
     group = 1 + (pid + n) % 250
     port = 20000 + (pid % 500) * 40 + n % 40
-    return f"udpm://239.255.77.{group}:{port}?ttl=0"
+    # A receive buffer big enough for the floods the tests send (the kernel
+    # caps it at net.core.rmem_max).
+    return f"udpm://239.255.77.{group}:{port}?ttl=0&recv_buf_size=4194304"
 
 
 def _multicast_works(url):
