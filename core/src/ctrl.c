@@ -501,33 +501,33 @@ static void seg_eval(const kc_ctrl *c, int64_t j, seg_point *o)
 
 /* ---- stops ---- */
 
-/* Largest |q''| tau'^2 - q' c| / qdd_max over sampled instants of a path
- * stop from (tau, rate) at the constant deceleration c: at most 1 when the
- * stop keeps every joint (or, Cartesian, the tool point) within its
- * acceleration limit. */
-static kc_real path_stop_load(const kc_ctrl *c, kc_real tau, kc_real rate, kc_real dec)
+/* Largest |q'' tau'^2 + q' tau''| / qdd_max (Cartesian: the tool point's
+ * acceleration over its limit) on sampled instants of a change of tau' at
+ * the constant rate a for the time D, from plan time tau0 at rate r0: at
+ * most 1 when it keeps every limit. A stop is (tau, rate, -C, rate / C), a
+ * start from rest (tau, 0, C, 1 / C), the ramp into the end (T - 1/(2C),
+ * 1, -C, 1 / C). */
+static kc_real path_ramp_load(const kc_ctrl *c, kc_real tau0, kc_real r0, kc_real a, kc_real D)
 {
     const kc_goal *g = &c->goal;
     int n = c->chain->n_joints;
-    kc_real T = rate / dec, worst = KC_R(0.0);
-    kc_real amax[KC_MAX_JOINTS], vmax[KC_MAX_JOINTS];
+    kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS], worst = KC_R(0.0);
     scaled_limits(c, g, vmax, amax);
     kc_real a_cart = cart_limits(c, g).a;
     for (int i = 0; i <= STOP_SAMPLES; i++) {
-        kc_real t = T * (kc_real)i / (kc_real)STOP_SAMPLES;
-        kc_real r = rate - dec * t;
-        kc_real at = tau + rate * t - KC_R(0.5) * dec * t * t;
+        kc_real t = D * (kc_real)i / (kc_real)STOP_SAMPLES;
+        kc_real r = r0 + a * t, at = kc_max(tau0 + r0 * t + KC_R(0.5) * a * t * t, KC_R(0.0));
         if (g->kind == KC_GOAL_PATH) {
             kc_real q[KC_MAX_JOINTS], d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
             kc_path_eval_time(&c->plan.path, at, q, d1, d2);
             for (int j = 0; j < n; j++)
-                worst = kc_max(worst, kc_fabs(d2[j] * r * r - d1[j] * dec) / amax[j]);
+                worst = kc_max(worst, kc_fabs(d2[j] * r * r + d1[j] * a) / amax[j]);
         } else {
             kc_path_pose s;
             kc_path_eval_cart_time(&c->plan.path_cart, at, &s);
             kc_vec3 acc;
             for (int k = 0; k < 3; k++)
-                acc.v[k] = s.a.v[k] * r * r - s.v.v[k] * dec;
+                acc.v[k] = s.a.v[k] * r * r + s.v.v[k] * a;
             worst = kc_max(worst, kc_vec3_norm(&acc) / a_cart);
         }
     }
@@ -561,40 +561,9 @@ static kc_real path_stop_rate(const kc_ctrl *c, kc_real tau, kc_real rate)
     if (!kc_isfinite(dec))
         dec = KC_R(1.0) / c->cfg.dt; /* standing still: stop within a tick */
     for (int tries = 0; tries < 6; tries++, dec *= KC_R(0.5))
-        if (path_stop_load(c, tau, rate, dec) <= KC_R(1.0))
+        if (path_ramp_load(c, tau, rate, -dec, rate / dec) <= KC_R(1.0))
             return dec;
     return KC_R(0.0);
-}
-
-/* Largest |q'' tau'^2 + dir q' C| / qdd_max (Cartesian: the tool point's
- * acceleration over its limit) over a ramp of tau' between 0 and 1 at the
- * constant rate C, at rest at plan time tau0: dir = +1 speeds up from tau0,
- * dir = -1 comes to rest at tau0 (tau0 = the end). */
-static kc_real path_ramp_load(const kc_ctrl *c, kc_real tau0, int dir, kc_real C)
-{
-    const kc_goal *g = &c->goal;
-    int n = c->chain->n_joints;
-    kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS], worst = KC_R(0.0);
-    scaled_limits(c, g, vmax, amax);
-    kc_real a_cart = cart_limits(c, g).a, sgn = (kc_real)dir;
-    for (int i = 0; i <= STOP_SAMPLES; i++) {
-        kc_real t = (kc_real)i / ((kc_real)STOP_SAMPLES * C);
-        kc_real r = C * t, at = tau0 + sgn * KC_R(0.5) * C * t * t;
-        if (g->kind == KC_GOAL_PATH) {
-            kc_real q[KC_MAX_JOINTS], d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
-            kc_path_eval_time(&c->plan.path, kc_max(at, KC_R(0.0)), q, d1, d2);
-            for (int j = 0; j < n; j++)
-                worst = kc_max(worst, kc_fabs(d2[j] * r * r + sgn * d1[j] * C) / amax[j]);
-        } else {
-            kc_path_pose s;
-            kc_path_eval_cart_time(&c->plan.path_cart, kc_max(at, KC_R(0.0)), &s);
-            kc_vec3 acc;
-            for (int k = 0; k < 3; k++)
-                acc.v[k] = s.a.v[k] * r * r + sgn * s.v.v[k] * C;
-            worst = kc_max(worst, kc_vec3_norm(&acc) / a_cart);
-        }
-    }
-    return worst;
 }
 
 /* The rate C of a tau' ramp from rest at tau0 up to 1 that, with the same
@@ -606,7 +575,8 @@ static kc_real path_ramp_rate(const kc_ctrl *c, kc_real tau0)
     kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
     kc_real C = KC_R(1.0) / (KC_R(10.0) * c->cfg.dt); /* a ramp of at least ten ticks */
     for (int tries = 0; tries < 16; tries++, C *= KC_R(0.5))
-        if (path_ramp_load(c, tau0, 1, C) <= KC_R(1.0) && path_ramp_load(c, T, -1, C) <= KC_R(1.0))
+        if (path_ramp_load(c, tau0, KC_R(0.0), C, KC_R(1.0) / C) <= KC_R(1.0) &&
+            path_ramp_load(c, T - KC_R(0.5) / C, KC_R(1.0), -C, KC_R(1.0) / C) <= KC_R(1.0))
             return C;
     return KC_R(0.0);
 }

@@ -105,6 +105,38 @@ static kc_goal line_goal(int64_t id, const kc_pose *to)
     return g;
 }
 
+/* A path goal of n points; joint points are PUMA_Q0 + offsets[i] on every
+ * joint, Cartesian ones the pose here moved by offsets (x, y, z) with the
+ * orientation kept. */
+static kc_goal path_goal(int64_t id, kc_goal_kind kind, kc_path_method method, int n, const kc_real (*offsets)[3],
+                         const kc_pose *here)
+{
+    kc_goal g;
+    memset(&g, 0, sizeof g);
+    g.id = id;
+    g.kind = kind;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    g.method = method;
+    g.n_points = n;
+    kc_quat r = {KC_R(1.0), 0, 0, 0};
+    if (here != NULL)
+        kc_quat_from_mat3(&here->R, &r);
+    for (int i = 0; i < n; i++) {
+        if (kind == KC_GOAL_PATH) {
+            for (int j = 0; j < 6; j++)
+                g.points[i][j] = PUMA_Q0[j] + offsets[i][0];
+        } else {
+            for (int k = 0; k < 3; k++)
+                g.points[i][k] = here->t.v[k] + offsets[i][k];
+            g.points[i][3] = r.w;
+            g.points[i][4] = r.x;
+            g.points[i][5] = r.y;
+            g.points[i][6] = r.z;
+        }
+    }
+    return g;
+}
+
 static kc_pose pose_of(const kc_real *q)
 {
     kc_pose p;
@@ -192,17 +224,8 @@ static void test_arc_and_paths(void **state)
 
     /* A joint-space spline through two points, then a Cartesian blend path
      * back through two poses. */
-    kc_goal p;
-    memset(&p, 0, sizeof p);
-    p.id = 22;
-    p.kind = KC_GOAL_PATH;
-    p.vel_scale = p.acc_scale = KC_R(1.0);
-    p.method = KC_PATH_SPLINE;
-    p.n_points = 2;
-    for (int j = 0; j < 6; j++) {
-        p.points[0][j] = H.out.q[j] + KC_R(0.2);
-        p.points[1][j] = H.out.q[j] - KC_R(0.1);
-    }
+    const kc_real spline_off[2][3] = {{KC_R(0.2), 0, 0}, {KC_R(-0.1), 0, 0}};
+    kc_goal p = path_goal(22, KC_GOAL_PATH, KC_PATH_SPLINE, 2, spline_off, NULL);
     tick(&p, KC_CMD_NONE);
     run_until_state(KC_CTRL_IDLE, 20000);
     assert_int_equal(H.count[KC_EVENT_COMPLETED], 2);
@@ -210,23 +233,8 @@ static void test_arc_and_paths(void **state)
         kt_near((double)H.out.q[j], (double)p.points[1][j], 1e-9, "joint path end");
 
     kc_pose here = H.out.pose;
-    kc_quat r;
-    kc_quat_from_mat3(&here.R, &r);
-    memset(&p, 0, sizeof p);
-    p.id = 23;
-    p.kind = KC_GOAL_PATH_CART;
-    p.vel_scale = p.acc_scale = KC_R(1.0);
-    p.method = KC_PATH_BLEND;
-    p.n_points = 2;
     const kc_real off[2][3] = {{KC_R(0.05), KC_R(0.05), KC_R(0.0)}, {KC_R(0.1), KC_R(0.0), KC_R(-0.05)}};
-    for (int i = 0; i < 2; i++) {
-        for (int k = 0; k < 3; k++)
-            p.points[i][k] = here.t.v[k] + off[i][k];
-        p.points[i][3] = r.w;
-        p.points[i][4] = r.x;
-        p.points[i][5] = r.y;
-        p.points[i][6] = r.z;
-    }
+    p = path_goal(23, KC_GOAL_PATH_CART, KC_PATH_BLEND, 2, off, &here);
     tick(&p, KC_CMD_NONE);
     run_until_state(KC_CTRL_IDLE, 20000);
     assert_int_equal(H.count[KC_EVENT_COMPLETED], 3);
@@ -400,18 +408,8 @@ static void test_path_pause_stop(void **state)
 {
     (void)state;
     setup(KC_MODEL_PUMA560, PUMA_Q0);
-    kc_goal p;
-    memset(&p, 0, sizeof p);
-    p.id = 91;
-    p.kind = KC_GOAL_PATH;
-    p.vel_scale = p.acc_scale = KC_R(1.0);
-    p.method = KC_PATH_BLEND;
-    p.n_points = 3;
-    for (int j = 0; j < 6; j++) {
-        p.points[0][j] = PUMA_Q0[j] + KC_R(0.3);
-        p.points[1][j] = PUMA_Q0[j] - KC_R(0.2);
-        p.points[2][j] = PUMA_Q0[j] + KC_R(0.1);
-    }
+    const kc_real blend_off[3][3] = {{KC_R(0.3), 0, 0}, {KC_R(-0.2), 0, 0}, {KC_R(0.1), 0, 0}};
+    kc_goal p = path_goal(91, KC_GOAL_PATH, KC_PATH_BLEND, 3, blend_off, NULL);
     tick(&p, KC_CMD_NONE);
     for (int k = 0; k < 400; k++)
         tick(NULL, KC_CMD_NONE);
@@ -427,23 +425,8 @@ static void test_path_pause_stop(void **state)
 
     /* A Cartesian path stopped half way ends at rest, aborted. */
     kc_pose here = H.out.pose;
-    kc_quat r;
-    kc_quat_from_mat3(&here.R, &r);
-    memset(&p, 0, sizeof p);
-    p.id = 92;
-    p.kind = KC_GOAL_PATH_CART;
-    p.vel_scale = p.acc_scale = KC_R(1.0);
-    p.method = KC_PATH_SPLINE;
-    p.n_points = 2;
     const kc_real off[2][3] = {{KC_R(0.0), KC_R(0.1), KC_R(0.0)}, {KC_R(0.05), KC_R(0.2), KC_R(0.0)}};
-    for (int i = 0; i < 2; i++) {
-        for (int k = 0; k < 3; k++)
-            p.points[i][k] = here.t.v[k] + off[i][k];
-        p.points[i][3] = r.w;
-        p.points[i][4] = r.x;
-        p.points[i][5] = r.y;
-        p.points[i][6] = r.z;
-    }
+    p = path_goal(92, KC_GOAL_PATH_CART, KC_PATH_SPLINE, 2, off, &here);
     tick(&p, KC_CMD_NONE);
     for (int k = 0; k < 300; k++)
         tick(NULL, KC_CMD_NONE);
@@ -461,18 +444,8 @@ static void test_lagrange_path(void **state)
 {
     (void)state;
     setup(KC_MODEL_PUMA560, PUMA_Q0);
-    kc_goal p;
-    memset(&p, 0, sizeof p);
-    p.id = 95;
-    p.kind = KC_GOAL_PATH;
-    p.vel_scale = p.acc_scale = KC_R(1.0);
-    p.method = KC_PATH_LAGRANGE;
-    p.n_points = 3;
-    for (int j = 0; j < 6; j++) {
-        p.points[0][j] = PUMA_Q0[j] + KC_R(0.1);
-        p.points[1][j] = PUMA_Q0[j] + KC_R(0.25);
-        p.points[2][j] = PUMA_Q0[j] + KC_R(0.3);
-    }
+    const kc_real lagrange_off[3][3] = {{KC_R(0.1), 0, 0}, {KC_R(0.25), 0, 0}, {KC_R(0.3), 0, 0}};
+    kc_goal p = path_goal(95, KC_GOAL_PATH, KC_PATH_LAGRANGE, 3, lagrange_off, NULL);
     tick(&p, KC_CMD_NONE);
     run_until_state(KC_CTRL_IDLE, 40000);
     assert_int_equal(H.last[KC_EVENT_COMPLETED].goal_id, 95);
