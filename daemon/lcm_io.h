@@ -68,6 +68,7 @@ struct kd_io {
     int64_t last_goal_id;
     int64_t goals_pushed, cmds_pushed;
     int64_t check_max_ticks;
+    kc_ctrl_cfg check_cfg; /* the controller's configuration at the dry run's coarser period */
 
     /* The latest tick seen. */
     kd_tick last;
