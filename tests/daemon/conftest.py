@@ -17,7 +17,6 @@ Environment (set by tests/daemon/CMakeLists.txt): KINCTLD (the binary),
 PYTHONPATH with the generated kinctl_msgs, KINCTL_MODELS (models/).
 KINCTLD_EXTRA_ARGS adds arguments to every start (e.g. "--rt").
 """
-import itertools
 import math
 import os
 import shlex
@@ -27,6 +26,8 @@ import threading
 import time
 
 import pytest
+
+from kinctl import local
 
 import lcm
 from kinctl_msgs import (command_t, goal_arc_t, goal_joint_t, goal_line_t, goal_path_t, goal_servo_t, setpoint_t,
@@ -41,45 +42,17 @@ EVENTS = {"NONE": 0, "ACCEPTED": 1, "REJECTED": 2, "COMPLETED": 3, "PREEMPTED": 
 EVENT_NAMES = {v: k for k, v in EVENTS.items()}
 STATES = {"IDLE": 0, "MOVING": 1, "PAUSED": 2, "STOPPING": 3, "FAULT": 4, "ESTOP": 5}
 
-_counter = itertools.count()
-
-
 def unique_url():
-    """A multicast group and port no other test (or concurrent run) uses."""
-    n = next(_counter)
-    pid = os.getpid()
-    group = 1 + (pid + n) % 250
-    port = 20000 + (pid % 500) * 40 + n % 40
-    # A receive buffer big enough for the floods the tests send (the kernel
-    # caps it at net.core.rmem_max).
-    return f"udpm://239.255.77.{group}:{port}?ttl=0&recv_buf_size=4194304"
-
-
-def _multicast_works(url):
-    a, b = lcm.LCM(url), lcm.LCM(url)
-    got = []
-    b.subscribe("PROBE", lambda c, d: got.append(d))
-    for _ in range(3):
-        a.publish("PROBE", b"x")
-        b.handle_timeout(200)
-        if got:
-            return True
-    return False
+    """A multicast group and port no other test (or concurrent run) uses:
+    239.255.77.x here, apart from tests/tools' 239.255.78.x."""
+    return local.unique_url(subnet=77, port_base=20000)
 
 
 @pytest.fixture(scope="session")
 def multicast():
     """LCM multicast on this machine, set up on lo when needed and permitted."""
-    url = unique_url()
-    if _multicast_works(url):
-        return
-    if os.geteuid() == 0:
-        subprocess.run(["ip", "link", "set", "lo", "multicast", "on"], check=False)
-        subprocess.run(["ip", "route", "add", "224.0.0.0/4", "dev", "lo"], check=False)
-        if _multicast_works(url):
-            return
-    pytest.skip("LCM multicast does not work here (as root the fixture adds a 224.0.0.0/4 route on lo; "
-                "otherwise: sudo ip link set lo multicast on; sudo ip route add 224.0.0.0/4 dev lo)")
+    if not local.ensure_multicast():
+        pytest.skip(local.MULTICAST_HELP + " (the fixture does this itself when root)")
 
 
 class Bus:

@@ -19,13 +19,16 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 SOURCE_DIR = os.path.dirname(os.path.dirname(HERE))  # tools/kinctl -> the checkout
 
 
-def unique_url():
-    """A multicast group and port of this process's own (239.255.78.x, ttl=0)."""
+def unique_url(subnet=78, port_base=30000):
+    """A multicast group and port of this process's own (239.255.<subnet>.x,
+    ttl=0). Suites that may run at the same time use different subnets and
+    port ranges. The receive buffer is sized for the bursts of statuses a
+    flood of goals brings (the kernel caps it at net.core.rmem_max)."""
     n = next(_counter)
     pid = os.getpid()
     group = 1 + (pid + n) % 250
-    port = 30000 + (pid % 500) * 40 + n % 40
-    return f"udpm://239.255.78.{group}:{port}?ttl=0"
+    port = port_base + (pid % 500) * 40 + n % 40
+    return f"udpm://239.255.{subnet}.{group}:{port}?ttl=0&recv_buf_size=4194304"
 
 
 def multicast_works(url=None):
