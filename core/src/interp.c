@@ -120,11 +120,7 @@ static kc_status joint_at(const kc_interp_joint *plan, kc_status st, const kc_pr
 
 kc_status kc_interp_joint_eval(const kc_interp_joint *plan, int64_t k, kc_interp_joint_state *out)
 {
-    kc_profile_state u;
-    if (plan == NULL || out == NULL)
-        return KC_E_ARG;
-    kc_status st = kc_profile_eval(&plan->prof, k, &u);
-    return st < 0 ? st : joint_at(plan, st, &u, out);
+    return plan == NULL ? KC_E_ARG : kc_interp_joint_eval_profile(plan, &plan->prof, k, out);
 }
 
 kc_status kc_interp_joint_eval_profile(const kc_interp_joint *plan, const kc_profile *prof, int64_t k,
@@ -342,11 +338,7 @@ static kc_status line_at(const kc_interp_line *plan, kc_status st, const kc_prof
 
 kc_status kc_interp_line_eval(const kc_interp_line *plan, int64_t k, kc_interp_cart_state *out)
 {
-    kc_profile_state u;
-    if (plan == NULL || out == NULL)
-        return KC_E_ARG;
-    kc_status st = kc_profile_eval(&plan->prof, k, &u);
-    return st < 0 ? st : line_at(plan, st, &u, out);
+    return plan == NULL ? KC_E_ARG : kc_interp_line_eval_profile(plan, &plan->prof, k, out);
 }
 
 kc_status kc_interp_line_eval_profile(const kc_interp_line *plan, const kc_profile *prof, int64_t k,
@@ -465,11 +457,7 @@ static kc_status arc_at(const kc_interp_arc *plan, kc_status st, const kc_profil
 
 kc_status kc_interp_arc_eval(const kc_interp_arc *plan, int64_t k, kc_interp_cart_state *out)
 {
-    kc_profile_state u;
-    if (plan == NULL || out == NULL)
-        return KC_E_ARG;
-    kc_status st = kc_profile_eval(&plan->prof, k, &u);
-    return st < 0 ? st : arc_at(plan, st, &u, out);
+    return plan == NULL ? KC_E_ARG : kc_interp_arc_eval_profile(plan, &plan->prof, k, out);
 }
 
 kc_status kc_interp_arc_eval_profile(const kc_interp_arc *plan, const kc_profile *prof, int64_t k,
