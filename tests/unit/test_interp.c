@@ -37,33 +37,6 @@
 #define DINF ((double)INFINITY)
 #define DNAN ((double)NAN)
 
-static double vec_tol(double scale)
-{
-    if (!FLOAT_BUILD)
-        return 1e-9;
-    return 64.0 * (double)KC_REAL_EPS * (scale > 1.0 ? scale : 1.0);
-}
-
-static double max_abs(const json_t *arr)
-{
-    double m = 0.0;
-    for (size_t i = 0; i < json_array_size(arr); i++) {
-        const json_t *e = json_array_get(arr, i);
-        double v = json_is_array(e) ? max_abs(e) : fabs(kt_num(e));
-        if (v > m)
-            m = v;
-    }
-    return m;
-}
-
-static int in_list(const json_t *list, size_t i)
-{
-    for (size_t j = 0; j < json_array_size(list); j++)
-        if ((size_t)kt_num(json_array_get(list, j)) == i)
-            return 1;
-    return 0;
-}
-
 /* Phase boundaries of a profile, and whether (in float) t sits on one. */
 static int near_boundary(double t, const kc_profile *p)
 {
@@ -135,30 +108,30 @@ static void test_joint_vectors(void **state)
         int lead = json_is_null(lj) ? -1 : (int)kt_num(lj) - 1;
         snprintf(what, sizeof what, "%s: leading joint", name);
         kt_near(plan.lead, lead, 0.0, what);
-        kt_near_reals_json(plan.dq, 2, kt_get(cs, "dq_deg"), vec_tol(180.0), what);
+        kt_near_reals_json(plan.dq, 2, kt_get(cs, "dq_deg"), kt_traj_tol(180.0), what);
         double T = kt_num_of(cs, "T_total_s"), tp = kt_num_of(cs, "t_p_s"), tpv = kt_num_of(cs, "t_pv_s");
         if (lead >= 0) {
             double ql = fabs((double)plan.dq[lead]);
             kc_real K[2] = {plan.dq[0] / (kc_real)ql, plan.dq[1] / (kc_real)ql}, vj[2] = {K[0] * vm[0], K[1] * vm[1]};
             snprintf(what, sizeof what, "%s: K", name);
-            kt_near_reals_json(K, 2, kt_get(cs, "K"), vec_tol(1.0), what);
+            kt_near_reals_json(K, 2, kt_get(cs, "K"), kt_traj_tol(1.0), what);
             snprintf(what, sizeof what, "%s: joint speeds (4.5)", name);
-            kt_near_reals_json(vj, 2, kt_get(cs, "v_joint_deg_s"), vec_tol((double)vm[0]), what);
+            kt_near_reals_json(vj, 2, kt_get(cs, "v_joint_deg_s"), kt_traj_tol((double)vm[0]), what);
             /* (4.6)-(4.9) in the leading joint's units: q = q_lead u. */
             snprintf(what, sizeof what, "%s: q_p (4.7)", name);
-            kt_near(ql * (double)plan.prof.pc, kt_num_of(cs, "q_p_deg"), vec_tol(ql), what);
+            kt_near(ql * (double)plan.prof.pc, kt_num_of(cs, "q_p_deg"), kt_traj_tol(ql), what);
             snprintf(what, sizeof what, "%s: peak speed", name);
-            kt_near(ql * (double)plan.prof.vc, kt_num_of(cs, "v_peak_lead_deg_s"), vec_tol((double)vm[0]), what);
+            kt_near(ql * (double)plan.prof.vc, kt_num_of(cs, "v_peak_lead_deg_s"), kt_traj_tol((double)vm[0]), what);
         }
         snprintf(what, sizeof what, "%s: t_p (4.6)", name);
-        kt_near((double)plan.prof.t1, tp, vec_tol(T), what);
+        kt_near((double)plan.prof.t1, tp, kt_traj_tol(T), what);
         snprintf(what, sizeof what, "%s: t_pv (4.9)", name);
-        kt_near((double)(plan.prof.t2 - plan.prof.t1), tpv, vec_tol(T), what);
+        kt_near((double)(plan.prof.t2 - plan.prof.t1), tpv, kt_traj_tol(T), what);
         snprintf(what, sizeof what, "%s: T", name);
-        kt_near((double)plan.prof.T, T, vec_tol(T), what);
+        kt_near((double)plan.prof.T, T, kt_traj_tol(T), what);
         const json_t *ts = kt_get(smp, "t_s"), *ph = kt_get(smp, "phase"), *amb = kt_get(smp, "qddot_ambiguous_indices");
         const json_t *Q = kt_get(smp, "q_deg"), *QD = kt_get(smp, "qdot_deg_s"), *QDD = kt_get(smp, "qddot_deg_s2");
-        double sq = max_abs(Q), sv = max_abs(QD), sa = max_abs(QDD);
+        double sq = kt_max_abs_json(Q), sv = kt_max_abs_json(QD), sa = kt_max_abs_json(QDD);
         for (size_t i = 0; i < json_array_size(ts); i++) {
             int64_t k = sample_tick(ts, i, &plan.prof, T, name);
             double t = kt_num(json_array_get(ts, i));
@@ -166,15 +139,15 @@ static void test_joint_vectors(void **state)
             assert_int_equal(kc_interp_joint_eval(&plan, k, &st), k < plan.prof.ticks ? KC_OK : KC_DONE);
             for (size_t j = 0; j < 2; j++) {
                 snprintf(what, sizeof what, "%s: q%zu at t = %g", name, j + 1, t);
-                kt_near((double)st.q[j], kt_num(kt_at(kt_at(Q, j), i)), vec_tol(sq), what);
+                kt_near((double)st.q[j], kt_num(kt_at(kt_at(Q, j), i)), kt_traj_tol(sq), what);
                 snprintf(what, sizeof what, "%s: qdot%zu at t = %g", name, j + 1, t);
-                kt_near((double)st.qd[j], kt_num(kt_at(kt_at(QD, j), i)), vec_tol(sv), what);
-                if (in_list(amb, i) || near_boundary(t, &plan.prof))
+                kt_near((double)st.qd[j], kt_num(kt_at(kt_at(QD, j), i)), kt_traj_tol(sv), what);
+                if (kt_index_listed(amb, i) || near_boundary(t, &plan.prof))
                     continue;
                 snprintf(what, sizeof what, "%s: qddot%zu at t = %g", name, j + 1, t);
-                kt_near((double)st.qdd[j], kt_num(kt_at(kt_at(QDD, j), i)), vec_tol(sa), what);
+                kt_near((double)st.qdd[j], kt_num(kt_at(kt_at(QDD, j), i)), kt_traj_tol(sa), what);
             }
-            if (!in_list(amb, i) && !near_boundary(t, &plan.prof)) {
+            if (!kt_index_listed(amb, i) && !near_boundary(t, &plan.prof)) {
                 snprintf(what, sizeof what, "%s: phase at t = %g", name, t);
                 kt_near(st.phase, kt_num(json_array_get(ph, i)), 0.0, what);
             }
@@ -209,67 +182,67 @@ static void test_line_vectors(void **state)
         assert_int_equal(kc_interp_line_plan(&plan, &P1, &P2, &lim, KC_INTERP_TWO_ROTATIONS, KC_R(0.01)), KC_OK);
         /* P3 (5.1), S (5.7), K (5.8-5.10). */
         double S = kt_num_of(cs, "S");
-        double pscale = max_abs(kt_get(cs, "P2_corrected")) + max_abs(kt_get(cs, "P1_corrected"));
+        double pscale = kt_max_abs_json(kt_get(cs, "P2_corrected")) + kt_max_abs_json(kt_get(cs, "P1_corrected"));
         kc_pose inv;
         kc_pose_inv(&P1, &inv);
         kc_pose_mul(&inv, &P2, &P3);
         snprintf(what, sizeof what, "%s: P3 (5.1)", name);
-        kt_near_pose_json(&P3, kt_get(cs, "P3"), vec_tol(pscale), what);
+        kt_near_pose_json(&P3, kt_get(cs, "P3"), kt_traj_tol(pscale), what);
         snprintf(what, sizeof what, "%s: S (5.7)", name);
-        kt_near((double)plan.length, S, vec_tol(pscale), what);
+        kt_near((double)plan.length, S, kt_traj_tol(pscale), what);
         kc_vec3 K;
         kc_mat3_tmul_vec(&P1.R, &plan.dp, &K);
         kc_vec3_scale(&K, KC_R(1.0) / plan.length, &K);
         snprintf(what, sizeof what, "%s: K_xyz (5.8-5.10)", name);
-        kt_near_reals_json(K.v, 3, kt_get(cs, "Kx_Ky_Kz"), vec_tol(1.0) * (FLOAT_BUILD ? pscale / S : 1.0), what);
+        kt_near_reals_json(K.v, 3, kt_get(cs, "Kx_Ky_Kz"), kt_traj_tol(1.0) * (FLOAT_BUILD ? pscale / S : 1.0), what);
         /* (5.18-5.21) and (5.22-5.23). */
         snprintf(what, sizeof what, "%s: psi (5.18)", name);
-        kt_near((double)plan.psi, kt_num_of(cs, "psi_rad"), vec_tol(KT_PI), what);
+        kt_near((double)plan.psi, kt_num_of(cs, "psi_rad"), kt_traj_tol(KT_PI), what);
         snprintf(what, sizeof what, "%s: theta (5.19)", name);
-        kt_near((double)plan.theta, kt_num_of(cs, "theta_rad"), vec_tol(KT_PI), what);
+        kt_near((double)plan.theta, kt_num_of(cs, "theta_rad"), kt_traj_tol(KT_PI), what);
         snprintf(what, sizeof what, "%s: phi (5.20-5.21)", name);
-        kt_near((double)plan.phi, kt_num_of(cs, "phi_rad"), vec_tol(KT_PI), what);
+        kt_near((double)plan.phi, kt_num_of(cs, "phi_rad"), kt_traj_tol(KT_PI), what);
         snprintf(what, sizeof what, "%s: K_theta (5.22)", name);
-        kt_near((double)(plan.theta / plan.length), kt_num_of(cs, "K_theta"), vec_tol(KT_PI / S), what);
+        kt_near((double)(plan.theta / plan.length), kt_num_of(cs, "K_theta"), kt_traj_tol(KT_PI / S), what);
         snprintf(what, sizeof what, "%s: K_phi (5.23)", name);
-        kt_near((double)(plan.phi / plan.length), kt_num_of(cs, "K_phi"), vec_tol(KT_PI / S), what);
+        kt_near((double)(plan.phi / plan.length), kt_num_of(cs, "K_phi"), kt_traj_tol(KT_PI / S), what);
         /* (5.3-5.6) */
         snprintf(what, sizeof what, "%s: t_p (5.3)", name);
-        kt_near((double)plan.prof.t1, kt_num_of(tm, "t_p"), vec_tol(T), what);
+        kt_near((double)plan.prof.t1, kt_num_of(tm, "t_p"), kt_traj_tol(T), what);
         snprintf(what, sizeof what, "%s: t_pv (5.6)", name);
-        kt_near((double)(plan.prof.t2 - plan.prof.t1), kt_num_of(tm, "t_pv"), vec_tol(T), what);
+        kt_near((double)(plan.prof.t2 - plan.prof.t1), kt_num_of(tm, "t_pv"), kt_traj_tol(T), what);
         snprintf(what, sizeof what, "%s: T", name);
-        kt_near((double)plan.prof.T, T, vec_tol(T), what);
+        kt_near((double)plan.prof.T, T, kt_traj_tol(T), what);
         snprintf(what, sizeof what, "%s: peak speed", name);
-        kt_near((double)(plan.prof.vc * plan.length), kt_num_of(tm, "v_peak"), vec_tol(v), what);
+        kt_near((double)(plan.prof.vc * plan.length), kt_num_of(tm, "v_peak"), kt_traj_tol(v), what);
         const json_t *ts = kt_get(smp, "t_s"), *ph = kt_get(smp, "phase"), *amb = kt_get(smp, "qddot_ambiguous_indices");
         const json_t *Ss = kt_get(smp, "S"), *Sd = kt_get(smp, "Sdot"), *Sdd = kt_get(smp, "Sddot");
         const json_t *ps = kt_get(smp, "p"), *Rs = kt_get(smp, "R_rowmajor");
         const json_t *th = kt_get(smp, "theta_j"), *phj = kt_get(smp, "phi_j");
-        double sS = max_abs(Ss), sSd = max_abs(Sd), sSdd = max_abs(Sdd), sp = max_abs(ps);
+        double sS = kt_max_abs_json(Ss), sSd = kt_max_abs_json(Sd), sSdd = kt_max_abs_json(Sdd), sp = kt_max_abs_json(ps);
         for (size_t i = 0; i < json_array_size(ts); i++) {
             int64_t k = sample_tick(ts, i, &plan.prof, T, name);
             double t = kt_num(json_array_get(ts, i)), R[9];
             kc_interp_cart_state st;
             assert_int_equal(kc_interp_line_eval(&plan, k, &st), k < plan.prof.ticks ? KC_OK : KC_DONE);
             snprintf(what, sizeof what, "%s: S at t = %g (5.7.1-5.7.3)", name, t);
-            kt_near((double)st.s, kt_num(json_array_get(Ss, i)), vec_tol(sS), what);
+            kt_near((double)st.s, kt_num(json_array_get(Ss, i)), kt_traj_tol(sS), what);
             snprintf(what, sizeof what, "%s: Sdot at t = %g", name, t);
-            kt_near((double)st.sd, kt_num(json_array_get(Sd, i)), vec_tol(sSd), what);
+            kt_near((double)st.sd, kt_num(json_array_get(Sd, i)), kt_traj_tol(sSd), what);
             snprintf(what, sizeof what, "%s: p at t = %g (5.11-5.13, 5.2)", name, t);
-            kt_near_reals_json(st.p.v, 3, kt_at(ps, i), vec_tol(sp), what);
+            kt_near_reals_json(st.p.v, 3, kt_at(ps, i), kt_traj_tol(sp), what);
             quat_to_rowmajor(&st.q, R);
             snprintf(what, sizeof what, "%s: R at t = %g (5.14-5.16, 5.24-5.25)", name, t);
             for (size_t e = 0; e < 9; e++)
-                kt_near(R[e], kt_num(kt_at(kt_at(Rs, i), e)), vec_tol(1.0), what);
+                kt_near(R[e], kt_num(kt_at(kt_at(Rs, i), e)), kt_traj_tol(1.0), what);
             snprintf(what, sizeof what, "%s: theta_j at t = %g (5.24)", name, t);
-            kt_near((double)(plan.theta * st.u), kt_num(json_array_get(th, i)), vec_tol(KT_PI), what);
+            kt_near((double)(plan.theta * st.u), kt_num(json_array_get(th, i)), kt_traj_tol(KT_PI), what);
             snprintf(what, sizeof what, "%s: phi_j at t = %g (5.25)", name, t);
-            kt_near((double)(plan.phi * st.u), kt_num(json_array_get(phj, i)), vec_tol(KT_PI), what);
-            if (in_list(amb, i) || near_boundary(t, &plan.prof))
+            kt_near((double)(plan.phi * st.u), kt_num(json_array_get(phj, i)), kt_traj_tol(KT_PI), what);
+            if (kt_index_listed(amb, i) || near_boundary(t, &plan.prof))
                 continue;
             snprintf(what, sizeof what, "%s: Sddot at t = %g", name, t);
-            kt_near((double)st.sdd, kt_num(json_array_get(Sdd, i)), vec_tol(sSdd), what);
+            kt_near((double)st.sdd, kt_num(json_array_get(Sdd, i)), kt_traj_tol(sSdd), what);
             snprintf(what, sizeof what, "%s: phase at t = %g", name, t);
             kt_near(st.phase, kt_num(json_array_get(ph, i)), 0.0, what);
         }
@@ -280,7 +253,7 @@ static void test_line_vectors(void **state)
         kc_mat3 Re;
         kc_quat_to_mat3(&st.q, &Re);
         snprintf(what, sizeof what, "%s: end orientation R2", name);
-        kt_near_mat3(&Re, &P2.R, vec_tol(1.0), what);
+        kt_near_mat3(&Re, &P2.R, kt_traj_tol(1.0), what);
         passed++;
     }
     printf("cartesian_line.json: %zu/%zu cases pass\n", passed, json_array_size(cases));
@@ -306,30 +279,30 @@ static void test_circle_vectors(void **state)
         kt_read_reals(kt_get(cs, "T2_position"), T2.v, 3);
         kt_read_reals(kt_get(cs, "T3_position"), T3.v, 3);
         double v = kt_num_of(cs, "v"), A = kt_num_of(cs, "A_used"), T = kt_num_of(tm, "T_total");
-        double pscale = max_abs(kt_get(cs, "T1_corrected")) + max_abs(kt_get(cs, "T3_position"));
+        double pscale = kt_max_abs_json(kt_get(cs, "T1_corrected")) + kt_max_abs_json(kt_get(cs, "T3_position"));
         kc_interp_limits lim = limits(v, A, DINF, DINF);
         kc_interp_arc plan;
         assert_int_equal(kc_interp_arc_plan(&plan, &T1, &T2, &T3, &lim, KC_R(0.01)), KC_OK);
         snprintf(what, sizeof what, "%s: centre", name);
-        kt_near_reals_json(plan.centre.v, 3, kt_get(cs, "centre"), vec_tol(pscale), what);
+        kt_near_reals_json(plan.centre.v, 3, kt_get(cs, "centre"), kt_traj_tol(pscale), what);
         snprintf(what, sizeof what, "%s: radius", name);
-        kt_near((double)plan.radius, kt_num_of(cs, "radius"), vec_tol(pscale), what);
+        kt_near((double)plan.radius, kt_num_of(cs, "radius"), kt_traj_tol(pscale), what);
         snprintf(what, sizeof what, "%s: normal", name);
-        kt_near_reals_json(plan.normal.v, 3, kt_get(cs, "normal_used"), vec_tol(1.0), what);
+        kt_near_reals_json(plan.normal.v, 3, kt_get(cs, "normal_used"), kt_traj_tol(1.0), what);
         snprintf(what, sizeof what, "%s: swept angle alpha (6.21 corrected)", name);
-        kt_near((double)plan.angle, kt_num_of(cs, "alpha_rad"), vec_tol(2.0 * KT_PI), what);
+        kt_near((double)plan.angle, kt_num_of(cs, "alpha_rad"), kt_traj_tol(2.0 * KT_PI), what);
         snprintf(what, sizeof what, "%s: angle of T2", name);
-        kt_near((double)plan.angle_via, kt_num_of(cs, "alpha_to_T2_rad"), vec_tol(2.0 * KT_PI), what);
+        kt_near((double)plan.angle_via, kt_num_of(cs, "alpha_to_T2_rad"), kt_traj_tol(2.0 * KT_PI), what);
         snprintf(what, sizeof what, "%s: arc length", name);
-        kt_near((double)plan.length, kt_num_of(cs, "arc_length"), vec_tol(pscale * 2.0 * KT_PI), what);
+        kt_near((double)plan.length, kt_num_of(cs, "arc_length"), kt_traj_tol(pscale * 2.0 * KT_PI), what);
         double R = kt_num_of(cs, "radius"), omega = kt_num_of(cs, "omega");
         snprintf(what, sizeof what, "%s: t_p", name);
-        kt_near((double)plan.prof.t1, kt_num_of(tm, "t_p"), vec_tol(T), what);
+        kt_near((double)plan.prof.t1, kt_num_of(tm, "t_p"), kt_traj_tol(T), what);
         snprintf(what, sizeof what, "%s: T", name);
-        kt_near((double)plan.prof.T, T, vec_tol(T), what);
+        kt_near((double)plan.prof.T, T, kt_traj_tol(T), what);
         /* The peak of alpha' is omega = v / R (trapezoid) or the triangle's. */
         snprintf(what, sizeof what, "%s: peak angular speed", name);
-        kt_near((double)(plan.prof.vc * plan.angle), kt_num_of(tm, "v_peak"), vec_tol(omega), what);
+        kt_near((double)(plan.prof.vc * plan.angle), kt_num_of(tm, "v_peak"), kt_traj_tol(omega), what);
         /* The pose at the end by (6.1), with T3's position exactly. */
         kc_interp_cart_state st;
         kc_pose end;
@@ -338,30 +311,30 @@ static void test_circle_vectors(void **state)
         kc_quat_to_mat3(&st.q, &end.R);
         end.t = st.p;
         snprintf(what, sizeof what, "%s: T_end", name);
-        kt_near_pose_json(&end, kt_get(cs, "T_end"), vec_tol(pscale), what);
+        kt_near_pose_json(&end, kt_get(cs, "T_end"), kt_traj_tol(pscale), what);
         const json_t *ts = kt_get(smp, "t_s"), *ph = kt_get(smp, "phase"), *amb = kt_get(smp, "qddot_ambiguous_indices");
         const json_t *al = kt_get(smp, "alpha"), *ald = kt_get(smp, "alphadot"), *aldd = kt_get(smp, "alphaddot");
         const json_t *ps = kt_get(smp, "p"), *Rs = kt_get(smp, "R_rowmajor");
-        double sa = 2.0 * KT_PI, sad = max_abs(ald), sadd = max_abs(aldd), sp = max_abs(ps);
+        double sa = 2.0 * KT_PI, sad = kt_max_abs_json(ald), sadd = kt_max_abs_json(aldd), sp = kt_max_abs_json(ps);
         for (size_t i = 0; i < json_array_size(ts); i++) {
             int64_t k = sample_tick(ts, i, &plan.prof, T, name);
             double t = kt_num(json_array_get(ts, i)), Rm[9];
             assert_int_equal(kc_interp_arc_eval(&plan, k, &st), k < plan.prof.ticks ? KC_OK : KC_DONE);
             snprintf(what, sizeof what, "%s: alpha at t = %g (6.23-6.25)", name, t);
-            kt_near((double)(plan.angle * st.u), kt_num(json_array_get(al, i)), vec_tol(sa), what);
-            kt_near((double)st.s / R, kt_num(json_array_get(al, i)), vec_tol(sa), what);
+            kt_near((double)(plan.angle * st.u), kt_num(json_array_get(al, i)), kt_traj_tol(sa), what);
+            kt_near((double)st.s / R, kt_num(json_array_get(al, i)), kt_traj_tol(sa), what);
             snprintf(what, sizeof what, "%s: alphadot at t = %g", name, t);
-            kt_near((double)st.sd / R, kt_num(json_array_get(ald, i)), vec_tol(sad), what);
+            kt_near((double)st.sd / R, kt_num(json_array_get(ald, i)), kt_traj_tol(sad), what);
             snprintf(what, sizeof what, "%s: p at t = %g (6.1)", name, t);
-            kt_near_reals_json(st.p.v, 3, kt_at(ps, i), vec_tol(sp), what);
+            kt_near_reals_json(st.p.v, 3, kt_at(ps, i), kt_traj_tol(sp), what);
             quat_to_rowmajor(&st.q, Rm);
             snprintf(what, sizeof what, "%s: R at t = %g (6.1)", name, t);
             for (size_t e = 0; e < 9; e++)
-                kt_near(Rm[e], kt_num(kt_at(kt_at(Rs, i), e)), vec_tol(1.0), what);
-            if (in_list(amb, i) || near_boundary(t, &plan.prof))
+                kt_near(Rm[e], kt_num(kt_at(kt_at(Rs, i), e)), kt_traj_tol(1.0), what);
+            if (kt_index_listed(amb, i) || near_boundary(t, &plan.prof))
                 continue;
             snprintf(what, sizeof what, "%s: alphaddot at t = %g", name, t);
-            kt_near((double)st.sdd / R, kt_num(json_array_get(aldd, i)), vec_tol(sadd), what);
+            kt_near((double)st.sdd / R, kt_num(json_array_get(aldd, i)), kt_traj_tol(sadd), what);
             snprintf(what, sizeof what, "%s: phase at t = %g", name, t);
             kt_near(st.phase, kt_num(json_array_get(ph, i)), 0.0, what);
         }

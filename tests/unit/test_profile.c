@@ -31,34 +31,6 @@
 /* Relative slack on a limit: rounding of the limit and of the value. */
 #define LIMIT_SLACK (16.0 * (double)KC_REAL_EPS)
 
-static double vec_tol(double scale)
-{
-    if (!FLOAT_BUILD)
-        return 1e-9;
-    return 64.0 * (double)KC_REAL_EPS * (scale > 1.0 ? scale : 1.0);
-}
-
-/* Largest |x| over a JSON array (of numbers or of arrays of numbers). */
-static double max_abs(const json_t *arr)
-{
-    double m = 0.0;
-    for (size_t i = 0; i < json_array_size(arr); i++) {
-        const json_t *e = json_array_get(arr, i);
-        double v = json_is_array(e) ? max_abs(e) : fabs(kt_num(e));
-        if (v > m)
-            m = v;
-    }
-    return m;
-}
-
-static int in_list(const json_t *list, size_t i)
-{
-    for (size_t j = 0; j < json_array_size(list); j++)
-        if ((size_t)kt_num(json_array_get(list, j)) == i)
-            return 1;
-    return 0;
-}
-
 /* In float, a time within 8 ulps of a phase boundary is on it. */
 static int near_boundary(double t, const double *bounds, int n)
 {
@@ -97,19 +69,19 @@ static void test_joint_trapezoid_lead(void **state)
         /* Timing: t_p (4.6), t_pv (4.9), T. */
         double tp = kt_num_of(cs, "t_p_s"), tpv = kt_num_of(cs, "t_pv_s"), T = kt_num_of(cs, "T_total_s");
         snprintf(what, sizeof what, "%s: t_p", name);
-        kt_near((double)prof.t1, tp, vec_tol(T), what);
+        kt_near((double)prof.t1, tp, kt_traj_tol(T), what);
         snprintf(what, sizeof what, "%s: t_p + t_pv", name);
-        kt_near((double)prof.t2, tp + tpv, vec_tol(T), what);
+        kt_near((double)prof.t2, tp + tpv, kt_traj_tol(T), what);
         snprintf(what, sizeof what, "%s: T", name);
-        kt_near((double)prof.T, T, vec_tol(T), what);
+        kt_near((double)prof.T, T, kt_traj_tol(T), what);
         snprintf(what, sizeof what, "%s: peak speed", name);
-        kt_near(fabs((double)prof.vc), kt_num_of(cs, "v_peak_lead_deg_s"), vec_tol(v), what);
+        kt_near(fabs((double)prof.vc), kt_num_of(cs, "v_peak_lead_deg_s"), kt_traj_tol(v), what);
         const json_t *ts = kt_get(smp, "t_s"), *ph = kt_get(smp, "phase");
         const json_t *q = kt_at(kt_get(smp, "q_deg"), (size_t)lead);
         const json_t *qd = kt_at(kt_get(smp, "qdot_deg_s"), (size_t)lead);
         const json_t *qdd = kt_at(kt_get(smp, "qddot_deg_s2"), (size_t)lead);
         const json_t *amb = kt_get(smp, "qddot_ambiguous_indices");
-        double sq = max_abs(q), sv = max_abs(qd), sa = max_abs(qdd);
+        double sq = kt_max_abs_json(q), sv = kt_max_abs_json(qd), sa = kt_max_abs_json(qdd);
         double bounds[3] = {tp, tp + tpv, T};
         size_t n = json_array_size(ts);
         for (size_t i = 0; i < n; i++) {
@@ -129,13 +101,13 @@ static void test_joint_trapezoid_lead(void **state)
                 assert_true((double)st.p == p1); /* exactly the target */
             }
             snprintf(what, sizeof what, "%s: q at t = %g", name, t);
-            kt_near((double)st.p, kt_num(json_array_get(q, i)), vec_tol(sq), what);
+            kt_near((double)st.p, kt_num(json_array_get(q, i)), kt_traj_tol(sq), what);
             snprintf(what, sizeof what, "%s: qdot at t = %g", name, t);
-            kt_near((double)st.v, kt_num(json_array_get(qd, i)), vec_tol(sv), what);
-            if (in_list(amb, i) || near_boundary(t, bounds, 3))
+            kt_near((double)st.v, kt_num(json_array_get(qd, i)), kt_traj_tol(sv), what);
+            if (kt_index_listed(amb, i) || near_boundary(t, bounds, 3))
                 continue;
             snprintf(what, sizeof what, "%s: qddot at t = %g", name, t);
-            kt_near((double)st.a, kt_num(json_array_get(qdd, i)), vec_tol(sa), what);
+            kt_near((double)st.a, kt_num(json_array_get(qdd, i)), kt_traj_tol(sa), what);
             snprintf(what, sizeof what, "%s: phase at t = %g", name, t);
             kt_near((double)st.phase, kt_num(json_array_get(ph, i)), 0.0, what);
         }

@@ -367,3 +367,35 @@ void kt_rand_q(kt_rng *r, const kc_chain *chain, kc_real *q)
         q[j] = kc_clamp(q[j], chain->joints[j].limits.q_min, chain->joints[j].limits.q_max);
     }
 }
+
+/* ---- trajectory reference data ---- */
+
+double kt_traj_tol(double scale)
+{
+#ifdef KC_REAL_FLOAT
+    return 64.0 * (double)KC_REAL_EPS * (scale > 1.0 ? scale : 1.0);
+#else
+    (void)scale;
+    return 1e-9;
+#endif
+}
+
+double kt_max_abs_json(const json_t *arr)
+{
+    double m = 0.0;
+    for (size_t i = 0; i < json_array_size(arr); i++) {
+        const json_t *e = json_array_get(arr, i);
+        double v = json_is_array(e) ? kt_max_abs_json(e) : fabs(kt_num(e));
+        if (v > m)
+            m = v;
+    }
+    return m;
+}
+
+int kt_index_listed(const json_t *list, size_t i)
+{
+    for (size_t j = 0; j < json_array_size(list); j++)
+        if ((size_t)kt_num(json_array_get(list, j)) == i)
+            return 1;
+    return 0;
+}

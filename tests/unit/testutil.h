@@ -131,6 +131,18 @@ void kt_report(const char *suite);
 #define KT_SENTINEL 0xA5
 int kt_is_sentinel(const void *p, size_t n);
 
+/* ---- trajectory reference data (joint_trapezoid, cartesian_line, circle) ---- */
+
+/* The files' 1e-9 in double; in float 64 KC_REAL_EPS times the case's
+ * largest value of the quantity (at least 1): the float build rounds every
+ * input and t = k dt, and each value takes a few tens of roundings. */
+double kt_traj_tol(double scale);
+/* Largest |x| over a JSON array of numbers or of arrays of numbers. */
+double kt_max_abs_json(const json_t *arr);
+/* Whether the index i is listed in a JSON array of indices (the files'
+ * *_ambiguous_indices). */
+int kt_index_listed(const json_t *list, size_t i);
+
 /* ---- deterministic PRNG (splitmix64) ---- */
 
 typedef struct kt_rng {
