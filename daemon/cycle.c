@@ -206,11 +206,8 @@ int kd_cycle_start(kd_cycle *c)
         return -1;
     }
     if (c->cfg->rt_enable) {
-        long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
-        int cpu = c->cfg->rt_cpu;
-        if (cpu < 0 && ncpu > 1)
-            cpu = (int)ncpu - 1;
-        if (cpu >= 0 && cpu < CPU_SETSIZE) {
+        int cpu = kd_cycle_cpu(c->cfg);
+        if (cpu >= 0) {
             cpu_set_t set;
             CPU_ZERO(&set);
             CPU_SET((size_t)cpu, &set);
@@ -223,6 +220,17 @@ int kd_cycle_start(kd_cycle *c)
         }
     }
     return 0;
+}
+
+int kd_cycle_cpu(const kd_config *cfg)
+{
+    long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
+    int cpu = cfg->rt_cpu;
+    if (!cfg->rt_enable)
+        return -1;
+    if (cpu < 0 && ncpu > 1)
+        cpu = (int)ncpu - 1;
+    return cpu >= 0 && cpu < CPU_SETSIZE ? cpu : -1;
 }
 
 void kd_cycle_stop(kd_cycle *c)

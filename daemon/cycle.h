@@ -106,6 +106,10 @@ int kd_cycle_init(kd_cycle *c, const kd_config *cfg, kc_ctrl *ctrl, kc_goal *goa
 int kd_cycle_start(kd_cycle *c);
 
 /* Stops the thread after its current tick and joins it. */
+/* The CPU the cycle thread is pinned to (the configured one, else the last
+ * one), or -1 when it is not pinned (RT off, or a single CPU). */
+int kd_cycle_cpu(const kd_config *cfg);
+
 void kd_cycle_stop(kd_cycle *c);
 
 /* Timing of the cycles since the previous take. */

@@ -3,6 +3,9 @@
 #include "lcm_io.h"
 
 #include <errno.h>
+#include <pthread.h>
+#include <sched.h>
+#include <unistd.h>
 #include <poll.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -507,6 +510,20 @@ int kd_io_start(kd_io *io)
         return -1;
     }
     io->thread_live = 1;
+    /* Keep the I/O thread (dry runs, publishing) off the cycle's CPU, so it
+     * never sits between the cycle and its wake-up. */
+    int cycle_cpu = kd_cycle_cpu(io->cfg);
+    long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
+    if (cycle_cpu >= 0 && ncpu > 1) {
+        cpu_set_t set;
+        CPU_ZERO(&set);
+        for (long c = 0; c < ncpu && c < CPU_SETSIZE; c++)
+            if (c != cycle_cpu)
+                CPU_SET((size_t)c, &set);
+        rc = pthread_setaffinity_np(io->thread, sizeof set, &set);
+        if (rc != 0)
+            fprintf(stderr, "kinctld: warning: cannot keep the I/O thread off CPU %d (%s)\n", cycle_cpu, strerror(rc));
+    }
     return 0;
 }
 
