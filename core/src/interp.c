@@ -118,6 +118,16 @@ static kc_status joint_at(const kc_interp_joint *plan, kc_status st, const kc_pr
     return st;
 }
 
+/* The state of a profile of u at tick k, and whether the geometry is at its
+ * exact end: the profile has finished at u = 1 (a segment's own profile
+ * always does; a stop profile ends where it ends). */
+static kc_status u_state(const kc_profile *prof, int64_t k, kc_profile_state *u, kc_status *end)
+{
+    kc_status st = kc_profile_eval(prof, k, u);
+    *end = st == KC_DONE && u->p >= KC_R(1.0) ? KC_DONE : KC_OK;
+    return st;
+}
+
 kc_status kc_interp_joint_eval(const kc_interp_joint *plan, int64_t k, kc_interp_joint_state *out)
 {
     return plan == NULL ? KC_E_ARG : kc_interp_joint_eval_profile(plan, &plan->prof, k, out);
@@ -127,14 +137,12 @@ kc_status kc_interp_joint_eval_profile(const kc_interp_joint *plan, const kc_pro
                                        kc_interp_joint_state *out)
 {
     kc_profile_state u;
+    kc_status end;
     if (plan == NULL || prof == NULL || out == NULL)
         return KC_E_ARG;
-    kc_status st = kc_profile_eval(prof, k, &u);
-    if (st < 0)
-        return st;
-    /* Another profile of u ends where it ends: exactly at the end state only
-     * when it has finished at u = 1. */
-    joint_at(plan, st == KC_DONE && u.p >= KC_R(1.0) ? KC_DONE : KC_OK, &u, out);
+    kc_status st = u_state(prof, k, &u, &end);
+    if (st >= 0)
+        joint_at(plan, end, &u, out);
     return st;
 }
 
@@ -345,12 +353,12 @@ kc_status kc_interp_line_eval_profile(const kc_interp_line *plan, const kc_profi
                                       kc_interp_cart_state *out)
 {
     kc_profile_state u;
+    kc_status end;
     if (plan == NULL || prof == NULL || out == NULL)
         return KC_E_ARG;
-    kc_status st = kc_profile_eval(prof, k, &u);
-    if (st < 0)
-        return st;
-    line_at(plan, st == KC_DONE && u.p >= KC_R(1.0) ? KC_DONE : KC_OK, &u, out);
+    kc_status st = u_state(prof, k, &u, &end);
+    if (st >= 0)
+        line_at(plan, end, &u, out);
     return st;
 }
 
@@ -464,11 +472,11 @@ kc_status kc_interp_arc_eval_profile(const kc_interp_arc *plan, const kc_profile
                                      kc_interp_cart_state *out)
 {
     kc_profile_state u;
+    kc_status end;
     if (plan == NULL || prof == NULL || out == NULL)
         return KC_E_ARG;
-    kc_status st = kc_profile_eval(prof, k, &u);
-    if (st < 0)
-        return st;
-    arc_at(plan, st == KC_DONE && u.p >= KC_R(1.0) ? KC_DONE : KC_OK, &u, out);
+    kc_status st = u_state(prof, k, &u, &end);
+    if (st >= 0)
+        arc_at(plan, end, &u, out);
     return st;
 }
