@@ -429,6 +429,25 @@ static int path_joint_at(const kc_path *path, kc_real tau, kc_real rate, kc_real
     return st == KC_DONE;
 }
 
+/* A retarget (or its stop) at its tick j: every joint on its own profile;
+ * done when the last one has ended. */
+static void retarget_eval(const kc_ctrl *c, int64_t j, seg_point *o)
+{
+    int64_t ticks = 0;
+    o->done = 1;
+    for (int i = 0; i < c->chain->n_joints; i++) {
+        kc_profile_state s;
+        if (kc_profile_eval(&c->plan.retarget[i], j, &s) != KC_DONE)
+            o->done = 0;
+        o->q[i] = s.p;
+        o->qd[i] = s.v;
+        o->qdd[i] = s.a;
+        if (c->plan.retarget[i].ticks > ticks)
+            ticks = c->plan.retarget[i].ticks;
+    }
+    o->progress = ticks > 0 ? kc_min((kc_real)j / (kc_real)ticks, KC_R(1.0)) : KC_R(1.0);
+}
+
 /* The segment's point at its tick j (j >= 0). */
 static void seg_eval(const kc_ctrl *c, int64_t j, seg_point *o)
 {
@@ -441,6 +460,10 @@ static void seg_eval(const kc_ctrl *c, int64_t j, seg_point *o)
         j = 0;
     switch (g->kind) {
     case KC_GOAL_JOINT: {
+        if (c->drive == KC_DRIVE_RETARGET) {
+            retarget_eval(c, j, o);
+            return;
+        }
         kc_interp_joint_state s;
         kc_status st = c->drive == KC_DRIVE_PROFILE ? kc_interp_joint_eval_profile(&c->plan.joint, &c->drive_prof, j, &s)
                                                     : kc_interp_joint_eval(&c->plan.joint, j, &s);
@@ -632,6 +655,17 @@ static void stop_on_path(kc_ctrl *c, int intent)
         c->active = 1; /* the servo goal stays active through its stop */
         return;
     }
+    if (c->drive == KC_DRIVE_RETARGET) {
+        /* Each joint brakes at the goal's own acceleration limit: it comes
+         * to rest no further than its profile would have turned, so inside
+         * the position limits the retarget was checked against. */
+        kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS];
+        scaled_limits(c, &c->goal, vmax, amax);
+        for (int i = 0; i < c->chain->n_joints; i++)
+            kc_profile_plan_stop(&c->plan.retarget[i], c->q[i], c->qd[i], amax[i], c->cfg.dt);
+        c->k0 = c->cycle - 1;
+        return;
+    }
     drive_state(c, j, &u);
     if (is_path(c->goal.kind)) {
         kc_real dec = path_stop_rate(c, u.p, u.v);
@@ -653,7 +687,7 @@ static void stop_on_path(kc_ctrl *c, int intent)
 }
 
 /* Resumes a paused segment from where it rests. */
-static void resume(kc_ctrl *c)
+static void resume(kc_ctrl *c, kc_ctrl_output *out)
 {
     int64_t j = (c->cycle - 1) - c->k0;
     kc_profile_state u;
@@ -661,6 +695,17 @@ static void resume(kc_ctrl *c)
     c->stop_intent = KC_CMD_NONE;
     if (c->goal.kind == KC_GOAL_SERVO) {
         c->servo_last = c->cycle;
+        return;
+    }
+    if (c->drive == KC_DRIVE_RETARGET) {
+        /* At rest a retarget is an ordinary joint move from here. */
+        c->drive = KC_DRIVE_NOMINAL;
+        c->k0 = c->cycle - 1;
+        if (plan_goal(c) != KC_OK) {
+            emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
+            c->active = 0;
+            c->state = KC_CTRL_IDLE;
+        }
         return;
     }
     drive_state(c, j, &u);
@@ -737,7 +782,7 @@ static void command(kc_ctrl *c, kc_ctrl_command cmd, kc_ctrl_output *out)
         return;
     case KC_CMD_RESUME:
         if (c->state == KC_CTRL_PAUSED && c->active)
-            resume(c);
+            resume(c, out);
         else if (c->state == KC_CTRL_STOPPING && c->stop_intent == KC_CMD_PAUSE)
             c->stop_intent = KC_CMD_RESUME; /* resume as soon as the pause has stopped */
         return;
@@ -746,6 +791,47 @@ static void command(kc_ctrl *c, kc_ctrl_command cmd, kc_ctrl_output *out)
 
 /* Preemption marker for stop_intent. */
 #define INTENT_PREEMPT 100
+
+/* Plans joint move g from the current, possibly moving, state into
+ * c->plan.retarget, one time-optimal profile a joint, when every profile
+ * stays inside its joint's position limits: a joint moving away from its
+ * target first brakes through zero at p0 + v0 |v0| / (2 |a1|) (the other
+ * phases run monotonically between the current q and the target). Returns 1
+ * when planned; on 0 the active segment is untouched and the preemption
+ * falls back to the stop on the path. */
+static int retarget(kc_ctrl *c, const kc_goal *g)
+{
+    kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS];
+    kc_profile prof[KC_MAX_JOINTS];
+    scaled_limits(c, g, vmax, amax);
+    for (int j = 0; j < c->chain->n_joints; j++) {
+        const kc_joint_limits *l = &c->chain->joints[j].limits;
+        kc_profile *p = &prof[j];
+        if (kc_profile_plan(p, c->q[j], c->qd[j], g->q[j], vmax[j], amax[j], c->cfg.dt) != KC_OK)
+            return 0;
+        if (p->v0 * p->vc < KC_R(0.0)) {
+            kc_real turn = p->p0 + p->v0 * kc_fabs(p->v0) / (KC_R(2.0) * kc_fabs(p->a1));
+            if (!(turn >= l->q_min && turn <= l->q_max))
+                return 0;
+        }
+    }
+    memcpy(c->plan.retarget, prof, sizeof(kc_profile) * (size_t)c->chain->n_joints);
+    return 1;
+}
+
+/* Makes g, whose retarget is planned, the active segment from this tick. */
+static void take_retarget(kc_ctrl *c, const kc_goal *g)
+{
+    c->goal = *g;
+    c->drive = KC_DRIVE_RETARGET;
+    c->k0 = c->cycle - 1; /* tick 0 is the last setpoint, as for every segment */
+    c->stop_intent = KC_CMD_NONE;
+    c->settle = 0;
+    c->path_length = KC_R(0.0);
+    c->jstop = 0; /* a servo's stop in joint space gives way too */
+    c->active = 1;
+    c->state = KC_CTRL_MOVING;
+}
 
 static void take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
 {
@@ -770,6 +856,14 @@ static void take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     }
     if (g->replace) {
         queue_clear(c, out);
+        if (g->kind == KC_GOAL_JOINT && c->active &&
+            (c->state == KC_CTRL_MOVING || c->state == KC_CTRL_STOPPING) && retarget(c, g)) {
+            emit(out, KC_EVENT_ACCEPTED, g->id, KC_REASON_NONE, 0);
+            emit(out, KC_EVENT_PREEMPTED, c->goal.id, KC_REASON_NONE, 0);
+            take_retarget(c, g);
+            emit(out, KC_EVENT_STARTED, g->id, KC_REASON_NONE, 0);
+            return;
+        }
         queue_push(c, g);
         emit(out, KC_EVENT_ACCEPTED, g->id, KC_REASON_NONE, 0);
         if (c->active && c->state == KC_CTRL_MOVING) {
@@ -804,7 +898,7 @@ static void stop_finished(kc_ctrl *c, kc_ctrl_output *out)
         return;
     }
     if (intent == KC_CMD_RESUME) {
-        resume(c);
+        resume(c, out);
         return;
     }
     c->active = 0;

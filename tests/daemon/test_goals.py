@@ -177,7 +177,13 @@ def test_replace_mid_motion_is_smooth(kinctld):
     assert d.bus.wait_event(10, END + ("PREEMPTED",)).event == EVENTS["PREEMPTED"]
     s = finished(d, 11)
     assert close(s.q, QN, 1e-9)
-    assert_smooth(setpoints_since(d, s0.cycle))
+    stream = setpoints_since(d, s0.cycle)
+    assert_smooth(stream)
+    # The new goal takes over from the moving state: the setpoint that
+    # first carries goal 11 follows one of goal 10 and is still moving.
+    i = next(i for i, p in enumerate(stream) if p.goal_id == 11)
+    assert stream[i - 1].goal_id == 10 and stream[i].cycle == stream[i - 1].cycle + 1
+    assert max(abs(v) for v in stream[i].qd[:N]) > 0.1
     assert d.stop() == 0
 
 

@@ -12,9 +12,11 @@
 #ifdef KC_REAL_FLOAT
 #define SLACK 1e-4
 #define TOL_POSE 1e-4
+#define TOL_RATE 1e-6 /* a velocity (rad/s) computed two ways */
 #else
 #define SLACK 1e-6
 #define TOL_POSE 1e-6
+#define TOL_RATE 1e-9
 #endif
 
 typedef struct harness {
@@ -282,6 +284,134 @@ static void test_queue_and_preemption(void **state)
     assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_QUEUE_FULL);
 }
 
+/* Whether the last output carries an event of that kind for that goal. */
+static int has_event(kc_ctrl_event_kind kind, int64_t id)
+{
+    for (int e = 0; e < H.out.n_events; e++)
+        if (H.out.events[e].kind == kind && H.out.events[e].goal_id == id)
+            return 1;
+    return 0;
+}
+
+/* Ticks without input until goal id completes (at most max); returns the
+ * ticks taken, the completing one included. */
+static int run_until_completed(int64_t id, int max)
+{
+    for (int k = 1; k <= max; k++) {
+        tick(NULL, KC_CMD_NONE);
+        if (has_event(KC_EVENT_COMPLETED, id))
+            return k;
+        if (H.out.state == KC_CTRL_FAULT)
+            fail_msg("fault %d while waiting for goal %ld", H.last[KC_EVENT_FAULT].reason, (long)id);
+    }
+    fail_msg("goal %ld did not complete in %d ticks", (long)id, max);
+    return -1;
+}
+
+/* Time-optimal duration of one axis from (p, v) to rest at p1 when it must
+ * first turn round (v away from p1) and then reaches vmax: brake v / A,
+ * then a rest-to-rest trapezoid over the rest of the way. */
+static double turn_and_trapezoid(double p, double v, double p1, double vmax, double amax)
+{
+    double turn = p + v * fabs(v) / (2.0 * amax), d = fabs(p1 - turn);
+    assert_true(d >= vmax * vmax / amax); /* the trapezoid reaches vmax */
+    return fabs(v) / amax + d / vmax + vmax / amax;
+}
+
+/* A joint goal replacing a moving one takes over in the same tick from the
+ * current position and velocity; when turning round would carry a joint
+ * past its limit it waits for the stop on the path instead. */
+static void test_retarget(void **state)
+{
+    (void)state;
+    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    const kc_joint_limits *l0 = &H.chain.joints[0].limits;
+    kc_real ahead[6], back[6];
+    memcpy(ahead, PUMA_Q0, sizeof ahead);
+    memcpy(back, PUMA_Q0, sizeof back);
+    ahead[0] = KC_R(2.7);
+    ahead[1] += KC_R(0.3);
+    back[0] = KC_R(-1.0);
+    back[1] -= KC_R(0.2);
+    kc_goal ga = joint_goal(41, ahead), gb = joint_goal(42, back);
+    gb.replace = 1;
+
+    /* Cruising at joint 0's full speed, reversed. */
+    tick(&ga, KC_CMD_NONE);
+    for (int k = 0; k < 700; k++)
+        tick(NULL, KC_CMD_NONE);
+    double q_before = (double)H.out.q[0], v_before = (double)H.out.qd[0];
+    kt_near(v_before, (double)l0->qd_max, TOL_RATE, "cruising at the velocity limit");
+    tick(&gb, KC_CMD_NONE);
+    assert_true(has_event(KC_EVENT_ACCEPTED, 42) && has_event(KC_EVENT_PREEMPTED, 41) &&
+                has_event(KC_EVENT_STARTED, 42));
+    assert_int_equal(H.out.goal_id, 42);
+    assert_int_equal(H.out.state, KC_CTRL_MOVING);
+    /* The first setpoint continues the motion: one tick of braking at A. */
+    kt_near((double)H.out.qd[0], v_before - (double)l0->qdd_max * (double)H.cfg.dt, TOL_RATE, "qd after the takeover");
+    int ticks = 1 + run_until_completed(42, 40000);
+    double T = turn_and_trapezoid(q_before, v_before, (double)back[0], (double)l0->qd_max, (double)l0->qdd_max);
+    assert_true(fabs((double)ticks - T / (double)H.cfg.dt) <= 1.0);
+    for (int j = 0; j < 6; j++)
+        kt_near((double)H.out.q[j], (double)back[j], 0.0, "retarget reached");
+    assert_int_equal(H.count[KC_EVENT_PREEMPTED], 1);
+
+    /* The same reversal at a tenth of the acceleration would brake to
+     * 2.x + 4 / 1 rad, past joint 0's limit: stop on the path, then start. */
+    kc_goal gc = joint_goal(43, back);
+    gc.replace = 1;
+    gc.acc_scale = KC_R(0.1);
+    tick(&ga, KC_CMD_NONE);
+    for (int k = 0; k < 700; k++)
+        tick(NULL, KC_CMD_NONE);
+    tick(&gc, KC_CMD_NONE);
+    assert_true(has_event(KC_EVENT_ACCEPTED, 43) && !has_event(KC_EVENT_PREEMPTED, 41));
+    assert_int_equal(H.out.state, KC_CTRL_STOPPING);
+    assert_int_equal(H.out.goal_id, 41);
+    for (int k = 0; k < 2000 && !has_event(KC_EVENT_PREEMPTED, 41); k++)
+        tick(NULL, KC_CMD_NONE);
+    assert_true(has_event(KC_EVENT_PREEMPTED, 41));
+    for (int j = 0; j < 6; j++)
+        kt_near((double)H.out.qd[j], 0.0, 0.0, "at rest when preempted");
+    assert_true((double)H.out.q[0] <= (double)l0->q_max);
+    run_until_completed(43, 40000);
+    for (int j = 0; j < 6; j++)
+        kt_near((double)H.out.q[j], (double)back[j], 0.0, "fallback goal reached");
+
+    /* A retarget paused and resumed; then one that replaces a line. */
+    gb.id = 44;
+    tick(&ga, KC_CMD_NONE);
+    for (int k = 0; k < 500; k++)
+        tick(NULL, KC_CMD_NONE);
+    tick(&gb, KC_CMD_NONE);
+    assert_true(has_event(KC_EVENT_STARTED, 44));
+    for (int k = 0; k < 100; k++)
+        tick(NULL, KC_CMD_NONE);
+    tick(NULL, KC_CMD_PAUSE);
+    run_until_state(KC_CTRL_PAUSED, 5000);
+    tick(NULL, KC_CMD_RESUME);
+    run_until_completed(44, 40000);
+    for (int j = 0; j < 6; j++)
+        kt_near((double)H.out.q[j], (double)back[j], 0.0, "resumed retarget reached");
+
+    kc_pose to = pose_of(H.out.q);
+    to.t.v[2] += KC_R(0.15);
+    kc_goal gl = line_goal(45, &to);
+    kc_goal gd = joint_goal(46, PUMA_Q0);
+    gd.replace = 1;
+    tick(&gl, KC_CMD_NONE);
+    for (int k = 0; k < 400; k++)
+        tick(NULL, KC_CMD_NONE);
+    assert_true(fabs((double)H.out.qd[1]) + fabs((double)H.out.qd[2]) > 0.05); /* moving */
+    tick(&gd, KC_CMD_NONE);
+    assert_true(has_event(KC_EVENT_PREEMPTED, 45) && has_event(KC_EVENT_STARTED, 46));
+    run_until_completed(46, 40000);
+    for (int j = 0; j < 6; j++)
+        kt_near((double)H.out.q[j], (double)PUMA_Q0[j], 0.0, "joint goal after a line");
+    assert_int_equal(H.count[KC_EVENT_FAULT], 0);
+    assert_int_equal(H.count[KC_EVENT_ABORTED], 0);
+}
+
 static void test_stop_pause_resume(void **state)
 {
     (void)state;
@@ -523,6 +653,7 @@ int main(void)
         cmocka_unit_test(test_rejections),        cmocka_unit_test(test_servo),
         cmocka_unit_test(test_dry_run),           cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_path_pause_stop),   cmocka_unit_test(test_lagrange_path),
+        cmocka_unit_test(test_retarget),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
     kt_report("ctrl");

@@ -22,9 +22,19 @@
  * the path length where it happened.
  *
  * Goals wait in a queue of KC_CTRL_QUEUE_MAX. A goal with replace set
- * preempts: the queue is dropped, the active segment stops on its path at
- * its acceleration limits, and the new goal starts from where the arm comes
- * to rest. Setpoints stay continuous in position and velocity throughout.
+ * preempts: the queue is dropped and the active goal ends (PREEMPTED).
+ * A joint move takes over at once from the current position and velocity:
+ * every joint follows its own time-optimal profile from (q, qd) to the
+ * target within the goal's limits (kc_profile_plan from a moving start),
+ * so nothing waits for the arm to come to rest. This is a retarget: the
+ * joints arrive when their own profiles end, not on a straight line in
+ * joint space. Where braking through zero would carry a joint past its
+ * position limit, the retarget is not taken and the goal starts as any
+ * other replacing goal does. Any other replacing goal (a line, an arc, a
+ * path, a servo stream: their geometry starts at rest at the tool's pose)
+ * waits while the active segment stops on its path at its acceleration
+ * limits, and starts from where the arm comes to rest. Setpoints stay
+ * continuous in position and velocity throughout.
  *
  * Commands. STOP: stop on the path, drop the queue, back to idle. PAUSE:
  * stop on the path and hold; RESUME: continue the same segment from there.
@@ -203,13 +213,15 @@ typedef union kc_ctrl_plan {
     kc_interp_arc arc;
     kc_path path;
     kc_path_cart path_cart;
+    kc_profile retarget[KC_MAX_JOINTS]; /* one profile a joint, from (q, qd) to the target */
 } kc_ctrl_plan;
 
 /* How the active segment is driven. */
 typedef enum kc_ctrl_drive {
     KC_DRIVE_NOMINAL = 0, /* its own timing */
     KC_DRIVE_PROFILE = 1, /* interp: u from drive_prof; path: tau from drive_prof */
-    KC_DRIVE_STOPPING_WAIT = 2 /* path: a stop is pending until it is feasible */
+    KC_DRIVE_STOPPING_WAIT = 2, /* path: a stop is pending until it is feasible */
+    KC_DRIVE_RETARGET = 3       /* joint move from a moving state: plan.retarget per joint */
 } kc_ctrl_drive;
 
 /* The controller: caller-owned, large (the plan of a 32-knot Cartesian
