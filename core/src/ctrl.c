@@ -189,7 +189,7 @@ kc_status kc_ctrl_init(kc_ctrl *c, const kc_chain *chain, const kc_ctrl_cfg *cfg
 static void emit(kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id, kc_ctrl_reason reason, kc_real where)
 {
     if (out->n_events >= KC_CTRL_EVENTS_MAX)
-        return; /* the output's capacity; only a flood of preemptions reaches it */
+        return; /* not reached: KC_CTRL_EVENTS_MAX bounds a tick's events (ctrl.h) */
     kc_ctrl_event *e = &out->events[out->n_events++];
     e->kind = kind;
     e->goal_id = id;

@@ -244,6 +244,15 @@ static void test_arc_and_paths(void **state)
     kt_near_vec3(&H.out.pose.t, &end, TOL_POSE, "Cartesian path end");
 }
 
+/* Whether the last output carries an event of that kind for that goal. */
+static int has_event(kc_ctrl_event_kind kind, int64_t id)
+{
+    for (int e = 0; e < H.out.n_events; e++)
+        if (H.out.events[e].kind == kind && H.out.events[e].goal_id == id)
+            return 1;
+    return 0;
+}
+
 static void test_queue_and_preemption(void **state)
 {
     (void)state;
@@ -282,15 +291,17 @@ static void test_queue_and_preemption(void **state)
     }
     assert_int_equal(H.count[KC_EVENT_REJECTED], 1);
     assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_QUEUE_FULL);
-}
+    assert_int_equal(H.out.queue_length, KC_CTRL_QUEUE_MAX);
 
-/* Whether the last output carries an event of that kind for that goal. */
-static int has_event(kc_ctrl_event_kind kind, int64_t id)
-{
-    for (int e = 0; e < H.out.n_events; e++)
-        if (H.out.events[e].kind == kind && H.out.events[e].goal_id == id)
-            return 1;
-    return 0;
+    /* Replacing all of it answers every goal in one tick: each queued one
+     * preempted, the new one accepted and started, the active one preempted. */
+    kc_goal gr = joint_goal(200, c);
+    gr.replace = 1;
+    int preempted = H.count[KC_EVENT_PREEMPTED];
+    tick(&gr, KC_CMD_NONE);
+    assert_int_equal(H.out.n_events, KC_CTRL_QUEUE_MAX + 3);
+    assert_int_equal(H.count[KC_EVENT_PREEMPTED], preempted + KC_CTRL_QUEUE_MAX + 1);
+    assert_true(has_event(KC_EVENT_ACCEPTED, 200) && has_event(KC_EVENT_STARTED, 200));
 }
 
 /* Ticks without input until goal id completes (at most max); returns the

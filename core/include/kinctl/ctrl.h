@@ -72,7 +72,13 @@
 #include "kinctl/profile.h"
 
 #define KC_CTRL_QUEUE_MAX 8
-#define KC_CTRL_EVENTS_MAX 8
+/* Events one tick can produce. Every event names a goal: each of the at
+ * most KC_CTRL_QUEUE_MAX + 1 goals queued or taken in the tick ends in one
+ * event, except the one goal a tick can start (ACCEPTED, STARTED, FAULT,
+ * ABORTED or COMPLETED: three more), and the goal active when the tick
+ * began has at most FAULT and one end: 2 (a full queue replaced by a joint
+ * goal is 8 PREEMPTED, ACCEPTED, PREEMPTED, STARTED). */
+#define KC_CTRL_EVENTS_MAX (KC_CTRL_QUEUE_MAX + 8)
 
 typedef enum kc_ctrl_state {
     KC_CTRL_IDLE = 0,
