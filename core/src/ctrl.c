@@ -751,7 +751,9 @@ static void command(kc_ctrl *c, kc_ctrl_command cmd, kc_ctrl_output *out)
         if (c->state == KC_CTRL_ESTOP)
             return;
         queue_clear(c, out);
-        if (c->active)
+        /* A goal still active after a fault is stopping on its path and
+         * was aborted with the fault. */
+        if (c->active && c->fault_reason == KC_REASON_NONE)
             emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_NONE, 0);
         joint_stop(c, 0, KC_CTRL_ESTOP);
         c->state = KC_CTRL_ESTOP;

@@ -19,7 +19,6 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
 {
     (void)argc;
     (void)argv;
-    FUZZ_QUIET_STDERR();
     return 0;
 }
 

@@ -17,8 +17,4 @@
         }                                                                                                              \
     } while (0)
 
-/* Harnesses whose code under test prints its complaints to stderr silence
- * it, so that a run of millions of inputs stays readable. */
-#define FUZZ_QUIET_STDERR() ((void)!freopen("/dev/null", "w", stderr))
-
 #endif

@@ -22,7 +22,6 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
     (void)argc;
     (void)argv;
     snprintf(path, sizeof path, "/tmp/kinctl-fuzz-config-%ld.cfg", (long)getpid());
-    FUZZ_QUIET_STDERR();
     return 0;
 }
 

@@ -43,16 +43,21 @@ CC=clang scripts/setup.sh build-fuzz -DKINCTL_FUZZ=ON -DKINCTL_SANITIZE=ON -DCMA
 cmake --build build-fuzz --target $(printf 'fuzz_%s ' "${harnesses[@]}")
 
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+export LSAN_OPTIONS=suppressions=$PWD/tests/fuzz/lsan.supp
 summary=()
 status=0
 for h in "${harnesses[@]}"; do
     work=build-fuzz/corpus/$h findings=build-fuzz/findings/$h log=build-fuzz/fuzz-$h.log
     mkdir -p "$work" "$findings"
+    # The readers and the calculator print a complaint for every bad input:
+    # their stderr is closed (libFuzzer keeps its own, and the invariant
+    # checks of those harnesses abort with a core-dumping signal anyway).
+    case "$h" in config|calc) mask=2 ;; *) mask=0 ;; esac
     say "$h: $runs runs (log: $log)"
     start=$(date +%s)
     set +e
     build-fuzz/tests/fuzz/fuzz_$h -runs="$runs" -max_total_time="$max_seconds" -timeout=20 -rss_limit_mb=2048 \
-        -print_final_stats=1 -artifact_prefix="$findings/" "$work" "tests/fuzz/corpus/$h" >"$log" 2>&1 &
+        -print_final_stats=1 -close_fd_mask="$mask" -artifact_prefix="$findings/" "$work" "tests/fuzz/corpus/$h" >"$log" 2>&1 &
     pid=$!
     while kill -0 "$pid" 2>/dev/null; do
         sleep 10
