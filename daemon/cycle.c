@@ -6,6 +6,7 @@
 #include <sched.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -129,6 +130,7 @@ static void *cycle_main(void *arg)
     int64_t next, consecutive = 0;
     int policy_latched = 0;
 
+    prctl(PR_SET_NAME, "kinctld-cycle"); /* for top -H, ps -L and the fault-injection tests */
     prefault_stack();
     next = kd_now_ns() + period;
     while (atomic_load_explicit(&c->run, memory_order_acquire)) {

@@ -10,6 +10,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/prctl.h>
 #include <time.h>
 
 #include "kinctl/se3.h"
@@ -388,6 +389,7 @@ static void *io_main(void *arg)
     int64_t now = kd_now_ns();
     kd_cycle_stats cs;
 
+    prctl(PR_SET_NAME, "kinctld-io");
     pfd.fd = lcm_get_fileno(io->lcm);
     pfd.events = POLLIN;
     wait.tv_sec = (time_t)(io->cfg->period_ns / KD_NS);
