@@ -848,6 +848,20 @@ static void take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
         c->servo_last = c->cycle;
         return;
     }
+    /* So does one for a servo goal still waiting in the queue (a replacing
+     * servo goal waits while the motion before it stops on its path): the
+     * stream's messages are one goal, answered once. */
+    if (g->kind == KC_GOAL_SERVO && kc_ctrl_goal_check(c->chain, g, &why) == KC_OK) {
+        for (int i = 0; i < c->queue_len; i++) {
+            kc_goal *w = &c->queue[(c->queue_head + i) % KC_CTRL_QUEUE_MAX];
+            if (w->kind == KC_GOAL_SERVO && w->id == g->id) {
+                w->servo_twist = g->servo_twist;
+                memcpy(w->twist, g->twist, sizeof g->twist);
+                w->pose = g->pose;
+                return;
+            }
+        }
+    }
     if (c->state == KC_CTRL_FAULT || c->state == KC_CTRL_ESTOP || c->fault_reason != KC_REASON_NONE) {
         emit(out, KC_EVENT_REJECTED, g->id, KC_REASON_STATE, 0);
         return;
