@@ -1,0 +1,260 @@
+"""soak.py - kinctld under a random goal stream for a long time, then the
+books: every goal answered, every accepted goal ended, a setpoint for every
+cycle, memory flat. Started by soak.sh (which loads the other CPU).
+
+Goals, at random every 0.05-1 s: joint moves anywhere within 90 % of the
+ranges, lines and arcs around the nominal pose, joint and Cartesian paths,
+short servo twist streams; a fifth of them replace the motion in progress;
+now and then STOP, PAUSE/RESUME, or an ESTOP followed by RESET. Some goals
+are bad on purpose (a target outside the limits, an unreachable line): they
+are counted as rejected, which is what they must be.
+
+Printed at the end (and as JSON with --json FILE): cycles, overruns, wake-up
+latency max, goals sent = accepted + rejected, completed + preempted +
+aborted = accepted, setpoints received = cycles, kinctld's resident memory at
+the start and the end. Exit status 1 when a book does not balance.
+"""
+import argparse
+import json
+import os
+import random
+import signal
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+
+import lcm
+
+from kinctl import client, local
+from kinctl_msgs import command_t, setpoint_t, stats_t, status_t
+
+QN = [0.0, 0.7854, -3.1416, 0.0, 0.7854, 0.0]
+LIMITS = [(-2.79, 2.79), (-0.785, 3.93), (-3.93, 0.785), (-1.92, 2.97), (-1.75, 1.75), (-4.64, 4.64)]
+ENDS = {status_t.COMPLETED: "completed", status_t.PREEMPTED: "preempted", status_t.ABORTED: "aborted"}
+
+
+def rss_kib(pid):
+    with open(f"/proc/{pid}/status") as f:
+        for line in f:
+            if line.startswith("VmRSS:"):
+                return int(line.split()[1])
+    return -1
+
+
+class Books:
+    """What came back from the daemon, kept by the LCM thread."""
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.setpoints = 0
+        self.first_cycle = self.last_cycle = None
+        self.cycle_gaps = 0
+        self.last = None
+        self.answers = {}   # goal_id -> ACCEPTED / REJECTED (first answer)
+        self.twice = 0      # goals answered more than once
+        self.ends = {}      # goal_id -> end event
+        self.ended_twice = 0
+        self.stats = None
+        self.reject_reasons = {}  # reason token -> count
+
+    def on_setpoint(self, channel, data):
+        sp = setpoint_t.decode(data)
+        with self.lock:
+            self.setpoints += 1
+            if self.last_cycle is not None and sp.cycle != self.last_cycle + 1:
+                self.cycle_gaps += 1
+            if self.first_cycle is None:
+                self.first_cycle = sp.cycle
+            self.last_cycle = sp.cycle
+            self.last = sp
+
+    def on_status(self, channel, data):
+        st = status_t.decode(data)
+        with self.lock:
+            if st.event in (status_t.ACCEPTED, status_t.REJECTED):
+                if st.event_goal_id in self.answers:
+                    self.twice += 1
+                self.answers[st.event_goal_id] = st.event
+                if st.event == status_t.REJECTED:
+                    token = st.reason.split(":")[0]
+                    self.reject_reasons[token] = self.reject_reasons.get(token, 0) + 1
+            elif st.event in ENDS:
+                if st.event_goal_id in self.ends:
+                    self.ended_twice += 1
+                self.ends[st.event_goal_id] = st.event
+
+    def on_stats(self, channel, data):
+        with self.lock:
+            self.stats = stats_t.decode(data)
+
+
+def random_goal(rng, gid, here):
+    """A goal message (bad on purpose about one time in twelve)."""
+    kind = rng.choice(["joint", "joint", "line", "arc", "path", "cpath"])
+    replace = rng.random() < 0.2
+    bad = rng.random() < 1 / 12
+    if kind == "joint":
+        q = [lo + (hi - lo) * (0.05 + 0.9 * rng.random()) for lo, hi in LIMITS]
+        if bad:
+            q[rng.randrange(6)] = 10.0
+        return client.make_goal_joint(q, goal_id=gid, replace=replace, vel_scale=rng.uniform(0.2, 1.0),
+                                      acc_scale=rng.uniform(0.2, 1.0))
+    x, y, z = here
+    orient = [0.7071068, 0.0, 0.7071068, 0.0]
+    d = lambda: rng.uniform(-0.08, 0.08)
+    if kind == "line":
+        to = [x + d(), y + d(), z + d()] + orient
+        if bad:
+            to[0] += 2.0
+        return client.make_goal_line(to, goal_id=gid, replace=replace, speed=rng.uniform(0.05, 0.4))
+    if kind == "arc":
+        return client.make_goal_arc([x + d(), y + d(), z + d()], [x + d(), y + d(), z + d()] + orient,
+                                    goal_id=gid, replace=replace)
+    if kind == "path":
+        pts = [[c + rng.uniform(-0.2, 0.2) for c in QN] for _ in range(rng.randint(1, 5))]
+        return client.make_goal_path(pts, method=rng.choice(["blend", "spline", "quintic"]), goal_id=gid,
+                                     replace=replace)
+    pts = [[x + d(), y + d(), z + d()] + orient for _ in range(rng.randint(1, 4))]
+    return client.make_goal_path(pts, space="cartesian", method=rng.choice(["blend", "spline"]), goal_id=gid,
+                                 replace=replace)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--kinctld", required=True)
+    ap.add_argument("--duration", type=float, default=600.0, help="seconds (default 600)")
+    ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--rt", action="store_true", help="SCHED_FIFO, pinned to the last CPU, mlockall")
+    ap.add_argument("--json", help="also write the figures to this file")
+    a = ap.parse_args()
+
+    url = local.unique_url(subnet=79, port_base=40000)
+    prefix = "KSOAK_"
+    cfg = tempfile.NamedTemporaryFile("w", suffix=".cfg", delete=False)
+    cfg.write('controller = {\n  angles = "rad";\n'
+              f"  home = [{', '.join(map(repr, QN))}];\n"
+              f'  prefix = "{prefix}";\n  lcm_url = "{url}";\n  stats_hz = 1.0;\n'
+              f"  rt = {{ enable = {'true' if a.rt else 'false'}; priority = 80; cpu = -1; mlock = true; }};\n}};\n")
+    cfg.close()
+
+    books = Books()
+    lc = lcm.LCM(url)
+    lc.subscribe(prefix + "SETPOINT", books.on_setpoint).set_queue_capacity(200000)
+    lc.subscribe(prefix + "STATUS", books.on_status).set_queue_capacity(100000)
+    lc.subscribe(prefix + "STATS", books.on_stats)
+    running = True
+
+    def pump():
+        while running:
+            lc.handle_timeout(50)
+
+    pumper = threading.Thread(target=pump, daemon=True)
+    pumper.start()
+    log = tempfile.NamedTemporaryFile("w", suffix=".log", delete=False)
+    daemon = subprocess.Popen([a.kinctld, "--config", cfg.name], stdout=log, stderr=log)
+    rng = random.Random(a.seed)
+    sent = 0
+    try:
+        deadline = time.monotonic() + 10
+        while books.last is None:
+            if daemon.poll() is not None or time.monotonic() > deadline:
+                sys.exit(f"kinctld did not start (log: {log.name})")
+            time.sleep(0.05)
+        time.sleep(2.0)
+        rss_start = rss_kib(daemon.pid)
+        start = time.monotonic()
+        next_report = start + 10
+        gid = 1000
+        while time.monotonic() - start < a.duration:
+            with books.lock:
+                here = list(books.last.position)
+                state = books.last.state
+            r = rng.random()
+            if state in (setpoint_t.FAULT, setpoint_t.ESTOP) or r < 0.02:
+                cmd = command_t()
+                cmd.command = command_t.ESTOP if r < 0.01 and state not in (setpoint_t.FAULT, setpoint_t.ESTOP) \
+                    else command_t.RESET
+                cmd.utime = int(time.time() * 1e6)
+                lc.publish(prefix + "COMMAND", cmd.encode())
+            elif r < 0.06:
+                cmd = command_t()
+                cmd.command = rng.choice([command_t.STOP, command_t.PAUSE, command_t.RESUME])
+                cmd.utime = int(time.time() * 1e6)
+                lc.publish(prefix + "COMMAND", cmd.encode())
+            elif r < 0.10:
+                # A short servo stream (its updates carry one goal id).
+                gid += 1
+                sent += 1
+                twist = [rng.uniform(-0.03, 0.03) for _ in range(3)] + [0.0, 0.0, 0.0]
+                for _ in range(rng.randint(5, 40)):
+                    m = client.make_servo_message(gid, twist=twist, replace=True, timeout_s=0.1)
+                    lc.publish(prefix + "GOAL_SERVO", m.encode())
+                    time.sleep(0.01)
+            else:
+                gid += 1
+                sent += 1
+                m = random_goal(rng, gid, here)
+                channel = {"goal_joint_t": "GOAL_JOINT", "goal_line_t": "GOAL_LINE", "goal_arc_t": "GOAL_ARC",
+                           "goal_path_t": "GOAL_PATH"}[type(m).__name__]
+                lc.publish(prefix + channel, m.encode())
+            time.sleep(rng.uniform(0.05, 1.0))
+            now = time.monotonic()
+            if now >= next_report:
+                next_report += 10
+                with books.lock:
+                    print(f"soak: {now - start:6.0f}/{a.duration:.0f} s  goals {sent}  answered {len(books.answers)}"
+                          f"  ended {len(books.ends)}  setpoints {books.setpoints}  rss {rss_kib(daemon.pid)} KiB",
+                          file=sys.stderr, flush=True)
+        # Quiet down: stop, let the last answers and ends arrive.
+        cmd = command_t()
+        cmd.command = command_t.STOP
+        lc.publish(prefix + "COMMAND", cmd.encode())
+        time.sleep(3.0)
+        rss_end = rss_kib(daemon.pid)
+        daemon.send_signal(signal.SIGTERM)
+        code = daemon.wait(30)
+        time.sleep(1.0)
+    finally:
+        if daemon.poll() is None:
+            daemon.kill()
+        running = False
+        pumper.join(2)
+    with books.lock:
+        st = books.stats
+        accepted = sum(1 for v in books.answers.values() if v == status_t.ACCEPTED)
+        rejected = sum(1 for v in books.answers.values() if v == status_t.REJECTED)
+        ends = {name: sum(1 for v in books.ends.values() if v == code_) for code_, name in ENDS.items()}
+        received_cycles = books.last_cycle - books.first_cycle + 1
+        figures = {
+            "duration_s": a.duration, "cycles": st.cycles, "overruns": st.overruns,
+            "latency_max_us": st.latency_max_ns / 1000, "goals_sent": sent, "accepted": accepted,
+            "rejected": rejected, "rejected_by_reason": dict(sorted(books.reject_reasons.items())),
+            "answered_twice": books.twice, **ends, "ended_twice": books.ended_twice,
+            "setpoints_received": books.setpoints, "setpoint_cycle_gaps": books.cycle_gaps,
+            "cycles_seen": received_cycles, "daemon_dropped": st.msgs_dropped, "rss_start_kib": rss_start,
+            "rss_end_kib": rss_end, "exit_code": code,
+        }
+    checks = [
+        ("goals sent = accepted + rejected", sent == accepted + rejected and books.twice == 0),
+        ("completed + preempted + aborted = accepted",
+         sum(ends.values()) == accepted and books.ended_twice == 0),
+        ("setpoints received = cycles (none missing)",
+         books.setpoints == received_cycles and books.cycle_gaps == 0 and st.msgs_dropped == 0),
+        ("memory flat (end within 1 MiB of start)", rss_end - rss_start <= 1024),
+        ("clean exit", code == 0),
+    ]
+    print(f"\nsoak: {a.duration:.0f} s, seed {a.seed}, log {log.name}")
+    for k, v in figures.items():
+        print(f"  {k:28s} {v}")
+    for name, ok in checks:
+        print(f"  {'PASS' if ok else 'FAIL'}  {name}")
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump({"figures": figures, "checks": {n: ok for n, ok in checks}}, f, indent=1)
+    return 0 if all(ok for _, ok in checks) else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
