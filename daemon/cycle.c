@@ -38,6 +38,7 @@ int kd_cycle_init(kd_cycle *c, const kd_config *cfg, kc_ctrl *ctrl, kc_goal *goa
     atomic_init(&c->cycles, 0);
     atomic_init(&c->overruns, 0);
     atomic_init(&c->ticks_dropped, 0);
+    atomic_init(&c->events_dropped, 0);
     atomic_init(&c->step_errors, 0);
     atomic_init(&c->thread_live, 0);
     atomic_init(&c->state, (int)ctrl->state);
@@ -117,10 +118,17 @@ static void tick(kd_cycle *c, int64_t deadline_ns, int64_t consecutive_missed, i
     t->missed_total = atomic_load_explicit(&c->overruns, memory_order_relaxed);
     atomic_store_explicit(&c->state, (int)t->out.state, memory_order_relaxed);
     atomic_fetch_add_explicit(&c->cycles, 1, memory_order_relaxed);
-    if (to_ring)
+    /* A plain setpoint may not take the reserve (this slot included). */
+    if (to_ring && t->out.n_events == 0 && t->policy_cmd == KC_CMD_NONE &&
+        kd_spsc_count(&c->ticks) + KD_TICK_RESERVE >= KD_TICK_RING)
+        to_ring = 0;
+    if (to_ring) {
         kd_spsc_commit(&c->ticks);
-    else
-        atomic_fetch_add_explicit(&c->ticks_dropped, 1, memory_order_relaxed);
+        return;
+    }
+    atomic_fetch_add_explicit(&c->ticks_dropped, 1, memory_order_relaxed);
+    if (t->out.n_events > 0)
+        atomic_fetch_add_explicit(&c->events_dropped, t->out.n_events, memory_order_relaxed);
 }
 
 static void *cycle_main(void *arg)

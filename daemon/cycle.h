@@ -55,6 +55,11 @@ typedef struct kd_cmd {
 } kd_cmd;
 
 #define KD_TICK_RING 2048 /* ticks in flight to the I/O thread (2 s at 1 kHz) */
+/* Slots of the tick ring only ticks with events (or an overrun note) may
+ * take: when the I/O thread falls behind, plain setpoints are dropped first
+ * and every goal is still answered. Events come from goals the I/O thread
+ * queued before it fell behind and from motions ending: a few a goal. */
+#define KD_TICK_RESERVE 512
 #define KD_CMD_RING 64
 
 typedef struct kd_cycle {
@@ -74,7 +79,8 @@ typedef struct kd_cycle {
     /* Counters (written by the cycle, read anywhere). */
     atomic_llong cycles;        /* ticks executed */
     atomic_llong overruns;      /* deadlines missed */
-    atomic_llong ticks_dropped; /* tick ring full */
+    atomic_llong ticks_dropped; /* tick ring full (or only the reserve left): no setpoint */
+    atomic_llong events_dropped; /* events of dropped ticks: the reserve ran out too */
     atomic_llong step_errors;   /* kc_ctrl_step refused a tick (a bug) */
     atomic_int state;           /* kc_ctrl_state of the last tick */
     int64_t goals_taken_total, cmds_taken_total; /* the cycle's own */

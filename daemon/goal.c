@@ -24,6 +24,7 @@ const char *kd_reason_token(kc_ctrl_reason reason)
     case KC_REASON_TRACKING: return "tracking";
     case KC_REASON_LIMIT_GUARD: return "limit_guard";
     case KC_REASON_SERVO_TIMEOUT: return "servo_timeout";
+    case KC_REASON_DUPLICATE_ID: return "duplicate_id";
     case (int)KD_REASON_OVERRUN: return "overrun";
     case (int)KD_REASON_SHUTDOWN: return "shutdown";
     default: return "unknown";

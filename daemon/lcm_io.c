@@ -122,7 +122,8 @@ static void publish_stats(kd_io *io, const kd_cycle_stats *cs)
     s->overruns = atomic_load(&io->cycle->overruns);
     s->msgs_in = io->msgs_in;
     s->msgs_invalid = io->msgs_invalid;
-    s->msgs_dropped = io->msgs_dropped + atomic_load(&io->cycle->ticks_dropped);
+    s->msgs_dropped = io->msgs_dropped + atomic_load(&io->cycle->ticks_dropped) +
+                      atomic_load(&io->cycle->events_dropped);
     s->rejections = io->rejections;
     s->can_frames = 0;
     s->can_errors = 0;
@@ -550,10 +551,13 @@ void kd_io_summary(const kd_io *io, char *buf, int size)
     int k, o;
     if (size <= 0)
         return;
-    o = snprintf(buf, (size_t)size, "messages in %lld, out %lld, dropped %lld, rejections %lld, invalid %lld",
+    o = snprintf(buf, (size_t)size,
+                 "messages in %lld, out %lld, dropped %lld (setpoints %lld, events %lld), rejections %lld, invalid %lld",
                  (long long)io->msgs_in, (long long)io->msgs_out,
-                 (long long)(io->msgs_dropped + atomic_load(&io->cycle->ticks_dropped)), (long long)io->rejections,
-                 (long long)io->msgs_invalid);
+                 (long long)(io->msgs_dropped + atomic_load(&io->cycle->ticks_dropped) +
+                             atomic_load(&io->cycle->events_dropped)),
+                 (long long)atomic_load(&io->cycle->ticks_dropped), (long long)atomic_load(&io->cycle->events_dropped),
+                 (long long)io->rejections, (long long)io->msgs_invalid);
     for (k = 0; k < KD_INVALID_KINDS && o > 0 && o < size; k++)
         if (io->invalid_by[k] > 0)
             o += snprintf(buf + o, (size_t)(size - o), ", %s %lld", kd_msg_status_str((kd_msg_status)(-k)),

@@ -82,6 +82,7 @@ const char *kc_ctrl_reason_str(kc_ctrl_reason reason)
     case KC_REASON_TRACKING: return "the tool fell behind the Cartesian path";
     case KC_REASON_LIMIT_GUARD: return "a setpoint failed the final limit check";
     case KC_REASON_SERVO_TIMEOUT: return "the servo stream went quiet";
+    case KC_REASON_DUPLICATE_ID: return "a goal with this id is already active or queued";
     case KC_REASON_COUNT: break;
     }
     return "unknown reason";
@@ -791,6 +792,17 @@ static void command(kc_ctrl *c, kc_ctrl_command cmd, kc_ctrl_output *out)
     }
 }
 
+/* Whether a goal of this id is active or queued. */
+static int id_in_flight(const kc_ctrl *c, int64_t id)
+{
+    if (c->active && c->goal.id == id)
+        return 1;
+    for (int i = 0; i < c->queue_len; i++)
+        if (c->queue[(c->queue_head + i) % KC_CTRL_QUEUE_MAX].id == id)
+            return 1;
+    return 0;
+}
+
 /* Preemption marker for stop_intent. */
 #define INTENT_PREEMPT 100
 
@@ -864,6 +876,11 @@ static void take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     }
     if (c->state == KC_CTRL_FAULT || c->state == KC_CTRL_ESTOP || c->fault_reason != KC_REASON_NONE) {
         emit(out, KC_EVENT_REJECTED, g->id, KC_REASON_STATE, 0);
+        return;
+    }
+    if (id_in_flight(c, g->id)) {
+        /* Its answers could not be told from the other goal's. */
+        emit(out, KC_EVENT_REJECTED, g->id, KC_REASON_DUPLICATE_ID, 0);
         return;
     }
     if (kc_ctrl_goal_check(c->chain, g, &why) != KC_OK) {

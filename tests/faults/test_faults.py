@@ -77,8 +77,11 @@ def test_sigstop_50ms_policy_and_no_burst(kinctld, tmp_path):
     (e-stop after 40) applies, and the setpoints resume with the next cycle
     and one cycle's motion: no catch-up burst, no jump."""
     cfg = tmp_path / "k.cfg"
-    cfg.write_text('controller = { overrun = { missed_cycles = 40; action = "estop"; }; };\n')
-    d = kinctld("--config", str(cfg))
+    # SCHED_FIFO (where permitted) keeps a loaded machine from tripping the
+    # policy before the test does; no mlockall (ASan's shadow is huge).
+    cfg.write_text('controller = { overrun = { missed_cycles = 40; action = "estop"; };\n'
+                   '  rt = { mlock = false; }; };\n')
+    d = kinctld("--config", str(cfg), rt=True)
     s0 = motion.go_nominal(d)
     d.bus.send_goal_joint(20, FAR, vel_scale=0.5)
     moving(d, 20)
@@ -102,9 +105,11 @@ def test_sigstop_50ms_policy_and_no_burst(kinctld, tmp_path):
 
 
 def test_io_thread_blocked_cycle_goes_on(kinctld):
-    """The I/O thread stopped for 2.5 s (ptrace stops that one thread): the
-    cycle keeps running the motion; what does not fit the 2048-tick ring to
-    the I/O thread is dropped and counted, never delayed or bunched."""
+    """The I/O thread stopped for 4 s (ptrace stops that one thread) while a
+    3.5 s move runs: the cycle keeps running the motion; setpoints that do
+    not fit the ring to the I/O thread are dropped and counted, never
+    delayed or bunched, and the ring's reserve keeps the ticks with events,
+    so the goal that completes meanwhile is still answered."""
     libc = ctypes.CDLL(None, use_errno=True)
     libc.ptrace.argtypes = [ctypes.c_long, ctypes.c_long, ctypes.c_void_p, ctypes.c_void_p]
     PTRACE_SEIZE, PTRACE_INTERRUPT, PTRACE_DETACH, WALL = 0x4206, 0x4207, 17, 0x40000000
@@ -120,28 +125,35 @@ def test_io_thread_blocked_cycle_goes_on(kinctld):
         assert libc.ptrace(PTRACE_INTERRUPT, tid, None, None) == 0
         os.waitpid(tid, WALL)
         blocked_at = time.monotonic()
-        time.sleep(2.5)
+        time.sleep(4.0)
     finally:
         libc.ptrace(PTRACE_DETACH, tid, None, 0)
     blocked = time.monotonic() - blocked_at
-    motion.finished(d, 30, timeout=30.0)
-    stats = d.bus.wait_stats(lambda s: s.cycles > stats0.cycles + 2500)
+    done = d.bus.wait_event(30, END, timeout=10.0)
+    assert done.event == EVENTS["COMPLETED"], done.reason
+    end = d.bus.wait_idle()
+    stats = d.bus.wait_stats(lambda s: s.cycles > end.cycle)
     sps = motion.setpoints_since(d, s0.cycle)
     parts = runs(sps)
-    assert len(parts) == 2, [(p[0].cycle, p[-1].cycle) for p in parts]
-    lost = parts[1][0].cycle - parts[0][-1].cycle - 1
-    assert lost > 0 and stats.msgs_dropped - stats0.msgs_dropped >= lost
+    holes = sum(b[0].cycle - a[-1].cycle - 1 for a, b in zip(parts, parts[1:]))
+    assert holes > 0 and stats.msgs_dropped - stats0.msgs_dropped == holes
+    # The goal completed while the I/O thread was stopped: its tick was kept.
+    assert done.cycle < parts[-1][0].cycle or len(parts) > 2
     for p in parts:
         motion.assert_smooth(p)
-    # The cycle ran on at its period: the deadlines on both sides of the hole
-    # are at least as far apart as the cycles it holds (more by the cycles
-    # the machine made it miss, which are skipped and counted) ...
-    a, b = parts[0][-1], parts[1][0]
+    # The cycle ran on at its period: across each hole the deadlines are at
+    # least as far apart as the cycles it holds (more by the cycles the
+    # machine made it miss, which are skipped and counted) ...
     missed = stats.overruns - stats0.overruns
-    assert (b.cycle - a.cycle) * 1000 <= b.utime - a.utime <= (b.cycle - a.cycle + missed) * 1000
-    # ... and did not fall behind: few cycles missed while it was blocked.
-    assert missed < 0.1 * blocked * 1000
+    for a, b in zip(parts, parts[1:]):
+        x, y = a[-1], b[0]
+        assert (y.cycle - x.cycle) * 1000 <= y.utime - x.utime <= (y.cycle - x.cycle + missed) * 1000
+    # ... and kept its deadlines: a cycle waiting on the I/O thread would
+    # have missed all of them (how many the machine itself makes it miss
+    # depends on its load: an idle one here misses about 1 %).
+    assert missed < 0.5 * blocked * 1000
     assert d.stop() == 0
+    assert "events 0)" in d.stderr, d.stderr
 
 
 def test_wall_clock_jumps_change_nothing(kinctld, tmp_path):

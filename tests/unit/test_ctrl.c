@@ -284,12 +284,33 @@ static void test_queue_and_preemption(void **state)
     for (int j = 0; j < 6; j++)
         kt_near((double)H.out.q[j], (double)c[j], 0.0, "replacing goal reached");
 
+    /* An id in flight names one goal: the same id again, active or queued,
+     * is refused; once its goal has ended the id may be used again. */
+    kc_goal dup = joint_goal(1, a);
+    tick(&ga, KC_CMD_NONE);
+    tick(&gb, KC_CMD_NONE);
+    int rejected = H.count[KC_EVENT_REJECTED];
+    tick(&dup, KC_CMD_NONE); /* goal 1 is active */
+    dup.id = 2;
+    dup.replace = 1;
+    tick(&dup, KC_CMD_NONE); /* goal 2 is queued: refused even as a replacement */
+    assert_int_equal(H.count[KC_EVENT_REJECTED], rejected + 2);
+    assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_DUPLICATE_ID);
+    assert_int_equal(H.out.queue_length, 1);
+    assert_int_equal(H.out.goal_id, 1);
+    run_until_state(KC_CTRL_IDLE, 40000);
+    dup.replace = 0;
+    tick(&dup, KC_CMD_NONE);
+    assert_true(has_event(KC_EVENT_ACCEPTED, 2));
+    run_until_state(KC_CTRL_IDLE, 40000);
+
     /* A full queue refuses more. */
+    rejected = H.count[KC_EVENT_REJECTED];
     for (int i = 0; i < KC_CTRL_QUEUE_MAX + 2; i++) {
         kc_goal g = joint_goal(100 + i, (i % 2) ? a : b);
         tick(&g, KC_CMD_NONE);
     }
-    assert_int_equal(H.count[KC_EVENT_REJECTED], 1);
+    assert_int_equal(H.count[KC_EVENT_REJECTED], rejected + 1);
     assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_QUEUE_FULL);
     assert_int_equal(H.out.queue_length, KC_CTRL_QUEUE_MAX);
 

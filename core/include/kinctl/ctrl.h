@@ -21,6 +21,11 @@
  * arm stops on the path and the controller faults, naming the segment and
  * the path length where it happened.
  *
+ * Goal ids name one goal while it is in flight: a goal whose id is that of
+ * the active goal or of a queued one is refused (KC_REASON_DUPLICATE_ID),
+ * except a servo message for a servo goal of that id, which updates it.
+ * An id may be used again once its goal has ended.
+ *
  * Goals wait in a queue of KC_CTRL_QUEUE_MAX. A goal with replace set
  * preempts: the queue is dropped and the active goal ends (PREEMPTED).
  * A joint move takes over at once from the current position and velocity:
@@ -155,6 +160,7 @@ typedef enum kc_ctrl_reason {
     KC_REASON_TRACKING,      /* fault: the tool fell behind the Cartesian path */
     KC_REASON_LIMIT_GUARD,   /* fault: a setpoint failed the final check */
     KC_REASON_SERVO_TIMEOUT, /* the servo stream went quiet: stopped */
+    KC_REASON_DUPLICATE_ID,  /* a goal with this id is active or queued */
     KC_REASON_COUNT
 } kc_ctrl_reason;
 
