@@ -224,3 +224,27 @@ def test_record_refuses_to_overwrite(kinctl, tmp_path):
     p.write_bytes(b"")
     r = kinctl(None, "record", str(p), "--duration", "0.1")
     assert r.returncode == 2 and "--force" in r.stderr
+
+
+def test_replay_takes_the_daemons_configuration(multicast, tmp_path):
+    """A panda at 2 kHz replays bit for bit with the daemon's --model and
+    --period-us; with another period it differs from the first goal's cycle."""
+    from kinctl.local import Kinctld
+    if not os.environ.get("KINCTLD"):
+        pytest.skip("KINCTLD is not set (run through ctest)")
+    path = str(tmp_path / "panda.lcmlog")
+    d = Kinctld("--model", "panda", "--period-us", "500", binary=os.environ["KINCTLD"])
+    try:
+        d.wait_ready(10.0 * SLOW)
+        rec = start_record(d, path)
+        ok(run_kinctl(d, "goal", "joint", "--q", "0.3,-0.5,0.2,-2.0,0.1,1.8,0.5", "--id", "8001", "--wait"))
+        ok(run_kinctl(d, "status"))
+        stop_record(rec)
+    finally:
+        assert d.stop() == 0, d.stderr_text
+    r = run_kinctl(None, "replay", path, "--model", "panda", "--period-us", "500")
+    assert r.returncode == 0 and "BIT-EXACT" in r.stdout, r.stdout + r.stderr
+    took = [setpoint_t.decode(dt).cycle for _, ch, dt in events(path)
+            if ch == "KINCTL_SETPOINT" and setpoint_t.decode(dt).input_goal_id == 8001]
+    r = run_kinctl(None, "replay", path, "--model", "panda", "--period-us", "1000")
+    assert r.returncode == 1 and f"DIFFERS at cycle {took[0]}:" in r.stdout, r.stdout + r.stderr
