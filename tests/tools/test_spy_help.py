@@ -60,3 +60,5 @@ def test_replay_program_help():
     assert r.returncode == 0 and "example:\n  kinctl-replay " in r.stdout
     r = subprocess.run([exe], capture_output=True, text=True)
     assert r.returncode == 2 and "no LOG given" in r.stderr
+    r = subprocess.run([exe, __file__], capture_output=True, text=True)
+    assert r.returncode == 2 and "is not an LCM event log" in r.stderr

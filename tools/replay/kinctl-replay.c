@@ -95,12 +95,20 @@ static int read_log(const char *path, const char *prefix, recording *r)
     lcm_eventlog_t *log;
     lcm_eventlog_event_t *ev;
     int t;
+    static const unsigned char magic[4] = {0xed, 0xa1, 0xda, 0x01}; /* every event's sync word */
+    unsigned char head[4];
+    size_t got;
     FILE *probe = fopen(path, "rb");
     if (probe == NULL) {
         fprintf(stderr, "kinctl-replay: cannot open %s: %s\n", path, strerror(errno));
         return -1;
     }
+    got = fread(head, 1, sizeof head, probe);
     fclose(probe);
+    if (got != sizeof head || memcmp(head, magic, sizeof magic) != 0) {
+        fprintf(stderr, "kinctl-replay: %s is not an LCM event log (written by kinctl record or lcm-logger)\n", path);
+        return -1;
+    }
     log = lcm_eventlog_create(path, "r");
     if (log == NULL) {
         fprintf(stderr, "kinctl-replay: cannot read %s as an LCM event log\n", path);
