@@ -151,10 +151,10 @@ static int read_log(const char *path, const char *prefix, recording *r)
 /* The goal the daemon's cycle took as id: the first message with that id
  * not used yet that the daemon's conversion accepts (one it refused never
  * reached the cycle). 0 with *goal set, or -1. */
-static int find_goal(recording *r, const kd_config *cfg, int64_t id, size_t *cursor, kc_goal *goal)
+static int find_goal(recording *r, const kd_config *cfg, int64_t id, kc_goal *goal)
 {
     size_t i;
-    for (i = *cursor; i < r->n_goals; i++) {
+    for (i = 0; i < r->n_goals; i++) {
         goal_msg *g = &r->goals[i];
         int64_t timeout_ns;
         kd_reject rej;
@@ -230,7 +230,7 @@ static int replay(recording *r, const kd_config *cfg, int progress)
     static kc_ctrl ctrl;
     kc_ctrl_output out;
     kc_real q0[KC_MAX_JOINTS];
-    size_t start, i, cursor = 0;
+    size_t start, i;
     int n = cfg->chain.n_joints, j;
     long goals = 0, commands = 0, stale = 0;
     int64_t base;
@@ -266,7 +266,7 @@ static int replay(recording *r, const kd_config *cfg, int progress)
         }
         in.goal = NULL;
         if (sp->input_goal_id != 0) {
-            if (find_goal(r, cfg, sp->input_goal_id, &cursor, &goal) != 0) {
+            if (find_goal(r, cfg, sp->input_goal_id, &goal) != 0) {
                 printf("INCOMPLETE: cycle %" PRId64 " took goal %" PRId64 ", which is not in the log: bit-exact "
                        "through cycle %" PRId64 "\n",
                        sp->cycle, sp->input_goal_id, r->sp[i - 1].cycle);
@@ -306,6 +306,18 @@ static int replay(recording *r, const kd_config *cfg, int progress)
     return 0;
 }
 
+/* kinctld's options that take a separate value (kd_config_load's). */
+static int takes_value(const char *arg)
+{
+    static const char *const opts[] = {"-c", "--config", "-m", "--model", "-p", "--period-us",
+                                       "-P", "--prefix", "-u", "--lcm-url", NULL};
+    int i;
+    for (i = 0; opts[i] != NULL; i++)
+        if (strcmp(arg, opts[i]) == 0)
+            return 1;
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     static kd_config cfg;
@@ -324,14 +336,16 @@ int main(int argc, char **argv)
             free(rest);
             return 0;
         }
-        if (strcmp(argv[i], "--progress") == 0)
+        if (strcmp(argv[i], "--progress") == 0) {
             progress = 1;
-        else if (log_path == NULL && argv[i][0] != '-' && (i == 1 || argv[i - 1][0] != '-' ||
-                                                          strchr(argv[i - 1], '=') != NULL ||
-                                                          strcmp(argv[i - 1], "--progress") == 0))
-            log_path = argv[i];
-        else
+        } else if (takes_value(argv[i]) && i + 1 < argc) {
+            rest[n_rest++] = argv[i++];
             rest[n_rest++] = argv[i];
+        } else if (argv[i][0] != '-' && log_path == NULL) {
+            log_path = argv[i];
+        } else {
+            rest[n_rest++] = argv[i];
+        }
     }
     if (log_path == NULL) {
         fprintf(stderr, "kinctl-replay: no LOG given (see --help)\n");
