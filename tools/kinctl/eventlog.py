@@ -69,8 +69,8 @@ class Recorder:
     def run(self, stop, duration=None, progress=True):
         """Handles messages until stop (a threading.Event) is set or duration (s) has passed."""
         t0 = time.monotonic()
-        bar = _bar(total=duration, unit="s", bar_format="{l_bar}{bar}| {n:.0f}/{total:.0f} s {postfix}"
-                   if duration else "{desc} {elapsed} {postfix}", desc="record") if progress else None
+        bar = _bar(total=duration, unit="s", bar_format="{l_bar}{bar}| {n:.1f}/{total:.1f} s{postfix}"
+                   if duration else "{desc}: {elapsed}{postfix}", desc="record") if progress else None
         last_update = t0
         try:
             while not stop.is_set():
@@ -91,6 +91,9 @@ class Recorder:
                     last_update = now
         finally:
             if bar is not None:
+                bar.set_postfix_str(f"{self.events} events, {self.bytes / 1e6:.1f} MB", refresh=False)
+                if duration:
+                    bar.n = min(time.monotonic() - t0, duration)
                 bar.close()
 
     def close(self):
