@@ -173,13 +173,16 @@ def test_frames_are_the_moving_links(tmp_path):
 
 @pytest.mark.parametrize("args, text", [
     (["/nonexistent.urdf"], "no such file"),
-    (["__FILE__"], "not a readable URDF"),
+    (["__FILE__"], "not a readable URDF (not XML"),
+    (["__SDF__"], "not a URDF (its root element is <sdf>"),
     ([os.path.join(DATA, "franka_panda/panda.urdf")], "give --tip (one of"),
     ([os.path.join(DATA, "franka_panda/panda.urdf"), "--tip", "nosuch"], "--tip nosuch: no such link"),
     ([os.path.join(DATA, "franka_panda/panda.urdf"), "--tip", "panda_rightfinger"], "mimic"),
 ])
 def test_bad_input_exits_2(tmp_path, args, text):
-    args = [__file__ if a == "__FILE__" else a for a in args]
+    sdf = tmp_path / "model.sdf"
+    sdf.write_text('<?xml version="1.0"?>\n<sdf version="1.6"><model name="m"/></sdf>\n')
+    args = [__file__ if a == "__FILE__" else str(sdf) if a == "__SDF__" else a for a in args]
     r = run_kinctl(None, "import-urdf", *args, "-o", str(tmp_path / "x.cfg"))
     assert r.returncode == 2, r.stdout + r.stderr
     assert text in r.stderr, r.stderr

@@ -246,6 +246,10 @@ def test_play_inputs_only_drives_a_daemon(session, daemon, kinctl, tmp_path):
     (["replay", "__LOG__", "--model", "nosuch"], "no such built-in model"),
     (["replay", "__LOG__", "--model", "panda"], "the arm (panda) has 7"),
     (["replay", "__LOG__", "--prefix", "OTHER_"], "no OTHER_SETPOINT messages"),
+    (["play", "__LOG__", "--channels", "("], "--channels '('"),
+    (["play", "__LOG__", "--channels", "X", "--inputs-only"], "not both"),
+    (["record", "/nonexistent/dir/x.lcmlog"], "no directory /nonexistent/dir"),
+    (["spy", "--jar", "/nonexistent.jar"], "--jar /nonexistent.jar: no such file"),
 ])
 def test_bad_input_exits_2(session, kinctl, args, text):
     path, _ = session

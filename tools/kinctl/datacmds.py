@@ -74,6 +74,9 @@ def cmd_record(args):
     from kinctl.cli import UsageError
     if os.path.exists(args.log) and not args.force:
         raise UsageError(f"{args.log} exists (give --force to overwrite)")
+    where = os.path.dirname(os.path.abspath(args.log))
+    if not os.path.isdir(where):
+        raise UsageError(f"cannot write {args.log}: no directory {where}")
     stop = threading.Event()
     old = signal.signal(signal.SIGTERM, lambda *a: stop.set())
     regex = channel_regex(args.prefix, args.inputs_only)

@@ -45,6 +45,8 @@ def find_spy():
 
 def command(url=None, jar=None):
     """(argv, env) that start lcm-spy on url with the jar on its CLASSPATH."""
+    if jar is not None and not os.path.isfile(jar):
+        raise ValueError(f"--jar {jar}: no such file")
     jar = jar or find_jar()
     env = dict(os.environ)
     env["CLASSPATH"] = jar + (os.pathsep + env["CLASSPATH"] if env.get("CLASSPATH") else "")

@@ -31,8 +31,15 @@ class URDFError(ValueError):
 
 def load(path):
     import yourdfpy
+    import xml.etree.ElementTree as ET
     if not os.path.isfile(path):
         raise URDFError(f"{path}: no such file")
+    try:  # the plain XML first: yourdfpy logs its own parse errors before raising
+        root = ET.parse(path).getroot()
+    except (ET.ParseError, UnicodeDecodeError) as e:
+        raise URDFError(f"{path}: not a readable URDF (not XML: {e})") from None
+    if root.tag != "robot":
+        raise URDFError(f"{path}: not a URDF (its root element is <{root.tag}>, not <robot>)")
     try:
         return yourdfpy.URDF.load(path, build_scene_graph=True, load_meshes=False, load_collision_meshes=False)
     except Exception as e:  # yourdfpy raises lxml and its own errors
