@@ -10,12 +10,11 @@ import random
 import subprocess
 
 import numpy as np
+import pybullet_data  # the URDFs: pybullet's wheel ships them (tools/requirements.txt)
 import pytest
 
 from conftest import run_kinctl
 from kinctl import urdf
-
-pybullet_data = pytest.importorskip("pybullet_data", reason="pybullet (tools/requirements.txt) ships the URDFs")
 DATA = pybullet_data.getDataPath()
 CALC = os.environ.get("KINCTL_CALC", "")
 CONFIGS = 300
