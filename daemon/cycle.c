@@ -98,6 +98,10 @@ static void tick(kd_cycle *c, int64_t deadline_ns, int64_t consecutive_missed, i
     servo_deadline = atomic_load_explicit(&c->servo_deadline_ns, memory_order_acquire);
     in.servo_stale = servo_deadline != 0 && deadline_ns > servo_deadline;
 
+    /* Read before the slot goes back to the I/O thread. */
+    t->in_goal_id = goal != NULL ? goal->id : 0;
+    t->in_command = in.command;
+    t->in_servo_stale = in.servo_stale;
     st = kc_ctrl_step(c->ctrl, &in, &t->out);
     if (goal != NULL) {
         kd_spsc_release(&c->goals);

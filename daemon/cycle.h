@@ -47,6 +47,11 @@ typedef struct kd_tick {
     kc_ctrl_command policy_cmd; /* the overrun policy fired this tick (or NONE) */
     int64_t policy_missed;      /* ... after this many consecutive missed cycles */
     kc_real q_meas[KC_MAX_JOINTS], qd_meas[KC_MAX_JOINTS];
+    /* The step's inputs, published with the setpoint so that a log replays:
+     * the goal's id (0: none), the command, the servo staleness flag. */
+    int64_t in_goal_id;
+    kc_ctrl_command in_command;
+    int in_servo_stale;
 } kd_tick;
 
 /* A command with what the I/O thread wants done about it. */

@@ -64,6 +64,9 @@ static void publish_setpoint(kd_io *io, const kd_tick *t)
     sp->orientation[1] = (double)q.x;
     sp->orientation[2] = (double)q.y;
     sp->orientation[3] = (double)q.z;
+    sp->input_goal_id = t->in_goal_id;
+    sp->input_command = (int8_t)t->in_command;
+    sp->input_servo_stale = (int8_t)(t->in_servo_stale != 0);
     publish(io, KD_MSG_SETPOINT, sp);
 }
 

@@ -148,6 +148,9 @@ void msg_sample(kd_msg_type type, uint32_t seed, kd_msg_any *m, char *reason_buf
         fill(s, p->qdd, KINCTL_SETPOINT_T_MAX_JOINTS, -20.0, 20.0);
         fill(s, p->position, 3, -2.0, 2.0);
         fill(s, p->orientation, 4, -1.0, 1.0);
+        p->input_goal_id = big(s);
+        p->input_command = (int8_t)pick(s, 0, KINCTL_COMMAND_T_RESET);
+        p->input_servo_stale = (int8_t)pick(s, 0, 1);
         break;
     }
     case KD_MSG_STATUS: {

@@ -100,6 +100,8 @@ static void print_json(kd_msg_type t, const kd_msg_any *m)
         pi("state", p->state); pi("n", p->n);
         pd("q", p->q, 16, 1); pd("qd", p->qd, 16, 1); pd("qdd", p->qdd, 16, 1);
         pd("position", p->position, 3, 1); pd("orientation", p->orientation, 4, 1);
+        pi("input_goal_id", p->input_goal_id); pi("input_command", p->input_command);
+        pi("input_servo_stale", p->input_servo_stale);
         break;
     }
     case KD_MSG_STATUS: {

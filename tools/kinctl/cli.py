@@ -23,6 +23,8 @@ examples (start a daemon first: build/daemon/kinctld --no-rt):
   kinctl goal servo --twist 0,0.05,0,0,0,0 --rate 100 --duration 1 --wait
   kinctl stop --wait
   kinctl log --csv run.csv --duration 5
+  kinctl record run.lcmlog --duration 5 && kinctl replay run.lcmlog
+  kinctl import-urdf arm.urdf -o arm.cfg
 """
 
 STALE_MIN_S, STALE_MAX_S = 0.05, 0.1
@@ -285,6 +287,9 @@ def build_parser():
     pl.add_argument("--events", metavar="FILE", default=None, help="status events to mark goal boundaries")
     pl.add_argument("-o", "--output", metavar="PNG", default=None, help="output (default: CSV with .png)")
     pl.add_argument("--title", default=None, help="figure title")
+
+    from kinctl import datacmds
+    datacmds.add_parsers(sub, _sub, parents, positive)
     return p
 
 
@@ -552,6 +557,9 @@ def main(argv=None):
             return cmd_status(args)
         if args.command == "log":
             return cmd_log(args)
+        from kinctl import datacmds
+        if args.command in datacmds.NAMES:
+            return datacmds.run(args)
         return cmd_plot(args)
     except DaemonNotFound as e:
         _err(str(e))
