@@ -10,7 +10,8 @@
 #include <sys/stat.h>
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
-int LLVMFuzzerInitialize(int *argc, char ***argv);
+/* Optional, as for libFuzzer: harnesses with nothing to set up leave it out. */
+int LLVMFuzzerInitialize(int *argc, char ***argv) __attribute__((weak));
 
 static long replay_file(const char *path)
 {
@@ -81,7 +82,8 @@ static long replay_dir(const char *dir)
 int main(int argc, char **argv)
 {
     long count = 0;
-    LLVMFuzzerInitialize(&argc, &argv);
+    if (LLVMFuzzerInitialize != NULL)
+        LLVMFuzzerInitialize(&argc, &argv);
     for (int i = 1; i < argc; i++) {
         struct stat st;
         if (stat(argv[i], &st) != 0) {
