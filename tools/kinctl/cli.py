@@ -279,12 +279,20 @@ def build_parser():
     lg.add_argument("--events", metavar="FILE", default=None,
                     help="also write status events: utime,cycle,goal_id,event,code,reason")
 
-    pl = _sub(sub, "plot", "plot a setpoint CSV (q, qd, qdd, tool path) to a PNG (needs matplotlib)",
-              "kinctl plot run.csv --events events.csv -o run.png", parents)
-    pl.add_argument("csv", metavar="CSV", help="a CSV written by kinctl log")
-    pl.add_argument("--events", metavar="FILE", default=None, help="status events to mark goal boundaries")
-    pl.add_argument("-o", "--output", metavar="PNG", default=None, help="output (default: CSV with .png)")
+    pl = _sub(sub, "plot", "plot a run's setpoints: q, qd, qdd of every joint against time (each goal's "
+                           "leading joint bold), the tool's speed along its path, the tool path in 3-D and "
+                           "on XY, XZ, YZ; one colour per goal_id",
+              "kinctl plot run.csv --events events.csv -o run.png\n"
+              "  kinctl plot run.lcmlog -o run.svg          # an LCM event log (lcm-logger); SVG", parents)
+    pl.add_argument("csv", metavar="LOG", help="a setpoint CSV written by kinctl log --csv, or an LCM event log "
+                                               "(lcm-logger format) holding <prefix>SETPOINT and <prefix>STATUS")
+    pl.add_argument("--events", metavar="FILE", default=None,
+                    help="with a CSV: the status events of kinctl log --events, to name how goals ended")
+    pl.add_argument("-o", "--output", metavar="FILE", default=None,
+                    help="output, .png or .svg by its extension (default: LOG with .png)")
     pl.add_argument("--title", default=None, help="figure title")
+    from kinctl.view import add_view_parser
+    add_view_parser(sub, _sub, parents)
     return p
 
 
@@ -534,8 +542,8 @@ def cmd_log(args):
 def cmd_plot(args):
     from kinctl.plot import plot_run
     out = args.output or os.path.splitext(args.csv)[0] + ".png"
-    info = plot_run(args.csv, out, events=args.events, title=args.title)
-    _say(f"plot: {out} ({info['rows']} setpoints)")
+    info = plot_run(args.csv, out, events=args.events, title=args.title, prefix=args.prefix, progress=True)
+    _say(f"plot: {out} ({info['rows']} setpoints, {len(info['goals'])} goals)")
     return 0
 
 
@@ -552,6 +560,9 @@ def main(argv=None):
             return cmd_status(args)
         if args.command == "log":
             return cmd_log(args)
+        if args.command == "view":
+            from kinctl.view import cmd_view
+            return cmd_view(args)
         return cmd_plot(args)
     except DaemonNotFound as e:
         _err(str(e))

@@ -1,0 +1,451 @@
+"""`kinctl view`: the arm's skeleton and every link frame, drawn from kinctld's
+setpoints, in seed 001 lab 3's three projections (frontal dimetric,
+horizontal isometric, orthographic; kinctl.projection) and a free 3-D view.
+
+Live, a matplotlib window follows <prefix>SETPOINT on LCM. With --save the
+same picture goes to a file without a display (Agg): FILE.png a still,
+FILE.gif (pillow) or FILE.mp4 (ffmpeg) an animation of --duration seconds of
+live setpoints, or of a recorded log (--log, a CSV or an LCM event log).
+
+The frames come from the core's forward kinematics through kinctl-calc
+(kinctl.kinematics): --model / --model-file must name the daemon's arm; a
+tool position that disagrees with the setpoint's is reported.
+
+    from kinctl.view import render
+    info = render(samples, "arm.gif", fk)      # samples: [(t, cycle, goal_id, state, q, tool xyz)]
+
+Extra 3-D geometry (kinctl.shapes) is drawn in every panel: render(...,
+shapes=[...]).
+"""
+import argparse
+import math
+import os
+import sys
+import time
+
+SAVE_FORMATS = (".png", ".gif", ".mp4")
+PANELS = ("frontal_dimetric", "horizontal_isometric", "orthographic", "3d")
+AXIS_COLORS = ("#d62728", "#2ca02c", "#1f77b4")  # x red, y green, z blue
+EXAMPLE = ("kinctl view                                  # live window (needs a display)\n"
+           "  kinctl view --save arm.gif --duration 5        # headless: 5 s of live setpoints\n"
+           "  kinctl view --log run.csv --save run.mp4       # a recorded log (CSV or LCM log); mp4 needs ffmpeg\n"
+           "  kinctl view --model-file models/panda.cfg --save now.png")
+
+
+def add_view_parser(sub, make_sub, parents):
+    """The `view` subcommand's options (called by kinctl.cli.build_parser)."""
+    v = make_sub(sub, "view", "draw the arm (skeleton and every link frame) from its setpoints: frontal "
+                              "dimetric, horizontal isometric, orthographic and 3-D views, live or saved",
+                 EXAMPLE, parents)
+    m = v.add_mutually_exclusive_group()
+    m.add_argument("--model", default=None, metavar="NAME",
+                   help="the daemon's built-in arm (default puma560, kinctld's default): puma560, panda, rrr3, "
+                        "planar2, rb211, rm01")
+    m.add_argument("--model-file", default=None, metavar="PATH", help="the daemon's robot description file")
+    v.add_argument("--log", default=None, metavar="FILE",
+                   help="draw a recorded log (setpoint CSV of kinctl log, or LCM event log) instead of live LCM")
+    v.add_argument("--save", default=None, metavar="FILE",
+                   help="write FILE.png (a still: the last setpoint), FILE.gif or FILE.mp4 (an animation; mp4 "
+                        "needs ffmpeg, which scripts/setup.sh installs) instead of opening a window")
+    v.add_argument("--duration", type=_positive, default=None, metavar="S",
+                   help="live --save: record S seconds of setpoints (default 5 for .gif/.mp4; .png: the next "
+                        "setpoint); with --log: only the first S seconds")
+    v.add_argument("--fps", type=_positive, default=25.0, metavar="N", help="frames per second (default 25)")
+    v.add_argument("--trail", type=_nonneg, default=3.0, metavar="S",
+                   help="seconds of tool path drawn behind the tool (default 3; 0: none)")
+    v.add_argument("--dpi", type=_positive, default=80.0, help="resolution of saved files (default 80)")
+    return v
+
+
+def _positive(text):
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+    if not (math.isfinite(v) and v > 0):
+        raise argparse.ArgumentTypeError(f"{text} must be > 0")
+    return v
+
+
+def _nonneg(text):
+    try:
+        v = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
+    if not (math.isfinite(v) and v >= 0):
+        raise argparse.ArgumentTypeError(f"{text} must be >= 0")
+    return v
+
+
+def check_save(path):
+    ext = os.path.splitext(path)[1].lower()
+    if ext not in SAVE_FORMATS:
+        raise ValueError(f"--save {path}: the extension picks the format: .png (a still), .gif or .mp4")
+    if ext == ".mp4":
+        from matplotlib import animation
+        if not animation.writers.is_available("ffmpeg"):
+            raise ValueError(f"--save {path}: writing .mp4 needs ffmpeg (Debian package ffmpeg, which "
+                             f"scripts/setup.sh installs); or save a .gif")
+    return ext
+
+
+# -- samples -----------------------------------------------------------------
+
+class Sample:
+    """One drawn instant: t (s from the first), the setpoint's cycle, goal_id,
+    state (code), q and the daemon's tool position."""
+    __slots__ = ("t", "cycle", "goal_id", "state", "q", "tool")
+
+    def __init__(self, t, cycle, goal_id, state, q, tool):
+        self.t, self.cycle, self.goal_id, self.state, self.q, self.tool = t, cycle, goal_id, state, q, tool
+
+
+def samples_from_columns(cols, fps, duration=None):
+    """Samples of a log (logcsv columns) every 1/fps s of trajectory time
+    (cycles times the period); the last setpoint always included."""
+    import statistics
+    rows = len(cols["cycle"])
+    if rows == 0:
+        raise ValueError("the log holds no setpoints")
+    n = sum(1 for k in cols if k.startswith("qd") and not k.startswith("qdd"))
+    dts = [b - a for a, b in zip(cols["utime"], cols["utime"][1:]) if b > a]
+    dt = statistics.median(dts) / 1e6 if dts else 1e-3
+    c0 = cols["cycle"][0]
+    out, next_t = [], 0.0
+    for i in range(rows):
+        t = (cols["cycle"][i] - c0) * dt
+        if duration is not None and t > duration + 1e-9:
+            break
+        last = i == rows - 1
+        if t + 1e-9 >= next_t or last:
+            out.append(Sample(t, cols["cycle"][i], cols["goal_id"][i], cols["state"][i],
+                              [cols[f"q{j}"][i] for j in range(1, n + 1)],
+                              (cols["x"][i], cols["y"][i], cols["z"][i])))
+            next_t = (math.floor(t * fps + 1e-6) + 1) / fps
+    return out
+
+
+# -- the scene ---------------------------------------------------------------
+
+def skeleton_points(pose):
+    """Base origin, every frame's origin, tool origin: (m + 2) x 3."""
+    import numpy as np
+    base, frames, tool = pose
+    return np.array([base[:3, 3]] + [f[:3, 3] for f in frames] + [tool[:3, 3]])
+
+
+def triad_lines(pose, length):
+    """For each axis (x, y, z) an array of segments origin -> origin + length * axis
+    of the base, every frame and the tool, NaN rows between: 3 arrays of (3k - 1) x 3."""
+    import numpy as np
+    base, frames, tool = pose
+    out = []
+    for k in range(3):
+        rows = []
+        for T in [base] + list(frames) + [tool]:
+            o = T[:3, 3]
+            rows += [o, o + length * T[:3, k], [np.nan] * 3]
+        out.append(np.array(rows[:-1], dtype=float))
+    return out
+
+
+class Scene:
+    """The four panels and their artists; update(pose, sample, trail) redraws."""
+
+    def __init__(self, fig, bounds, triad, shapes=(), title=""):
+        import numpy as np
+        from kinctl import projection as pj
+        from kinctl import shapes as shp
+        self.fig, self.triad, self.title = fig, triad, title
+        lo, hi = np.asarray(bounds[0], float), np.asarray(bounds[1], float)
+        corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]).T
+        gs = fig.add_gridspec(2, 2, left=0.04, right=0.98, top=0.9, bottom=0.05, wspace=0.12, hspace=0.18)
+        self.panels = {}
+        for idx, name in enumerate(PANELS):
+            r, c = divmod(idx, 2)
+            if name == "3d":
+                ax = fig.add_subplot(gs[r, c], projection="3d")
+                ax.set_xlim(lo[0], hi[0])
+                ax.set_ylim(lo[1], hi[1])
+                ax.set_zlim(lo[2], hi[2])
+                ax.set_box_aspect(hi - lo)
+                ax.set_xlabel("x (m)")
+                ax.set_ylabel("y (m)")
+                ax.set_zlabel("z (m)")
+                ax.tick_params(labelsize=7)
+                ax.set_title("3-D (free view)", loc="left", fontsize=10)
+                M = None
+            else:
+                ax = fig.add_subplot(gs[r, c])
+                M = pj.matrix(name)
+                uv = M @ corners
+                pad = 0.03 * (uv.max() - uv.min())
+                ax.set_xlim(uv[0].min() - pad, uv[0].max() + pad)
+                ax.set_ylim(uv[1].min() - pad, uv[1].max() + pad)
+                ax.set_aspect("equal", adjustable="box")
+                ax.set_xlabel("u (m)")
+                ax.set_ylabel("v (m)")
+                ax.grid(True, alpha=0.25)
+                ax.tick_params(labelsize=7)
+                ax.set_title(pj.TITLES[name] + " (seed 001 lab 3)", loc="left", fontsize=10)
+            p = {"ax": ax, "M": M}
+            p["trail"] = self._line(ax, M, color="0.55", lw=1.0, ls="-", label="tool path")
+            p["skeleton"] = self._line(ax, M, color="0.15", lw=2.6, marker="o", ms=4, mfc="#ffb000",
+                                       mec="0.15", label="links")
+            p["triads"] = [self._line(ax, M, color=col, lw=1.4, label=f"{a} axes")
+                           for a, col in zip("xyz", AXIS_COLORS)]
+            for s in shapes:
+                if M is None:
+                    shp.draw3d(ax, s)
+                else:
+                    shp.draw_projected(ax, s, M)
+            self.panels[name] = p
+        self.panels["frontal_dimetric"]["ax"].legend(loc="upper left", fontsize=7.5, framealpha=0.8, ncol=1)
+        self.text = fig.suptitle(title, fontsize=12)
+
+    @staticmethod
+    def _line(ax, M, **kw):
+        if M is None:
+            return ax.plot([], [], [], **kw)[0]
+        return ax.plot([], [], **kw)[0]
+
+    @staticmethod
+    def _set(line, M, pts):
+        """pts: N x 3 (world, m)."""
+        import numpy as np
+        pts = np.asarray(pts, dtype=float).reshape(-1, 3)
+        if M is None:
+            line.set_data_3d(pts[:, 0], pts[:, 1], pts[:, 2])
+        else:
+            uv = M @ pts.T
+            line.set_data(uv[0], uv[1])
+
+    def update(self, pose, sample, trail_pts):
+        from kinctl.msgs import state_name
+        skel = skeleton_points(pose)
+        triads = triad_lines(pose, self.triad)
+        artists = []
+        for p in self.panels.values():
+            self._set(p["skeleton"], p["M"], skel)
+            for line, pts in zip(p["triads"], triads):
+                self._set(line, p["M"], pts)
+            self._set(p["trail"], p["M"], trail_pts if len(trail_pts) else [[float("nan")] * 3])
+            artists += [p["skeleton"], p["trail"]] + p["triads"]
+        q = ", ".join(f"{v:+.3f}" for v in sample.q)
+        self.text.set_text(f"{self.title}t = {sample.t:6.2f} s   cycle {sample.cycle}   goal {sample.goal_id or '-'}"
+                           f"   {state_name(sample.state)}\nq = [{q}]")
+        return artists + [self.text]
+
+
+def bounds_of(poses, margin=0.08):
+    """A cube around every drawn point (lo, hi), padded: every panel keeps
+    one scale on all three axes."""
+    import numpy as np
+    pts = np.vstack([skeleton_points(p) for p in poses])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    half = (float(max(hi - lo)) or 1.0) * (0.5 + margin)
+    mid = (lo + hi) / 2
+    return mid - half, mid + half
+
+
+def reach_bounds(pose0):
+    """For a live window: a cube around the base as large as the arm's
+    stretched length (sum of its link lengths), so that no pose leaves it."""
+    import numpy as np
+    skel = skeleton_points(pose0)
+    reach = float(np.sum(np.linalg.norm(np.diff(skel, axis=0), axis=1))) or 1.0
+    c = skel[0]
+    return c - reach * 1.05, c + reach * 1.05
+
+
+def triad_length(pose0):
+    import numpy as np
+    skel = skeleton_points(pose0)
+    reach = float(np.sum(np.linalg.norm(np.diff(skel, axis=0), axis=1))) or 1.0
+    return 0.09 * reach
+
+
+def trail_of(samples, i, seconds):
+    import numpy as np
+    if seconds <= 0:
+        return np.zeros((0, 3))
+    t = samples[i].t
+    return np.array([s.tool for s in samples[: i + 1] if s.t >= t - seconds - 1e-9])
+
+
+def fk_mismatch(poses, samples):
+    """Largest distance (m) between the FK tool position and the setpoints' own."""
+    import numpy as np
+    return max(float(np.linalg.norm(p[2][:3, 3] - np.asarray(s.tool))) for p, s in zip(poses, samples))
+
+
+def render(samples, path, fk, fps=25.0, trail=3.0, dpi=80, shapes=(), title="", progress=False):
+    """Draws samples to path (.png: the last sample; .gif, .mp4: all of them at
+    fps). Returns {"frames", "size", "bounds", "fk_mismatch_m", "panels":
+    {name: {"title", "xlim", "ylim", "skeleton", "triads", "trail"}}} with the
+    last frame's drawn data (u, v, or x, y, z per line)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib import animation
+    from kinctl.progress import bar
+
+    ext = check_save(path)
+    if not samples:
+        raise ValueError("nothing to draw: no setpoints")
+    todo = samples[-1:] if ext == ".png" else samples
+    poses = fk.frames_many([s.q for s in todo], progress=progress)
+    mismatch = fk_mismatch(poses, todo)
+    fig = plt.figure(figsize=(12, 9.5), dpi=dpi)
+    scene = Scene(fig, bounds_of(poses), triad_length(poses[0]), shapes, title)
+    offset = len(samples) - len(todo)
+
+    def frame(k):
+        return scene.update(poses[k], todo[k], trail_of(samples, offset + k, trail))
+
+    if ext == ".png":
+        frame(0)
+        fig.savefig(path, dpi=dpi)
+        count = 1
+    else:
+        anim = animation.FuncAnimation(fig, frame, frames=len(todo), blit=False, repeat=False)
+        writer = animation.PillowWriter(fps=fps) if ext == ".gif" else \
+            animation.FFMpegWriter(fps=fps, codec="libx264", extra_args=["-pix_fmt", "yuv420p"])
+        with bar(len(todo), f"writing {os.path.basename(path)}", unit="frame", show=progress) as b:
+            anim.save(path, writer=writer, dpi=dpi, progress_callback=lambda i, n: b.update(1))
+        count = len(todo)
+    info = {"frames": count, "size": tuple(int(v) for v in fig.get_size_inches() * dpi),
+            "bounds": scene_bounds(scene), "fk_mismatch_m": mismatch, "panels": {}}
+    for name, p in scene.panels.items():
+        ax = p["ax"]
+
+        def data(line):
+            if p["M"] is None:
+                return [list(v) for v in line.get_data_3d()]
+            return [list(v) for v in line.get_data()]
+        info["panels"][name] = {"title": ax.get_title(loc="left"), "xlim": tuple(ax.get_xlim()),
+                                "ylim": tuple(ax.get_ylim()), "skeleton": data(p["skeleton"]),
+                                "triads": [data(t) for t in p["triads"]], "trail": data(p["trail"]),
+                                "lines": len(ax.get_lines())}
+        if p["M"] is None:
+            info["panels"][name]["zlim"] = tuple(ax.get_zlim())
+    plt.close(fig)
+    return info
+
+
+def scene_bounds(scene):
+    ax = scene.panels["3d"]["ax"]
+    return (ax.get_xlim(), ax.get_ylim(), ax.get_zlim())
+
+
+# -- the command -------------------------------------------------------------
+
+def _say(*a):
+    print(*a, flush=True)
+
+
+def _warn_mismatch(info_or_m, fk):
+    m = info_or_m
+    if m > 1e-6:
+        print(f"kinctl view: warning: the drawn tool is {m * 1e3:.3g} mm from the setpoints' tool position: "
+              f"the daemon runs another arm than {fk._what()}? pass its --model or --model-file",
+              file=sys.stderr, flush=True)
+
+
+def record(args, seconds):
+    """Setpoints of the daemon for `seconds` (at least one) as samples of every cycle."""
+    from kinctl.client import Client
+    from kinctl.progress import bar
+    got = []
+    c = Client(url=args.lcm_url, prefix=args.prefix, on_setpoint=got.append)
+    with c:
+        c.wait_daemon(args.connect_timeout)
+        start = len(got)
+        t0 = time.monotonic()
+        with bar(seconds, "recording setpoints", unit="s", show=seconds >= 1.0,
+                 bar_format="{desc}: {bar} {n:.1f}/{total:.1f} s") as b:
+            while time.monotonic() - t0 < seconds:
+                time.sleep(0.1)
+                b.n = min(seconds, time.monotonic() - t0)
+                b.refresh()
+        c.wait_for(lambda: len(got) > start, args.connect_timeout)
+        sps = got[start:] if len(got) > start else got[-1:]
+    from kinctl.runlog import setpoint_columns
+    return setpoint_columns(sps)
+
+
+def cmd_view(args):
+    from kinctl.kinematics import ArmFK
+    ext = check_save(args.save) if args.save else None
+    if args.save is None and args.duration is not None and args.log is None:
+        raise ValueError("--duration goes with --save (a live window runs until it is closed)")
+    with ArmFK(model=args.model, model_file=args.model_file) as fk:
+        if args.log:
+            from kinctl.runlog import read_run
+            cols, _ = read_run(args.log, prefix=args.prefix, progress=True)
+            title = f"{os.path.basename(args.log)}: "
+        elif args.save:
+            seconds = args.duration if args.duration is not None else (5.0 if ext != ".png" else 0.0)
+            cols = record(args, seconds)
+            title = f"kinctld ({fk._what().lstrip('-')}): "
+        else:
+            return live(args, fk)
+        samples = samples_from_columns(cols, args.fps, args.duration if args.log else None)
+        if len(samples[0].q) != fk.n_joints:
+            raise ValueError(f"the setpoints have {len(samples[0].q)} joints, {fk._what()} has {fk.n_joints}: "
+                             f"pass the daemon's --model or --model-file")
+        info = render(samples, args.save, fk, fps=args.fps, trail=args.trail, dpi=args.dpi, title=title,
+                      progress=True)
+        _warn_mismatch(info["fk_mismatch_m"], fk)
+        _say(f"view: {args.save} ({info['frames']} frame{'s' if info['frames'] != 1 else ''}, "
+             f"{info['size'][0]}x{info['size'][1]}, {samples[-1].t - samples[0].t:.2f} s of setpoints)")
+    return 0
+
+
+def live(args, fk):
+    """A window following the daemon's setpoints until it is closed."""
+    import matplotlib
+    if not os.environ.get("DISPLAY") and not os.environ.get("WAYLAND_DISPLAY") and sys.platform != "darwin":
+        raise ValueError("no display for a window ($DISPLAY is not set): save to a file instead, e.g. "
+                         "kinctl view --save arm.gif --duration 5")
+    import matplotlib.pyplot as plt
+    if matplotlib.get_backend().lower() == "agg":
+        raise ValueError("matplotlib has no interactive backend here (install python3-tk or PyQt), or use "
+                         "--save arm.gif")
+    from matplotlib import animation
+    from kinctl.client import Client
+
+    with Client(url=args.lcm_url, prefix=args.prefix) as c:
+        sp = c.wait_daemon(args.connect_timeout)
+        if sp.n != fk.n_joints:
+            raise ValueError(f"the daemon's setpoints have {sp.n} joints, {fk._what()} has {fk.n_joints}: "
+                             f"pass the daemon's --model or --model-file")
+        pose0 = fk.frames(list(sp.q[:sp.n]))
+        fig = plt.figure(figsize=(12, 9.5))
+        scene = Scene(fig, reach_bounds(pose0), triad_length(pose0), (), "live: ")
+        history = []
+        state = {"last_cycle": None, "warned": False}
+
+        def frame(_):
+            s = c.setpoint
+            if s is None or s.cycle == state["last_cycle"]:
+                return []
+            state["last_cycle"] = s.cycle
+            # Live, time is the daemon's clock at the cycle (utime).
+            smp = Sample((s.utime - sp.utime) / 1e6, s.cycle, s.goal_id, s.state, list(s.q[:s.n]),
+                         tuple(s.position))
+            history.append(smp)
+            while history and history[0].t < smp.t - args.trail - 1.0:
+                history.pop(0)
+            pose = fk.frames(smp.q)
+            if not state["warned"]:
+                import numpy as np
+                _warn_mismatch(float(np.linalg.norm(pose[2][:3, 3] - np.asarray(smp.tool))), fk)
+                state["warned"] = True
+            return scene.update(pose, smp, trail_of(history, len(history) - 1, args.trail))
+
+        anim = animation.FuncAnimation(fig, frame, interval=1000.0 / args.fps, blit=False,
+                                       cache_frame_data=False)
+        fig._kinctl_anim = anim  # keep a reference while the window is open
+        plt.show()
+    return 0
