@@ -49,7 +49,7 @@ def add_view_parser(sub, make_sub, parents):
                         "needs ffmpeg, which scripts/setup.sh installs) instead of opening a window")
     v.add_argument("--duration", type=_positive, default=None, metavar="S",
                    help="live --save: record S seconds of setpoints (default 5 for .gif/.mp4; .png: the next "
-                        "setpoint); with --log: only the first S seconds")
+                        "setpoint); with --log: only the first S seconds; a window: close it after S seconds")
     v.add_argument("--fps", type=_positive, default=25.0, metavar="N", help="frames per second (default 25)")
     v.add_argument("--trail", type=_nonneg, default=3.0, metavar="S",
                    help="seconds of tool path drawn behind the tool (default 3; 0: none)")
@@ -152,14 +152,18 @@ def triad_lines(pose, length):
 class Scene:
     """The four panels and their artists; update(pose, sample, trail) redraws."""
 
-    def __init__(self, fig, bounds, triad, shapes=(), title=""):
+    def __init__(self, fig, bounds, triad, shapes=(), title="", points=None):
+        """bounds: (lo, hi) of the 3-D view; points: N x 3 world points every
+        frame will stay near (the 2-D views are fitted to their images; by
+        default the corners of bounds)."""
         import numpy as np
         from kinctl import projection as pj
         from kinctl import shapes as shp
         self.fig, self.triad, self.title = fig, triad, title
         lo, hi = np.asarray(bounds[0], float), np.asarray(bounds[1], float)
         corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]).T
-        gs = fig.add_gridspec(2, 2, left=0.04, right=0.98, top=0.9, bottom=0.05, wspace=0.12, hspace=0.18)
+        fit = corners if points is None else np.asarray(points, dtype=float).T
+        gs = fig.add_gridspec(2, 2, left=0.065, right=0.98, top=0.9, bottom=0.055, wspace=0.14, hspace=0.2)
         self.panels = {}
         for idx, name in enumerate(PANELS):
             r, c = divmod(idx, 2)
@@ -178,10 +182,15 @@ class Scene:
             else:
                 ax = fig.add_subplot(gs[r, c])
                 M = pj.matrix(name)
-                uv = M @ corners
-                pad = 0.03 * (uv.max() - uv.min())
-                ax.set_xlim(uv[0].min() - pad, uv[0].max() + pad)
-                ax.set_ylim(uv[1].min() - pad, uv[1].max() + pad)
+                uv = M @ fit
+                # One scale on u and v, the limits widened to the panel's shape so that it is filled.
+                pos = ax.get_position()
+                w_in, h_in = pos.width * fig.get_figwidth(), pos.height * fig.get_figheight()
+                du, dv = max(np.ptp(uv[0]), 1e-3) * 1.1, max(np.ptp(uv[1]), 1e-3) * 1.1
+                scale = max(du / w_in, dv / h_in)
+                cu, cv = (uv[0].min() + uv[0].max()) / 2, (uv[1].min() + uv[1].max()) / 2
+                ax.set_xlim(cu - scale * w_in / 2, cu + scale * w_in / 2)
+                ax.set_ylim(cv - scale * h_in / 2, cv + scale * h_in / 2)
                 ax.set_aspect("equal", adjustable="box")
                 ax.set_xlabel("u (m)")
                 ax.set_ylabel("v (m)")
@@ -262,7 +271,7 @@ def triad_length(pose0):
     import numpy as np
     skel = skeleton_points(pose0)
     reach = float(np.sum(np.linalg.norm(np.diff(skel, axis=0), axis=1))) or 1.0
-    return 0.09 * reach
+    return 0.07 * reach
 
 
 def trail_of(samples, i, seconds):
@@ -287,6 +296,7 @@ def render(samples, path, fk, fps=25.0, trail=3.0, dpi=80, shapes=(), title="", 
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import numpy as np
     from matplotlib import animation
     from kinctl.progress import bar
 
@@ -297,7 +307,13 @@ def render(samples, path, fk, fps=25.0, trail=3.0, dpi=80, shapes=(), title="", 
     poses = fk.frames_many([s.q for s in todo], progress=progress)
     mismatch = fk_mismatch(poses, todo)
     fig = plt.figure(figsize=(12, 9.5), dpi=dpi)
-    scene = Scene(fig, bounds_of(poses), triad_length(poses[0]), shapes, title)
+    triad = triad_length(poses[0])
+    # The 2-D views fit what is drawn: links, triads (a triad's reach around each joint) and the trail.
+    pts = [skeleton_points(p) for p in poses] + [np.array([s.tool for s in samples])]
+    pts = np.vstack(pts)
+    cube = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float) * triad
+    pts = np.vstack([pts + d for d in cube])
+    scene = Scene(fig, bounds_of(poses), triad, shapes, title, points=pts)
     offset = len(samples) - len(todo)
 
     def frame(k):
@@ -353,32 +369,40 @@ def _warn_mismatch(info_or_m, fk):
 
 
 def record(args, seconds):
-    """Setpoints of the daemon for `seconds` (at least one) as samples of every cycle."""
-    from kinctl.client import Client
+    """Setpoints of the daemon spanning `seconds` of its clock (utime), or
+    the next one when seconds is 0, as logcsv columns."""
+    from kinctl.client import Client, DaemonNotFound
     from kinctl.progress import bar
+    from kinctl.runlog import setpoint_columns
     got = []
-    c = Client(url=args.lcm_url, prefix=args.prefix, on_setpoint=got.append)
-    with c:
+    with Client(url=args.lcm_url, prefix=args.prefix, on_setpoint=got.append) as c:
         c.wait_daemon(args.connect_timeout)
         start = len(got)
-        t0 = time.monotonic()
+        deadline = time.monotonic() + seconds + args.connect_timeout + 5.0
+        span_us = int(round(seconds * 1e6))
+
+        def spanned():
+            return len(got) > start and got[-1].utime - got[start].utime >= span_us
         with bar(seconds, "recording setpoints", unit="s", show=seconds >= 1.0,
                  bar_format="{desc}: {bar} {n:.1f}/{total:.1f} s") as b:
-            while time.monotonic() - t0 < seconds:
-                time.sleep(0.1)
-                b.n = min(seconds, time.monotonic() - t0)
-                b.refresh()
-        c.wait_for(lambda: len(got) > start, args.connect_timeout)
-        sps = got[start:] if len(got) > start else got[-1:]
-    from kinctl.runlog import setpoint_columns
+            while not spanned():
+                if time.monotonic() > deadline:
+                    raise DaemonNotFound(f"the setpoints stopped coming after {len(got) - start} of them: "
+                                       f"did kinctld stop? (kinctl status)")
+                time.sleep(0.05)
+                if len(got) > start:
+                    b.n = min(seconds, (got[-1].utime - got[start].utime) / 1e6)
+                    b.refresh()
+        sps = got[start:]
     return setpoint_columns(sps)
 
 
 def cmd_view(args):
     from kinctl.kinematics import ArmFK
     ext = check_save(args.save) if args.save else None
-    if args.save is None and args.duration is not None and args.log is None:
-        raise ValueError("--duration goes with --save (a live window runs until it is closed)")
+    if args.log and not args.save:
+        raise ValueError("--log draws to a file: add --save FILE.gif, .mp4 or .png (to watch an LCM log in "
+                         "the window, play it with lcm-logplayer and run kinctl view)")
     with ArmFK(model=args.model, model_file=args.model_file) as fk:
         if args.log:
             from kinctl.runlog import read_run
@@ -390,7 +414,7 @@ def cmd_view(args):
             title = f"kinctld ({fk._what().lstrip('-')}): "
         else:
             return live(args, fk)
-        samples = samples_from_columns(cols, args.fps, args.duration if args.log else None)
+        samples = samples_from_columns(cols, args.fps, args.duration)
         if len(samples[0].q) != fk.n_joints:
             raise ValueError(f"the setpoints have {len(samples[0].q)} joints, {fk._what()} has {fk.n_joints}: "
                              f"pass the daemon's --model or --model-file")
@@ -424,7 +448,7 @@ def live(args, fk):
         fig = plt.figure(figsize=(12, 9.5))
         scene = Scene(fig, reach_bounds(pose0), triad_length(pose0), (), "live: ")
         history = []
-        state = {"last_cycle": None, "warned": False}
+        state = {"last_cycle": None, "warned": False, "drawn": 0}
 
         def frame(_):
             s = c.setpoint
@@ -442,10 +466,18 @@ def live(args, fk):
                 import numpy as np
                 _warn_mismatch(float(np.linalg.norm(pose[2][:3, 3] - np.asarray(smp.tool))), fk)
                 state["warned"] = True
+            state["drawn"] += 1
             return scene.update(pose, smp, trail_of(history, len(history) - 1, args.trail))
 
         anim = animation.FuncAnimation(fig, frame, interval=1000.0 / args.fps, blit=False,
                                        cache_frame_data=False)
         fig._kinctl_anim = anim  # keep a reference while the window is open
+        if args.duration:
+            timer = fig.canvas.new_timer(interval=int(args.duration * 1000))
+            timer.single_shot = True
+            timer.add_callback(plt.close, fig)
+            timer.start()
         plt.show()
+    _say(f"view: window closed after {len(history) and history[-1].t:.2f} s of setpoints, "
+         f"{state['drawn']} frames drawn")
     return 0
