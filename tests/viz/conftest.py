@@ -8,6 +8,8 @@ whose shape is known in advance:
     11  joint move in which joint 2 travels farthest (1.0 rad; others 0.1 or less)
     12  straight line of 0.15 m at 0.2 m/s (cruises at that speed)
     13  joint move in which joint 1 travels farthest
+    14  joint move in which joint 6 travels farthest (1.3 rad) but joint 1 (1.2 rad, half
+        joint 6's rate limits) leads: alone it would take 1 s, joint 6 0.72 s
 
 Environment (tests/viz/CMakeLists.txt): KINCTLD, KINCTL_CALC, PYTHONPATH
 with this build's kinctl_msgs and tools/, KINCTLD_TEST_SLOWDOWN.
@@ -28,6 +30,7 @@ QN = [0.0, 0.7854, -3.1416, 0.0, 0.7854, 0.0]
 DOWN = [0.7071068, 0.0, 0.7071068, 0.0]  # puma560's tool orientation at QN
 Q11 = [0.1, -0.2146, -3.0416, 0.05, 0.7854, 0.0]   # joint 2: -1.0 rad, the rest <= 0.1
 Q13 = [0.9, -0.1146, -3.1416, 0.05, 0.8854, 0.1]   # from Q11, joint 1 +0.8 rad, the rest <= 0.1
+Q14 = [-0.3, -0.1146, -3.1416, 0.05, 0.8854, 1.4]  # from Q13, joint 1 -1.2 rad, joint 6 +1.3 rad
 LINE_SPEED = 0.2
 
 
@@ -94,7 +97,8 @@ def recorded(daemon, tmp_path_factory):
                        "--id", "12", "--wait")
         assert r.returncode == 0, r.stdout + r.stderr
         for args in (["goal", "joint", "--q", csv_of(Q11), "--wait", "--id", "21"],
-                     ["goal", "joint", "--q", csv_of(Q13), "--id", "13", "--wait"]):
+                     ["goal", "joint", "--q", csv_of(Q13), "--id", "13", "--wait"],
+                     ["goal", "joint", "--q", csv_of(Q14), "--id", "14", "--wait"]):
             r = run_kinctl(d.url, *args)
             assert r.returncode == 0, r.stdout + r.stderr
         time.sleep(0.3 * SLOW)

@@ -11,7 +11,7 @@ from kinctl import logcsv
 from kinctl.plot import plot_run
 from kinctl.runlog import read_run
 
-GOALS = [11, 20, 12, 21, 13]
+GOALS = [11, 20, 12, 21, 13, 14]
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 
@@ -44,7 +44,7 @@ def test_panels_and_goals(csv_plot):
         assert [c for c in ax["curves"] if c.startswith(key)] == [f"{key}{j}" for j in range(1, 7)]
         # Six joint curves, per goal a bold leading-joint overlay and a start line (and in q the legend entry).
         assert ax["lines"] == 6 + 2 * len(GOALS) + (1 if key == "q" else 0)
-    assert "leading joint" in q["curves"]
+    assert "leading joint (travels farthest)" in q["curves"]
     assert speed["xlabel"] == "time (s)" and speed["ylabel"] == "tool speed (m/s)"
     assert p3["name"] == "3d" and p3["title"].startswith("tool path")
     for ax, (u, v) in ((xy, "xy"), (xz, "xz"), (yz, "yz")):
@@ -80,6 +80,21 @@ def test_leading_joint_is_the_one_that_travels_farthest(csv_plot):
     assert len(overlays) == 1 and overlays[0][1] == cols["q1"][a:b]
 
 
+def test_leading_joint_of_the_planner_with_the_model(recorded, tmp_path):
+    plain = plot_run(recorded["csv"], str(tmp_path / "a.png"))
+    info = plot_run(recorded["csv"], str(tmp_path / "b.png"), model="puma560")
+    # Goal 14: joint 6 travels farthest, but joint 1 (half its rate limits) sets the move's time.
+    assert plain["leading"][14] == 6 and plain["leading_how"][14] == "travel"
+    assert info["leading"][14] == 1 and info["leading_how"][14] == "planner"
+    # The other joint moves lead with the same joint either way; the line has no planner's leading joint.
+    assert {g: info["leading"][g] for g in (11, 20, 21, 13)} == {11: 2, 20: 2, 21: 2, 13: 1}
+    assert {g: info["leading_how"][g] for g in GOALS} == {11: "planner", 20: "planner", 12: "travel",
+                                                          21: "planner", 13: "planner", 14: "planner"}
+    assert "leading joint" in info["axes"][0]["curves"]
+    r = run_kinctl(None, "plot", recorded["csv"], "--model", "nosuch", "-o", str(tmp_path / "c.png"))
+    assert r.returncode == 2 and "unknown model" in r.stderr, r.stderr
+
+
 def test_tool_path_projections_per_goal(csv_plot):
     info, cols = csv_plot
     _, _, _, p3, xy, xz, yz, _ = info["axes"]
@@ -113,7 +128,7 @@ def test_png_from_the_cli(recorded, tmp_path):
     out = tmp_path / "cli.png"
     r = run_kinctl(None, "plot", recorded["csv"], "--events", recorded["events"], "-o", str(out))
     assert r.returncode == 0, r.stderr
-    assert "5 goals" in r.stdout
+    assert "6 goals" in r.stdout
     with open(out, "rb") as f:
         assert f.read(8) == PNG_SIGNATURE
     import matplotlib.image

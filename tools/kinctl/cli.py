@@ -282,7 +282,7 @@ def build_parser():
     pl = _sub(sub, "plot", "plot a run's setpoints: q, qd, qdd of every joint against time (each goal's "
                            "leading joint bold), the tool's speed along its path, the tool path in 3-D and "
                            "on XY, XZ, YZ; one colour per goal_id",
-              "kinctl plot run.csv --events events.csv -o run.png\n"
+              "kinctl plot run.csv --events events.csv -o run.png --model puma560\n"
               "  kinctl plot run.lcmlog -o run.svg          # an LCM event log (lcm-logger); SVG", parents)
     pl.add_argument("csv", metavar="LOG", help="a setpoint CSV written by kinctl log --csv, or an LCM event log "
                                                "(lcm-logger format) holding <prefix>SETPOINT and <prefix>STATUS")
@@ -291,6 +291,12 @@ def build_parser():
     pl.add_argument("-o", "--output", metavar="FILE", default=None,
                     help="output, .png or .svg by its extension (default: LOG with .png)")
     pl.add_argument("--title", default=None, help="figure title")
+    arm = pl.add_mutually_exclusive_group()
+    arm.add_argument("--model", default=None, metavar="NAME",
+                     help="the daemon's built-in arm: a joint move's leading joint is then the planner's, from "
+                          "each joint's limits (default: the joint that travels farthest)")
+    arm.add_argument("--model-file", default=None, metavar="PATH", help="the daemon's robot description file, "
+                                                                        "as --model")
     from kinctl.view import add_view_parser
     add_view_parser(sub, _sub, parents)
     return p
@@ -542,7 +548,8 @@ def cmd_log(args):
 def cmd_plot(args):
     from kinctl.plot import plot_run
     out = args.output or os.path.splitext(args.csv)[0] + ".png"
-    info = plot_run(args.csv, out, events=args.events, title=args.title, prefix=args.prefix, progress=True)
+    info = plot_run(args.csv, out, events=args.events, title=args.title, prefix=args.prefix, progress=True,
+                    model=args.model, model_file=args.model_file)
     _say(f"plot: {out} ({info['rows']} setpoints, {len(info['goals'])} goals)")
     return 0
 

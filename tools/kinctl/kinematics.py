@@ -1,11 +1,13 @@
 """Every link frame of an arm, from the core's own forward kinematics: the
 calculator `kinctl-calc fk --frames` (tools/calc, which links the core and
-reads robot description files), run as one `kinctl-calc batch` process.
+reads robot description files), run as one `kinctl-calc batch` process; and
+the planner's leading joint of joint moves (`kinctl-calc interp joint`).
 
     from kinctl.kinematics import ArmFK
     with ArmFK(model="puma560") as fk:               # or model_file="models/panda.cfg"
         base, frames, tool = fk.frames([0, 0.7854, -3.1416, 0, 0.7854, 0])
         many = fk.frames_many(list_of_q)             # one pass for a whole log
+    leads = planned_leads([(q0, q1), ...], model="puma560")   # 1-based, 0: nothing moves
 
 Poses are 4 x 4 numpy arrays in the world frame (m). The calculator is
 $KINCTL_CALC, else build/tools/kinctl-calc of this checkout, else
@@ -146,3 +148,28 @@ class ArmFK:
 
     def __exit__(self, *exc):
         self.close()
+
+
+def planned_leads(moves, model=None, model_file=None, calc=None):
+    """The leading joint (1-based; 0 when nothing moves) that kinctl's planner
+    picks for a joint move from q0 to q1 with the arm's own limits (the joint
+    whose own fastest move takes longest), for each (q0, q1) in moves."""
+    if model and model_file:
+        raise ValueError("give --model or --model-file, not both")
+    if model_file and not os.path.exists(model_file):
+        raise ValueError(f"--model-file {model_file}: no such file (models/*.cfg are examples)")
+    where = {"model_file": model_file} if model_file else {"model": model or "puma560"}
+    # dt far beyond any move: two rows (start and end) per answer.
+    text = "".join(json.dumps(dict(op="interp", kind="joint", q0=[float(v) for v in q0], q1=[float(v) for v in q1],
+                                   dt=1e6, **where)) + "\n" for q0, q1 in moves)
+    r = subprocess.run([calc or find_calc(), "batch"], input=text, capture_output=True, text=True, timeout=60)
+    answers = [json.loads(line) for line in r.stdout.splitlines() if line.strip()]
+    if len(answers) != len(moves):
+        raise RuntimeError(f"kinctl-calc batch answered {len(answers)} of {len(moves)} requests: {r.stderr}")
+    leads = []
+    for a in answers:
+        if "error" in a:
+            raise ValueError(f"{'--model-file ' + model_file if model_file else '--model ' + where['model']}: "
+                             f"{a['error'].split(': ', 1)[-1]}")
+        leads.append(int(a["lead"]))
+    return leads

@@ -1,7 +1,7 @@
 """The graphs of seed 001 labs 4-7 from a run's setpoints: q, qd, qdd of every
 joint against time (goal boundaries marked, each goal's leading joint drawn
-bold), the tool's speed along its path, and the tool path in 3-D and on the
-XY, XZ and YZ planes, one colour per goal_id.
+bold: see leading_joints), the tool's speed along its path, and the tool path
+in 3-D and on the XY, XZ and YZ planes, one colour per goal_id.
 
     from kinctl.plot import plot_run
     info = plot_run("run.csv", "run.png", events="events.csv")   # or an LCM log, or .svg
@@ -48,10 +48,9 @@ def _spans(states, code):
 
 
 def leading_joint(cols, n, a, b):
-    """The leading joint (1-based) of setpoints a..b-1: the one that travels
-    farthest, sum |q(k+1) - q(k)| (for a joint move that is |dq|, seed 001
-    (4.2)'s rule; the planner picks the same joint when the joints' limits are
-    equal). 0 when nothing moves."""
+    """The joint (1-based) that travels farthest over setpoints a..b-1,
+    sum |q(k+1) - q(k)|: for a joint move that is |dq|, seed 001 (4.2)'s
+    leading joint (equal limits). 0 when nothing moves."""
     best, lead = 0.0, 0
     for j in range(1, n + 1):
         q = cols[f"q{j}"][a:b]
@@ -59,6 +58,44 @@ def leading_joint(cols, n, a, b):
         if travel > best:
             best, lead = travel, j
     return lead
+
+
+def is_joint_line(cols, n, a, b, tol=1e-9):
+    """True when setpoints a..b-1 lie on the straight line in joint space
+    between the first and the last (a joint move; also one cut short by a
+    stop on its path), within tol (rad or m, relative to the move's length)."""
+    import numpy as np
+    Q = np.array([cols[f"q{j}"][a:b] for j in range(1, n + 1)]).T
+    d = Q[-1] - Q[0]
+    length = float(np.linalg.norm(d))
+    if length == 0.0:
+        return False
+    d /= length
+    rel = Q - Q[0]
+    off = rel - np.outer(rel @ d, d)
+    return float(np.abs(off).max()) <= tol * max(1.0, length)
+
+
+def leading_joints(cols, n, segs, model=None, model_file=None):
+    """{goal_id: (joint (1-based), how)} for every goal segment. With the
+    arm's model, a joint move's leading joint is the planner's (kinctl-calc
+    interp joint: the joint whose own fastest move takes longest, with each
+    joint's limits), how = "planner"; otherwise, and for Cartesian and
+    multi-point motions (no single leading joint there), the joint that
+    travels farthest, how = "travel"."""
+    out, moves = {}, []
+    for a, b, gid in segs:
+        if gid in out:
+            continue
+        out[gid] = (leading_joint(cols, n, a, b), "travel")
+        if (model or model_file) and is_joint_line(cols, n, a, b):
+            moves.append((gid, [cols[f"q{j}"][a] for j in range(1, n + 1)],
+                          [cols[f"q{j}"][b - 1] for j in range(1, n + 1)]))
+    if moves:
+        from kinctl.kinematics import planned_leads
+        for (gid, _, _), lead in zip(moves, planned_leads([(q0, q1) for _, q0, q1 in moves], model, model_file)):
+            out[gid] = (lead, "planner")
+    return out
 
 
 def tool_speed(t, x, y, z):
@@ -79,14 +116,16 @@ def check_output(path):
 
 
 def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefix="KINCTL_", shapes=(),
-             progress=False):
+             progress=False, model=None, model_file=None):
     """Writes the figure (PNG or SVG by out_path's extension). log: a path
     (CSV or LCM log) or columns as logcsv.read gives them. labels: {goal_id:
-    text} for the goal markers (default "goal <id>"). Returns {"rows",
-    "joints", "period_s", "out", "goals": [ids in order], "leading": {id: joint},
-    "axes": [{"title", "name", "xlabel", "ylabel", "xlim", "ylim", "lines",
-    "curves" (labelled lines)}...] in the order q, qd, qdd, 3-D path, XY, XZ,
-    YZ, speed}."""
+    text} for the goal markers (default "goal <id>"). model / model_file: the
+    arm, for the planner's leading joint of joint moves (leading_joints).
+    Returns {"rows", "joints", "period_s", "out", "goals": [ids in order],
+    "leading": {id: joint}, "leading_how": {id: "planner" or "travel"},
+    "max_speed", "axes": [{"title", "name", "xlabel", "ylabel", "xlim", "ylim",
+    "lines", "curves" (labelled lines), "data" (each line's x, y (, z))}...] in
+    the order q, qd, qdd, 3-D path, XY, XZ, YZ, speed}."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -116,9 +155,8 @@ def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefi
     for e in ev:
         if e["event"] in ("COMPLETED", "PREEMPTED", "ABORTED", "FAULT"):
             outcome[e["goal_id"]] = e["event"].lower()
-    leading = {}
-    for a, b, gid in segs:
-        leading.setdefault(gid, leading_joint(cols, n, a, b))
+    lead_how = leading_joints(cols, n, segs, model, model_file)
+    leading = {gid: j for gid, (j, _) in lead_how.items()}
 
     fig = plt.figure(figsize=(18, 12), dpi=dpi)
     gs = GridSpec(4, 4, figure=fig, width_ratios=[1.3, 1.3, 1, 1], hspace=0.36, wspace=0.3,
@@ -160,7 +198,9 @@ def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefi
         for a, _, _ in segs:
             ax.axvline(t[a], color="0.35", ls="--", lw=0.8, zorder=1)
         ax.legend(loc="upper right", ncol=n, fontsize=8, framealpha=0.8, handlelength=1.2)
-    axq.plot([], [], color="0.4", lw=3.2, alpha=0.45, label="leading joint")
+    hows = {how for _, how in lead_how.values()}
+    axq.plot([], [], color="0.4", lw=3.2, alpha=0.45,
+             label="leading joint" + (" (travels farthest)" if hows == {"travel"} else ""))
     axq.legend(loc="upper right", ncol=n + 1, fontsize=8, framealpha=0.8, handlelength=1.2)
     # Goal names above the q panel, at their start, in three staggered rows.
     for k, (a, b, gid) in enumerate(segs):
@@ -239,5 +279,6 @@ def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefi
                               else (list(ln.get_xdata()), list(ln.get_ydata())) for ln in ax.get_lines()]})
     plt.close(fig)
     return {"rows": rows, "joints": n, "png": out_path, "out": out_path, "axes": axes,
-            "goals": [g for _, _, g in segs], "leading": leading, "period_s": dt,
+            "goals": [g for _, _, g in segs], "leading": leading,
+            "leading_how": {gid: how for gid, (_, how) in lead_how.items()}, "period_s": dt,
             "max_speed": float(max(speed))}
