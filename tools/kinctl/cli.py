@@ -23,6 +23,8 @@ examples (start a daemon first: build/daemon/kinctld --no-rt):
   kinctl goal servo --twist 0,0.05,0,0,0,0 --rate 100 --duration 1 --wait
   kinctl stop --wait
   kinctl log --csv run.csv --duration 5
+  kinctl plot run.csv -o run.png
+  kinctl view --save arm.gif --duration 5
 """
 
 STALE_MIN_S, STALE_MAX_S = 0.05, 0.1
