@@ -60,7 +60,7 @@ def test_curves_are_the_logged_data(csv_plot):
     for ax, key in ((q, "q"), (qd, "qd"), (qdd, "qdd")):
         for j in range(1, 7):
             x, y = ax["data"][j - 1]
-            assert x == pytest.approx(t, abs=1e-12) and y == cols[f"{key}{j}"]
+            assert list(x) == pytest.approx(t, abs=1e-12) and list(y) == cols[f"{key}{j}"]
         lo = min(min(cols[f"{key}{j}"]) for j in range(1, 7))
         hi = max(max(cols[f"{key}{j}"]) for j in range(1, 7))
         assert ax["ylim"][0] <= lo and hi <= ax["ylim"][1]
@@ -77,7 +77,7 @@ def test_leading_joint_is_the_one_that_travels_farthest(csv_plot):
     a, b = segment(cols, 13)
     # The bold overlay of goal 13 in the q panel is joint 1's own curve over the goal.
     overlays = [d for d in info["axes"][0]["data"][6:] if len(d[0]) == b - a and d[0][0] == t[a]]
-    assert len(overlays) == 1 and overlays[0][1] == cols["q1"][a:b]
+    assert len(overlays) == 1 and list(overlays[0][1]) == cols["q1"][a:b]
 
 
 def test_leading_joint_of_the_planner_with_the_model(recorded, tmp_path):
@@ -100,14 +100,14 @@ def test_tool_path_projections_per_goal(csv_plot):
     _, _, _, p3, xy, xz, yz, _ = info["axes"]
     for ax, (u, v) in ((xy, ("x", "y")), (xz, ("x", "z")), (yz, ("y", "z"))):
         # Line 0 is the whole path (grey), then one line per goal.
-        assert ax["data"][0] == (cols[u], cols[v])
+        assert [list(d) for d in ax["data"][0]] == [cols[u], cols[v]]
         for k, gid in enumerate(GOALS):
             a, b = segment(cols, gid)
-            assert ax["data"][1 + k] == (cols[u][a:b], cols[v][a:b]), (u, v, gid)
+            assert [list(d) for d in ax["data"][1 + k]] == [cols[u][a:b], cols[v][a:b]], (u, v, gid)
         assert ax["xlim"][0] <= min(cols[u]) and max(cols[u]) <= ax["xlim"][1]
         assert ax["ylim"][0] <= min(cols[v]) and max(cols[v]) <= ax["ylim"][1]
     x3, y3, z3 = p3["data"][0]
-    assert (x3, y3, z3) == (cols["x"], cols["y"], cols["z"])
+    assert (list(x3), list(y3), list(z3)) == (cols["x"], cols["y"], cols["z"])
 
 
 def test_speed_along_the_path(csv_plot, recorded):

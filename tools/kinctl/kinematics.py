@@ -50,16 +50,17 @@ class ArmFK:
             import re
             m = re.search(r"has (\d+) joints", probe["error"])
             if m is None:
-                raise ValueError(f"{self._what()}: {probe['error'].split(': ', 1)[-1]}")
+                raise ValueError(f"{self.describe()}: {probe['error'].split(': ', 1)[-1]}")
             self.n_joints = int(m.group(1))
         else:
             self.n_joints = 16
         check = self._request([0.0] * self.n_joints)
         if "error" in check:
-            raise ValueError(f"{self._what()}: {check['error'].split(': ', 1)[-1]}")
+            raise ValueError(f"{self.describe()}: {check['error'].split(': ', 1)[-1]}")
         self.n_frames = len(check["frames"])
 
-    def _what(self):
+    def describe(self):
+        """The arm as the command line names it: "--model puma560" or "--model-file PATH"."""
         return f"--model-file {self.model_file}" if self.model_file else f"--model {self.model}"
 
     def _req(self, q):
@@ -92,7 +93,7 @@ class ArmFK:
 
     def _check(self, q):
         if len(q) != self.n_joints:
-            raise ValueError(f"{len(q)} joint values for {self._what()}, which has {self.n_joints} joints: "
+            raise ValueError(f"{len(q)} joint values for {self.describe()}, which has {self.n_joints} joints: "
                              f"is the daemon running another arm? pass its --model or --model-file")
 
     def frames(self, q):

@@ -13,7 +13,6 @@ looking at pixels. shapes: extra 3-D geometry (kinctl.shapes) drawn into the
 path panels.
 """
 import os
-import statistics
 
 from kinctl import runlog
 
@@ -124,7 +123,7 @@ def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefi
     Returns {"rows", "joints", "period_s", "out", "goals": [ids in order],
     "leading": {id: joint}, "leading_how": {id: "planner" or "travel"},
     "max_speed", "axes": [{"title", "name", "xlabel", "ylabel", "xlim", "ylim",
-    "lines", "curves" (labelled lines), "data" (each line's x, y (, z))}...] in
+    "lines", "curves" (labelled lines), "data" (each line's x, y (, z) arrays)}...] in
     the order q, qd, qdd, 3-D path, XY, XZ, YZ, speed}."""
     import matplotlib
     matplotlib.use("Agg")
@@ -144,11 +143,7 @@ def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefi
     if rows < 2:
         raise ValueError(f"{log if isinstance(log, str) else 'the log'}: fewer than 2 setpoints to plot")
     n = sum(1 for k in cols if k.startswith("qd") and not k.startswith("qdd"))
-    dts = [b - a for a, b in zip(cols["utime"], cols["utime"][1:]) if b > a]
-    dt = statistics.median(dts) / 1e6 if dts else 1e-3
-    c0 = cols["cycle"][0]
-    # Trajectory time: cycles executed times the period (a stall does not show as a jump).
-    t = [(c - c0) * dt for c in cols["cycle"]]
+    t, dt = runlog.trajectory_time(cols)
     labels = dict(labels or {})
     segs = _segments(cols["goal_id"])
     outcome = {}
@@ -275,8 +270,9 @@ def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefi
                      "ylabel": ax.get_ylabel(), "xlim": tuple(ax.get_xlim()), "ylim": tuple(ax.get_ylim()),
                      "lines": len(ax.get_lines()),
                      "curves": [ln.get_label() for ln in ax.get_lines() if not ln.get_label().startswith("_")],
-                     "data": [tuple(list(v) for v in ln.get_data_3d()) if ax.name == "3d"
-                              else (list(ln.get_xdata()), list(ln.get_ydata())) for ln in ax.get_lines()]})
+                     # matplotlib's own arrays (no copies).
+                     "data": [ln.get_data_3d() if ax.name == "3d"
+                              else (ln.get_xdata(orig=True), ln.get_ydata(orig=True)) for ln in ax.get_lines()]})
     plt.close(fig)
     return {"rows": rows, "joints": n, "png": out_path, "out": out_path, "axes": axes,
             "goals": [g for _, _, g in segs], "leading": leading,

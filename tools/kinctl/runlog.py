@@ -13,6 +13,7 @@ qd1.., qdd1.., x, y, z, qw, qx, qy, qz as lists); events the list of
 logcsv.read_events (utime, cycle, goal_id, event (name), code, reason).
 """
 import os
+import statistics
 
 from kinctl import logcsv
 
@@ -103,3 +104,13 @@ def setpoint_columns(sps):
         for k, v in zip(("qw", "qx", "qy", "qz"), sp.orientation):
             cols[k].append(v)
     return cols
+
+
+def trajectory_time(cols):
+    """(t, dt): each setpoint's time (s) from the first, as cycles executed
+    times the period (so a stall of the logger or the daemon does not show as
+    a jump), and the period dt (s): the median step of utime (1 ms if unknown)."""
+    dts = [b - a for a, b in zip(cols["utime"], cols["utime"][1:]) if b > a]
+    dt = statistics.median(dts) / 1e6 if dts else 1e-3
+    c0 = cols["cycle"][0] if cols["cycle"] else 0
+    return [(c - c0) * dt for c in cols["cycle"]], dt

@@ -103,17 +103,15 @@ class Sample:
 def samples_from_columns(cols, fps, duration=None):
     """Samples of a log (logcsv columns) every 1/fps s of trajectory time
     (cycles times the period); the last setpoint always included."""
-    import statistics
+    from kinctl.runlog import trajectory_time
     rows = len(cols["cycle"])
     if rows == 0:
         raise ValueError("the log holds no setpoints")
     n = sum(1 for k in cols if k.startswith("qd") and not k.startswith("qdd"))
-    dts = [b - a for a, b in zip(cols["utime"], cols["utime"][1:]) if b > a]
-    dt = statistics.median(dts) / 1e6 if dts else 1e-3
-    c0 = cols["cycle"][0]
+    times, _ = trajectory_time(cols)
     out, next_t = [], 0.0
     for i in range(rows):
-        t = (cols["cycle"][i] - c0) * dt
+        t = times[i]
         if duration is not None and t > duration + 1e-9:
             break
         last = i == rows - 1
@@ -290,7 +288,7 @@ def fk_mismatch(poses, samples):
 
 def render(samples, path, fk, fps=25.0, trail=3.0, dpi=80, shapes=(), title="", progress=False):
     """Draws samples to path (.png: the last sample; .gif, .mp4: all of them at
-    fps). Returns {"frames", "size", "bounds", "fk_mismatch_m", "panels":
+    fps). Returns {"frames", "size", "fk_mismatch_m", "panels":
     {name: {"title", "xlim", "ylim", "skeleton", "triads", "trail"}}} with the
     last frame's drawn data (u, v, or x, y, z per line)."""
     import matplotlib
@@ -331,7 +329,7 @@ def render(samples, path, fk, fps=25.0, trail=3.0, dpi=80, shapes=(), title="", 
             anim.save(path, writer=writer, dpi=dpi, progress_callback=lambda i, n: b.update(1))
         count = len(todo)
     info = {"frames": count, "size": tuple(int(v) for v in fig.get_size_inches() * dpi),
-            "bounds": scene_bounds(scene), "fk_mismatch_m": mismatch, "panels": {}}
+            "fk_mismatch_m": mismatch, "panels": {}}
     for name, p in scene.panels.items():
         ax = p["ax"]
 
@@ -349,22 +347,17 @@ def render(samples, path, fk, fps=25.0, trail=3.0, dpi=80, shapes=(), title="", 
     return info
 
 
-def scene_bounds(scene):
-    ax = scene.panels["3d"]["ax"]
-    return (ax.get_xlim(), ax.get_ylim(), ax.get_zlim())
-
-
 # -- the command -------------------------------------------------------------
 
 def _say(*a):
     print(*a, flush=True)
 
 
-def _warn_mismatch(info_or_m, fk):
-    m = info_or_m
+def _warn_mismatch(m, fk):
+    """A warning when the drawn tool is m (m) from where the daemon says it is."""
     if m > 1e-6:
         print(f"kinctl view: warning: the drawn tool is {m * 1e3:.3g} mm from the setpoints' tool position: "
-              f"the daemon runs another arm than {fk._what()}? pass its --model or --model-file",
+              f"the daemon runs another arm than {fk.describe()}? pass its --model or --model-file",
               file=sys.stderr, flush=True)
 
 
@@ -411,12 +404,12 @@ def cmd_view(args):
         elif args.save:
             seconds = args.duration if args.duration is not None else (5.0 if ext != ".png" else 0.0)
             cols = record(args, seconds)
-            title = f"kinctld ({fk._what().lstrip('-')}): "
+            title = f"kinctld ({fk.describe().lstrip('-')}): "
         else:
             return live(args, fk)
         samples = samples_from_columns(cols, args.fps, args.duration)
         if len(samples[0].q) != fk.n_joints:
-            raise ValueError(f"the setpoints have {len(samples[0].q)} joints, {fk._what()} has {fk.n_joints}: "
+            raise ValueError(f"the setpoints have {len(samples[0].q)} joints, {fk.describe()} has {fk.n_joints}: "
                              f"pass the daemon's --model or --model-file")
         info = render(samples, args.save, fk, fps=args.fps, trail=args.trail, dpi=args.dpi, title=title,
                       progress=True)
@@ -442,7 +435,7 @@ def live(args, fk):
     with Client(url=args.lcm_url, prefix=args.prefix) as c:
         sp = c.wait_daemon(args.connect_timeout)
         if sp.n != fk.n_joints:
-            raise ValueError(f"the daemon's setpoints have {sp.n} joints, {fk._what()} has {fk.n_joints}: "
+            raise ValueError(f"the daemon's setpoints have {sp.n} joints, {fk.describe()} has {fk.n_joints}: "
                              f"pass the daemon's --model or --model-file")
         pose0 = fk.frames(list(sp.q[:sp.n]))
         fig = plt.figure(figsize=(12, 9.5))
