@@ -362,8 +362,10 @@ def _warn_mismatch(m, fk):
 
 
 def record(args, seconds):
-    """Setpoints of the daemon spanning `seconds` of its clock (utime), or
-    the next one when seconds is 0, as logcsv columns."""
+    """Setpoints of the daemon spanning `seconds` of trajectory time (cycles
+    times the period, as runlog.trajectory_time counts it; a cycle the daemon
+    skipped under load is not time the arm moved), or the next one when
+    seconds is 0, as logcsv columns."""
     from kinctl.client import Client, DaemonNotFound
     from kinctl.progress import bar
     from kinctl.runlog import setpoint_columns
@@ -371,11 +373,24 @@ def record(args, seconds):
     with Client(url=args.lcm_url, prefix=args.prefix, on_setpoint=got.append) as c:
         c.wait_daemon(args.connect_timeout)
         start = len(got)
-        deadline = time.monotonic() + seconds + args.connect_timeout + 5.0
-        span_us = int(round(seconds * 1e6))
+        deadline = time.monotonic() + 2 * seconds + args.connect_timeout + 5.0
+        period = {}
+
+        def span():
+            """Trajectory time from the first recorded setpoint to the last (s)."""
+            if len(got) <= start:
+                return -1.0
+            if "dt" not in period:
+                steps = [b.utime - a.utime for a, b in zip(got[start:start + 50], got[start + 1:start + 51])
+                         if b.cycle == a.cycle + 1 and b.utime > a.utime]
+                if len(steps) < 10 and len(got) - start < 51:
+                    return -1.0 if seconds > 0 else 0.0
+                import statistics
+                period["dt"] = statistics.median(steps) / 1e6 if steps else 1e-3
+            return (got[-1].cycle - got[start].cycle) * period["dt"]
 
         def spanned():
-            return len(got) > start and got[-1].utime - got[start].utime >= span_us
+            return span() >= seconds - 1e-9
         with bar(seconds, "recording setpoints", unit="s", show=seconds >= 1.0,
                  bar_format="{desc}: {bar} {n:.1f}/{total:.1f} s") as b:
             while not spanned():
@@ -383,9 +398,8 @@ def record(args, seconds):
                     raise DaemonNotFound(f"the setpoints stopped coming after {len(got) - start} of them: "
                                        f"did kinctld stop? (kinctl status)")
                 time.sleep(0.05)
-                if len(got) > start:
-                    b.n = min(seconds, (got[-1].utime - got[start].utime) / 1e6)
-                    b.refresh()
+                b.n = min(seconds, max(0.0, span()))
+                b.refresh()
         sps = got[start:]
     return setpoint_columns(sps)
 
@@ -414,8 +428,12 @@ def cmd_view(args):
         info = render(samples, args.save, fk, fps=args.fps, trail=args.trail, dpi=args.dpi, title=title,
                       progress=True)
         _warn_mismatch(info["fk_mismatch_m"], fk)
-        _say(f"view: {args.save} ({info['frames']} frame{'s' if info['frames'] != 1 else ''}, "
-             f"{info['size'][0]}x{info['size'][1]}, {samples[-1].t - samples[0].t:.2f} s of setpoints)")
+        if info["frames"] == 1:
+            _say(f"view: {args.save} (1 frame, {info['size'][0]}x{info['size'][1]}, the setpoint of cycle "
+                 f"{samples[-1].cycle})")
+        else:
+            _say(f"view: {args.save} ({info['frames']} frames, {info['size'][0]}x{info['size'][1]}, "
+                 f"{samples[-1].t - samples[0].t:.2f} s of setpoints)")
     return 0
 
 
