@@ -231,6 +231,7 @@ def test_live_window_follows_the_setpoints(recorded):
             v.kill()
             v.communicate()
     assert v.returncode == 0, err
+    assert "Traceback" not in err, err
     # A frame is drawn only for a new setpoint: the window followed the daemon, several times.
     drawn = int(out.split(" frames drawn")[0].rsplit(" ", 1)[1])
     assert drawn >= 5, out

@@ -150,10 +150,12 @@ def triad_lines(pose, length):
 class Scene:
     """The four panels and their artists; update(pose, sample, trail) redraws."""
 
-    def __init__(self, fig, bounds, triad, shapes=(), title="", points=None):
+    def __init__(self, fig, bounds, triad, shapes=(), title="", points=None, status_in_axes=False):
         """bounds: (lo, hi) of the 3-D view; points: N x 3 world points every
         frame will stay near (the 2-D views are fitted to their images; by
-        default the corners of bounds)."""
+        default the corners of bounds). status_in_axes: the changing text
+        (time, cycle, goal, state, q) in the 3-D panel instead of the figure's
+        title, where a live window's blitting redraws it."""
         import numpy as np
         from kinctl import projection as pj
         from kinctl import shapes as shp
@@ -208,7 +210,13 @@ class Scene:
                     shp.draw_projected(ax, s, M)
             self.panels[name] = p
         self.panels["frontal_dimetric"]["ax"].legend(loc="upper left", fontsize=7.5, framealpha=0.8, ncol=1)
-        self.text = fig.suptitle(title, fontsize=12)
+        self.status_in_axes = status_in_axes
+        if status_in_axes:
+            fig.suptitle(title, fontsize=12)
+            self.text = self.panels["3d"]["ax"].text2D(0.0, 1.0, "", transform=self.panels["3d"]["ax"].transAxes,
+                                                      ha="left", va="top", fontsize=8, family="monospace")
+        else:
+            self.text = fig.suptitle(title, fontsize=12)
 
     @staticmethod
     def _line(ax, M, **kw):
@@ -246,8 +254,13 @@ class Scene:
             self._set(p["trail"], p["M"], trail_pts if len(trail_pts) else [[float("nan")] * 3])
             artists += [p["skeleton"], p["trail"]] + p["triads"]
         q = ", ".join(f"{v:+.3f}" for v in sample.q)
-        self.text.set_text(f"{self.title}t = {sample.t:6.2f} s   cycle {sample.cycle}   goal {sample.goal_id or '-'}"
-                           f"   {state_name(sample.state)}\nq = [{q}]")
+        if self.status_in_axes:
+            self.text.set_text(f"t = {sample.t:.2f} s  cycle {sample.cycle}\n"
+                               f"goal {sample.goal_id or '-'}  {state_name(sample.state)}\n"
+                               f"q = [{q.replace(', ', ',')}]")
+        else:
+            self.text.set_text(f"{self.title}t = {sample.t:6.2f} s   cycle {sample.cycle}   "
+                               f"goal {sample.goal_id or '-'}   {state_name(sample.state)}\nq = [{q}]")
         return artists + [self.text]
 
 
@@ -262,14 +275,21 @@ def bounds_of(poses, margin=0.08):
     return mid - half, mid + half
 
 
-def reach_bounds(pose0):
-    """For a live window: a cube around the base as large as the arm's
-    stretched length (sum of its link lengths), so that no pose leaves it."""
+def reach_space(pose0):
+    """For a live window, where the poses to come are unknown: the points the
+    arm can reach at most, a sphere around its first frame (the shoulder of
+    most arms) as large as the links beyond it stretched out, and the base.
+    Returns (bounds (lo, hi) of a cube holding them, the points: N x 3)."""
     import numpy as np
     skel = skeleton_points(pose0)
-    reach = float(np.sum(np.linalg.norm(np.diff(skel, axis=0), axis=1))) or 1.0
-    c = skel[0]
-    return c - reach * 1.05, c + reach * 1.05
+    centre = skel[1] if len(skel) > 2 else skel[0]
+    reach = float(np.sum(np.linalg.norm(np.diff(skel[1:], axis=0), axis=1))) or 1.0
+    dirs = np.array([[x, y, z] for x in (-1, 0, 1) for y in (-1, 0, 1) for z in (-1, 0, 1) if (x, y, z) != (0, 0, 0)],
+                    dtype=float)
+    pts = np.vstack([centre + reach * dirs / np.linalg.norm(dirs, axis=1)[:, None], skel[:1]])
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    mid, half = (lo + hi) / 2, float(max(hi - lo)) / 2 * 1.05
+    return (mid - half, mid + half), pts
 
 
 def triad_length(pose0):
@@ -512,7 +532,9 @@ def live(args, fk):
                              f"pass the daemon's --model or --model-file")
         pose0 = fk.frames(list(sp.q[:sp.n]))
         fig = plt.figure(figsize=(12, 9.5))
-        scene = Scene(fig, reach_bounds(pose0), triad_length(pose0), (), "live: ")
+        bounds, reachable = reach_space(pose0)
+        scene = Scene(fig, bounds, triad_length(pose0), (), f"kinctld live ({fk.describe().lstrip('-')})",
+                      points=reachable, status_in_axes=True)
         history = []
         state = {"last_cycle": None, "warned": False, "drawn": 0}
 
@@ -535,13 +557,17 @@ def live(args, fk):
             state["drawn"] += 1
             return scene.update(pose, smp, trail_of(history, len(history) - 1, args.trail))
 
-        anim = animation.FuncAnimation(fig, frame, interval=1000.0 / args.fps, blit=False,
+        anim = animation.FuncAnimation(fig, frame, interval=1000.0 / args.fps, blit=True,
                                        cache_frame_data=False)
         fig._kinctl_anim = anim  # keep a reference while the window is open
         if args.duration:
             timer = fig.canvas.new_timer(interval=int(args.duration * 1000))
             timer.single_shot = True
-            timer.add_callback(plt.close, fig)
+
+            def close():
+                anim.event_source.stop()
+                plt.close(fig)
+            timer.add_callback(close)
             timer.start()
         plt.show()
     _say(f"view: window closed after {len(history) and history[-1].t:.2f} s of setpoints, "
