@@ -11,13 +11,15 @@ The frames come from the core's forward kinematics through kinctl-calc
 (kinctl.kinematics): --model / --model-file must name the daemon's arm; a
 tool position that disagrees with the setpoint's is reported.
 
-    from kinctl.view import render
-    info = render(samples, "arm.gif", fk)      # samples: [(t, cycle, goal_id, state, q, tool xyz)]
+    from kinctl import logcsv
+    from kinctl.kinematics import ArmFK
+    from kinctl.view import render, samples_from_columns
+    with ArmFK(model="puma560") as fk:
+        info = render(samples_from_columns(logcsv.read("run.csv"), fps=25), "arm.gif", fk)
 
 Extra 3-D geometry (kinctl.shapes) is drawn in every panel: render(...,
 shapes=[...]).
 """
-import argparse
 import math
 import os
 import sys
@@ -34,6 +36,7 @@ EXAMPLE = ("kinctl view                                  # live window (needs a 
 
 def add_view_parser(sub, make_sub, parents):
     """The `view` subcommand's options (called by kinctl.cli.build_parser)."""
+    from kinctl.cli import nonneg, positive
     v = make_sub(sub, "view", "draw the arm (skeleton and every link frame) from its setpoints: frontal "
                               "dimetric, horizontal isometric, orthographic and 3-D views, live or saved",
                  EXAMPLE, parents)
@@ -47,33 +50,13 @@ def add_view_parser(sub, make_sub, parents):
     v.add_argument("--save", default=None, metavar="FILE",
                    help="write FILE.png (a still: the last setpoint), FILE.gif or FILE.mp4 (an animation; mp4 "
                         "needs ffmpeg, which scripts/setup.sh installs) instead of opening a window")
-    v.add_argument("--duration", type=_positive, default=None, metavar="S",
+    v.add_argument("--duration", type=positive, default=None, metavar="S",
                    help="live --save: record S seconds of setpoints (default 5 for .gif/.mp4; .png: the next "
                         "setpoint); with --log: only the first S seconds; a window: close it after S seconds")
-    v.add_argument("--fps", type=_positive, default=25.0, metavar="N", help="frames per second (default 25)")
-    v.add_argument("--trail", type=_nonneg, default=3.0, metavar="S",
+    v.add_argument("--fps", type=positive, default=25.0, metavar="N", help="frames per second (default 25)")
+    v.add_argument("--trail", type=nonneg, default=3.0, metavar="S",
                    help="seconds of tool path drawn behind the tool (default 3; 0: none)")
-    v.add_argument("--dpi", type=_positive, default=80.0, help="resolution of saved files (default 80)")
-    return v
-
-
-def _positive(text):
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
-    if not (math.isfinite(v) and v > 0):
-        raise argparse.ArgumentTypeError(f"{text} must be > 0")
-    return v
-
-
-def _nonneg(text):
-    try:
-        v = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"'{text}' is not a number") from None
-    if not (math.isfinite(v) and v >= 0):
-        raise argparse.ArgumentTypeError(f"{text} must be >= 0")
+    v.add_argument("--dpi", type=positive, default=80.0, help="resolution of saved files (default 80)")
     return v
 
 
