@@ -139,11 +139,15 @@ def test_png_from_the_cli(recorded, tmp_path):
 
 
 def test_lcm_log_reads_the_same_setpoints_as_the_csv(recorded):
+    import lcm
     csv_cols = logcsv.read(recorded["csv"])
     lcm_cols, events = read_run(recorded["lcmlog"])
+    # Every setpoint in the file is read (lcm-logger itself may miss a few on a loaded machine).
+    in_file = sum(1 for ev in lcm.EventLog(recorded["lcmlog"], "r") if ev.channel == "KINCTL_SETPOINT")
+    assert len(lcm_cols["cycle"]) == in_file
     # Both recorded the same stream: on the cycles they share, every value is equal.
     common = sorted(set(csv_cols["cycle"]) & set(lcm_cols["cycle"]))
-    assert len(common) > 0.95 * len(csv_cols["cycle"])
+    assert len(common) > 1000
     ic = {c: i for i, c in enumerate(csv_cols["cycle"])}
     il = {c: i for i, c in enumerate(lcm_cols["cycle"])}
     assert list(csv_cols) == list(lcm_cols)

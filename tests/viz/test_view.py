@@ -179,6 +179,19 @@ def test_live_png_is_the_current_pose(recorded, tmp_path):
     assert (img[:, :, :3] < 0.5).any(axis=2).mean() > 0.005  # dark links and text are drawn
 
 
+def test_gaps_in_a_log_keep_the_pace():
+    # Setpoints of cycles 0..999 with 200..599 lost: frames every 0.1 s still, the gap's repeating cycle 199.
+    cols = {k: [] for k in logcsv.header(1)}
+    for c in list(range(200)) + list(range(600, 1000)):
+        for k, v in (("utime", 1000 * c), ("cycle", c), ("goal_id", 1), ("state", 1), ("q1", c * 1e-3),
+                     ("qd1", 0.0), ("qdd1", 0.0), ("x", c * 1e-3), ("y", 0.0), ("z", 0.0), ("qw", 1.0),
+                     ("qx", 0.0), ("qy", 0.0), ("qz", 0.0)):
+            cols[k].append(v)
+    s = samples_from_columns(cols, fps=10)
+    assert [x.cycle for x in s] == [0, 100, 199, 199, 199, 199, 600, 700, 800, 900, 999]
+    assert [x.cycle for x in samples_from_columns(cols, fps=10, duration=0.5)] == [0, 100, 199, 199, 199, 199]
+
+
 def test_mp4_from_an_lcm_log(recorded, tmp_path):
     if shutil.which("ffmpeg") is None or shutil.which("ffprobe") is None:
         pytest.skip("ffmpeg is not installed (scripts/setup.sh installs Debian's ffmpeg)")

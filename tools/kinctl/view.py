@@ -84,25 +84,30 @@ class Sample:
 
 
 def samples_from_columns(cols, fps, duration=None):
-    """Samples of a log (logcsv columns) every 1/fps s of trajectory time
-    (cycles times the period); the last setpoint always included."""
+    """Samples of a log (logcsv columns) for frames every 1/fps s of
+    trajectory time (runlog.trajectory_time) up to the end or duration: each
+    the latest setpoint at or before the frame's time, so that setpoints a
+    logger lost do not change the pace (their frames repeat the one before);
+    without duration the last setpoint is always included."""
     from kinctl.runlog import trajectory_time
     rows = len(cols["cycle"])
     if rows == 0:
         raise ValueError("the log holds no setpoints")
     n = sum(1 for k in cols if k.startswith("qd") and not k.startswith("qdd"))
     times, _ = trajectory_time(cols)
-    out, next_t = [], 0.0
-    for i in range(rows):
-        t = times[i]
-        if duration is not None and t > duration + 1e-9:
-            break
-        last = i == rows - 1
-        if t + 1e-9 >= next_t or last:
-            out.append(Sample(t, cols["cycle"][i], cols["goal_id"][i], cols["state"][i],
-                              [cols[f"q{j}"][i] for j in range(1, n + 1)],
-                              (cols["x"][i], cols["y"][i], cols["z"][i])))
-            next_t = (math.floor(t * fps + 1e-6) + 1) / fps
+    end = times[-1] if duration is None else min(times[-1], duration)
+
+    def sample(i):
+        return Sample(times[i], cols["cycle"][i], cols["goal_id"][i], cols["state"][i],
+                      [cols[f"q{j}"][i] for j in range(1, n + 1)], (cols["x"][i], cols["y"][i], cols["z"][i]))
+    out, i = [], 0
+    for k in range(int(math.floor(end * fps + 1e-6)) + 1):
+        t = k / fps
+        while i + 1 < rows and times[i + 1] <= t + 1e-9:
+            i += 1
+        out.append(sample(i))
+    if duration is None and i < rows - 1:
+        out.append(sample(rows - 1))
     return out
 
 
