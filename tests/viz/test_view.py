@@ -147,15 +147,15 @@ def test_live_gif_while_the_arm_moves(recorded, tmp_path):
     out = tmp_path / "live.gif"
     r = run_kinctl(url, "goal", "joint", "--q", csv_of(Q11), "--wait")
     assert r.returncode == 0, r.stderr
+    # A slow move (joint 2 by 1 rad at a tenth of its rate limit: over 5 s), under way while the view records.
+    r = run_kinctl(url, "goal", "joint", "--q", csv_of(QN), "--speed", "0.1")
+    assert r.returncode == 0, r.stderr
     v = start_view(url, "--save", str(out), "--duration", "1.5", "--fps", "10")
     try:
-        time.sleep(0.5 * SLOW)
-        r = run_kinctl(url, "goal", "joint", "--q", csv_of(QN), "--speed", "0.5", "--wait")
-        assert r.returncode == 0, r.stderr
         stdout, stderr = v.communicate(timeout=120 * SLOW)
     finally:
         if v.poll() is None:
-            v.send_signal(signal.SIGKILL)
+            v.kill()
             v.communicate()
         r = run_kinctl(url, "goal", "joint", "--q", csv_of(QN), "--wait")
     assert v.returncode == 0, stderr
