@@ -14,10 +14,11 @@ say() { printf '\033[1m[setup]\033[0m %s\n' "$*"; }
 # the LCM wheel's lcm-gen and liblcm load) and a JDK (javac and jar build the
 # message jar for lcm-spy); libglib2.0-dev because kinctld links the wheel's
 # static liblcm, whose GLib is found with pkg-config; stress-ng loads the CPUs in
-# the fault-injection tests.
+# the fault-injection tests; ffmpeg for `kinctl view --save FILE.mp4`, xvfb (and
+# xauth for xvfb-run) to test its live window.
 apt_packages=(build-essential cmake ninja-build clang pkg-config python3 python3-venv
               libcmocka-dev libconfig-dev libjansson-dev libglib2.0-0 default-jdk-headless
-              libglib2.0-dev stress-ng)
+              libglib2.0-dev stress-ng ffmpeg xvfb xauth)
 missing=()
 for p in "${apt_packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

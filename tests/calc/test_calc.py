@@ -97,6 +97,30 @@ def test_model_file_equals_builtin(model):
     assert_near(filed["frames"], builtin["frames"])
 
 
+def test_fk_frames_print_the_base(tmp_path):
+    # rrr3 on a base 0.5 m up and turned 90 deg about z: "base" is that pose,
+    # every frame and the tool are the base times the arm's own (base = I).
+    with open(os.path.join(MODELS, "rrr3.cfg")) as f:
+        text = f.read()
+    path = tmp_path / "raised.cfg"
+    path.write_text(text.replace('angles = "rad";', 'angles = "rad";\n  base = { xyz = [0.1, 0.2, 0.5]; '
+                                                     'rpy = [0.0, 0.0, 1.5707963267948966]; };'))
+    q = "0.3,-0.4,0.7"
+    plain = ok(["fk", "--model", "rrr3", "--q", q, "--frames"])
+    raised = ok(["fk", "--model-file", path, "--q", q, "--frames"])
+    assert_near(plain["base"], [[1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 1, 0], [0, 0, 0, 1]], what="identity base")
+    B = [[0, -1, 0, 0.1], [1, 0, 0, 0.2], [0, 0, 1, 0.5], [0, 0, 0, 1]]
+    assert_near(raised["base"], B, tol=max(TOL, 1e-15), what="base")
+
+    def mul(A, C):
+        return [[sum(A[i][k] * C[k][j] for k in range(4)) for j in range(4)] for i in range(4)]
+    assert len(raised["frames"]) == len(plain["frames"]) == 3
+    for f_raised, f_plain in zip(raised["frames"], plain["frames"]):
+        assert_near(f_raised, mul(B, f_plain), tol=ROUND_TRIP_TOL, what="frame")
+    assert_near(raised["pose"], mul(B, plain["pose"]), tol=ROUND_TRIP_TOL, what="tool")
+    assert "base" not in ok(["fk", "--model", "rrr3", "--q", q])
+
+
 def test_param_lengths():
     default = ok(["fk", "--model", "rrr3", "--q", "0.1,0.2,0.3"])
     same = ok(["fk", "--model", "rrr3", "--param", "l1=0.4,l2=0.3,l3=0.25", "--q", "0.1,0.2,0.3"])

@@ -139,6 +139,32 @@ def test_joint_vectors(name, case):
     assert exact(rows[-1][1:3], case["q_end_deg"]) and rows[-1][3:] == [0.0] * 4
 
 
+def batch(requests):
+    r = run(["batch"], "".join(json.dumps(q) + "\n" for q in requests))
+    assert r.returncode == 0, r.stderr
+    return [json.loads(line) for line in r.stdout.splitlines()]
+
+
+def test_joint_batch_gives_the_leading_joint_and_duration():
+    # Equal limits (the seed's tables): the leading joint of (4.2) and the file's total time.
+    answers = batch([{"op": "interp", "kind": "joint", "model": "planar2", "deg": True, "q0": c["q_start_deg"],
+                      "q1": c["q_end_deg"], "vmax": [c["v_deg_s"]], "amax": [c["A_deg_s2"]], "dt": 100.0}
+                     for c in JOINT["cases"]])
+    for c, a in zip(JOINT["cases"], answers):
+        moving = any(x != y for x, y in zip(c["q_start_deg"], c["q_end_deg"]))
+        assert a["lead"] == (c["leading_joint"] if moving else 0), c["case"]
+        near(a["duration"], c["T_total_s"], tol(c["T_total_s"]), c["case"] + " duration")
+    # Per-joint limits (puma560: joints 1-3 2 rad/s, 5 rad/s^2; 4-6 4 rad/s, 10 rad/s^2): joint 6 moves
+    # farther (1.3 rad) but alone would take 2 sqrt(1.3 / 10) = 0.72 s, joint 1 (1.2 rad) 1.2 / 2 + 2 / 5 = 1 s.
+    a, = batch([{"op": "interp", "kind": "joint", "model": "puma560", "q0": [0] * 6, "q1": [1.2, 0, 0, 0, 0, 1.3],
+                 "dt": 0.01}])
+    assert a["lead"] == 1
+    near(a["duration"], 1.0, 1e-12 if not FLOAT else 1e-6, "duration")
+    # CSV has no room for them: unchanged.
+    header, _ = csv_rows(["interp", "joint", "--model", "planar2", "--q0", "0,0", "--q1", "1,1", "--dt", "0.1"])
+    assert header == ["t", "q1", "q2", "qd1", "qd2", "qdd1", "qdd2"]
+
+
 def test_joint_radians_equal_degrees():
     c = JOINT["cases"][2]
     _, deg = csv_rows(["interp", "joint", "--model", "planar2", "--deg", "--q0", nums(c["q_start_deg"]),

@@ -33,11 +33,11 @@ def test_demo_runs_to_the_end(multicast, tmp_path):
     info = s["plot"]
     assert info["rows"] == s["setpoints"] and info["joints"] == 6
     assert info["goals"] == [1, 2, 3, 4, 5, 6, 7]
-    q, qd, qdd, path3d, xy, xz = info["axes"]
+    q, qd, qdd, path3d, xy, xz = info["axes"][:6]
     for ax, key in ((q, "q"), (qd, "qd"), (qdd, "qdd")):
         assert f"{key} (rad" in ax["ylabel"]
         assert [c for c in ax["curves"] if c.startswith(key)] == [f"{key}{j}" for j in range(1, 7)]
-    assert qdd["xlabel"] == "time (s)"
+    assert info["axes"][7]["xlabel"] == "time (s)"  # the speed panel, under qdd
     assert "stopping" in qd["curves"]  # the stop and the preemption are shaded
     assert path3d["name"] == "3d" and path3d["title"].startswith("tool path")
     assert (xy["xlabel"], xy["ylabel"]) == ("x (m)", "y (m)")

@@ -343,6 +343,15 @@ static int run_interp_joint(const json_t *req, calc_ctx *ctx)
         return plan_failed(ctx, "joint move", st);
     if (too_many_rows(ctx, &plan.prof) != 0)
         return -1;
+    if (!ctx->csv) {
+        /* Batch only: the leading joint (1-based, 0 when nothing moves) and the move's duration (s). */
+        char lead[16];
+        snprintf(lead, sizeof lead, "%d", plan.lead + 1);
+        jw_key(ctx->out, "lead");
+        jw_raw(ctx->out, lead);
+        jw_key(ctx->out, "duration");
+        jw_real(ctx->out, plan.prof.T);
+    }
     /* Columns t, q1..qn, qd1..qdn, qdd1..qddn. */
     static const char *const stems[3] = {"q", "qd", "qdd"};
     char name_buf[1 + 3 * KC_MAX_JOINTS][8];
@@ -577,7 +586,8 @@ static void print_kinds(FILE *f)
                "Sampled motions, one CSV row per tick.\n\nkinds:\n");
     for (size_t i = 0; i < N_KINDS; i++)
         fprintf(f, "  %-6s %s\n", kinds[i].name, kinds[i].summary);
-    fprintf(f, "\nIn batch: {\"op\": \"interp\", \"kind\": KIND, ...} answers {\"columns\": [...], \"rows\": [[...], ...]}.\n");
+    fprintf(f, "\nIn batch: {\"op\": \"interp\", \"kind\": KIND, ...} answers {\"columns\": [...], \"rows\": [[...], ...]}\n"
+               "(joint also \"lead\": the leading joint, 1-based, 0 when nothing moves, and \"duration\" in s).\n");
 }
 
 static void print_kind_help(const calc_cmd *kind)

@@ -18,7 +18,8 @@
 
 static const calc_opt fk_opts[] = {
     CALC_MODEL_OPTS,
-    {"--frames", "frames", CALC_FLAG, NULL, NULL, "also print every frame 0T_1 .. 0T_m (\"frames\")"},
+    {"--frames", "frames", CALC_FLAG, NULL, NULL,
+     "also print the base pose (\"base\") and every frame 0T_1 .. 0T_m (\"frames\")"},
     {NULL, NULL, CALC_FLAG, NULL, NULL, NULL},
 };
 
@@ -37,6 +38,8 @@ static int run_fk(const json_t *req, calc_ctx *ctx)
     jw_key(ctx->out, "pose");
     jw_pose(ctx->out, &tool);
     if (want_frames) {
+        jw_key(ctx->out, "base");
+        jw_pose(ctx->out, &chain.base);
         jw_key(ctx->out, "frames");
         jw_arr_begin(ctx->out);
         for (int f = 0; f < chain.n_frames; f++)
@@ -367,7 +370,7 @@ static const calc_cmd commands[] = {
     {"fk", "forward kinematics: the tool pose (and every frame)",
      "kinctl-calc fk (--model NAME | --model-file PATH) --q Q1,Q2,... [--deg] [--frames]\n"
      "Prints {\"pose\": [[r11,r12,r13,px],[r21,..],[r31,..],[0,0,0,1]]} in the base frame (m),\n"
-     "and \"frames\": [0T_1, .., 0T_m] with --frames. q outside a joint's position limits is\n"
+     "and \"base\" and \"frames\": [0T_1, .., 0T_m] with --frames. q outside a joint's position limits is\n"
      "computed anyway, with a warning on stderr (in batch: \"warnings\": [...]).\n"
      "Example: kinctl-calc fk --model puma560 --q 0,0.5,-0.5,0,0.3,0",
      fk_opts, run_fk},

@@ -25,6 +25,8 @@ examples (start a daemon first: build/daemon/kinctld --no-rt):
   kinctl log --csv run.csv --duration 5
   kinctl record run.lcmlog --duration 5 && kinctl replay run.lcmlog
   kinctl import-urdf arm.urdf -o arm.cfg
+  kinctl plot run.csv -o run.png
+  kinctl view --save arm.gif --duration 5
 """
 
 STALE_MIN_S, STALE_MAX_S = 0.05, 0.1
@@ -281,12 +283,26 @@ def build_parser():
     lg.add_argument("--events", metavar="FILE", default=None,
                     help="also write status events: utime,cycle,goal_id,event,code,reason")
 
-    pl = _sub(sub, "plot", "plot a setpoint CSV (q, qd, qdd, tool path) to a PNG (needs matplotlib)",
-              "kinctl plot run.csv --events events.csv -o run.png", parents)
-    pl.add_argument("csv", metavar="CSV", help="a CSV written by kinctl log")
-    pl.add_argument("--events", metavar="FILE", default=None, help="status events to mark goal boundaries")
-    pl.add_argument("-o", "--output", metavar="PNG", default=None, help="output (default: CSV with .png)")
+    pl = _sub(sub, "plot", "plot a run's setpoints: q, qd, qdd of every joint against time (each goal's "
+                           "leading joint bold), the tool's speed along its path, the tool path in 3-D and "
+                           "on XY, XZ, YZ; one colour per goal_id",
+              "kinctl plot run.csv --events events.csv -o run.png --model puma560\n"
+              "  kinctl plot run.lcmlog -o run.svg          # an LCM event log (lcm-logger); SVG", parents)
+    pl.add_argument("csv", metavar="LOG", help="a setpoint CSV written by kinctl log --csv, or an LCM event log "
+                                               "(lcm-logger format) holding <prefix>SETPOINT and <prefix>STATUS")
+    pl.add_argument("--events", metavar="FILE", default=None,
+                    help="with a CSV: the status events of kinctl log --events, to name how goals ended")
+    pl.add_argument("-o", "--output", metavar="FILE", default=None,
+                    help="output, .png or .svg by its extension (default: LOG with .png)")
     pl.add_argument("--title", default=None, help="figure title")
+    arm = pl.add_mutually_exclusive_group()
+    arm.add_argument("--model", default=None, metavar="NAME",
+                     help="the daemon's built-in arm: a joint move's leading joint is then the planner's, from "
+                          "each joint's limits (default: the joint that travels farthest)")
+    arm.add_argument("--model-file", default=None, metavar="PATH", help="the daemon's robot description file, "
+                                                                        "as --model")
+    from kinctl.view import add_view_parser
+    add_view_parser(sub, _sub, parents)
 
     from kinctl import datacmds
     datacmds.add_parsers(sub, _sub, parents, positive)
@@ -539,8 +555,9 @@ def cmd_log(args):
 def cmd_plot(args):
     from kinctl.plot import plot_run
     out = args.output or os.path.splitext(args.csv)[0] + ".png"
-    info = plot_run(args.csv, out, events=args.events, title=args.title)
-    _say(f"plot: {out} ({info['rows']} setpoints)")
+    info = plot_run(args.csv, out, events=args.events, title=args.title, prefix=args.prefix, progress=True,
+                    model=args.model, model_file=args.model_file)
+    _say(f"plot: {out} ({info['rows']} setpoints, {len(info['goals'])} goals)")
     return 0
 
 
@@ -560,6 +577,9 @@ def main(argv=None):
         from kinctl import datacmds
         if args.command in datacmds.NAMES:
             return datacmds.run(args)
+        if args.command == "view":
+            from kinctl.view import cmd_view
+            return cmd_view(args)
         return cmd_plot(args)
     except DaemonNotFound as e:
         _err(str(e))

@@ -109,10 +109,10 @@ def run_demo(out_dir="out", kinctld=None, echo=True, small_png=None, slow=1.0):
     say(d.stderr_text.strip())
 
     labels = {gid: f"{gid}: {label}" for gid, label, _, _ in results if gid}
-    info = plot_run(csv_path, png_path, events=ev_path, labels=labels,
+    info = plot_run(csv_path, png_path, events=ev_path, labels=labels, model="puma560",
                     title="kinctl demo: kinctld on puma560 driven by the kinctl CLI (1 kHz setpoints)")
     if small_png:
-        plot_run(csv_path, small_png, events=ev_path, labels=labels, dpi=60,
+        plot_run(csv_path, small_png, events=ev_path, labels=labels, dpi=60, model="puma560",
                  title="kinctl demo: kinctld on puma560 driven by the kinctl CLI (1 kHz setpoints)")
     summary = summarize(csv_path, ev_path, results, rc_daemon)
     summary["plot"] = info

@@ -63,10 +63,15 @@ class SetpointWriter:
                 + ("none missing" if missing == 0 else f"{missing} missing in {self.gaps} gaps"))
 
 
-def read(path):
-    """The setpoint CSV as columns: dict name -> list (numbers; state as its code)."""
+def read(path, progress=False):
+    """The setpoint CSV as columns: dict name -> list (numbers; state as its code).
+    progress: show a progress bar (tqdm, on stderr when it is a terminal)."""
     with open(path, newline="") as f:
-        r = csv.reader(f)
+        lines = f
+        if progress:
+            from kinctl.progress import lines_with_bar
+            lines = lines_with_bar(f, path)
+        r = csv.reader(lines)
         names = next(r)
         cols = {k: [] for k in names}
         for rec in r:

@@ -1,0 +1,113 @@
+"""Fixtures for kinctl plot and kinctl view: one real run, recorded once.
+
+`recorded` starts a kinctld of its own (kinctl.local, on a private LCM URL),
+records it with `kinctl log` (CSV and events) and lcm-logger (an LCM event
+log) at the same time, and drives it with the kinctl CLI through three goals
+whose shape is known in advance:
+
+    11  joint move in which joint 2 travels farthest (1.0 rad; others 0.1 or less)
+    12  straight line of 0.15 m at 0.2 m/s (cruises at that speed)
+    13  joint move in which joint 1 travels farthest
+    14  joint move in which joint 6 travels farthest (1.3 rad) but joint 1 (1.2 rad, half
+        joint 6's rate limits) leads: alone it would take 1 s, joint 6 0.72 s
+
+Environment (tests/viz/CMakeLists.txt): KINCTLD, KINCTL_CALC, PYTHONPATH
+with this build's kinctl_msgs and tools/, KINCTLD_TEST_SLOWDOWN.
+"""
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from kinctl.local import MULTICAST_HELP, Kinctld, ensure_multicast, unique_url
+
+KINCTLD = os.environ.get("KINCTLD", "")
+SLOW = float(os.environ.get("KINCTLD_TEST_SLOWDOWN", "1"))
+QN = [0.0, 0.7854, -3.1416, 0.0, 0.7854, 0.0]
+DOWN = [0.7071068, 0.0, 0.7071068, 0.0]  # puma560's tool orientation at QN
+Q11 = [0.1, -0.2146, -3.0416, 0.05, 0.7854, 0.0]   # joint 2: -1.0 rad, the rest <= 0.1
+Q13 = [0.9, -0.1146, -3.1416, 0.05, 0.8854, 0.1]   # from Q11, joint 1 +0.8 rad, the rest <= 0.1
+Q14 = [-0.3, -0.1146, -3.1416, 0.05, 0.8854, 1.4]  # from Q13, joint 1 -1.2 rad, joint 6 +1.3 rad
+LINE_SPEED = 0.2
+
+
+def csv_of(v):
+    return ",".join(repr(float(x)) for x in v)
+
+
+def run_kinctl(url, *args, timeout=60.0):
+    env = dict(os.environ)
+    env.pop("LCM_DEFAULT_URL", None)
+    url_args = ["--lcm-url", url] if url else []
+    return subprocess.run([sys.executable, "-m", "kinctl"] + url_args + [str(a) for a in args],
+                          capture_output=True, text=True, timeout=timeout * SLOW, env=env)
+
+
+@pytest.fixture(scope="session")
+def multicast():
+    if not ensure_multicast():
+        pytest.skip(MULTICAST_HELP)
+
+
+@pytest.fixture(scope="session")
+def daemon(multicast):
+    """A kinctld (puma560, 1 kHz, --no-rt) for the session, at QN."""
+    if not KINCTLD:
+        pytest.skip("KINCTLD is not set (run through ctest)")
+    d = Kinctld(binary=KINCTLD, url=unique_url(subnet=79, port_base=40000))
+    try:
+        d.wait_ready(10.0 * SLOW)
+        r = run_kinctl(d.url, "goal", "joint", "--q", csv_of(QN), "--wait")
+        assert r.returncode == 0, r.stdout + r.stderr
+        yield d
+    finally:
+        assert d.stop(signal.SIGTERM, 20.0 * SLOW) == 0, d.stderr_text
+
+
+@pytest.fixture(scope="session")
+def recorded(daemon, tmp_path_factory):
+    """{"csv", "events", "lcmlog", "url", "line_from", "line_to"}: the three goals, logged both ways."""
+    import lcm
+    d = daemon
+    out = tmp_path_factory.mktemp("run")
+    paths = {"csv": str(out / "run.csv"), "events": str(out / "events.csv"), "lcmlog": str(out / "run.lcmlog"),
+             "url": d.url}
+    env = dict(os.environ)
+    env.pop("LCM_DEFAULT_URL", None)
+    logger = subprocess.Popen([os.path.join(lcm.LCM_BIN_DIR, "lcm-logger"), f"--lcm-url={d.url}", "--quiet",
+                               paths["lcmlog"]], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    log = subprocess.Popen([sys.executable, "-m", "kinctl", "--lcm-url", d.url, "log", "--csv", paths["csv"],
+                            "--events", paths["events"]], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                           text=True, env=env)
+    try:
+        time.sleep(0.8 * SLOW)
+        status = run_kinctl(d.url, "status", "--json")
+        assert status.returncode == 0, status.stderr
+        import json
+        p = json.loads(status.stdout)["position"]
+        for args in (["goal", "joint", "--q", csv_of(Q11), "--id", "11", "--wait"],
+                     ["goal", "joint", "--q", csv_of(QN), "--wait", "--id", "20"]):
+            r = run_kinctl(d.url, *args)
+            assert r.returncode == 0, r.stdout + r.stderr
+        line_to = [p[0], p[1] + 0.15, p[2]]
+        r = run_kinctl(d.url, "goal", "line", "--to", csv_of(line_to + DOWN), "--speed", str(LINE_SPEED),
+                       "--id", "12", "--wait")
+        assert r.returncode == 0, r.stdout + r.stderr
+        for args in (["goal", "joint", "--q", csv_of(Q11), "--wait", "--id", "21"],
+                     ["goal", "joint", "--q", csv_of(Q13), "--id", "13", "--wait"],
+                     ["goal", "joint", "--q", csv_of(Q14), "--id", "14", "--wait"]):
+            r = run_kinctl(d.url, *args)
+            assert r.returncode == 0, r.stdout + r.stderr
+        time.sleep(0.3 * SLOW)
+    finally:
+        log.send_signal(signal.SIGTERM)
+        lout, lerr = log.communicate(timeout=30 * SLOW)
+        logger.send_signal(signal.SIGINT)
+        logger.communicate(timeout=30 * SLOW)
+    assert log.returncode == 0, lerr
+    assert "none missing" in lout, lout
+    paths["line_from"], paths["line_to"] = p, line_to
+    return paths
