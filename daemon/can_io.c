@@ -190,14 +190,14 @@ int kd_can_fd(const kd_can *c) { return c->fd; }
 
 /* Writes frames[0..count) in one call without blocking; counts and reacts
  * to what did not go out. */
-static void write_frames(kd_can *c, struct can_frame *frames, int count, int64_t now)
+static int write_frames(kd_can *c, struct can_frame *frames, int count, int64_t now)
 {
     struct mmsghdr msgs[KD_CAN_FRAMES_MAX];
     struct iovec iov[KD_CAN_FRAMES_MAX];
     int i, sent;
     if (c->state != KD_CAN_OK || c->fd < 0) {
         c->tx_dropped += count;
-        return;
+        return 0;
     }
     memset(msgs, 0, sizeof msgs[0] * (size_t)count);
     for (i = 0; i < count; i++) {
@@ -211,7 +211,7 @@ static void write_frames(kd_can *c, struct can_frame *frames, int count, int64_t
         sent = 0;
     c->frames += sent;
     if (sent == count)
-        return;
+        return sent;
     /* The first frame that failed says why; the rest of this bus cycle is
      * dropped with it (never retried: it would be stale). */
     c->last_errno = errno;
@@ -221,6 +221,7 @@ static void write_frames(kd_can *c, struct can_frame *frames, int count, int64_t
         c->link_down++;
         lose(c, now, "%s is down (%s): CAN output lost", strerror(errno));
     }
+    return sent;
 }
 
 void kd_can_send(kd_can *c, int64_t cycle, const kc_real *q, const kc_real *qd)
@@ -236,7 +237,6 @@ void kd_can_send(kd_can *c, int64_t cycle, const kc_real *q, const kc_real *qd)
     frames[0].can_id = KD_CAN_SYNC_ID;
     frames[0].len = 1;
     frames[0].data[0] = (uint8_t)(bus_cycle % KD_CAN_SYNC_COUNTER_MAX + 1);
-    memcpy(c->target[0], c->target[1], sizeof c->target[0]);
     for (j = 0; j < n; j++) {
         const kd_can_joint *jc = &c->cfg->joint[j];
         struct can_frame *f = &frames[1 + j];
@@ -244,10 +244,10 @@ void kd_can_send(kd_can *c, int64_t cycle, const kc_real *q, const kc_real *qd)
         f->len = 8;
         put_i32(&f->data[0], kd_can_pos_counts(jc, (double)q[j]));
         put_i32(&f->data[4], kd_can_vel_counts(jc, (double)qd[j]));
-        c->target[1][j] = (double)q[j];
+        c->target[c->syncs_out % KD_CAN_RING][j] = (double)q[j];
     }
-    c->targets_sent++;
-    write_frames(c, frames, n + 1, t0);
+    if (write_frames(c, frames, n + 1, t0) > 0)
+        c->syncs_out++; /* the SYNC went out: the drives answer it */
     kd_hist_add(&c->send_ns, now_ns() - t0);
 }
 
@@ -304,16 +304,30 @@ static void evaluate(kd_can *c, int64_t now)
             snprintf(text, sizeof text, "joint %d (node %d) does not follow the target (statusword 0x%04x, bit 12 clear)",
                      j + 1, node, sw);
             set_condition(c, KD_CAN_COND_DRIVE, text);
-        } else if (cfg->following_error > 0.0 && c->targets_sent >= 2) {
-            double e = c->q_fb[j] - c->target[0][j];
-            if (fabs(e) > cfg->following_error) {
-                snprintf(text, sizeof text,
-                         "joint %d (node %d) following error %.6g beyond %g (actual %.6g, target %.6g)", j + 1, node,
-                         fabs(e), cfg->following_error, c->q_fb[j], c->target[0][j]);
-                set_condition(c, KD_CAN_COND_DRIVE, text);
-            }
+        } else if (cfg->following_error > 0.0 && c->following[j] > cfg->following_error) {
+            snprintf(text, sizeof text, "joint %d (node %d) following error %.6g beyond %g (actual %.6g)", j + 1, node,
+                     c->following[j], cfg->following_error, c->q_fb[j]);
+            set_condition(c, KD_CAN_COND_DRIVE, text);
         }
     }
+}
+
+/* The following error of joint j's TPDO at q: the nearest of the targets
+ * within two bus cycles of the one it answers (can_io.h). */
+static void following(kd_can *c, int j, double q)
+{
+    int64_t k = c->tpdos[j], i, lo, hi;
+    double best = INFINITY;
+    if (c->syncs_out - k > KD_CAN_RING / 2 || k >= c->syncs_out)
+        k = c->syncs_out - 1; /* behind (lost TPDOs) or ahead (a TPDO before any SYNC) */
+    c->tpdos[j] = k + 1;
+    lo = k - 2 > c->syncs_out - KD_CAN_RING ? k - 2 : c->syncs_out - KD_CAN_RING;
+    hi = k + 2 < c->syncs_out - 1 ? k + 2 : c->syncs_out - 1;
+    if (lo < 0)
+        lo = 0;
+    for (i = lo; i <= hi; i++)
+        best = fmin(best, fabs(q - c->target[i % KD_CAN_RING][j]));
+    c->following[j] = hi >= lo ? best : 0.0;
 }
 
 static void on_frame(kd_can *c, const struct can_frame *f, int64_t now)
@@ -343,6 +357,7 @@ static void on_frame(kd_can *c, const struct can_frame *f, int64_t now)
         if (c->have_fb[j])
             c->qd_fb[j] = (q - c->q_fb[j]) / ((double)c->period_ns * 1e-9 * (double)c->cfg->sync_every);
         c->q_fb[j] = q;
+        following(c, j, q);
         c->statusword[j] = (uint16_t)(f->data[4] | f->data[5] << 8);
         c->have_fb[j] = 1;
     } else if ((id & ~0x7fu) == KD_CAN_HEARTBEAT_BASE && f->len >= 1) {

@@ -45,10 +45,15 @@
  * cycle) that status_t reports. A condition that stops the arm:
  *   - statusword bit 3 (fault), bit 13 (following error) set, or bit 12
  *     (drive follows the target) clear;
- *   - |actual - target| beyond following_error, against the target of the
- *     bus cycle before the latest sent (the drive acts on a target at the
- *     next SYNC; a burst of bus cycles from a late I/O thread adds to this,
- *     so the bound should allow a few cycles of motion);
+ *   - |actual - target| beyond following_error, against the target the
+ *     TPDO answers: the drive's k-th TPDO answers the k-th SYNC that went
+ *     out and shows the target sent after the SYNC before it; the nearest of
+ *     the targets within two bus cycles of that one counts (a drive that
+ *     also answers the very first SYNC, or a lost frame, stays within
+ *     it). The targets of the last KD_CAN_RING bus cycles are kept, so a
+ *     late I/O thread that sends a burst of bus cycles does not look like
+ *     a following error; a drive more than half of them behind (lost
+ *     TPDOs) is taken to answer the latest;
  *   - a drive heartbeat missing for drive_timeout_ms (counted from the
  *     output's start for a drive never heard), or one with a state other
  *     than operational.
@@ -76,6 +81,7 @@ enum { KD_CAN_OFF = 0, KD_CAN_OK = 1, KD_CAN_LOST = 2 };
 #define KD_CAN_HEARTBEAT_BASE 0x700u
 #define KD_CAN_NMT_OPERATIONAL 0x05u
 #define KD_CAN_SYNC_COUNTER_MAX 240
+#define KD_CAN_RING 1024 /* bus cycles whose targets are kept */
 
 typedef struct kd_can {
     const kd_can_cfg *cfg;
@@ -92,9 +98,12 @@ typedef struct kd_can {
     int64_t frames, tx_dropped, error_frames, bus_off, link_down, rx_frames, errors;
     int last_errno;
 
-    /* Targets of the last two bus cycles (joint units). */
-    double target[2][KC_MAX_JOINTS];
-    int targets_sent;
+    /* Targets of the last KD_CAN_RING bus cycles that went out (joint
+     * units), by SYNC number; TPDOs seen per joint; following errors. */
+    double target[KD_CAN_RING][KC_MAX_JOINTS];
+    int64_t syncs_out;
+    int64_t tpdos[KC_MAX_JOINTS];
+    double following[KC_MAX_JOINTS];
 
     /* Feedback per joint. */
     int have_fb[KC_MAX_JOINTS];
