@@ -395,9 +395,17 @@ void kd_can_timers(kd_can *c, int64_t now)
         const char *what = "";
         c->next_probe_ns = now + KD_CAN_PROBE_NS;
         if (link_ok(c) && open_socket(c, &what) == 0) {
+            int j;
             c->state = KD_CAN_OK;
             c->state_changed = 1;
             c->next_heartbeat_ns = now;
+            /* A new socket: the next TPDO answers the next SYNC, and every
+             * drive has drive_timeout_ms from now to be heard again. */
+            c->started_ns = now;
+            for (j = 0; j < c->n; j++) {
+                c->tpdos[j] = c->syncs_out;
+                c->heartbeat_ns[j] = 0;
+            }
         }
     }
     if (c->state == KD_CAN_OK && c->heartbeat_period_ns > 0 && now >= c->next_heartbeat_ns) {

@@ -53,7 +53,8 @@
  *     it). The targets of the last KD_CAN_RING bus cycles are kept, so a
  *     late I/O thread that sends a burst of bus cycles does not look like
  *     a following error; a drive more than half of them behind (lost
- *     TPDOs) is taken to answer the latest;
+ *     TPDOs) is taken to answer the latest, and after the socket is opened
+ *     anew (a recovered bus) the next TPDO answers the next SYNC;
  *   - a drive heartbeat missing for drive_timeout_ms (counted from the
  *     output's start for a drive never heard), or one with a state other
  *     than operational.

@@ -271,6 +271,17 @@ def align(cycles, setpoints):
     return out
 
 
+def segments(cycles):
+    """Splits bus cycles into runs of consecutive SYNC counters."""
+    out = []
+    for c in cycles:
+        if out and c[0] == out[-1][-1][0] % 240 + 1:
+            out[-1].append(c)
+        else:
+            out.append([c])
+    return out
+
+
 def assert_setpoints_unbroken(setpoints):
     cycles = [sp.cycle for sp in setpoints]
     gaps = [(a, b) for a, b in zip(cycles, cycles[1:]) if b != a + 1]

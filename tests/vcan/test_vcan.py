@@ -1,16 +1,18 @@
 """kinctld's CAN output on a real SocketCAN interface (vcan0), with the
 simulated drives attached: frames against the LCM setpoints, feedback, and
 each failure's reaction. See conftest.py for the fixtures and checks."""
+import json
 import os
 import re
+import struct
 import subprocess
 import sys
 import time
 
 import pytest
 
-from conftest import (IFACE, MASTER, NODES, PERIOD_US, SCALING, STATES, EVENTS, align, assert_setpoints_unbroken,
-                      bus_cycles, counts_to_q, daemon_frames, wait_fault, wait_status)
+from conftest import (EVENTS, IFACE, MASTER, NODES, SCALING, SLOW, STATES, align, assert_setpoints_unbroken,
+                      bus_cycles, counts_to_q, pos_counts, segments, wait_fault, wait_status)
 from kinctl import dbc
 
 Q_HOME = [0.0, 0.7854, -3.1416, 0.0, 0.7854, 0.0]
@@ -51,3 +53,244 @@ def test_frames_are_the_setpoints(can_daemon, drives, recorder):
     assert len(matched) == ran and matched == [sp.cycle for sp in setpoints]
     hb = [f for f in frames if f[1] == 0x700 + MASTER]
     assert hb and all(f[2] == b"\x05" for f in hb)
+
+
+def statuses(d):
+    with d.bus.lock:
+        return list(d.bus.statuses)
+
+
+def setpoints_of(d):
+    with d.bus.lock:
+        return list(d.bus.setpoints)
+
+
+def test_feedback_closes_the_loop(can_daemon, drives, recorder):
+    """With a lagging drive, status_t's measured joints are the drives'
+    positions from their TPDOs (to the count), behind the setpoint while
+    moving and on it at rest; without feedback they would equal it."""
+    drives("--lag", "0.1")
+    d = can_daemon(following_error=1.0)
+    d.bus.send_goal_joint(21, Q_A, vel_scale=0.5, acc_scale=0.5)
+    st = d.bus.wait_event(21, ["COMPLETED", "REJECTED", "ABORTED"], timeout=30)
+    assert st.event == EVENTS["COMPLETED"], st.reason
+    time.sleep(1.5 * SLOW)  # the lag settles (10 time constants)
+    final = d.bus.wait(lambda: [s for s in d.bus.statuses if s.event == 0][-1:], what="a periodic status")[0]
+    assert d.stop() == 0
+    tpdo = {n: {struct.unpack("<i", data[:4])[0] for t, cid, data in recorder.snapshot() if cid == 0x180 + n}
+            for n in NODES}
+    moving = [s for s in statuses(d) if s.state == STATES["MOVING"]]
+    assert moving, "statuses while moving"
+    sp = {p.cycle: p for p in setpoints_of(d)}
+    lagging = 0
+    for s in moving + [final]:
+        for j, n in enumerate(NODES):
+            counts = pos_counts(j, s.q_measured[j])
+            # Exactly a position some TPDO of this drive reported.
+            assert counts in tpdo[n], f"status q_measured[{j}] = {s.q_measured[j]} is no TPDO position of node {n}"
+            assert abs(counts_to_q(j, counts) - s.q_measured[j]) < 1e-9
+        if s.cycle in sp and abs(s.q_measured[2] - sp[s.cycle].q[2]) > 0.01:
+            lagging += 1
+    assert lagging >= len(moving) // 2, "the measured joints lag the setpoint while moving (the drive's lag)"
+    for j in range(6):
+        assert abs(final.q_measured[j] - Q_A[j]) < 2.0 / SCALING[j][0], f"joint {j + 1} at rest on its target"
+
+
+def run_to_fault(d, drives_cmd, token, sim, goal_id=31):
+    """Starts a goal, applies the drive command, waits for the FAULT with
+    reason token; returns the fault status."""
+    d.bus.send_goal_joint(goal_id, Q_A, vel_scale=0.5, acc_scale=0.5)
+    d.bus.wait(lambda: any(s.state == STATES["MOVING"] for s in d.bus.setpoints[-5:]), what="motion")
+    if drives_cmd:
+        sim.command(drives_cmd)
+    return wait_fault(d.bus, token, timeout=15)
+
+
+def assert_stopped_in_fault(d, goal_id):
+    ab = d.bus.wait_event(goal_id, ["ABORTED", "COMPLETED"])
+    assert ab.event == EVENTS["ABORTED"]
+    d.bus.wait(lambda: d.bus.setpoints[-1].state == STATES["FAULT"], timeout=10, what="state FAULT")
+    last = d.bus.last_setpoint()
+    assert all(v == 0.0 for v in last.qd[:6]), "at rest"
+
+
+def test_drive_fault(can_daemon, drives, recorder):
+    """Statusword bit 3: FAULT naming the joint and node, the arm stopped,
+    goals refused until the drive is cleared and the daemon RESET."""
+    sim = drives()
+    d = can_daemon()
+    st = run_to_fault(d, "fault 3", "drive: joint 3 (node 3) reports a fault", sim)
+    assert "statusword 0x0208" in st.reason and st.code < 0
+    assert_stopped_in_fault(d, 31)
+    sim.command("clear 3")
+    time.sleep(0.3 * SLOW)
+    d.bus.send_command("RESET")
+    d.bus.wait(lambda: d.bus.setpoints[-1].state == STATES["IDLE"], what="IDLE after RESET")
+    d.bus.send_goal_joint(32, Q_HOME[:1] + Q_A[1:], vel_scale=0.5, acc_scale=0.5)
+    assert d.bus.wait_event(32, ["COMPLETED", "ABORTED", "REJECTED"], timeout=30).event == EVENTS["COMPLETED"]
+    assert d.stop() == 0
+    assert_setpoints_unbroken(setpoints_of(d))
+
+
+def test_drive_fault_persisting_after_reset(can_daemon, drives, recorder):
+    """A drive still faulted when the daemon is RESET faults it again."""
+    sim = drives()
+    d = can_daemon()
+    run_to_fault(d, "fault 2", "drive: joint 2 (node 2) reports a fault", sim, goal_id=35)
+    d.bus.wait(lambda: d.bus.setpoints[-1].state == STATES["FAULT"], timeout=10, what="state FAULT")
+    n_faults = len([s for s in statuses(d) if s.event == EVENTS["FAULT"]])
+    d.bus.send_command("RESET")
+    d.bus.wait(lambda: len([s for s in d.bus.statuses if s.event == EVENTS["FAULT"]]) > n_faults, timeout=10,
+               what="a second FAULT")
+    assert d.stop() == 0
+    assert_setpoints_unbroken(setpoints_of(d))
+
+
+def test_silent_drive(can_daemon, drives, recorder):
+    """No heartbeat from a drive for drive_timeout_ms: FAULT, stopped."""
+    sim = drives()
+    d = can_daemon(drive_timeout_ms=600.0)
+    st = run_to_fault(d, "silent 4", "drive: joint 4 (node 4) is silent: no heartbeat for", sim, goal_id=41)
+    assert "drive_timeout_ms 600" in st.reason
+    assert_stopped_in_fault(d, 41)
+    assert d.stop() == 0
+    assert_setpoints_unbroken(setpoints_of(d))
+
+
+def test_following_error(can_daemon, drives, recorder):
+    """A drive that cannot keep up (speed-limited) trips the daemon's own
+    following-error bound."""
+    sim = drives()
+    d = can_daemon(following_error=0.1)
+    st = run_to_fault(d, "vmax 3 500", "drive: joint 3 (node 3) following error", sim, goal_id=51)
+    err = float(re.search(r"following error ([0-9.e+-]+) beyond 0.1", st.reason).group(1))
+    assert err > 0.1
+    assert_stopped_in_fault(d, 51)
+    assert d.stop() == 0
+    assert_setpoints_unbroken(setpoints_of(d))
+
+
+def ip_link(state):
+    subprocess.run(["ip", "link", "set", IFACE, state], check=True)
+
+
+@pytest.fixture
+def link_restored(vcan):
+    yield
+    subprocess.run(["ip", "link", "set", IFACE, "up"], check=False)
+
+
+def test_interface_down_and_up_stop(can_daemon, drives, recorder, link_restored):
+    """on_error = stop: the interface down faults the arm with a can: reason,
+    counted in stats; back up, the output resumes with the current cycle's
+    setpoints only (nothing stale), and LCM never stopped."""
+    sim = drives()
+    d = can_daemon(on_error="stop", drive_timeout_ms=0.0)
+    d.bus.send_goal_joint(61, Q_A, vel_scale=0.5, acc_scale=0.5)
+    d.bus.wait(lambda: any(s.state == STATES["MOVING"] for s in d.bus.setpoints[-5:]), what="motion")
+    ip_link("down")
+    st = wait_fault(d.bus, "can: vcan0 is down")
+    wait_status(d.bus, lambda s: s.can_state == 2, what="a status with can_state LOST")
+    assert "CAN output lost" in st.reason
+    assert_stopped_in_fault(d, 61)
+    stats = d.bus.wait_stats(lambda s: s.can_link_down >= 1 and s.can_state == 2, timeout=5)
+    assert stats.can_errors >= 1 and stats.can_tx_dropped >= 1
+    time.sleep(0.5 * SLOW)
+    with d.bus.lock:
+        last_before_up = d.bus.setpoints[-1].cycle
+    ip_link("up")
+    wait_status(d.bus, lambda s: s.reason.startswith("can: vcan0 is back"), what="the output back")
+    d.bus.wait(lambda: d.bus.statuses[-1].can_state == 1, what="can_state OK")
+    d.bus.wait_setpoints(30)
+    assert d.stop() == 0
+    # Two runs of bus cycles, each its cycles' setpoints: before the loss,
+    # and after the recovery starting with a cycle computed after it.
+    runs = segments(bus_cycles(recorder.snapshot()))
+    assert len(runs) == 2, f"{len(runs)} runs of consecutive SYNCs, expected 2 (before and after the loss)"
+    before, after = (align(r, setpoints_of(d)) for r in runs)
+    assert after[0] > last_before_up, \
+        f"the first bus cycle after recovery is cycle {after[0]}, computed before it (cycle {last_before_up})"
+    assert after[0] - before[-1] > 10, "a gap while the interface was down"
+    assert_setpoints_unbroken(setpoints_of(d))
+
+
+def test_interface_down_and_up_lcm_only(can_daemon, drives, recorder, link_restored):
+    """on_error = lcm_only: the goal goes on over LCM while the bus is
+    down; the loss and the recovery are reported, no fault."""
+    drives()
+    d = can_daemon(on_error="lcm_only", drive_timeout_ms=0.0)
+    d.bus.send_goal_joint(71, Q_A, vel_scale=0.5, acc_scale=0.5)
+    d.bus.wait(lambda: any(s.state == STATES["MOVING"] for s in d.bus.setpoints[-5:]), what="motion")
+    ip_link("down")
+    wait_status(d.bus, lambda s: s.reason.startswith("can: vcan0 is down") and "lcm_only" in s.reason,
+                what="the loss reported")
+    time.sleep(0.3 * SLOW)
+    ip_link("up")
+    wait_status(d.bus, lambda s: s.reason.startswith("can: vcan0 is back"), what="the output back")
+    st = d.bus.wait_event(71, ["COMPLETED", "ABORTED"], timeout=30)
+    assert st.event == EVENTS["COMPLETED"], st.reason
+    assert not [s for s in statuses(d) if s.event == EVENTS["FAULT"]]
+    assert d.stop() == 0
+    assert_setpoints_unbroken(setpoints_of(d))
+
+
+def test_flood_of_foreign_frames(can_daemon, drives, recorder):
+    """cangen floods the bus with frames of other ids: the daemon filters
+    them in the kernel, the goal completes, every frame of the daemon still
+    matches its setpoint, no fault."""
+    drives()
+    d = can_daemon()
+    flood = subprocess.Popen(["cangen", IFACE, "-g", "0.05", "-I", "7E5", "-L", "8", "-D", "r", "-n", "20000"])
+    try:
+        d.bus.send_goal_joint(81, Q_A, vel_scale=0.5, acc_scale=0.5)
+        st = d.bus.wait_event(81, ["COMPLETED", "ABORTED"], timeout=60)
+        assert st.event == EVENTS["COMPLETED"], st.reason
+    finally:
+        flood.wait(60)
+    assert d.stop() == 0
+    frames = recorder.snapshot()
+    foreign = [f for f in frames if f[1] == 0x7E5]
+    assert len(foreign) > 1000, "the flood reached the bus"
+    assert align(bus_cycles(frames), setpoints_of(d))
+    assert not [s for s in statuses(d) if s.event == EVENTS["FAULT"]]
+    assert_setpoints_unbroken(setpoints_of(d))
+
+
+def test_candump_sees_the_same_frames(can_daemon, drives, recorder, tmp_path):
+    """candump (its receive buffer sized with -r) logs exactly the frames the
+    recorder saw, and kinctl candecode decodes every one with the DBC."""
+    drives()
+    log = tmp_path / "candump.log"
+    with open(log, "w") as f:
+        dump = subprocess.Popen(["candump", "-L", "-r", str(8 << 20), IFACE], stdout=f)
+    try:
+        time.sleep(0.3 * SLOW)
+        d = can_daemon()
+        d.bus.send_goal_joint(91, Q_A, vel_scale=0.5, acc_scale=0.5)
+        assert d.bus.wait_event(91, ["COMPLETED", "ABORTED"], timeout=30).event == EVENTS["COMPLETED"]
+        assert d.stop() == 0
+        time.sleep(0.3 * SLOW)
+    finally:
+        dump.terminate()
+        dump.wait(5)
+    dumped = [l for l in log.read_text().splitlines() if l.strip()]
+    ours = {0x080, 0x700 + MASTER} | {0x200 + n for n in NODES}
+    seen = [(cid, data) for t, cid, data in recorder.snapshot() if cid in ours]
+    logged = []
+    for line in dumped:
+        _, iface, frame = line.split()
+        cid, data = frame.split("#")
+        if int(cid, 16) in ours:
+            logged.append((int(cid, 16), bytes.fromhex(data)))
+    # The recorder started before candump and stopped after it: candump's
+    # frames are a contiguous run of the recorder's.
+    assert len(logged) > 100
+    start = next(i for i in range(len(seen)) if seen[i:i + len(logged)] == logged)
+    assert start is not None
+    r = subprocess.run([sys.executable, "-m", "kinctl", "candecode", "--strict", "--json", str(log)],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    decoded = [json.loads(l) for l in r.stdout.splitlines()]
+    assert len(decoded) == len(dumped)
+    rpdo = next(x for x in decoded if x["id"] == 0x201)
+    assert set(rpdo["signals"]) == {"TargetPosition_607A", "VelocityOffset_60B1"}
