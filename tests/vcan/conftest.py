@@ -144,7 +144,17 @@ class Recorder:
             with self.lock:
                 self.frames.append((time.monotonic(), can_id, bytes(data[:dlc])))
 
-    def snapshot(self):
+    def snapshot(self, quiet_s=0.3, longest_s=5.0):
+        """The frames so far, once no SYNC or RPDO has arrived for quiet_s
+        (the reader may trail the bus; the drives' heartbeats go on), or
+        after longest_s."""
+        n, since, start = -1, time.monotonic(), time.monotonic()
+        while time.monotonic() - since < quiet_s * SLOW and time.monotonic() - start < longest_s * SLOW:
+            with self.lock:
+                m = sum(1 for f in self.frames if f[1] == 0x080 or 0x200 < f[1] < 0x280)
+            if m != n:
+                n, since = m, time.monotonic()
+            time.sleep(0.02)
         with self.lock:
             return list(self.frames)
 

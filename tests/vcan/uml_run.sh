@@ -11,6 +11,7 @@
 #   3. neither: says so loudly and exits 77 (ctest's SKIP_RETURN_CODE).
 #
 #   tests/vcan/uml_run.sh [pytest arguments]     (PYTHON: the interpreter)
+#   tests/vcan/uml_run.sh --exec CMD [ARGS...]   # another command (a benchmark)
 #   KINCTL_VCAN_FORCE_UML=1 tests/vcan/uml_run.sh   # UML even with vcan here
 #
 # Timing inside UML is poor (one virtual CPU, ptrace on every system call):
@@ -18,7 +19,12 @@
 set -u
 here=$(cd "$(dirname "$0")" && pwd)
 python=${PYTHON:-python3}
-pytest_cmd=("$python" -m pytest -q -rs -p no:cacheprovider "$here" "$@")
+if [ "${1:-}" = --exec ]; then
+    shift
+    pytest_cmd=("$@")
+else
+    pytest_cmd=("$python" -m pytest -q -rs -p no:cacheprovider "$here" "$@")
+fi
 
 host_vcan() {
     "$python" - <<'EOF' 2>/dev/null || return 1
@@ -93,5 +99,5 @@ echo "vcan suite: no AF_CAN here; booting User Mode Linux ($(basename "$uml_modu
     umid="kinctl-$$" con=null con0=null,fd:1 quiet </dev/null 2>&1 |
     grep --line-buffered -v -E '^(\s*\[<|Stack:|Call Trace:|epollctl|Checking|Core dump|\s+(soft|hard) - )'
 rc=$(cat "$work/rc")
-echo "vcan suite: User Mode Linux exited, pytest's exit code $rc"
+echo "vcan suite: User Mode Linux exited, the command's exit code $rc"
 exit "$rc"
