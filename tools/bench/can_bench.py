@@ -37,6 +37,7 @@ from kinctl import local
 from kinctl_msgs import goal_joint_t, setpoint_t
 
 SO_TIMESTAMPNS = 35
+SO_RXQ_OVFL = 40
 SO_RCVBUFFORCE = 33
 FRAME = struct.Struct("=IB3x8s")
 
@@ -69,6 +70,8 @@ class Recorder:
         except OSError:
             self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 16 << 20)
         self.sock.setsockopt(socket.SOL_SOCKET, SO_TIMESTAMPNS, 1)
+        self.sock.setsockopt(socket.SOL_SOCKET, SO_RXQ_OVFL, 1)
+        self.lost = 0  # frames the kernel dropped at this reader's full queue
         self.sock.bind((iface,))
         self.sock.settimeout(0.2)
         self.frames = []
@@ -87,6 +90,8 @@ class Recorder:
                 if level == socket.SOL_SOCKET and kind == SO_TIMESTAMPNS:
                     sec, nsec = struct.unpack("qq", raw[:16])
                     ts = sec * 1_000_000_000 + nsec
+                elif level == socket.SOL_SOCKET and kind == SO_RXQ_OVFL:
+                    self.lost = struct.unpack("I", raw[:4])[0]
             can_id, dlc, payload = FRAME.unpack(data)
             self.frames.append((ts, can_id & 0x7FF, payload[:dlc]))
 
@@ -146,7 +151,8 @@ def run_one(kinctld, n, period_us, duration, iface, rt):
     span_s = (frames[-1][0] - frames[0][0]) * 1e-9 if len(frames) > 1 else float("nan")
     m = re.search(r"CAN \S+: frames (\d+), dropped (\d+), errors (\d+).*per bus cycle p50 (\d+) ns, p99 (\d+) ns, "
                   r"max (\d+) ns over (\d+)", err)
-    cycles = int(re.search(r"kinctld: (\d+) cycles", err).group(1))
+    mc = re.search(r"kinctld: (\d+) cycles, (\d+) overruns", err)
+    cycles, overruns = int(mc.group(1)), int(mc.group(2))
     # SYNCs to cycles: in order, each the next cycle, the counter checked.
     syncs = [f for f in frames if f[1] == 0x080]
     first = min(deadlines) if deadlines else None
@@ -161,7 +167,7 @@ def run_one(kinctld, n, period_us, duration, iface, rt):
             if k in deadlines and ts is not None:
                 lat.append(ts / 1000.0 - deadlines[k])  # us
     return {
-        "joints": n, "cycles": cycles, "frames_seen": len(frames), "span_s": span_s,
+        "joints": n, "cycles": cycles, "overruns": overruns, "frames_seen": len(frames), "span_s": span_s,
         "fps": len(frames) / span_s if span_s == span_s and span_s > 0 else float("nan"),
         "expected_fps": (n + 1) * 1e6 / period_us,
         "sent": int(m.group(1)) if m else -1, "dropped": int(m.group(2)) if m else -1,
@@ -170,7 +176,7 @@ def run_one(kinctld, n, period_us, duration, iface, rt):
         "path_p99_us": int(m.group(5)) / 1000 if m else float("nan"),
         "path_max_us": int(m.group(6)) / 1000 if m else float("nan"),
         "lat_p50_us": pct(lat, 0.5), "lat_p99_us": pct(lat, 0.99), "lat_max_us": max(lat) if lat else float("nan"),
-        "lat_n": len(lat), "sync_misaligned": gaps,
+        "lat_n": len(lat), "sync_misaligned": gaps, "reader_lost": rec.lost,
     }
 
 
@@ -190,16 +196,23 @@ def main(argv=None):
             for n in args.joints.split(",")]
     print(f"\nkinctld CAN output on {args.interface}, {1e6 / args.period_us:g} Hz, SYNC every cycle, "
           f"{args.duration:g} s per run")
-    print(f"{'joints':>6} {'frames/s':>10} {'expected':>9} {'sent':>8} {'dropped':>8} "
+    print(f"{'joints':>6} {'cycles':>7} {'overruns':>8} {'frames/cyc':>10} {'frames/s':>9} {'expected':>9} "
+          f"{'sent':>8} {'dropped':>8} "
           f"{'path p50':>9} {'p99':>8} {'max':>8}   {'dl->frame p50':>13} {'p99':>8} {'max':>9}")
     for r in rows:
-        print(f"{r['joints']:>6} {r['fps']:>10.0f} {r['expected_fps']:>9.0f} {r['sent']:>8} {r['dropped']:>8} "
+        print(f"{r['joints']:>6} {r['cycles']:>7} {r['overruns']:>8} {r['frames_seen'] / max(1, r['cycles']):>10.2f} "
+              f"{r['fps']:>9.0f} {r['expected_fps']:>9.0f} {r['sent']:>8} {r['dropped']:>8} "
               f"{r['path_p50_us']:>7.1f}us {r['path_p99_us']:>6.1f}us {r['path_max_us']:>6.1f}us   "
               f"{r['lat_p50_us']:>11.1f}us {r['lat_p99_us']:>6.1f}us {r['lat_max_us']:>7.1f}us")
+    print("frames/s: kinctld's frames seen on the bus over the run; expected: (joints + 1) per cycle at the "
+          "period (a cycle the daemon misses (overruns) sends no frames).")
     print("path: the I/O thread's encode + sendmmsg of one bus cycle (SYNC + RPDOs); the cycle thread does no "
           "CAN work.")
     print("dl->frame: the SYNC's kernel timestamp on the bus minus its cycle's deadline (setpoint_t.utime).")
     for r in rows:
+        if r["reader_lost"]:
+            print(f"{r['joints']} joints: the reader lost {r['reader_lost']} frames at its own full queue (all "
+                  "frames, ours and others'): frames/s is a lower bound there, 'sent' is the daemon's count")
         if r["sync_misaligned"]:
             print(f"{r['joints']} joints: {r['sync_misaligned']} SYNCs out of step with the cycles (frames lost "
                   "or dropped)")
