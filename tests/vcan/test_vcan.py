@@ -4,6 +4,7 @@ each failure's reaction. See conftest.py for the fixtures and checks."""
 import json
 import os
 import re
+import socket
 import struct
 import subprocess
 import sys
@@ -269,6 +270,11 @@ def test_candump_sees_the_same_frames(can_daemon, drives, recorder, tmp_path):
     try:
         time.sleep(0.3 * SLOW)
         d = can_daemon()
+        live = subprocess.run([sys.executable, "-m", "kinctl", "candecode", "--interface", IFACE, "--count", "40",
+                               "--json", "--strict", "--duration", str(20 * SLOW)], capture_output=True, text=True)
+        assert live.returncode == 0, live.stderr
+        names = {json.loads(line)["name"] for line in live.stdout.splitlines()}
+        assert {"SYNC", "RPDO1_Node1", "RPDO1_Node6", "TPDO1_Node1"} <= names, names
         d.bus.send_goal_joint(91, Q_A, vel_scale=0.5, acc_scale=0.5)
         assert d.bus.wait_event(91, ["COMPLETED", "ABORTED"], timeout=30).event == EVENTS["COMPLETED"]
         assert d.stop() == 0
@@ -297,3 +303,33 @@ def test_candump_sees_the_same_frames(can_daemon, drives, recorder, tmp_path):
     assert len(decoded) == len(dumped)
     rpdo = next(x for x in decoded if x["id"] == 0x201)
     assert set(rpdo["signals"]) == {"TargetPosition_607A", "VelocityOffset_60B1"}
+
+
+def test_bus_off_error_frame(can_daemon, drives, recorder):
+    """A bus-off error frame (injected: vcan passes a raw socket's error
+    frames to the sockets that ask for them) is counted and loses the output
+    under on_error = stop: FAULT with a can: reason; the interface being up,
+    the output comes back with fresh setpoints only."""
+    drives()
+    d = can_daemon(on_error="stop", drive_timeout_ms=0.0)
+    d.bus.send_goal_joint(65, Q_A, vel_scale=0.5, acc_scale=0.5)
+    d.bus.wait(lambda: any(s.state == STATES["MOVING"] for s in d.bus.setpoints[-5:]), what="motion")
+    s = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
+    s.bind((IFACE,))
+    with d.bus.lock:
+        cycle_at_bus_off = d.bus.setpoints[-1].cycle
+    s.send(struct.pack("=IB3x8s", 0x20000000 | 0x40, 8, bytes(8)))  # CAN_ERR_FLAG | CAN_ERR_BUSOFF
+    s.close()
+    st = wait_fault(d.bus, "can: vcan0 is bus-off")
+    assert "CAN output lost" in st.reason
+    assert_stopped_in_fault(d, 65)
+    wait_status(d.bus, lambda s: s.reason.startswith("can: vcan0 is back"), what="the output back")
+    stats = d.bus.wait_stats(lambda s: s.can_bus_off == 1 and s.can_state == 1, timeout=5)
+    assert stats.can_error_frames == 1 and stats.can_errors >= 1
+    d.bus.wait_setpoints(30)
+    assert d.stop() == 0
+    runs = segments(bus_cycles(recorder.snapshot()))
+    assert len(runs) == 2, f"{len(runs)} runs of consecutive SYNCs, expected 2 (before and after the bus-off)"
+    before, after = (align(r, setpoints_of(d)) for r in runs)
+    assert before[-1] >= cycle_at_bus_off - 1 and after[0] > before[-1] + 1
+    assert_setpoints_unbroken(setpoints_of(d))
