@@ -317,7 +317,7 @@ static void evaluate(kd_can *c, int64_t now)
 static void following(kd_can *c, int j, double q)
 {
     int64_t k = c->tpdos[j], i, lo, hi;
-    double best = INFINITY;
+    double best = HUGE_VAL;
     if (c->syncs_out - k > KD_CAN_RING / 2 || k >= c->syncs_out)
         k = c->syncs_out - 1; /* behind (lost TPDOs) or ahead (a TPDO before any SYNC) */
     c->tpdos[j] = k + 1;
