@@ -12,8 +12,9 @@ import time
 
 import pytest
 
-from conftest import (EVENTS, IFACE, MASTER, NODES, SCALING, SLOW, STATES, align, assert_setpoints_unbroken,
-                      bus_cycles, counts_to_q, pos_counts, segments, wait_fault, wait_status)
+from conftest import (EVENTS, IFACE, MASTER, NODES, PERIOD_US, SCALING, SLOW, STATES, align,
+                      assert_setpoints_unbroken, bus_cycles, counts_to_q, pos_counts, segments, vel_counts, wait_fault,
+                      wait_status)
 from kinctl import dbc
 
 Q_HOME = [0.0, 0.7854, -3.1416, 0.0, 0.7854, 0.0]
@@ -333,3 +334,33 @@ def test_bus_off_error_frame(can_daemon, drives, recorder):
     before, after = (align(r, setpoints_of(d)) for r in runs)
     assert before[-1] >= cycle_at_bus_off - 1 and after[0] > before[-1] + 1
     assert_setpoints_unbroken(setpoints_of(d))
+
+
+def test_drive_following_error_bit(can_daemon, drives, recorder):
+    """A drive that reports its own following error (statusword bit 13,
+    beyond its window) stops the arm before the daemon's bound is reached."""
+    sim = drives("--window", "200")
+    d = can_daemon()
+    st = run_to_fault(d, "vmax 5 2000", "drive: joint 5 (node 5) reports a following error", sim, goal_id=55)
+    assert "bit 13" in st.reason
+    assert_stopped_in_fault(d, 55)
+    assert d.stop() == 0
+    assert_setpoints_unbroken(setpoints_of(d))
+
+
+def test_sync_every_two_cycles(can_daemon, drives, recorder):
+    """sync_every = 2: a bus cycle (SYNC + RPDOs) every other cycle, the
+    counter counting bus cycles, each RPDO its even cycle's setpoint."""
+    drives("--period-ms", str(2 * PERIOD_US / 1000.0))
+    d = can_daemon(sync_every=2)
+    d.bus.send_goal_joint(95, Q_A, vel_scale=0.5, acc_scale=0.5)
+    assert d.bus.wait_event(95, ["COMPLETED", "ABORTED"], timeout=30).event == EVENTS["COMPLETED"]
+    assert d.stop() == 0
+    cycles = bus_cycles(recorder.snapshot())
+    sps = setpoints_of(d)
+    by_cycle = {sp.cycle: sp for sp in sps}
+    even = [sp.cycle for sp in sps if sp.cycle % 2 == 0]
+    assert len(cycles) == len(even)
+    for (counter, rpdos), k in zip(cycles, even):
+        assert counter == (k // 2) % 240 + 1
+        assert rpdos == [(pos_counts(j, by_cycle[k].q[j]), vel_counts(j, by_cycle[k].qd[j])) for j in range(6)]
