@@ -258,15 +258,16 @@ def expected(sp):
     return [(pos_counts(j, sp.q[j]), vel_counts(j, sp.qd[j])) for j in range(len(NODES))]
 
 
-def align(cycles, setpoints):
+def align(cycles, setpoints, not_before=0):
     """Matches the bus cycles to the setpoints: the first bus cycle to the
-    setpoint whose SYNC counter and every count agree, each next one to the
+    earliest setpoint from cycle not_before on whose SYNC counter and every
+    count agree (an arm at rest repeats its setpoint), each next one to the
     next cycle. Returns the cycle numbers; AssertionError on any mismatch,
     gap or reordering."""
     by_cycle = {sp.cycle: sp for sp in setpoints}
     assert cycles, "no bus cycle recorded"
     counter, rpdos = cycles[0]
-    first = [k for k, sp in by_cycle.items() if k % 240 + 1 == counter and expected(sp) == rpdos]
+    first = [k for k, sp in by_cycle.items() if k >= not_before and k % 240 + 1 == counter and expected(sp) == rpdos]
     assert first, f"no setpoint matches the first bus cycle (counter {counter}, {rpdos})"
     k = min(first)
     out = []

@@ -98,11 +98,17 @@ def test_feedback_closes_the_loop(can_daemon, drives, recorder):
         assert abs(final.q_measured[j] - Q_A[j]) < 2.0 / SCALING[j][0], f"joint {j + 1} at rest on its target"
 
 
+def wait_moving(d):
+    """Until the arm is well under way (a joint faster than 0.05 rad/s)."""
+    d.bus.wait(lambda: any(s.state == STATES["MOVING"] and max(abs(v) for v in s.qd[:6]) > 0.05
+                           for s in d.bus.setpoints[-5:]), what="motion")
+
+
 def run_to_fault(d, drives_cmd, token, sim, goal_id=31):
     """Starts a goal, applies the drive command, waits for the FAULT with
     reason token; returns the fault status."""
     d.bus.send_goal_joint(goal_id, Q_A, vel_scale=0.5, acc_scale=0.5)
-    d.bus.wait(lambda: any(s.state == STATES["MOVING"] for s in d.bus.setpoints[-5:]), what="motion")
+    wait_moving(d)
     if drives_cmd:
         sim.command(drives_cmd)
     return wait_fault(d.bus, token, timeout=15)
@@ -189,7 +195,7 @@ def test_interface_down_and_up_stop(can_daemon, drives, recorder, link_restored)
     sim = drives()
     d = can_daemon(on_error="stop", drive_timeout_ms=0.0)
     d.bus.send_goal_joint(61, Q_A, vel_scale=0.5, acc_scale=0.5)
-    d.bus.wait(lambda: any(s.state == STATES["MOVING"] for s in d.bus.setpoints[-5:]), what="motion")
+    wait_moving(d)
     ip_link("down")
     st = wait_fault(d.bus, "can: vcan0 is down")
     wait_status(d.bus, lambda s: s.can_state == 2, what="a status with can_state LOST")
@@ -197,6 +203,10 @@ def test_interface_down_and_up_stop(can_daemon, drives, recorder, link_restored)
     assert_stopped_in_fault(d, 61)
     stats = d.bus.wait_stats(lambda s: s.can_link_down >= 1 and s.can_state == 2, timeout=5)
     assert stats.can_errors >= 1 and stats.can_tx_dropped >= 1
+    cli = subprocess.run([sys.executable, "-m", "kinctl", "--lcm-url", d.url, "status", "--json"],
+                         capture_output=True, text=True, timeout=30)
+    assert cli.returncode == 0, cli.stderr
+    assert json.loads(cli.stdout)["can"] == "lost" and json.loads(cli.stdout)["state"] == "FAULT"
     time.sleep(0.5 * SLOW)
     with d.bus.lock:
         last_before_up = d.bus.setpoints[-1].cycle
@@ -209,7 +219,8 @@ def test_interface_down_and_up_stop(can_daemon, drives, recorder, link_restored)
     # and after the recovery starting with a cycle computed after it.
     runs = segments(bus_cycles(recorder.snapshot()))
     assert len(runs) == 2, f"{len(runs)} runs of consecutive SYNCs, expected 2 (before and after the loss)"
-    before, after = (align(r, setpoints_of(d)) for r in runs)
+    before = align(runs[0], setpoints_of(d))
+    after = align(runs[1], setpoints_of(d), not_before=before[-1] + 1)
     assert after[0] > last_before_up, \
         f"the first bus cycle after recovery is cycle {after[0]}, computed before it (cycle {last_before_up})"
     assert after[0] - before[-1] > 10, "a gap while the interface was down"
@@ -222,7 +233,7 @@ def test_interface_down_and_up_lcm_only(can_daemon, drives, recorder, link_resto
     drives()
     d = can_daemon(on_error="lcm_only", drive_timeout_ms=0.0)
     d.bus.send_goal_joint(71, Q_A, vel_scale=0.5, acc_scale=0.5)
-    d.bus.wait(lambda: any(s.state == STATES["MOVING"] for s in d.bus.setpoints[-5:]), what="motion")
+    wait_moving(d)
     ip_link("down")
     wait_status(d.bus, lambda s: s.reason.startswith("can: vcan0 is down") and "lcm_only" in s.reason,
                 what="the loss reported")
@@ -314,7 +325,7 @@ def test_bus_off_error_frame(can_daemon, drives, recorder):
     drives()
     d = can_daemon(on_error="stop", drive_timeout_ms=0.0)
     d.bus.send_goal_joint(65, Q_A, vel_scale=0.5, acc_scale=0.5)
-    d.bus.wait(lambda: any(s.state == STATES["MOVING"] for s in d.bus.setpoints[-5:]), what="motion")
+    wait_moving(d)
     s = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
     s.bind((IFACE,))
     with d.bus.lock:
@@ -331,7 +342,8 @@ def test_bus_off_error_frame(can_daemon, drives, recorder):
     assert d.stop() == 0
     runs = segments(bus_cycles(recorder.snapshot()))
     assert len(runs) == 2, f"{len(runs)} runs of consecutive SYNCs, expected 2 (before and after the bus-off)"
-    before, after = (align(r, setpoints_of(d)) for r in runs)
+    before = align(runs[0], setpoints_of(d))
+    after = align(runs[1], setpoints_of(d), not_before=before[-1] + 1)
     assert before[-1] >= cycle_at_bus_off - 1 and after[0] > before[-1] + 1
     assert_setpoints_unbroken(setpoints_of(d))
 

@@ -499,7 +499,8 @@ def status_dict(st, sp):
     d = {"state": state_name(st.state), "cycle": st.cycle, "active_goal_id": st.active_goal_id,
          "progress": st.progress, "queue_length": st.queue_length, "event": event_name(st.event),
          "event_goal_id": st.event_goal_id, "code": st.code, "reason": st.reason,
-         "q": list(st.q_measured[:st.n]), "qd": list(st.qd_measured[:st.n])}
+         "q": list(st.q_measured[:st.n]), "qd": list(st.qd_measured[:st.n]),
+         "can": {0: "off", 1: "ok", 2: "lost"}.get(st.can_state, str(st.can_state))}
     if sp is not None:
         d["setpoint_cycle"] = sp.cycle
         d["position"] = list(sp.position)
@@ -525,6 +526,8 @@ def cmd_status(args):
         _say(f"event     {d['event']} goal {d['event_goal_id']}" + (f": {d['reason']}" if d["reason"] else ""))
     _say(f"q         {_fmt(d['q'], args.deg)} {unit}")
     _say(f"qd        {_fmt(d['qd'], args.deg)} {unit}/s")
+    if d["can"] != "off":
+        _say(f"can       {d['can']}")
     if "position" in d:
         _say(f"tool      {_fmt(d['position'])} m   quat {_fmt(d['orientation'])}")
     return 0
