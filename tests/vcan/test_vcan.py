@@ -376,3 +376,39 @@ def test_sync_every_two_cycles(can_daemon, drives, recorder):
     for (counter, rpdos), k in zip(cycles, even):
         assert counter == (k // 2) % 240 + 1
         assert rpdos == [(pos_counts(j, by_cycle[k].q[j]), vel_counts(j, by_cycle[k].qd[j])) for j in range(6)]
+
+
+@pytest.fixture
+def qdisc_restored(vcan):
+    yield
+    subprocess.run(["tc", "qdisc", "del", "dev", IFACE, "root"], check=False, capture_output=True)
+
+
+def test_enobufs_counted_never_retried(can_daemon, drives, recorder, qdisc_restored):
+    """A queue that drops every frame (pfifo limit 0: each write fails with
+    ENOBUFS): the bus cycles are counted as dropped, the output stays up
+    (no loss, no fault: the next bus cycle is tried afresh), nothing is
+    retried once the queue passes frames again."""
+    drives()
+    d = can_daemon(feedback=False)
+    d.bus.send_goal_joint(97, Q_A, vel_scale=0.3, acc_scale=0.5)
+    wait_moving(d)
+    subprocess.run(["tc", "qdisc", "add", "dev", IFACE, "root", "pfifo", "limit", "0"], check=True)
+    stats = d.bus.wait_stats(lambda s: s.can_tx_dropped >= 50, timeout=10)
+    assert stats.can_state == 1 and stats.can_errors >= stats.can_tx_dropped // 7
+    subprocess.run(["tc", "qdisc", "del", "dev", IFACE, "root"], check=True)
+    st = d.bus.wait_event(97, ["COMPLETED", "ABORTED"], timeout=60)
+    assert st.event == EVENTS["COMPLETED"], st.reason
+    assert d.stop() == 0
+    sent = int(re.search(r"CAN vcan0: frames (\d+), dropped (\d+)", d.stderr).group(1))
+    dropped = int(re.search(r"CAN vcan0: frames (\d+), dropped (\d+)", d.stderr).group(2))
+    frames = recorder.snapshot()
+    ours = [f for f in frames if f[1] == 0x080 or 0x200 < f[1] < 0x280 or f[1] == 0x700 + MASTER]
+    assert len(ours) == sent and dropped >= 50
+    runs = segments(bus_cycles(frames))
+    assert len(runs) == 2, f"{len(runs)} runs of consecutive SYNCs, expected 2"
+    before = align(runs[0], setpoints_of(d))
+    after = align(runs[1], setpoints_of(d), not_before=before[-1] + 1)
+    assert after[0] - before[-1] - 1 >= dropped // 8, "the dropped bus cycles are missing, not sent late"
+    assert not [s for s in statuses(d) if s.event == EVENTS["FAULT"]]
+    assert_setpoints_unbroken(setpoints_of(d))
