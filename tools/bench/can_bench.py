@@ -95,7 +95,13 @@ class Recorder:
             can_id, dlc, payload = FRAME.unpack(data)
             self.frames.append((ts, can_id & 0x7FF, payload[:dlc]))
 
-    def close(self):
+    def close(self, quiet_s=0.5, longest_s=20.0):
+        """Stops once the backlog is read: no frame for quiet_s."""
+        n, since, start = -1, time.monotonic(), time.monotonic()
+        while time.monotonic() - since < quiet_s and time.monotonic() - start < longest_s:
+            if len(self.frames) != n:
+                n, since = len(self.frames), time.monotonic()
+            time.sleep(0.05)
         self.run = False
         self.thread.join(2)
         self.sock.close()
