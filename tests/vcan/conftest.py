@@ -42,6 +42,7 @@ SCALING = [(100000.0, 1, 0), (100000.0, -1, 0), (65536.0, 1, 1000), (50000.0, 1,
            (131072.0, 1, 0)]
 CAN_ERR_FLAG, CAN_EFF_FLAG, CAN_RTR_FLAG = 0x20000000, 0x80000000, 0x40000000
 SO_RCVBUFFORCE = 33
+SO_TIMESTAMPNS = 35
 FRAME = struct.Struct("=IB3x8s")
 
 
@@ -113,7 +114,9 @@ def write_config(path, on_error="stop", feedback=True, following_error=FOLLOWING
 
 
 class Recorder:
-    """Every frame on the interface, (monotonic t, id, data), from a thread."""
+    """Every frame on the interface, (t, id, data), from a thread; t is the
+    kernel's receive timestamp (SO_TIMESTAMPNS, CLOCK_REALTIME, ns): on vcan
+    the moment the frame was sent."""
 
     def __init__(self, iface=IFACE):
         self.sock = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
@@ -121,6 +124,7 @@ class Recorder:
             self.sock.setsockopt(socket.SOL_SOCKET, SO_RCVBUFFORCE, 8 << 20)
         except OSError:
             self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 8 << 20)
+        self.sock.setsockopt(socket.SOL_SOCKET, SO_TIMESTAMPNS, 1)
         self.sock.bind((iface,))
         self.sock.settimeout(0.1)
         self.frames = []
@@ -132,17 +136,22 @@ class Recorder:
     def _loop(self):
         while self.run:
             try:
-                raw = self.sock.recv(16)
+                raw, anc, _, _ = self.sock.recvmsg(16, 64)
             except socket.timeout:
                 continue
             except OSError:
                 time.sleep(0.02)  # the interface is down
                 continue
+            ts = time.time_ns()
+            for level, kind, value in anc:
+                if level == socket.SOL_SOCKET and kind == SO_TIMESTAMPNS:
+                    sec, nsec = struct.unpack("qq", value[:16])
+                    ts = sec * 1_000_000_000 + nsec
             can_id, dlc, data = FRAME.unpack(raw)
             if can_id & (CAN_ERR_FLAG | CAN_EFF_FLAG | CAN_RTR_FLAG):
                 continue
             with self.lock:
-                self.frames.append((time.monotonic(), can_id, bytes(data[:dlc])))
+                self.frames.append((ts, can_id, bytes(data[:dlc])))
 
     def snapshot(self, quiet_s=0.3, longest_s=5.0):
         """The frames so far, once no SYNC or RPDO has arrived for quiet_s
@@ -232,8 +241,8 @@ def daemon_frames(frames):
 
 
 def bus_cycles(frames):
-    """[(sync counter, [(target, velocity) per node])] from kinctld's frames
-    in order; AssertionError when a SYNC is not followed by one RPDO per
+    """[(sync counter, [(target, velocity) per node], SYNC timestamp ns)]
+    from kinctld's frames in order; AssertionError when a SYNC is not followed by one RPDO per
     node in node order."""
     out = []
     seq = [f for f in daemon_frames(frames) if f[1] != 0x700 + MASTER]
@@ -249,7 +258,7 @@ def bus_cycles(frames):
             _, rid, rdata = seq[i + 1 + k]
             assert rid == 0x200 + n, f"after SYNC {i}: 0x{rid:03x} where node {n}'s RPDO was due"
             rpdos.append(struct.unpack("<ii", rdata))
-        out.append((data[0], rpdos))
+        out.append((data[0], rpdos, t))
         i += 1 + len(NODES)
     return out
 
@@ -259,19 +268,22 @@ def expected(sp):
 
 
 def align(cycles, setpoints, not_before=0):
-    """Matches the bus cycles to the setpoints: the first bus cycle to the
-    earliest setpoint from cycle not_before on whose SYNC counter and every
-    count agree (an arm at rest repeats its setpoint), each next one to the
-    next cycle. Returns the cycle numbers; AssertionError on any mismatch,
+    """Matches the bus cycles to the setpoints: the first bus cycle to a
+    setpoint from cycle not_before on whose SYNC counter and every count
+    agree (an arm at rest repeats its setpoint: of those 240 cycles apart,
+    the one whose deadline is nearest the SYNC's time), each next one to
+    the next cycle. Returns the cycle numbers; AssertionError on any mismatch,
     gap or reordering."""
     by_cycle = {sp.cycle: sp for sp in setpoints}
     assert cycles, "no bus cycle recorded"
-    counter, rpdos = cycles[0]
+    counter, rpdos, ts = cycles[0]
     first = [k for k, sp in by_cycle.items() if k >= not_before and k % 240 + 1 == counter and expected(sp) == rpdos]
     assert first, f"no setpoint matches the first bus cycle (counter {counter}, {rpdos})"
-    k = min(first)
+    # Of the cycles that match (240 apart), the one whose deadline is
+    # nearest the SYNC's time on the bus.
+    k = min(first, key=lambda c: abs(by_cycle[c].utime * 1000 - ts))
     out = []
-    for i, (counter, rpdos) in enumerate(cycles):
+    for i, (counter, rpdos, _) in enumerate(cycles):
         assert counter == k % 240 + 1, f"bus cycle {i}: SYNC counter {counter}, cycle {k} wants {k % 240 + 1}"
         if k not in by_cycle:
             break  # past the setpoints recorded

@@ -373,7 +373,7 @@ def test_sync_every_two_cycles(can_daemon, drives, recorder):
     by_cycle = {sp.cycle: sp for sp in sps}
     even = [sp.cycle for sp in sps if sp.cycle % 2 == 0]
     assert len(cycles) == len(even)
-    for (counter, rpdos), k in zip(cycles, even):
+    for (counter, rpdos, _), k in zip(cycles, even):
         assert counter == (k // 2) % 240 + 1
         assert rpdos == [(pos_counts(j, by_cycle[k].q[j]), vel_counts(j, by_cycle[k].qd[j])) for j in range(6)]
 
