@@ -236,6 +236,11 @@ static void defaults(kd_config *cfg)
     cfg->rt_cpu = -1;
     cfg->rt_mlock = 1;
     cfg->plant_lag_s = 0.0;
+    cfg->can.sync_every = 1;
+    cfg->can.master_id = 127;
+    cfg->can.heartbeat_ms = 100.0;
+    cfg->can.on_error_stop = 1;
+    cfg->can.feedback = 0;
 }
 
 /* ---- the controller section -------------------------------------------- */
@@ -251,12 +256,14 @@ typedef struct file_ctrl {
     char url[KD_URL_MAX];
 } file_ctrl;
 
+static int read_can(const char *file, const config_setting_t *g, kd_can_cfg *can);
+
 static int read_controller(const char *file, const config_setting_t *c, kd_config *cfg, file_ctrl *fc)
 {
     static const char *const keys[] = {"period_us", "angles", "home", "vel_scale", "acc_scale", "prefix",
                                        "lcm_url", "queue_size", "servo_timeout_ms", "check_max_s",
                                        "stop_timeout_s", "status_hz", "stats_hz", "overrun", "rt", "plant",
-                                       "cartesian", NULL};
+                                       "cartesian", "can", NULL};
     static const char *const overrun_keys[] = {"missed_cycles", "action", NULL};
     static const char *const rt_keys[] = {"enable", "priority", "cpu", "mlock", NULL};
     static const char *const plant_keys[] = {"lag_s", NULL};
@@ -382,6 +389,9 @@ static int read_controller(const char *file, const config_setting_t *c, kd_confi
             get_number(file, g, "lag_s", "controller.plant", 0.0, 10.0, &cfg->plant_lag_s) != 0)
             return -1;
     }
+    g = get_group(file, c, "can", "controller", &err);
+    if (err || (g != NULL && read_can(file, g, &cfg->can) != 0))
+        return -1;
     g = get_group(file, c, "cartesian", "controller", &err);
     if (err)
         return -1;
@@ -401,6 +411,120 @@ static int read_controller(const char *file, const config_setting_t *c, kd_confi
         cfg->ctrl.cart_omega = (kc_real)omega;
         cfg->ctrl.cart_alpha = (kc_real)alpha;
         cfg->ctrl.track_tol = (kc_real)tol;
+    }
+    return 0;
+}
+
+/* controller.can (config.h). The joints' count and ranges are checked
+ * against the arm in can_check, once the arm is known. */
+static int read_can(const char *file, const config_setting_t *g, kd_can_cfg *can)
+{
+    static const char *const keys[] = {"interface", "sync_every", "master_id", "heartbeat_ms", "on_error",
+                                       "joints", "feedback", NULL};
+    static const char *const joint_keys[] = {"node", "counts_per_unit", "sign", "offset_counts", NULL};
+    static const char *const fb_keys[] = {"enable", "following_error", "drive_timeout_ms", NULL};
+    const config_setting_t *s, *fb;
+    const char *str = "";
+    int err = 0, i, k, n;
+    if (check_keys(file, g, "controller.can", keys) != 0 ||
+        get_string(file, g, "interface", "controller.can", &str, &s) != 0)
+        return -1;
+    if (s != NULL) {
+        if (strlen(str) >= KD_CAN_IFNAME_MAX)
+            return bad(file, s, "controller.can.interface \"%s\" is longer than %d characters", str,
+                       KD_CAN_IFNAME_MAX - 1);
+        snprintf(can->interface, sizeof can->interface, "%s", str);
+        can->enable = str[0] != '\0';
+    }
+    if (get_int(file, g, "sync_every", "controller.can", 1, 1000, &can->sync_every) != 0 ||
+        get_int(file, g, "master_id", "controller.can", 1, 127, &can->master_id) != 0 ||
+        get_number(file, g, "heartbeat_ms", "controller.can", 0.0, 60000.0, &can->heartbeat_ms) != 0 ||
+        get_string(file, g, "on_error", "controller.can", &str, &s) != 0)
+        return -1;
+    if (s != NULL) {
+        if (strcmp(str, "stop") == 0)
+            can->on_error_stop = 1;
+        else if (strcmp(str, "lcm_only") == 0)
+            can->on_error_stop = 0;
+        else
+            return bad(file, s, "controller.can.on_error must be \"stop\" or \"lcm_only\", not \"%s\"", str);
+    }
+    s = config_setting_get_member(g, "joints");
+    if (s != NULL) {
+        n = config_setting_length(s);
+        if (!config_setting_is_aggregate(s) || n < 1 || n > KC_MAX_JOINTS)
+            return bad(file, s, "controller.can.joints must be a list of 1 .. %d groups", KC_MAX_JOINTS);
+        for (i = 0; i < n; i++) {
+            const config_setting_t *e = config_setting_get_elem(s, (unsigned)i);
+            kd_can_joint *jc = &can->joint[i];
+            char where[64];
+            double off = 0.0;
+            snprintf(where, sizeof where, "controller.can.joints[%d]", i);
+            if (!config_setting_is_group(e))
+                return bad(file, e, "%s must be a group { node = ...; counts_per_unit = ...; }", where);
+            if (config_setting_get_member(e, "node") == NULL || config_setting_get_member(e, "counts_per_unit") == NULL)
+                return bad(file, e, "%s needs node and counts_per_unit", where);
+            jc->sign = 1;
+            if (check_keys(file, e, where, joint_keys) != 0 || get_int(file, e, "node", where, 1, 127, &jc->node) != 0 ||
+                get_number(file, e, "counts_per_unit", where, 1e-9, 1e12, &jc->counts_per_unit) != 0 ||
+                get_int(file, e, "sign", where, -1, 1, &jc->sign) != 0 ||
+                get_number(file, e, "offset_counts", where, -2147483647.0, 2147483647.0, &off) != 0)
+                return -1;
+            if (jc->sign == 0)
+                return bad(file, config_setting_get_member(e, "sign"), "%s.sign must be 1 or -1", where);
+            jc->offset_counts = (int64_t)llround(off);
+            for (k = 0; k < i; k++)
+                if (can->joint[k].node == jc->node)
+                    return bad(file, e, "%s.node = %d is also joint %d's", where, jc->node, k + 1);
+        }
+        can->n_joints = n;
+    }
+    fb = get_group(file, g, "feedback", "controller.can", &err);
+    if (err)
+        return -1;
+    if (fb != NULL) {
+        if (check_keys(file, fb, "controller.can.feedback", fb_keys) != 0 ||
+            get_bool(file, fb, "enable", "controller.can.feedback", &can->feedback) != 0 ||
+            get_number(file, fb, "following_error", "controller.can.feedback", 0.0, 1e6, &can->following_error) != 0 ||
+            get_number(file, fb, "drive_timeout_ms", "controller.can.feedback", 0.0, 60000.0,
+                       &can->drive_timeout_ms) != 0)
+            return -1;
+    }
+    return 0;
+}
+
+/* The CAN section against the arm: one drive per joint, node ids apart
+ * from the master's, and every position and velocity inside int32 counts. */
+static int can_check(const char *path, kd_config *cfg)
+{
+    const kd_can_cfg *can = &cfg->can;
+    const char *f = path != NULL ? path : "kinctld";
+    int j;
+    if (!can->enable)
+        return 0;
+    if (can->n_joints != cfg->chain.n_joints) {
+        fprintf(stderr, "%s: controller.can.joints has %d drives, the arm \"%s\" has %d joints\n", f, can->n_joints,
+                cfg->robot_name, cfg->chain.n_joints);
+        return -1;
+    }
+    for (j = 0; j < can->n_joints; j++) {
+        const kd_can_joint *jc = &can->joint[j];
+        const kc_joint_limits *l = &cfg->chain.joints[j].limits;
+        double reach = fmax(fabs((double)l->q_min), fabs((double)l->q_max)) * jc->counts_per_unit +
+                       fabs((double)jc->offset_counts);
+        double vel = (double)l->qd_max * jc->counts_per_unit;
+        if (jc->node == can->master_id) {
+            fprintf(stderr, "%s: controller.can.joints[%d].node = %d is the master's id (master_id)\n", f, j,
+                    jc->node);
+            return -1;
+        }
+        if (!(reach < 2147483647.0) || !(vel < 2147483647.0)) {
+            fprintf(stderr,
+                    "%s: controller.can.joints[%d]: joint %d's range [%.6g, %.6g] or speed %.6g at %.6g counts per "
+                    "unit does not fit int32 counts\n",
+                    f, j, j + 1, (double)l->q_min, (double)l->q_max, (double)l->qd_max, jc->counts_per_unit);
+            return -1;
+        }
     }
     return 0;
 }
@@ -489,7 +613,8 @@ static void usage(FILE *out)
             "  -h, --help            this text\n"
             "\n"
             "Channels: <prefix>GOAL_JOINT GOAL_LINE GOAL_ARC GOAL_PATH GOAL_SERVO COMMAND\n"
-            "(in), <prefix>SETPOINT STATUS STATS (out).\n"
+            "(in), <prefix>SETPOINT STATUS STATS (out). Setpoints to drives over SocketCAN\n"
+            "(CiA 402 cyclic synchronous position): the controller.can section.\n"
             "\n"
             "Example:\n"
             "  kinctld --model panda --period-us 500 --lcm-url 'udpm://239.255.76.67:7667?ttl=0' --no-rt\n"
@@ -677,6 +802,9 @@ kd_config_result kd_config_load(kd_config *cfg, int argc, char **argv)
         default_home(&cfg->chain, cfg->home);
     }
 
+    if (can_check(config_path, cfg) != 0)
+        return KD_CONFIG_ERROR;
+
     /* The controller's configuration, checked by the core itself. */
     cfg->ctrl.dt = (kc_real)((double)cfg->period_ns * 1e-9);
     cfg->ctrl.servo_timeout_ticks = (int64_t)ceil(cfg->servo_timeout_s / ((double)cfg->period_ns * 1e-9));
@@ -703,9 +831,9 @@ void kd_config_describe(const kd_config *cfg, char *buf, int size)
         return;
     snprintf(buf, (size_t)size,
              "robot %s (%d joints%s), period %lld us, channels %s*, LCM %s (%s), queue %d, overrun policy %s, "
-             "rt %s, plant lag %g s",
+             "rt %s, plant lag %g s, CAN %s",
              cfg->robot_name, cfg->chain.n_joints, cfg->config_path[0] ? ", from the config file" : ", built-in",
              (long long)(cfg->period_ns / 1000), cfg->prefix, cfg->lcm_url, cfg->lcm_url_source, cfg->queue_size,
              cfg->overrun_missed > 0 ? (cfg->overrun_action == KC_CMD_ESTOP ? "estop" : "stop") : "off",
-             cfg->rt_enable ? "on" : "off", cfg->plant_lag_s);
+             cfg->rt_enable ? "on" : "off", cfg->plant_lag_s, cfg->can.enable ? cfg->can.interface : "off");
 }

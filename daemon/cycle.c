@@ -35,6 +35,7 @@ int kd_cycle_init(kd_cycle *c, const kd_config *cfg, kc_ctrl *ctrl, kc_goal *goa
     if (kd_plant_init(&c->plant, cfg->chain.n_joints, cfg->home, (double)cfg->period_ns * 1e-9, cfg->plant_lag_s) != 0)
         return -1;
     atomic_init(&c->servo_deadline_ns, 0);
+    atomic_init(&c->ext_fault, 0);
     atomic_init(&c->cycles, 0);
     atomic_init(&c->overruns, 0);
     atomic_init(&c->ticks_dropped, 0);
@@ -97,6 +98,7 @@ static void tick(kd_cycle *c, int64_t deadline_ns, int64_t consecutive_missed, i
         *policy_latched = 0;
     servo_deadline = atomic_load_explicit(&c->servo_deadline_ns, memory_order_acquire);
     in.servo_stale = servo_deadline != 0 && deadline_ns > servo_deadline;
+    in.fault = (kc_ctrl_reason)atomic_exchange_explicit(&c->ext_fault, 0, memory_order_acq_rel);
 
     /* Read before the slot goes back to the I/O thread. */
     t->in_goal_id = goal != NULL ? goal->id : 0;

@@ -81,6 +81,10 @@ typedef struct kd_cycle {
      * written by the I/O thread at each servo message's receipt. */
     atomic_llong servo_deadline_ns;
 
+    /* An external fault the I/O thread raises (a kc_ctrl_reason; 0: none),
+     * taken by the next tick as kc_ctrl_input.fault. */
+    atomic_int ext_fault;
+
     /* Counters (written by the cycle, read anywhere). */
     atomic_llong cycles;        /* ticks executed */
     atomic_llong overruns;      /* deadlines missed */

@@ -27,6 +27,9 @@ const char *kd_reason_token(kc_ctrl_reason reason)
     case KC_REASON_DUPLICATE_ID: return "duplicate_id";
     case (int)KD_REASON_OVERRUN: return "overrun";
     case (int)KD_REASON_SHUTDOWN: return "shutdown";
+    case KC_REASON_EXTERNAL: return "external";
+    case (int)KD_REASON_DRIVE: return "drive";
+    case (int)KD_REASON_CAN: return "can";
     default: return "unknown";
     }
 }
@@ -46,7 +49,10 @@ kc_status kd_reason_code(kc_ctrl_reason reason)
     case KC_REASON_STATE:
     case KC_REASON_SERVO_TIMEOUT:
     case (int)KD_REASON_OVERRUN:
-    case (int)KD_REASON_SHUTDOWN: return KC_E_STATE;
+    case (int)KD_REASON_SHUTDOWN:
+    case KC_REASON_EXTERNAL:
+    case (int)KD_REASON_DRIVE:
+    case (int)KD_REASON_CAN: return KC_E_STATE;
     default: return KC_E_ARG;
     }
 }

@@ -5,7 +5,8 @@
  *   code    a kc_status (negative), kd_reason_code() of the reason;
  *   reason  "<token>: <readable detail>", the token one of
  *           bad_goal joint_count joint_limit queue_full state plan
- *           unreachable tracking limit_guard servo_timeout overrun shutdown
+ *           unreachable tracking limit_guard servo_timeout external overrun
+ *           shutdown drive can
  *           (kd_reason_token), so that tools can match it and people read it:
  *           "joint_count: goal_joint_t.n = 5, the arm has 6 joints".
  *
@@ -29,6 +30,8 @@
 /* Daemon-side reasons beyond kc_ctrl_reason. */
 #define KD_REASON_OVERRUN ((kc_ctrl_reason)(KC_REASON_COUNT + 1))
 #define KD_REASON_SHUTDOWN ((kc_ctrl_reason)(KC_REASON_COUNT + 2))
+#define KD_REASON_DRIVE ((kc_ctrl_reason)(KC_REASON_COUNT + 3))   /* a drive on CAN: fault, silent, lagging */
+#define KD_REASON_CAN ((kc_ctrl_reason)(KC_REASON_COUNT + 4))     /* the CAN bus: bus-off, interface down */
 
 typedef struct kd_reject {
     kc_ctrl_reason reason;

@@ -89,11 +89,19 @@ static void publish_status(kd_io *io, int8_t event, int64_t goal_id, kc_status c
             st->q_measured[j] = (double)io->last.q_meas[j];
             st->qd_measured[j] = (double)io->last.qd_meas[j];
         }
+        /* With drive feedback, the arm is measured by its drives. */
+        for (j = 0; j < n && io->cfg->can.feedback; j++) {
+            if (io->can.have_fb[j]) {
+                st->q_measured[j] = io->can.q_fb[j];
+                st->qd_measured[j] = io->can.qd_fb[j];
+            }
+        }
     } else {
         st->state = KINCTL_STATUS_T_IDLE;
         for (j = 0; j < n; j++)
             st->q_measured[j] = (double)io->cfg->home[j];
     }
+    st->can_state = (int8_t)io->can.state;
     st->event = event;
     st->event_goal_id = goal_id;
     st->code = (int32_t)code;
@@ -128,8 +136,14 @@ static void publish_stats(kd_io *io, const kd_cycle_stats *cs)
     s->msgs_dropped = io->msgs_dropped + atomic_load(&io->cycle->ticks_dropped) +
                       atomic_load(&io->cycle->events_dropped);
     s->rejections = io->rejections;
-    s->can_frames = 0;
-    s->can_errors = 0;
+    s->can_frames = io->can.frames;
+    s->can_errors = io->can.errors;
+    s->can_state = (int8_t)io->can.state;
+    s->can_tx_dropped = io->can.tx_dropped;
+    s->can_error_frames = io->can.error_frames;
+    s->can_bus_off = io->can.bus_off;
+    s->can_link_down = io->can.link_down;
+    s->can_rx_frames = io->can.rx_frames;
     /* Counted before it goes out, so that it counts itself. */
     s->msgs_out = io->msgs_out + 1;
     publish(io, KD_MSG_STATS, s);
@@ -158,7 +172,9 @@ static void publish_event(kd_io *io, const kc_ctrl_event *e)
     if (e->kind == KC_EVENT_REJECTED || e->kind == KC_EVENT_ABORTED || e->kind == KC_EVENT_FAULT) {
         if (e->kind == KC_EVENT_REJECTED)
             io->rejections++;
-        if (e->kind == KC_EVENT_FAULT || e->reason == KC_REASON_TRACKING)
+        if (e->reason == KC_REASON_EXTERNAL)
+            kd_reject_set(&rej, io->ext_reason, "%s", io->ext_text);
+        else if (e->kind == KC_EVENT_FAULT || e->reason == KC_REASON_TRACKING)
             kd_reject_set(&rej, e->reason, "%s (at %.6g)", kc_ctrl_reason_str(e->reason), (double)e->where);
         else
             kd_reject_set(&rej, e->reason, "%s", kc_ctrl_reason_str(e->reason));
@@ -200,6 +216,7 @@ static void drain_ticks(kd_io *io)
         kd_spsc_release(&io->cycle->ticks);
         t = &io->last;
         publish_setpoint(io, t);
+        kd_can_send(&io->can, t->out.cycle, t->out.q, t->out.qd);
         for (i = 0; i < t->out.n_events && i < KC_CTRL_EVENTS_MAX; i++)
             publish_event(io, &t->out.events[i]);
         if (t->policy_cmd != KC_CMD_NONE) {
@@ -340,6 +357,49 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel, void *us
         handle_goal(io, sub->type, received_ns);
 }
 
+/* ---- CAN --------------------------------------------------------------- */
+
+/* Feedback in, timers, a lost or recovered bus told in a status, and a
+ * drive or bus condition raised as the controller's external fault. */
+static void can_step(kd_io *io)
+{
+    kd_can *c = &io->can;
+    int64_t now;
+    kc_ctrl_state s;
+    kd_reject rej;
+    if (c->state == KD_CAN_OFF)
+        return;
+    now = kd_now_ns();
+    kd_can_receive(c, now);
+    kd_can_timers(c, now);
+    if (c->state_changed) {
+        c->state_changed = 0;
+        if (c->state == KD_CAN_LOST)
+            kd_reject_set(&rej, KD_REASON_CAN, "%s (%s)", c->lost_text,
+                          io->cfg->can.on_error_stop ? "on_error = stop: the arm stops" : "on_error = lcm_only");
+        else
+            kd_reject_set(&rej, KD_REASON_CAN, "%s is back: CAN output resumed", io->cfg->can.interface);
+        fprintf(stderr, "kinctld: %s\n", rej.text);
+        publish_status(io, KINCTL_STATUS_T_NONE, 0, KC_OK, rej.text);
+    }
+    if (!io->have_last)
+        return;
+    s = io->last.out.state;
+    /* Raised once; raised again when the controller has left FAULT (RESET)
+     * while the condition lasts. */
+    if (io->ext_raised && io->last.out.cycle > io->ext_raised_cycle + 1 && s != KC_CTRL_FAULT &&
+        s != KC_CTRL_ESTOP && s != KC_CTRL_STOPPING)
+        io->ext_raised = 0;
+    if (kd_can_condition(c) != KD_CAN_COND_NONE && !io->ext_raised && s != KC_CTRL_FAULT && s != KC_CTRL_ESTOP) {
+        io->ext_reason = kd_can_condition(c) == KD_CAN_COND_BUS ? KD_REASON_CAN : KD_REASON_DRIVE;
+        snprintf(io->ext_text, sizeof io->ext_text, "%s", c->condition_text);
+        io->ext_raised = 1;
+        io->ext_raised_cycle = io->last.out.cycle;
+        atomic_store_explicit(&io->cycle->ext_fault, (int)KC_REASON_EXTERNAL, memory_order_release);
+        fprintf(stderr, "kinctld: %s: %s: stopping the arm\n", kd_reason_token(io->ext_reason), io->ext_text);
+    }
+}
+
 /* ---- the thread -------------------------------------------------------- */
 
 static void shutdown_step(kd_io *io)
@@ -403,6 +463,7 @@ static void *io_main(void *arg)
     while (atomic_load(&io->run)) {
         int burst;
         drain_ticks(io);
+        can_step(io);
         shutdown_step(io);
         timers(io);
         pfd.revents = 0;
@@ -477,8 +538,11 @@ int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_ctrl *scratc
                  KD_LCM_RECV_BUF);
     else
         snprintf(url, sizeof url, "%s", cfg->lcm_url);
+    if (kd_can_open(&io->can, &cfg->can, n, cfg->period_ns, kd_now_ns()) != 0)
+        return -1;
     io->lcm = lcm_create(url);
     if (io->lcm == NULL) {
+        kd_can_close(&io->can);
         fprintf(stderr, "kinctld: cannot open LCM on \"%s\" (%s): check the URL and the network (multicast route)\n",
                 cfg->lcm_url, cfg->lcm_url_source);
         return -1;
@@ -495,6 +559,7 @@ int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_ctrl *scratc
             s = lcm_subscribe(io->lcm, re, on_message, &io->subs[t]);
             if (s == NULL) {
                 fprintf(stderr, "kinctld: cannot subscribe to %s\n", io->channel[t]);
+                kd_can_close(&io->can);
                 lcm_destroy(io->lcm);
                 io->lcm = NULL;
                 return -1;
@@ -544,6 +609,7 @@ void kd_io_stop(kd_io *io)
 
 void kd_io_destroy(kd_io *io)
 {
+    kd_can_close(&io->can);
     if (io->lcm != NULL)
         lcm_destroy(io->lcm);
     io->lcm = NULL;
@@ -565,4 +631,14 @@ void kd_io_summary(const kd_io *io, char *buf, int size)
         if (io->invalid_by[k] > 0)
             o += snprintf(buf + o, (size_t)(size - o), ", %s %lld", kd_msg_status_str((kd_msg_status)(-k)),
                           (long long)io->invalid_by[k]);
+    if (io->can.state != KD_CAN_OFF && o > 0 && o < size)
+        snprintf(buf + o, (size_t)(size - o),
+                 "; CAN %s: frames %lld, dropped %lld, errors %lld, error frames %lld, bus-off %lld, link down %lld, "
+                 "received %lld; per bus cycle p50 %lld ns, p99 %lld ns, max %lld ns over %lld",
+                 io->cfg->can.interface, (long long)io->can.frames, (long long)io->can.tx_dropped,
+                 (long long)io->can.errors, (long long)io->can.error_frames, (long long)io->can.bus_off,
+                 (long long)io->can.link_down, (long long)io->can.rx_frames,
+                 (long long)kd_hist_percentile(&io->can.send_ns, 0.50),
+                 (long long)kd_hist_percentile(&io->can.send_ns, 0.99), (long long)io->can.send_ns.max,
+                 (long long)io->can.send_ns.count);
 }

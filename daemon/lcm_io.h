@@ -23,6 +23,13 @@
  *                     (event NONE, reason "shutdown: ...")
  *   <prefix>STATS     stats_t at stats_hz
  *
+ * CAN (optional, can_io.h): each tick's setpoint also goes out as a bus
+ * cycle; the CAN socket is drained on every pass of the loop; a drive or
+ * bus condition is raised as the controller's external fault (cycle.h
+ * ext_fault), again after a RESET while it lasts, and its text becomes the
+ * FAULT's reason ("drive: ...", "can: ..."). With feedback on, status_t's
+ * measured joints are the drives'.
+ *
  * The loop: drain the tick ring and publish, then wait on LCM's file
  * descriptor for at most one period and dispatch with lcm_handle_timeout.
  */
@@ -35,6 +42,7 @@
 
 #include <lcm/lcm.h>
 
+#include "can_io.h"
 #include "config.h"
 #include "cycle.h"
 #include "goal.h"
@@ -85,6 +93,13 @@ struct kd_io {
     kinctl_stats_t stats;
     char reason[KD_MSG_STATUS_REASON_MAX + 1];
     unsigned char buf[KD_MSG_MAX_SIZE];
+
+    /* CAN output, and the external fault raised from it. */
+    kd_can can;
+    int ext_raised;
+    int64_t ext_raised_cycle;
+    kc_ctrl_reason ext_reason;
+    char ext_text[KD_CAN_TEXT];
 
     int64_t next_status_ns, next_stats_ns, status_period_ns, stats_period_ns;
     int stats_due;

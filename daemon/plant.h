@@ -5,8 +5,9 @@
  * the exact discretisation of tau q_m' = q_c - q_m for a command held over
  * each tick, qd_m then the measured position's difference over the tick
  * (without lag, qd_m is the commanded qd).
- * A driver for real drives (CAN, issue 6) takes its place behind the same
- * two calls. kd_plant_step is bounded arithmetic: safe for the cycle.
+ * With the CAN output's drive feedback on (can_io.h), status_t reports the
+ * drives' positions instead; the plant still gives the tick's measured
+ * state. kd_plant_step is bounded arithmetic: safe for the cycle.
  */
 #ifndef KINCTL_DAEMON_PLANT_H
 #define KINCTL_DAEMON_PLANT_H

@@ -15,10 +15,13 @@ say() { printf '\033[1m[setup]\033[0m %s\n' "$*"; }
 # message jar for lcm-spy); libglib2.0-dev because kinctld links the wheel's
 # static liblcm, whose GLib is found with pkg-config; stress-ng loads the CPUs in
 # the fault-injection tests; ffmpeg for `kinctl view --save FILE.mp4`, xvfb (and
-# xauth for xvfb-run) to test its live window.
+# xauth for xvfb-run) to test its live window. The vcan suite: can-utils
+# (candump, cangen), and User Mode Linux with kmod (insmod) for a kernel with
+# vcan where the host's has no AF_CAN (tests/vcan/uml_run.sh).
 apt_packages=(build-essential cmake ninja-build clang pkg-config python3 python3-venv
               libcmocka-dev libconfig-dev libjansson-dev libglib2.0-0 default-jdk-headless
-              libglib2.0-dev stress-ng ffmpeg xvfb xauth)
+              libglib2.0-dev stress-ng ffmpeg xvfb xauth
+              can-utils user-mode-linux kmod)
 missing=()
 for p in "${apt_packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

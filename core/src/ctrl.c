@@ -83,6 +83,7 @@ const char *kc_ctrl_reason_str(kc_ctrl_reason reason)
     case KC_REASON_LIMIT_GUARD: return "a setpoint failed the final limit check";
     case KC_REASON_SERVO_TIMEOUT: return "the servo stream went quiet";
     case KC_REASON_DUPLICATE_ID: return "a goal with this id is already active or queued";
+    case KC_REASON_EXTERNAL: return "an external device (a drive, the field bus) reported a fault";
     case KC_REASON_COUNT: break;
     }
     return "unknown reason";
@@ -1074,6 +1075,11 @@ kc_status kc_ctrl_step(kc_ctrl *c, const kc_ctrl_input *in, kc_ctrl_output *out)
     c->cycle++;
 
     command(c, in->command, out);
+    /* An external fault: the hardware may not follow a path stop, so stop
+     * in joint space, as fast as the limits allow. */
+    if (in->fault != KC_REASON_NONE && c->fault_reason == KC_REASON_NONE && c->state != KC_CTRL_FAULT &&
+        c->state != KC_CTRL_ESTOP)
+        fault(c, in->fault, KC_R(0.0), 0, out);
     if (in->goal != NULL)
         take_goal(c, in->goal, out);
     if (c->active && c->goal.kind == KC_GOAL_SERVO && c->state == KC_CTRL_MOVING &&
@@ -1219,7 +1225,7 @@ kc_status kc_ctrl_check(kc_ctrl *scratch, const kc_chain *chain, const kc_ctrl_c
     }
     kc_goal g = *goal;
     g.replace = 0;
-    kc_ctrl_input in = {&g, KC_CMD_NONE, 0};
+    kc_ctrl_input in = {&g, KC_CMD_NONE, 0, KC_REASON_NONE};
     kc_ctrl_output out;
     for (int64_t k = 0; k < max_ticks; k++) {
         kc_ctrl_step(scratch, &in, &out);

@@ -1,5 +1,6 @@
 /* fuzz_ctrl.c - the planner and controller step: random sequences of goals
  * (finite and not), commands and ticks through kc_ctrl_step on puma560.
+ * External faults (a drive, the bus) come now and then too.
  * Invariants, every tick: the step succeeds; every setpoint is finite,
  * inside the position limits, within the velocity limits, and its velocity
  * changes by at most qdd_max dt (the slack of ctrl.h's final check). Every
@@ -164,7 +165,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     for (int tick = 0; tick < MAX_TICKS && in.n > 0;) {
         unsigned op = byte(&in);
         int run = (int)(op & 0x3f) + 1; /* ticks until the next record */
-        kc_ctrl_input step = {NULL, (kc_ctrl_command)((op >> 6) == 3 ? byte(&in) % 7 : 0), (int)(op >> 6 == 2)};
+        kc_ctrl_input step = {NULL, KC_CMD_NONE, (int)(op >> 6 == 2), KC_REASON_NONE};
+        if ((op >> 6) == 3) {
+            unsigned c = byte(&in);
+            step.command = (kc_ctrl_command)(c % 7);
+            if (c >= 0xf0) /* now and then a drive or the bus reports a fault */
+                step.fault = KC_REASON_EXTERNAL;
+        }
         int64_t given = 0, update_of = 0;
         if ((op >> 6) & 1 && n_goals < MAX_GOALS) {
             /* An update of the active servo (with no command in the same
@@ -240,6 +247,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             FUZZ_CHECK(kc_pose_isfinite(&out.pose), "pose not finite");
             step.goal = NULL;
             step.command = KC_CMD_NONE;
+            step.fault = KC_REASON_NONE;
             given = update_of = 0;
         }
     }

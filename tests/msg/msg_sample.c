@@ -170,6 +170,7 @@ void msg_sample(kd_msg_type type, uint32_t seed, kd_msg_any *m, char *reason_buf
         p->n = pick(s, 0, KINCTL_STATUS_T_MAX_JOINTS);
         fill(s, p->q_measured, KINCTL_STATUS_T_MAX_JOINTS, -6.5, 6.5);
         fill(s, p->qd_measured, KINCTL_STATUS_T_MAX_JOINTS, -3.0, 3.0);
+        p->can_state = (int8_t)pick(s, KINCTL_STATUS_T_CAN_OFF, KINCTL_STATUS_T_CAN_LOST);
         break;
     }
     case KD_MSG_STATS: {
@@ -192,6 +193,12 @@ void msg_sample(kd_msg_type type, uint32_t seed, kd_msg_any *m, char *reason_buf
         p->rejections = big(s);
         p->can_frames = big(s);
         p->can_errors = big(s);
+        p->can_state = (int8_t)pick(s, KINCTL_STATUS_T_CAN_OFF, KINCTL_STATUS_T_CAN_LOST);
+        p->can_tx_dropped = big(s);
+        p->can_error_frames = big(s);
+        p->can_bus_off = big(s);
+        p->can_link_down = big(s);
+        p->can_rx_frames = big(s);
         break;
     }
     case KD_MSG_TYPE_COUNT: break;

@@ -123,6 +123,7 @@ static void print_json(kd_msg_type t, const kd_msg_any *m)
         printf("\", ");
         pi("n", p->n); pd("q_measured", p->q_measured, 16, 1);
         pd("qd_measured", p->qd_measured, 16, 1);
+        pi("can_state", p->can_state);
         break;
     }
     case KD_MSG_STATS: {
@@ -135,7 +136,10 @@ static void print_json(kd_msg_type t, const kd_msg_any *m)
         pi("msgs_in", p->msgs_in); pi("msgs_invalid", p->msgs_invalid);
         pi("msgs_out", p->msgs_out); pi("msgs_dropped", p->msgs_dropped);
         pi("rejections", p->rejections); pi("can_frames", p->can_frames);
-        pi("can_errors", p->can_errors);
+        pi("can_errors", p->can_errors); pi("can_state", p->can_state);
+        pi("can_tx_dropped", p->can_tx_dropped); pi("can_error_frames", p->can_error_frames);
+        pi("can_bus_off", p->can_bus_off); pi("can_link_down", p->can_link_down);
+        pi("can_rx_frames", p->can_rx_frames);
         break;
     }
     case KD_MSG_TYPE_COUNT: break;

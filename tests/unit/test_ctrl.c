@@ -43,10 +43,10 @@ static void setup(kc_model model, const kc_real *q0)
 
 static const kc_real PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
 
-/* One tick with the invariants checked. */
-static void tick(const kc_goal *g, kc_ctrl_command cmd)
+/* One tick with the invariants checked, with an external fault input. */
+static void tick_fault(const kc_goal *g, kc_ctrl_command cmd, kc_ctrl_reason fault)
 {
-    kc_ctrl_input in = {g, cmd, 0};
+    kc_ctrl_input in = {g, cmd, 0, fault};
     assert_int_equal(kc_ctrl_step(&H.ctrl, &in, &H.out), KC_OK);
     assert_true(H.out.cycle == H.last_cycle + 1);
     H.last_cycle = H.out.cycle;
@@ -70,6 +70,8 @@ static void tick(const kc_goal *g, kc_ctrl_command cmd)
         H.last[ev->kind] = *ev;
     }
 }
+
+static void tick(const kc_goal *g, kc_ctrl_command cmd) { tick_fault(g, cmd, KC_REASON_NONE); }
 
 /* Ticks without input until the controller is idle (or in state), at most
  * max ticks; returns the ticks taken. */
@@ -509,6 +511,52 @@ static void test_estop_and_reset(void **state)
     assert_int_equal(H.last[KC_EVENT_COMPLETED].goal_id, 42);
 }
 
+/* An external fault (a drive) in the middle of a joint move: FAULT and
+ * ABORTED at once, a joint-space stop no longer than the slowest joint's
+ * own braking time qd / qdd_max, latched in FAULT until RESET, goals
+ * refused meanwhile; a second report while faulted adds nothing. */
+static void test_external_fault(void **state)
+{
+    (void)state;
+    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    kc_real a[6];
+    for (int j = 0; j < 6; j++)
+        a[j] = PUMA_Q0[j] + KC_R(0.5);
+    kc_goal g = joint_goal(61, a);
+    tick(&g, KC_CMD_NONE);
+    for (int k = 0; k < 300; k++)
+        tick(NULL, KC_CMD_NONE);
+    double t_brake = 0.0;
+    for (int j = 0; j < 6; j++)
+        t_brake = fmax(t_brake, fabs((double)H.out.qd[j]) / (double)H.chain.joints[j].limits.qdd_max);
+    assert_true(t_brake > 0.01); /* moving */
+    tick_fault(NULL, KC_CMD_NONE, KC_REASON_EXTERNAL);
+    assert_int_equal(H.count[KC_EVENT_FAULT], 1);
+    assert_int_equal(H.last[KC_EVENT_FAULT].reason, KC_REASON_EXTERNAL);
+    assert_int_equal(H.last[KC_EVENT_FAULT].goal_id, 61);
+    assert_int_equal(H.last[KC_EVENT_ABORTED].goal_id, 61);
+    assert_int_equal(H.out.state, KC_CTRL_STOPPING);
+    int ticks = 1;
+    while (H.out.state != KC_CTRL_FAULT && ticks < 5000) {
+        tick_fault(NULL, KC_CMD_NONE, ticks % 2 ? KC_REASON_EXTERNAL : KC_REASON_NONE);
+        ticks++;
+    }
+    assert_int_equal(H.out.state, KC_CTRL_FAULT);
+    assert_true(ticks <= (int)(t_brake / (double)H.cfg.dt) + 2);
+    for (int j = 0; j < 6; j++)
+        kt_near((double)H.out.qd[j], 0.0, 0.0, "at rest after the external fault");
+    tick_fault(NULL, KC_CMD_NONE, KC_REASON_EXTERNAL);
+    assert_int_equal(H.count[KC_EVENT_FAULT], 1);
+    kc_goal g2 = joint_goal(62, PUMA_Q0);
+    tick(&g2, KC_CMD_NONE);
+    assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_STATE);
+    tick(NULL, KC_CMD_RESET);
+    assert_int_equal(H.out.state, KC_CTRL_IDLE);
+    tick(&g2, KC_CMD_NONE);
+    run_until_state(KC_CTRL_IDLE, 20000);
+    assert_int_equal(H.last[KC_EVENT_COMPLETED].goal_id, 62);
+}
+
 static void test_rejections(void **state)
 {
     (void)state;
@@ -721,6 +769,7 @@ int main(void)
         cmocka_unit_test(test_joint_goal),        cmocka_unit_test(test_line_goal),
         cmocka_unit_test(test_arc_and_paths),     cmocka_unit_test(test_queue_and_preemption),
         cmocka_unit_test(test_stop_pause_resume), cmocka_unit_test(test_estop_and_reset),
+        cmocka_unit_test(test_external_fault),
         cmocka_unit_test(test_rejections),        cmocka_unit_test(test_servo),
         cmocka_unit_test(test_dry_run),           cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_path_pause_stop),   cmocka_unit_test(test_lagrange_path),

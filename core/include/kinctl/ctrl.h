@@ -161,6 +161,7 @@ typedef enum kc_ctrl_reason {
     KC_REASON_LIMIT_GUARD,   /* fault: a setpoint failed the final check */
     KC_REASON_SERVO_TIMEOUT, /* the servo stream went quiet: stopped */
     KC_REASON_DUPLICATE_ID,  /* a goal with this id is active or queued */
+    KC_REASON_EXTERNAL,      /* fault: the caller reported one (a drive, the field bus) */
     KC_REASON_COUNT
 } kc_ctrl_reason;
 
@@ -203,6 +204,12 @@ typedef struct kc_ctrl_input {
     const kc_goal *goal;     /* a new goal, or NULL */
     kc_ctrl_command command; /* KC_CMD_NONE mostly */
     int servo_stale;         /* 1: the servo stream has gone quiet (the caller's clock) */
+    /* An external fault (KC_REASON_EXTERNAL; KC_REASON_NONE mostly): the
+     * caller's hardware cannot follow (a drive faulted or went silent, the
+     * bus is lost). Unless already in FAULT or ESTOP, the controller emits
+     * FAULT (and ABORTED for the active goal), drops the queue and stops in
+     * joint space at the joints' limits, then holds in FAULT until RESET. */
+    kc_ctrl_reason fault;
 } kc_ctrl_input;
 
 /* The setpoint of one tick and what happened. */

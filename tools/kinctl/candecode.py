@@ -1,0 +1,115 @@
+"""`kinctl candecode`: CAN frames decoded with kinctl's DBC (kinctl.dbc).
+
+Reads a candump log (`candump -L` lines "(t) iface ID#DATA", or candump's
+default "  iface  ID   [n]  11 22 ..." lines) or a live interface, and prints
+one line a frame:
+
+    (1700000000.000123) vcan0 201 RPDO1_Node1 TargetPosition_607A=1234 VelocityOffset_60B1=-50
+
+or, with --json, one JSON object a line ({"t", "interface", "id", "name",
+"signals"}; name null for a frame the DBC does not know, with "data" hex).
+"""
+import json
+import re
+import socket
+import struct
+import sys
+import time
+
+from kinctl import dbc
+
+LOG_LINE = re.compile(r"^\s*\((?P<t>[0-9.]+)\)\s+(?P<iface>\S+)\s+(?P<id>[0-9A-Fa-f]+)#(?P<data>[0-9A-Fa-f]*)\s*$")
+PLAIN_LINE = re.compile(r"^\s*(?:\((?P<t>[0-9.]+)\)\s+)?(?P<iface>\S+)\s+(?P<id>[0-9A-Fa-f]+)\s+\[(?P<n>\d)\]"
+                        r"(?P<data>(?:\s+[0-9A-Fa-f]{2})*)\s*$")
+CAN_FRAME = struct.Struct("=IB3x8s")
+CAN_ERR_FLAG, CAN_EFF_FLAG, CAN_RTR_FLAG = 0x20000000, 0x80000000, 0x40000000
+
+
+def parse_line(line):
+    """(t or None, interface, id, data bytes) of one candump line, or None."""
+    m = LOG_LINE.match(line)
+    if m:
+        return float(m["t"]), m["iface"], int(m["id"], 16), bytes.fromhex(m["data"])
+    m = PLAIN_LINE.match(line)
+    if m:
+        data = bytes.fromhex("".join(m["data"].split()))
+        if len(data) != int(m["n"]):
+            return None
+        return (float(m["t"]) if m["t"] else None), m["iface"], int(m["id"], 16), data
+    return None
+
+
+def decode(db, can_id, data):
+    """(message name, {signal: value}) or (None, None) for a frame the DBC
+    does not describe (or whose length does not match)."""
+    try:
+        msg = db.get_message_by_frame_id(can_id)
+    except KeyError:
+        return None, None
+    if len(data) != msg.length:
+        return None, None
+    signals = msg.decode(data, decode_choices=True)
+    return msg.name, {k: (str(v) if not isinstance(v, (int, float)) else v) for k, v in signals.items()}
+
+
+def format_frame(t, iface, can_id, data, name, signals, as_json):
+    if as_json:
+        return json.dumps({"t": t, "interface": iface, "id": can_id, "name": name, "signals": signals,
+                           "data": data.hex()})
+    head = (f"({t:.6f}) " if t is not None else "") + f"{iface} {can_id:03X}"
+    if name is None:
+        return f"{head} ? {data.hex(' ')}"
+    parts = []
+    for k, v in signals.items():
+        if k.startswith("Statusword"):
+            parts.append(f"{k}={dbc.statusword_text(int(v))}")
+        else:
+            parts.append(f"{k}={v}")
+    return f"{head} {name} " + " ".join(parts)
+
+
+def live_frames(interface, count=None, duration=None):
+    """(t, interface, id, data) from a raw socket with an 8 MiB receive buffer."""
+    s = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
+    try:
+        s.setsockopt(socket.SOL_SOCKET, 33, 8 << 20)  # SO_RCVBUFFORCE
+    except OSError:
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 8 << 20)
+    s.bind((interface,))
+    s.settimeout(0.2)
+    end = None if duration is None else time.monotonic() + duration
+    seen = 0
+    try:
+        while (count is None or seen < count) and (end is None or time.monotonic() < end):
+            try:
+                raw = s.recv(16)
+            except socket.timeout:
+                continue
+            can_id, dlc, data = CAN_FRAME.unpack(raw)
+            if can_id & (CAN_ERR_FLAG | CAN_EFF_FLAG | CAN_RTR_FLAG):
+                continue
+            seen += 1
+            yield time.time(), interface, can_id & 0x7FF, data[:dlc]
+    finally:
+        s.close()
+
+
+def run(args):
+    if args.nodes is not None or args.master is not None:
+        from kinctl.drivesim import parse_nodes
+        db = dbc.load(nodes=parse_nodes(args.nodes) if args.nodes else None, master=args.master)
+    else:
+        db = dbc.load(args.dbc)
+    if args.interface:
+        source = live_frames(args.interface, args.count, args.duration)
+    else:
+        f = sys.stdin if args.log in (None, "-") else open(args.log, encoding="utf-8")
+        source = (p for p in (parse_line(line) for line in f) if p is not None)
+    unknown = 0
+    for n, (t, iface, can_id, data) in enumerate(source):
+        if args.count is not None and n >= args.count:
+            break
+        name, signals = decode(db, can_id, data)
+        unknown += name is None
+        print(format_frame(t, iface, can_id, data, name, signals, args.json), flush=args.interface is not None)
+    return 1 if unknown and args.strict else 0
