@@ -13,10 +13,12 @@ say() { printf '\033[1m[setup]\033[0m %s\n' "$*"; }
 # libconfig for description files, jansson for JSON in kinctl-calc; glib (which
 # the LCM wheel's lcm-gen and liblcm load) and a JDK (javac and jar build the
 # message jar for lcm-spy); libglib2.0-dev because kinctld links the wheel's
-# static liblcm, whose GLib is found with pkg-config.
+# static liblcm, whose GLib is found with pkg-config; cppcheck, clang-tidy
+# and valgrind for the analysis tests (tests/analysis).
 apt_packages=(build-essential cmake ninja-build clang pkg-config python3 python3-venv
               libcmocka-dev libconfig-dev libjansson-dev libglib2.0-0 default-jdk-headless
               libglib2.0-dev)
+apt_packages+=(cppcheck clang-tidy valgrind)
 missing=()
 for p in "${apt_packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -1164,7 +1164,7 @@ kc_status kc_path_plan_cart(kc_path_cart *path, const kc_path_cart_cfg *cfg)
         L.vmax[0] = cfg->v_max;
         L.amax[0] = cfg->a_max;
         int angular = cfg->w_max > KC_R(0.0);
-        kc_real seg[KC_PATH_MAX_KNOTS];
+        kc_real seg[KC_PATH_MAX_KNOTS] = {KC_R(0.0)}; /* the loop below fills seg[0..n-1) */
         for (int i = 0; i + 1 < n; i++) {
             kc_vec3 dp = kc_vec3_make(K.q[i + 1][0] - K.q[i][0], K.q[i + 1][1] - K.q[i][1], K.q[i + 1][2] - K.q[i][2]);
             seg[i] = t_trap(kc_vec3_norm(&dp), cfg->v_max, cfg->a_max);
