@@ -150,17 +150,19 @@ static int get_bool(const char *file, const config_setting_t *group, const char 
     return 0;
 }
 
-/* An optional string; *found set to the setting when present. */
+/* An optional string; *found set to the setting when present (and *out
+ * set with it). */
 static int get_string(const char *file, const config_setting_t *group, const char *key, const char *where,
                       const char **out, const config_setting_t **found)
 {
     const config_setting_t *s = config_setting_get_member(group, key);
-    *found = s;
+    *found = NULL;
     if (s == NULL)
         return 0;
     if (config_setting_type(s) != CONFIG_TYPE_STRING)
         return bad(file, s, "%s.%s must be a string in double quotes", where, key);
     *out = config_setting_get_string(s);
+    *found = s;
     return 0;
 }
 

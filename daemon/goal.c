@@ -262,31 +262,31 @@ int kd_goal_from_msg(kd_msg_type type, const kd_msg_any *msg, const kc_chain *ch
     switch (type) {
     case KD_MSG_GOAL_JOINT:
         goal->id = msg->goal_joint.goal_id;
-        mode = msg->goal_joint.mode;
+        mode = (int)msg->goal_joint.mode;
         if (joint_goal(&msg->goal_joint, chain, goal, rej) != 0)
             return -1;
         break;
     case KD_MSG_GOAL_LINE:
         goal->id = msg->goal_line.goal_id;
-        mode = msg->goal_line.mode;
+        mode = (int)msg->goal_line.mode;
         if (line_goal(&msg->goal_line, goal, rej) != 0)
             return -1;
         break;
     case KD_MSG_GOAL_ARC:
         goal->id = msg->goal_arc.goal_id;
-        mode = msg->goal_arc.mode;
+        mode = (int)msg->goal_arc.mode;
         if (arc_goal(&msg->goal_arc, goal, rej) != 0)
             return -1;
         break;
     case KD_MSG_GOAL_PATH:
         goal->id = msg->goal_path.goal_id;
-        mode = msg->goal_path.mode;
+        mode = (int)msg->goal_path.mode;
         if (path_goal(&msg->goal_path, chain, goal, rej) != 0)
             return -1;
         break;
     case KD_MSG_GOAL_SERVO:
         goal->id = msg->goal_servo.goal_id;
-        mode = msg->goal_servo.mode;
+        mode = (int)msg->goal_servo.mode;
         if (servo_goal(&msg->goal_servo, servo_timeout_max_s, goal, servo_timeout_ns, rej) != 0)
             return -1;
         break;

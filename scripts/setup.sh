@@ -17,11 +17,13 @@ say() { printf '\033[1m[setup]\033[0m %s\n' "$*"; }
 # the fault-injection tests; ffmpeg for `kinctl view --save FILE.mp4`, xvfb (and
 # xauth for xvfb-run) to test its live window. The vcan suite: can-utils
 # (candump, cangen), and User Mode Linux with kmod (insmod) for a kernel with
-# vcan where the host's has no AF_CAN (tests/vcan/uml_run.sh).
+# vcan where the host's has no AF_CAN (tests/vcan/uml_run.sh). cppcheck,
+# clang-tidy and valgrind for the analysis tests (tests/analysis).
 apt_packages=(build-essential cmake ninja-build clang pkg-config python3 python3-venv
               libcmocka-dev libconfig-dev libjansson-dev libglib2.0-0 default-jdk-headless
               libglib2.0-dev stress-ng ffmpeg xvfb xauth
-              can-utils user-mode-linux kmod)
+              can-utils user-mode-linux kmod
+              cppcheck clang-tidy valgrind)
 missing=()
 for p in "${apt_packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -585,9 +585,11 @@ static kc_real path_stop_rate(const kc_ctrl *c, kc_real tau, kc_real rate)
     }
     if (!kc_isfinite(dec))
         dec = KC_R(1.0) / c->cfg.dt; /* standing still: stop within a tick */
-    for (int tries = 0; tries < 6; tries++, dec *= KC_R(0.5))
+    for (int tries = 0; tries < 6; tries++) {
         if (path_ramp_load(c, tau, rate, -dec, rate / dec) <= KC_R(1.0))
             return dec;
+        dec *= KC_R(0.5);
+    }
     return KC_R(0.0);
 }
 
@@ -599,10 +601,12 @@ static kc_real path_ramp_rate(const kc_ctrl *c, kc_real tau0)
 {
     kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
     kc_real C = KC_R(1.0) / (KC_R(10.0) * c->cfg.dt); /* a ramp of at least ten ticks */
-    for (int tries = 0; tries < 16; tries++, C *= KC_R(0.5))
+    for (int tries = 0; tries < 16; tries++) {
         if (path_ramp_load(c, tau0, KC_R(0.0), C, KC_R(1.0) / C) <= KC_R(1.0) &&
             path_ramp_load(c, T - KC_R(0.5) / C, KC_R(1.0), -C, KC_R(1.0) / C) <= KC_R(1.0))
             return C;
+        C *= KC_R(0.5);
+    }
     return KC_R(0.0);
 }
 
@@ -661,7 +665,7 @@ static void stop_on_path(kc_ctrl *c, int intent)
         /* Each joint brakes at the goal's own acceleration limit: it comes
          * to rest no further than its profile would have turned, so inside
          * the position limits the retarget was checked against. */
-        kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS];
+        kc_real vmax[KC_MAX_JOINTS] = {KC_R(0.0)}, amax[KC_MAX_JOINTS] = {KC_R(0.0)};
         scaled_limits(c, &c->goal, vmax, amax);
         for (int i = 0; i < c->chain->n_joints; i++)
             kc_profile_plan_stop(&c->plan.retarget[i], c->q[i], c->qd[i], amax[i], c->cfg.dt);
@@ -830,6 +834,7 @@ static int retarget(kc_ctrl *c, const kc_goal *g)
                 return 0;
         }
     }
+    /* cppcheck-suppress uninitvar ; the loop above planned prof[0..n_joints) or returned */
     memcpy(c->plan.retarget, prof, sizeof(kc_profile) * (size_t)c->chain->n_joints);
     return 1;
 }

@@ -69,7 +69,7 @@ static void walk(const kc_chain *chain, const kc_real *q, kc_pose *frames, kc_ja
         kc_real c = el->c, s = el->s, v = el->value;
         int code = el->code;
         if (code <= KC_CODE_TZ_JOINT) {
-            int j = el->joint;
+            int j = (int)el->joint; /* >= 0 for the joint codes */
             v = q[j] + chain->joints[j].offset;
             code += KC_CODE_RX - KC_CODE_RX_JOINT; /* now as its constant twin */
             if (code <= KC_CODE_RZ)
@@ -128,7 +128,7 @@ kc_status kc_fk_frames(const kc_chain *chain, const kc_real *q, kc_pose *frames,
 
 kc_status kc_fk_jacobian(const kc_chain *chain, const kc_real *q, kc_jacobian *jac, kc_pose *tool)
 {
-    kc_real origin[KC_MAX_JOINTS][3];
+    kc_real origin[KC_MAX_JOINTS][3] = {{KC_R(0.0)}}; /* walk fills the rows of the joints */
     kc_pose end;
     if (chain == NULL || q == NULL || jac == NULL || !q_finite(chain, q))
         return KC_E_ARG;

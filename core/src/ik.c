@@ -484,7 +484,7 @@ kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose
              * other limit: the branch it was heading for lies beyond the
              * limit, and a twin of it may lie near the other end (measured
              * on 5000 random targets: misses 9 -> 6 on puma560). */
-            int8_t pinned[KC_MAX_JOINTS];
+            int8_t pinned[KC_MAX_JOINTS] = {0};
             for (int j = 0; j < p.n; j++)
                 pinned[j] = (int8_t)(q[j] >= p.hi[j] ? 1 : (q[j] <= p.lo[j] ? -1 : 0));
             random_q(&p, &rng, q);
@@ -586,7 +586,8 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
     kc_dquat_from_pose(target, &target_dq);
     kc_jacobian jac;
     kc_pose cur;
-    kc_real e[6], pos_err, rot_err, qd_des[KC_MAX_JOINTS];
+    /* task_error fills the p.r rows of e that the mask uses */
+    kc_real e[6] = {KC_R(0.0)}, pos_err, rot_err, qd_des[KC_MAX_JOINTS];
     int n = p.n;
 
     kc_fk_jacobian(chain, q, &jac, &cur);

@@ -73,7 +73,7 @@ KC_ALWAYS_INLINE void kc_cholesky_solve(kc_real l[KC_LINALG_MAX][KC_LINALG_MAX],
         b[i] = t / l[i][i];
     }
     KC_UNROLL
-    for (int i = r - 1; i >= 0; i--) {
+    for (int i = r; i-- > 0;) {
         kc_real t = b[i];
         KC_UNROLL
         for (int k = i + 1; k < r; k++)

@@ -10,6 +10,7 @@
  * untouched on every error. */
 #include "kinctl/path.h"
 
+#include <stddef.h>
 #include <string.h>
 
 /* Relative slack for comparisons that rounding can tip (t_acc <= T/2, the
@@ -95,7 +96,7 @@ static kc_real piece_len(const knots *K, int p)
  * segment's time (seed 001 lab 7 sec. 6.1, restored per typo #31); as
  * polynomial coefficients in tau = 2 t_acc h. */
 static void blend_coeffs(kc_real A, kc_real B, kc_real dC, kc_real T1, kc_real t_acc, kc_path_blend shape,
-                         kc_real *c, int stride)
+                         kc_real *c, ptrdiff_t stride)
 {
     kc_real dB = A - B;
     kc_real K = dC * t_acc / T1 + dB;
@@ -114,7 +115,7 @@ static void blend_coeffs(kc_real A, kc_real B, kc_real dC, kc_real T1, kc_real t
 }
 
 /* Cubic Hermite, seed sec. 6.3: K0..K3. */
-static void cubic_coeffs(kc_real p0, kc_real v0, kc_real p1, kc_real v1, kc_real T, kc_real *c, int stride)
+static void cubic_coeffs(kc_real p0, kc_real v0, kc_real p1, kc_real v1, kc_real T, kc_real *c, ptrdiff_t stride)
 {
     c[0] = p0;
     c[stride] = v0;
@@ -124,7 +125,7 @@ static void cubic_coeffs(kc_real p0, kc_real v0, kc_real p1, kc_real v1, kc_real
 
 /* Quintic Hermite: position, velocity and acceleration at both ends. */
 static void quintic_coeffs(kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real v1, kc_real a1, kc_real T,
-                           kc_real *c, int stride)
+                           kc_real *c, ptrdiff_t stride)
 {
     kc_real dp = p1 - p0, T2 = T * T, T3 = T2 * T;
     c[0] = p0;
@@ -139,7 +140,7 @@ static void quintic_coeffs(kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_re
 }
 
 /* Horner: value and first two derivatives of sum_i c[i*stride] tau^i. */
-static void horner3(const kc_real *c, int n, int stride, kc_real tau, kc_real *q, kc_real *qd, kc_real *qdd)
+static void horner3(const kc_real *c, int n, ptrdiff_t stride, kc_real tau, kc_real *q, kc_real *qd, kc_real *qdd)
 {
     kc_real p = KC_R(0.0), d1 = KC_R(0.0), d2 = KC_R(0.0);
     for (int i = n - 1; i >= 0; i--) {
@@ -391,9 +392,9 @@ static void piece_bounds(const knots *K, piece_coeffs c, kc_real L, kc_real *vb,
     int nc = n_coeffs(K);
     for (int j = 0; j < K->dim; j++) {
         kc_real d1[KC_PATH_MAX_COEFFS], d2[KC_PATH_MAX_COEFFS];
-        for (int i = 0; i + 1 < nc; i++)
+        for (int i = 0; i < nc - 1; i++)
             d1[i] = (kc_real)(i + 1) * c[i + 1][j];
-        for (int i = 0; i + 2 < nc; i++)
+        for (int i = 0; i < nc - 2; i++)
             d2[i] = (kc_real)((i + 1) * (i + 2)) * c[i + 2][j];
         vb[j] = poly_bound(d1, nc - 1, L);
         ab[j] = poly_bound(d2, nc - 2, L);
@@ -716,7 +717,7 @@ kc_status kc_path_plan(kc_path *path, const kc_path_cfg *cfg)
     if (cfg->t != NULL) {
         given_times(&K, cfg->t);
     } else {
-        kc_real seg[KC_PATH_MAX_KNOTS];
+        kc_real seg[KC_PATH_MAX_KNOTS] = {KC_R(0.0)}; /* the loop below fills seg[0..n-1) */
         kc_real ratio = KC_R(0.0);
         for (int j = 0; j < dim; j++) {
             if (!finite_positive(cfg->vmax[j]) || !finite_positive(cfg->amax[j]))
@@ -1030,7 +1031,7 @@ static void arc_table(kc_path_cart *path, int p, kc_real *s, kc_real *comp)
 {
     const kc_path *pos = &path->pos;
     kc_real L = pos->len[p];
-    kc_real minima[KC_PATH_ARC_MINIMA];
+    kc_real minima[KC_PATH_ARC_MINIMA] = {KC_R(0.0)}; /* [0, nm) are found below */
     int nm = 0;
     if (!piece_is_line(pos, p) && L > KC_R(0.0)) {
         /* Local minima of the speed: p'.p'' changes from - to +. */
@@ -1163,7 +1164,7 @@ kc_status kc_path_plan_cart(kc_path_cart *path, const kc_path_cart_cfg *cfg)
         L.vmax[0] = cfg->v_max;
         L.amax[0] = cfg->a_max;
         int angular = cfg->w_max > KC_R(0.0);
-        kc_real seg[KC_PATH_MAX_KNOTS];
+        kc_real seg[KC_PATH_MAX_KNOTS] = {KC_R(0.0)}; /* the loop below fills seg[0..n-1) */
         for (int i = 0; i + 1 < n; i++) {
             kc_vec3 dp = kc_vec3_make(K.q[i + 1][0] - K.q[i][0], K.q[i + 1][1] - K.q[i][1], K.q[i + 1][2] - K.q[i][2]);
             seg[i] = t_trap(kc_vec3_norm(&dp), cfg->v_max, cfg->a_max);

@@ -20,7 +20,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
      * readers and means nothing in JSON; long inputs add nothing but time. */
     if (size == 0 || size > 4096 || memchr(data, '\0', size) != NULL)
         return 0;
-    FILE *in = fmemopen((void *)(uintptr_t)data, size, "r");
+    /* fmemopen takes a void * but only reads it in mode "r". */
+    FILE *in = fmemopen((void *)(uintptr_t)data, size, "r"); /* NOLINT(performance-no-int-to-ptr) */
     char *answers = NULL;
     size_t answers_len = 0;
     FILE *out = open_memstream(&answers, &answers_len);
@@ -54,7 +55,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         size_t start = i;
         while (start > 0 && answers[start - 1] != '\n')
             start--;
-        FUZZ_CHECK(answers[start] == '{' && i > start && answers[i - 1] == '}', "answer line %zu is no object",
+        FUZZ_CHECK(i > start && answers[start] == '{' && answers[i - 1] == '}', "answer line %zu is no object",
                    lines + 1);
         lines++;
     }

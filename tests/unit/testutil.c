@@ -88,6 +88,7 @@ void kt_read_mat4(const json_t *m, kc_mat4 *out)
 {
     check_size(m, 4);
     for (size_t i = 0; i < 4; i++)
+        /* cppcheck-suppress uninitvar ; out->m[i] is written, not read */
         kt_read_reals(json_array_get(m, i), out->m[i], 4);
 }
 

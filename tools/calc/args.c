@@ -10,13 +10,12 @@
 #include "calc.h"
 #include "kinctl/desc.h"
 
-int calc_fail(calc_ctx *ctx, const char *fmt, ...)
+void calc_report(calc_ctx *ctx, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(ctx->err, sizeof ctx->err, fmt, ap);
+    vsnprintf(ctx->err, sizeof ctx->err, fmt, ap); // NOLINT(clang-analyzer-valist.Uninitialized): va_start is above
     va_end(ap);
-    return -1;
 }
 
 void calc_warn(calc_ctx *ctx, const char *fmt, ...)
@@ -24,7 +23,7 @@ void calc_warn(calc_ctx *ctx, const char *fmt, ...)
     char msg[512];
     va_list ap;
     va_start(ap, fmt);
-    vsnprintf(msg, sizeof msg, fmt, ap);
+    vsnprintf(msg, sizeof msg, fmt, ap); // NOLINT(clang-analyzer-valist.Uninitialized): va_start is above
     va_end(ap);
     if (ctx->warnings != NULL)
         json_array_append_new(ctx->warnings, json_string(msg));
@@ -149,9 +148,8 @@ json_t *calc_parse_args(const calc_cmd *cmd, int argc, char **argv, char *err, s
             }
         }
         for (const calc_opt *o = cmd->opts; o->key != NULL && opt == NULL; o++) {
-            if (is_flag && o->flag != NULL && strlen(o->flag) == flag_len && strncmp(o->flag, a, flag_len) == 0)
-                opt = o;
-            else if (!is_flag && o->flag == NULL)
+            if (is_flag ? o->flag != NULL && strlen(o->flag) == flag_len && strncmp(o->flag, a, flag_len) == 0
+                        : o->flag == NULL)
                 opt = o;
         }
         if (opt == NULL) {

@@ -62,12 +62,15 @@ typedef struct calc_ctx {
     int csv;          /* interp on the command line: rows go to stdout as CSV */
 } calc_ctx;
 
-/* Sets ctx->err and returns -1. */
-int calc_fail(calc_ctx *ctx, const char *fmt, ...)
+/* Sets ctx->err. */
+void calc_report(calc_ctx *ctx, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 2, 3)))
 #endif
     ;
+/* Sets ctx->err and evaluates to -1; a macro so that the -1 is plain where it
+ * is returned (static analyzers do not follow calls into variadic functions). */
+#define calc_fail(ctx, ...) (calc_report((ctx), __VA_ARGS__), -1)
 void calc_warn(calc_ctx *ctx, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 2, 3)))

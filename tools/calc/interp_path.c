@@ -293,7 +293,7 @@ static int joint_path(calc_ctx *ctx)
     calc_rows_begin(ctx, ncol, names);
     for (int64_t k = 0; k <= plan_joint.ticks; k++) {
         row[0] = (kc_real)k * R.dt;
-        kc_path_eval(&plan_joint, k, row + 1, row + 1 + dim, row + 1 + 2 * dim);
+        kc_path_eval(&plan_joint, k, row + 1, row + 1 + dim, row + 1 + dim + dim);
         calc_rows_add(ctx, ncol, row);
     }
     calc_rows_end(ctx);

@@ -28,15 +28,6 @@ static void write_error(kc_desc_error *e, const char *file, int line, const char
         snprintf(e->text, sizeof e->text, "%s: %s", e->file, e->problem);
 }
 
-static void set_error(reader *r, const char *file, int line, const char *fmt, va_list ap)
-{
-    char problem[KC_DESC_TEXT_LEN];
-    if (r->err == NULL)
-        return;
-    vsnprintf(problem, sizeof problem, fmt, ap);
-    write_error(r->err, file != NULL ? file : r->file, line, problem);
-}
-
 #if defined(__GNUC__)
 #define KC_PRINTF(f, a) __attribute__((format(printf, f, a)))
 #else
@@ -44,18 +35,25 @@ static void set_error(reader *r, const char *file, int line, const char *fmt, va
 #endif
 
 /* Records an error at setting s (its line and, for @include'd text, its
- * file) and returns st, so that callers write `return fail(...)`. */
-static kc_status fail_at(reader *r, const config_setting_t *s, kc_status st, const char *fmt, ...) KC_PRINTF(4, 5);
-static kc_status fail_at(reader *r, const config_setting_t *s, kc_status st, const char *fmt, ...)
+ * file). */
+static void report(reader *r, const config_setting_t *s, const char *fmt, ...) KC_PRINTF(3, 4);
+static void report(reader *r, const config_setting_t *s, const char *fmt, ...)
 {
+    char problem[KC_DESC_TEXT_LEN];
+    const char *file = s != NULL ? config_setting_source_file(s) : NULL;
     va_list ap;
+    if (r->err == NULL)
+        return;
     va_start(ap, fmt);
-    set_error(r, s != NULL ? config_setting_source_file(s) : NULL, s != NULL ? (int)config_setting_source_line(s) : 0,
-              fmt, ap);
+    vsnprintf(problem, sizeof problem, fmt, ap);
     va_end(ap);
-    return st;
+    write_error(r->err, file != NULL ? file : r->file, s != NULL ? (int)config_setting_source_line(s) : 0, problem);
 }
 
+/* Reports and evaluates to st, so that callers write `return fail(...)`; a
+ * macro so that the status returned is plain where it is returned (static
+ * analyzers do not follow calls into variadic functions). */
+#define fail_at(r, s, st, ...) (report((r), (s), __VA_ARGS__), (st))
 #define fail(r, s, ...) fail_at((r), (s), KC_E_ARG, __VA_ARGS__)
 
 /* Every key of group must be in allowed (NULL-terminated). */
@@ -106,7 +104,7 @@ static kc_status lookup_number(reader *r, const config_setting_t *group, const c
                                int required, kc_real scale, kc_real *out, int *present)
 {
     const config_setting_t *s = config_setting_get_member(group, key);
-    char what[96];
+    char what[128];
     if (present != NULL)
         *present = s != NULL;
     if (s == NULL)
@@ -138,9 +136,10 @@ static kc_status lookup_string(reader *r, const config_setting_t *group, const c
     const config_setting_t *s = config_setting_get_member(group, key);
     if (s == NULL)
         return required ? fail(r, group, "%s: missing key \"%s\"", where, key) : KC_OK;
-    if (config_setting_type(s) != CONFIG_TYPE_STRING)
+    const char *v = config_setting_type(s) == CONFIG_TYPE_STRING ? config_setting_get_string(s) : NULL;
+    if (v == NULL)
         return fail(r, s, "%s: %s must be a string in double quotes", where, key);
-    *out = config_setting_get_string(s);
+    *out = v;
     return KC_OK;
 }
 
@@ -176,7 +175,7 @@ static kc_status read_limits(reader *r, const config_setting_t *owner, const cha
         return st;
     const config_setting_t *q = config_setting_get_member(g, "q");
     if (q != NULL) {
-        kc_real mm[2];
+        kc_real mm[2] = {KC_R(0.0), KC_R(0.0)};
         char qwhat[112];
         snprintf(qwhat, sizeof qwhat, "%s: q", what);
         if ((st = vector_of(r, q, qwhat, 2, scale, mm)) != KC_OK)
@@ -245,7 +244,7 @@ static kc_status read_joint_name(reader *r, const config_setting_t *g, const cha
     if (strlen(name) >= KC_DESC_NAME_LEN)
         return fail(r, config_setting_get_member(g, "name"), "%s: name is longer than %d characters", where,
                     KC_DESC_NAME_LEN - 1);
-    strcpy(dest, name);
+    snprintf(dest, KC_DESC_NAME_LEN, "%s", name);
     return KC_OK;
 }
 
@@ -375,7 +374,7 @@ static kc_status read_robot(reader *r, const config_setting_t *robot, kc_chain *
     if (name[0] == '\0' || strlen(name) >= KC_DESC_NAME_LEN)
         return fail(r, config_setting_get_member(robot, "name"), "robot: name must have 1 to %d characters",
                     KC_DESC_NAME_LEN - 1);
-    strcpy(info->name, name);
+    snprintf(info->name, sizeof info->name, "%s", name);
     if (strcmp(angles, "deg") == 0)
         r->deg = 1;
     else if (strcmp(angles, "rad") == 0)
@@ -454,6 +453,7 @@ static kc_status read_root(reader *r, const config_t *cfg, kc_chain *chain, kc_d
 static kc_status load(const char *path, const char *text, const char *name, kc_chain *chain, kc_desc_info *info,
                       kc_desc_error *err)
 {
+    /* cppcheck-suppress ctuuninitvar ; err is an output: stored here, written before any read */
     reader r = {name, err, 0};
     config_t cfg;
     kc_chain tmp;

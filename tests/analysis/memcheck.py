@@ -1,0 +1,76 @@
+#!/usr/bin/env python3
+"""Runs C test programs under valgrind memcheck; fails on any error or leak.
+The programs, their arguments, environment and working directory are the
+ctest tests of BUILD_DIR whose names match REGEX (ctest --show-only), so
+each is defined once, in its own CMakeLists.txt. Prints each test's time
+under valgrind and the total.
+  memcheck.py BUILD_DIR REGEX [--jobs N] [--valgrind PATH] [--ctest PATH]"""
+import argparse
+import concurrent.futures
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+
+VALGRIND_ARGS = ['--error-exitcode=1', '--leak-check=full', '--quiet']
+
+
+def tests_of(ctest, build, regex):
+    out = subprocess.run([ctest, '--test-dir', build, '--show-only=json-v1', '-R', regex],
+                         check=True, capture_output=True, text=True).stdout
+    tests = []
+    for t in json.loads(out)['tests']:
+        props = {p['name']: p['value'] for p in t.get('properties', [])}
+        env = dict(os.environ)
+        for kv in props.get('ENVIRONMENT', []):
+            k, _, v = kv.partition('=')
+            env[k] = v
+        tests.append((t['name'], t['command'], env, props.get('WORKING_DIRECTORY', build)))
+    return tests
+
+
+def run(valgrind, name, command, env, cwd):
+    with tempfile.NamedTemporaryFile('w+', prefix='memcheck-', suffix='.log') as log:
+        start = time.monotonic()
+        p = subprocess.run([valgrind, *VALGRIND_ARGS, f'--log-file={log.name}', *command], env=env, cwd=cwd,
+                           stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        took = time.monotonic() - start
+        log.seek(0)
+        report = log.read()
+    return name, p.returncode, took, report, p.stderr
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument('build')
+    ap.add_argument('regex')
+    ap.add_argument('--jobs', type=int, default=2)
+    ap.add_argument('--valgrind', default='valgrind')
+    ap.add_argument('--ctest', default='ctest')
+    a = ap.parse_args()
+    valgrind = shutil.which(a.valgrind)
+    if valgrind is None:
+        sys.exit(f'{a.valgrind} not found (scripts/setup.sh installs valgrind)')
+    tests = tests_of(a.ctest, a.build, a.regex)
+    if not tests:
+        sys.exit(f'no ctest test matches {a.regex!r} in {a.build}')
+    failed = []
+    start = time.monotonic()
+    with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
+        for name, rc, took, report, stderr in pool.map(lambda t: run(valgrind, *t), tests):
+            print(f'{name:24s} {took:7.1f} s  {"ok" if rc == 0 and not report.strip() else "FAILED"}', flush=True)
+            if rc != 0 or report.strip():
+                failed.append(name)
+                sys.stdout.write(report + stderr[-4000:])
+    print(f'memcheck: {len(tests)} tests, {len(failed)} failed, {time.monotonic() - start:.1f} s '
+          f'with {a.jobs} at a time')
+    if failed:
+        print('failed: ' + ' '.join(failed))
+        sys.exit(1)
+
+
+if __name__ == '__main__':
+    main()
