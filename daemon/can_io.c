@@ -90,6 +90,7 @@ static int open_socket(kd_can *c, const char **what)
     }
     /* Only the drives' feedback reaches this socket: a flood of foreign
      * frames is dropped by the kernel's filter, not read here. */
+    memset(filters, 0, sizeof filters);
     if (cfg->feedback) {
         for (j = 0; j < c->n; j++) {
             filters[nf].can_id = KD_CAN_TPDO_BASE + (canid_t)cfg->joint[j].node;
@@ -347,7 +348,7 @@ static void on_frame(kd_can *c, const struct can_frame *f, int64_t now)
         return;
     id = f->can_id & CAN_SFF_MASK;
     node = (int)(id & 0x7fu);
-    j = c->node_joint[node];
+    j = (int)c->node_joint[node];
     if (j < 0)
         return;
     c->rx_frames++;
