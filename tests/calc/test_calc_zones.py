@@ -163,7 +163,7 @@ def test_geometry_moves_with_its_frame():
         fk = run(["fk", "--model", "panda", "--q", csv(q), "--frames"])
         frames = json.loads(fk.stdout)["frames"]
         for i, shape in enumerate(out["geometry"]["volumes"]):
-            F, W = frames[int(shape["frame"])], shape["pose"]
+            F, W = frames[int(shape["frame"]) - 1], shape["pose"]
             # F^-1 W: rotation F_R^T W_R, translation F_R^T (W_t - F_t)
             R = [[dot(col(F, a), col(W, b)) for b in range(3)] for a in range(3)]
             t = local(F, col(W, 3))
@@ -207,3 +207,25 @@ def test_bad_input():
     assert r.returncode == 2 and "margin" in r.stderr
     r = run(["zones", "--help"])
     assert r.returncode == 0 and "Example: kinctl-calc zones" in r.stdout
+
+
+def test_zones_file(tmp_path):
+    cfg = tmp_path / "kinctld.cfg"
+    cfg.write_text(
+        "controller = {\n  zones = {\n    margin = 0.05;\n    list = (\n"
+        '      { name = "table"; shape = "halfspace"; point = [0.0, 0.0, 0.05]; normal = [0.0, 0.0, 1.0]; },\n'
+        '      { name = "ball"; shape = "sphere"; xyz = [0.2, -0.4, 0.7]; radius = 0.12; }\n    );\n  };\n};\n'
+    )
+    q = [0.3, 0.9, -2.2, 0.1, 0.5, 0.0]
+    a = json.loads(run(["zones", "--model", "puma560", "--q", csv(q), "--zones-file", cfg]).stdout)
+    b = json.loads(
+        run(["zones", "--model", "puma560", "--q", csv(q), "--zone", ZONES[0], "--zone", ZONES[2], "--margin", "0.05"]).stdout
+    )
+    assert a == b
+    # --zone adds to the file's zones; a bad file names its line
+    c = json.loads(run(["zones", "--model", "puma560", "--q", csv(q), "--zones-file", cfg, "--zone", ZONES[1]]).stdout)
+    assert [row[:2] for row in c["distances"]] == a["distances"] and len(c["distances"][0]) == 3
+    bad = tmp_path / "bad.cfg"
+    bad.write_text('controller = {\n  zones = {\n    list = ( { shape = "cone"; } );\n  };\n};\n')
+    r = run(["zones", "--model", "puma560", "--q", csv(q), "--zones-file", bad])
+    assert r.returncode == 2 and "bad.cfg:3: zone 1: unknown shape" in r.stderr

@@ -412,11 +412,13 @@ static const calc_cmd commands[] = {
      "kinctl-calc interp KIND [OPTIONS]   (KIND: joint, line, arc, path; see interp.c)", interp_opts, run_interp},
     {"zones", "distance of every link volume to every forbidden zone",
      "kinctl-calc zones (--model NAME | --model-file PATH) --q Q1,Q2,... [--deg] [--zone KIND:NUMBERS]...\n"
-     "    [--margin M] [--geometry]\n"
+     "    [--zones-file PATH] [--margin M] [--geometry]\n"
+     "--zones-file reads controller.zones of a kinctld configuration (format: kinctl/desc.h).\n"
      "Zones are in the base (world) frame, lengths in m: box:cx,cy,cz,hx,hy,hz (centre, half\n"
      "extents), sphere:cx,cy,cz,r, cylinder:x0,y0,z0,x1,y1,z1,r (axis ends, radius),\n"
      "halfspace:px,py,pz,nx,ny,nz (a point of the plane, the normal pointing out of the zone).\n"
-     "Prints {\"volumes\": [{\"kind\", \"frame\"}...], \"distances\": [[d per zone] per volume] (m, 0 when\n"
+     "Prints {\"volumes\": [{\"kind\", \"frame\" (1..m, as description files and fk's 0T_k number them)}...],\n"
+     "\"distances\": [[d per zone] per volume] (m, 0 when\n"
      "touching or overlapping; see kinctl/zone.h for the accuracy), \"margin\": m, \"closest\":\n"
      "{\"volume\", \"zone\", \"distance\"} or null, \"clear\": true when every distance >= margin}, and\n"
      "with --geometry \"geometry\": {\"volumes\": [...], \"zones\": [...]}, each {\"kind\", \"pose\" (4x4,\n"

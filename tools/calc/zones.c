@@ -6,12 +6,15 @@
 #include <string.h>
 
 #include "calc.h"
+#include "kinctl/desc.h"
 
 const calc_opt zones_opts[] = {
     CALC_MODEL_OPTS,
     {"--zone", "zone", CALC_APPEND, calc_conv_string, "KIND:NUMBERS",
      "a forbidden zone (repeatable), world frame, m: box:cx,cy,cz,hx,hy,hz | sphere:cx,cy,cz,r | "
      "cylinder:x0,y0,z0,x1,y1,z1,r | halfspace:px,py,pz,nx,ny,nz (normal out of the zone)"},
+    {"--zones-file", "zones_file", CALC_VALUE, calc_conv_string, "PATH",
+     "read the zones (and margin) of a kinctld configuration's controller.zones; --zone adds to them"},
     {"--margin", "margin", CALC_VALUE, calc_conv_real, "M", "the margin judged against (m, default 0.02)"},
     {"--geometry", "geometry", CALC_FLAG, NULL, NULL,
      "also print the world-frame shapes of the volumes and zones (\"geometry\")"},
@@ -94,7 +97,7 @@ static void put_shape(jw *w, const kc_shape *s, int frame)
     jw_str(w, kind_names[s->kind]);
     if (frame >= 0) {
         jw_key(w, "frame");
-        jw_real(w, (kc_real)frame);
+        jw_real(w, (kc_real)(frame + 1));
     }
     jw_key(w, "pose");
     jw_pose(w, &s->pose);
@@ -109,7 +112,15 @@ int run_zones(const json_t *req, calc_ctx *ctx)
     kc_real q[KC_MAX_JOINTS];
     int deg = 0, geometry = 0;
     kc_zone_set set;
+    const char *zones_file = NULL;
     kc_zone_set_init(&set);
+    if (req_string(ctx, req, "zones_file", 0, &zones_file) != 0)
+        return -1;
+    if (zones_file != NULL) {
+        kc_desc_error err;
+        if (kc_desc_load_zones(zones_file, &set, NULL, &err) != KC_OK)
+            return calc_fail(ctx, "%s", err.text);
+    }
     if (req_bool(ctx, req, "deg", &deg) != 0 || req_bool(ctx, req, "geometry", &geometry) != 0 ||
         (json_object_get(req, "margin") != NULL && req_real(ctx, req, "margin", &set.margin) != 0) || req_model(ctx, req, &chain) != 0 ||
         req_q(ctx, req, &chain, deg, q) != 0)
@@ -144,7 +155,7 @@ int run_zones(const json_t *req, calc_ctx *ctx)
         jw_key(w, "kind");
         jw_str(w, kind_names[chain.volumes[i].shape.kind]);
         jw_key(w, "frame");
-        jw_real(w, (kc_real)chain.volumes[i].frame);
+        jw_real(w, (kc_real)(chain.volumes[i].frame + 1));
         jw_obj_end(w);
     }
     jw_arr_end(w);
