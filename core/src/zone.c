@@ -270,8 +270,9 @@ static kc_vec3 closest_tetra(simplex *s)
 }
 
 /* Lower bound (within KC_ZONE_TOL once converged) of the distance between
- * the cores of a and b. */
-static kc_real gjk(const kc_shape *a, const kc_shape *b)
+ * the cores of a and b. Stops early, with a lower bound above it, once the
+ * distance is known to exceed stop (INF: run to convergence). */
+static kc_real gjk(const kc_shape *a, const kc_shape *b, kc_real stop)
 {
     simplex s;
     kc_vec3 d = v_sub(a->pose.t, b->pose.t);
@@ -292,7 +293,7 @@ static kc_real gjk(const kc_shape *a, const kc_shape *b)
         kc_vec3 w = v_sub(support(a, &nv), support(b, &v));
         kc_real norm = kc_sqrt(vv);
         lower = kc_max(lower, v_dot(v, w) / norm);
-        if (norm - lower <= KC_ZONE_TOL)
+        if (norm - lower <= KC_ZONE_TOL || lower > stop)
             break;
         int dup = 0;
         for (int i = 0; i < s.n; i++)
@@ -335,7 +336,7 @@ kc_status kc_shape_distance(const kc_shape *a, const kc_shape *b, kc_real *dist)
     else if (b->kind == KC_SHAPE_HALFSPACE)
         *dist = halfspace_distance(b, a);
     else
-        *dist = kc_max(gjk(a, b) - core_radius(a) - core_radius(b), KC_R(0.0));
+        *dist = kc_max(gjk(a, b, INF) - core_radius(a) - core_radius(b), KC_R(0.0));
     return KC_OK;
 }
 
@@ -429,10 +430,14 @@ kc_status kc_zone_check(const kc_chain *chain, const kc_zone_set *set, const kc_
                     /* The bounding spheres' gap bounds the distance below. */
                     kc_vec3 dc = v_sub(w.pose.t, zn->pose.t);
                     kc_real gap = kc_vec3_norm(&dc) - rw - kc_shape_bound_radius(zn);
+                    /* Only the closest pair needs its exact distance: GJK
+                     * stops once a pair is known to be farther than the
+                     * closest so far. */
+                    kc_real radii = core_radius(&w) + core_radius(zn);
                     if (gap > far)
                         d = gap;
                     else
-                        d = kc_max(gjk(&w, zn) - core_radius(&w) - core_radius(zn), KC_R(0.0));
+                        d = kc_max(gjk(&w, zn, best.distance + radii) - core_radius(&w) - core_radius(zn), KC_R(0.0));
                 }
                 if (d < best.distance) {
                     best.distance = d;
