@@ -302,9 +302,6 @@ static kc_real gjk(const kc_shape *a, const kc_shape *b, kc_real stop)
         if (dup)
             break; /* no progress possible: lower is what there is */
         s.p[s.n++] = w;
-        /* Keep the newest point first (the order the tests below rely on
-         * does not matter for correctness, only for which feature ties go
-         * to). */
         switch (s.n) {
         case 2: v = closest_segment(&s); break;
         case 3: v = closest_triangle(&s); break;

@@ -51,7 +51,9 @@
  * pair whose bounding spheres are farther apart than margin + near is not
  * computed exactly (the bounding-sphere gap is a lower bound of its
  * distance), so the cost is at most n_volumes x n_zones GJK runs and usually
- * far less. Cost measured by tools/bench/bench_zone.
+ * far less: with 10 zones, 3.4 us (median over configurations) and 8.7 us
+ * (worst of 1024) for the PUMA 560's 5 volumes, 4.8 and 13 us for the
+ * Panda's 8, FK's frames included (tools/bench/zone_bench.c, this machine).
  *
  * Between samples. A point of a volume on frame k moves, for a change dq of
  * the joints, at most sum_j |dq_j| lever_j, lever_j (kc_zone_levers) being
