@@ -216,9 +216,9 @@ static void zone_servo_limit(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
     if (!(travel > KC_R(0.0)))
         return;
     kc_zone_hit hit;
-    kc_zone_check(c->chain, c->cfg.zones, q, NULL, &hit);
-    if (hit.distance >= c->zone_now.distance)
-        return; /* not approaching */
+    kc_status st = kc_zone_check(c->chain, c->cfg.zones, q, NULL, &hit);
+    if ((st != KC_OK && st != KC_E_LIMIT) || hit.distance >= c->zone_now.distance)
+        return; /* not finite (the final check refuses it) or not approaching */
     kc_real e = kc_max(c->zone_now.distance - c->cfg.zones->margin, KC_R(0.0));
     /* The braking law on the measured approach; the bound on the travel
      * of any point keeps the step short of the margin whatever it is. */
@@ -267,7 +267,8 @@ static void emit_zone(kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id, 
 static void zone_guard(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_output *out)
 {
     kc_zone_hit hit;
-    kc_zone_check(c->chain, c->cfg.zones, q, NULL, &hit);
+    if (kc_zone_check(c->chain, c->cfg.zones, q, NULL, &hit) == KC_E_ARG)
+        return; /* not finite: never the case after setpoint_ok */
     if (c->fault_reason == KC_REASON_ZONE || !(hit.distance < c->cfg.zones->margin) ||
         !(hit.distance < c->zone_now.distance)) {
         c->zone_now = hit;
