@@ -339,13 +339,14 @@ kc_status kc_shape_distance(const kc_shape *a, const kc_shape *b, kc_real *dist)
 
 /* ---- zone sets ---- */
 
-void kc_zone_set_init(kc_zone_set *set)
+kc_status kc_zone_set_init(kc_zone_set *set)
 {
     if (set == NULL)
-        return;
+        return KC_E_ARG;
     set->n_zones = 0;
     set->margin = KC_R(0.02);
     set->near = KC_R(0.25);
+    return KC_OK;
 }
 
 kc_status kc_zone_set_add(kc_zone_set *set, const kc_shape *zone)
