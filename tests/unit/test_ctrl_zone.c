@@ -36,7 +36,7 @@ static void setup(void)
     kc_zone_set_init(&H.zones);
     H.cfg = kc_ctrl_cfg_default();
     H.cfg.zones = &H.zones;
-    H.min_clear = INFINITY;
+    H.min_clear = HUGE_VAL;
 }
 
 static void start(const kc_real *q0) { assert_int_equal(kc_ctrl_init(&H.ctrl, &H.chain, &H.cfg, q0), KC_OK); }
@@ -46,7 +46,7 @@ static double clearance(const kc_real *q)
 {
     kc_real d[KC_MAX_VOLUMES * KC_ZONE_MAX];
     assert_int_equal(kc_zone_distances(&H.chain, &H.zones, q, d), KC_OK);
-    double best = INFINITY;
+    double best = HUGE_VAL;
     for (int i = 0; i < H.chain.n_volumes * H.zones.n_zones; i++)
         best = fmin(best, (double)d[i]);
     return best;
@@ -145,7 +145,7 @@ static void test_joint_goal_through_and_near(void **state)
     for (int k = 0; k < 600 && chosen < 0; k++) {
         kc_real off = KC_R(0.001) * (kc_real)k;
         H.zones.zones[0].pose.t = kc_vec3_make(mid.t.v[0] + off * out.v[0], mid.t.v[1] + off * out.v[1], mid.t.v[2]);
-        double lo = INFINITY;
+        double lo = HUGE_VAL;
         for (int s = 0; s <= 400; s++) {
             kc_real q[6];
             memcpy(q, PUMA_Q0, sizeof q);
@@ -166,7 +166,7 @@ static void test_joint_goal_through_and_near(void **state)
     kc_real prev[6];
     memcpy(prev, qa, sizeof prev);
     tick(&g, KC_CMD_NONE);
-    double between = INFINITY;
+    double between = HUGE_VAL;
     for (int k = 0; k < 5000 && H.count[KC_EVENT_COMPLETED] == 0; k++) {
         for (int s = 1; s < 8; s++) {
             kc_real q[6];
@@ -205,7 +205,7 @@ static void test_step_stops_on_violation(void **state)
     start(qa);
     kc_goal g = joint_goal(7, qb);
     tick(&g, KC_CMD_NONE);
-    double last_clear = INFINITY;
+    double last_clear = HUGE_VAL;
     int k;
     for (k = 0; k < 5000 && H.count[KC_EVENT_FAULT] == 0; k++) {
         last_clear = clearance(H.out.q);

@@ -82,7 +82,7 @@ static double point_zone(const kc_shape *z, dv3 p)
 static double brute(const kc_shape *v, const kc_shape *z, double *h)
 {
     const kc_real *d = v->dim;
-    double best = INFINITY;
+    double best = HUGE_VAL;
     const int n = GRID;
     double st = 1.0 / (double)(n - 1);
     for (int i = 0; i < n; i++)
@@ -245,7 +245,7 @@ static void test_closed_forms(void **state)
         }
         kc_shape box = rand_shape(&rng, KC_SHAPE_BOX), fr = rand_shape(&rng, KC_SHAPE_FRUSTUM);
         {
-            double lo_b = INFINITY, lo_f = INFINITY;
+            double lo_b = HUGE_VAL, lo_f = HUGE_VAL;
             for (int k = 0; k < 8; k++) {
                 double sx = (k & 1) ? 1 : -1, sy = (k & 2) ? 1 : -1, sz = (k & 4) ? 1 : -1;
                 dv3 pb = to_world(&box, sx * (double)box.dim[0], sy * (double)box.dim[1], sz * (double)box.dim[2]);
@@ -351,7 +351,7 @@ static void test_check_on_models(void **state)
             kc_real q[KC_MAX_JOINTS], dist[KC_MAX_VOLUMES * KC_ZONE_MAX];
             kt_rand_q(&rng, &c, q);
             assert_int_equal(kc_zone_distances(&c, &set, q, dist), KC_OK);
-            double best = INFINITY;
+            double best = HUGE_VAL;
             int bi = -1;
             for (int i = 0; i < c.n_volumes * set.n_zones; i++)
                 if ((double)dist[i] < best) {

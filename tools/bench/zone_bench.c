@@ -114,6 +114,7 @@ int main(int argc, char **argv)
     kc_zone_set set;
     ten_zones(&set);
     const kc_model models[2] = {KC_MODEL_PUMA560, KC_MODEL_PANDA};
+    double checksum = 0;
     printf("zone_bench (%s): kc_zone_check incl. FK frames, %d zones, margin %.3f m, near %.3f m; "
            "each of %d calls timed\n",
            KC_REAL_NAME, set.n_zones, (double)set.margin, (double)set.near, calls);
@@ -129,7 +130,7 @@ int main(int argc, char **argv)
         for (int k = 0; k < CONFIGS; k++)
             violating += kc_zone_check(&chain, &set, q[k], NULL, NULL) == KC_E_LIMIT;
         for (int what = 0; what < 2; what++) {
-            volatile double sink = 0;
+            double sink = 0;
             for (int c = -WARMUP * BATCH; c < calls; c++) {
                 int k = (c + WARMUP * BATCH) % CONFIGS;
                 double t0 = now_ns();
@@ -146,6 +147,7 @@ int main(int argc, char **argv)
                 if (c >= 0)
                     ns[c] = t1 - t0;
             }
+            checksum += sink; /* keeps the calls from being optimised away */
             stats s = summarize(ns, calls);
             if (what == 0) {
                 static double best[CONFIGS];
@@ -168,6 +170,7 @@ int main(int argc, char **argv)
         }
         printf("%-8s configurations violating the margin: %d of %d\n", kc_model_name(models[m]), violating, CONFIGS);
     }
+    printf("checksum %.17g\n", checksum);
     free(ns);
     return 0;
 }
