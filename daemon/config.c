@@ -265,7 +265,7 @@ static int read_controller(const char *file, const config_setting_t *c, kd_confi
     static const char *const keys[] = {"period_us", "angles", "home", "vel_scale", "acc_scale", "prefix",
                                        "lcm_url", "queue_size", "servo_timeout_ms", "check_max_s",
                                        "stop_timeout_s", "status_hz", "stats_hz", "overrun", "rt", "plant",
-                                       "cartesian", "can", NULL};
+                                       "cartesian", "can", "zones", NULL};
     static const char *const overrun_keys[] = {"missed_cycles", "action", NULL};
     static const char *const rt_keys[] = {"enable", "priority", "cpu", "mlock", NULL};
     static const char *const plant_keys[] = {"lag_s", NULL};
@@ -531,6 +531,37 @@ static int can_check(const char *path, kd_config *cfg)
     return 0;
 }
 
+/* controller.zones, read by the description library (its format). */
+static int read_zones(const char *path, kd_config *cfg)
+{
+    kc_desc_zone_info info;
+    kc_desc_error err;
+    if (kc_desc_load_zones(path, &cfg->zones, &info, &err) != KC_OK) {
+        fprintf(stderr, "%s\n", err.text);
+        return -1;
+    }
+    for (int z = 0; z < info.n_zones; z++)
+        snprintf(cfg->zone_names[z], sizeof cfg->zone_names[z], "%s", info.names[z]);
+    return 0;
+}
+
+void kd_config_zone_pair(const kd_config *cfg, int zone, int volume, char *buf, int size)
+{
+    char zn[KD_NAME_MAX + 16], vn[KD_NAME_MAX + 16];
+    if (size <= 0)
+        return;
+    if (zone >= 0 && zone < KC_ZONE_MAX && cfg->zone_names[zone][0] != '\0')
+        snprintf(zn, sizeof zn, "\"%s\"", cfg->zone_names[zone]);
+    else
+        snprintf(zn, sizeof zn, "%d", zone + 1);
+    if (volume >= 0 && volume < KC_MAX_VOLUMES && cfg->volume_names[volume][0] != '\0')
+        snprintf(vn, sizeof vn, "\"%s\"", cfg->volume_names[volume]);
+    else
+        snprintf(vn, sizeof vn, "%d", volume + 1);
+    snprintf(buf, (size_t)size, "zone %s and link volume %s (frame %d)", zn, vn,
+             volume >= 0 && volume < cfg->chain.n_volumes ? cfg->chain.volumes[volume].frame + 1 : 0);
+}
+
 /* Parses the file; fills the robot (unless a built-in model is forced) and
  * the controller section. *has_robot tells whether the file had a robot. */
 static int read_file(const char *path, kd_config *cfg, file_ctrl *fc, int *robot_deg, int *has_robot)
@@ -576,6 +607,8 @@ static int read_file(const char *path, kd_config *cfg, file_ctrl *fc, int *robot
     c = config_setting_get_member(root, "controller");
     if (c != NULL)
         rc = read_controller(path, c, cfg, fc);
+    if (rc == 0 && c != NULL && read_zones(path, cfg) != 0)
+        rc = -1;
     if (rc == 0 && *has_robot) {
         kc_desc_info info;
         kc_desc_error err;
@@ -585,6 +618,8 @@ static int read_file(const char *path, kd_config *cfg, file_ctrl *fc, int *robot
         } else {
             snprintf(cfg->robot_name, sizeof cfg->robot_name, "%s", info.name);
             *robot_deg = info.angles_deg;
+            for (int v = 0; v < info.n_volumes; v++)
+                snprintf(cfg->volume_names[v], sizeof cfg->volume_names[v], "%s", info.volume_names[v]);
         }
     }
     config_destroy(&lc);
@@ -728,6 +763,7 @@ kd_config_result kd_config_load(kd_config *cfg, int argc, char **argv)
             return KD_CONFIG_ERROR;
     }
     if (model != NULL || !has_robot) {
+        memset(cfg->volume_names, 0, sizeof cfg->volume_names);
         if (builtin_model(cfg, model != NULL ? model : "puma560") != 0) {
             problem("cannot build the built-in model \"%s\"", model != NULL ? model : "puma560");
             return KD_CONFIG_ERROR;
@@ -812,6 +848,21 @@ kd_config_result kd_config_load(kd_config *cfg, int argc, char **argv)
     cfg->ctrl.servo_timeout_ticks = (int64_t)ceil(cfg->servo_timeout_s / ((double)cfg->period_ns * 1e-9));
     if (cfg->ctrl.servo_timeout_ticks < 1)
         cfg->ctrl.servo_timeout_ticks = 1;
+    if (cfg->zones.n_zones > 0) {
+        /* Goals are checked tick by tick: no volume may travel the margin
+         * in one cycle (kinctl/zone.h). */
+        kc_real travel = kc_zone_tick_travel(&cfg->chain, cfg->ctrl.dt);
+        cfg->ctrl.zones = &cfg->zones;
+        if (cfg->chain.n_volumes == 0)
+            fprintf(stderr, "%s: warning: controller.zones is set but robot \"%s\" has no link volumes\n",
+                    config_path, cfg->robot_name);
+        else if (!(cfg->zones.margin > travel)) {
+            fprintf(stderr, "%s: controller.zones.margin = %g m is not above %g m, the farthest a link volume moves in "
+                            "one cycle at the joints' velocity limits (raise the margin, shorten period_us or lower "
+                            "vel_scale)\n", config_path, (double)cfg->zones.margin, (double)travel);
+            return KD_CONFIG_ERROR;
+        }
+    }
     if (kc_ctrl_cfg_check(&cfg->ctrl, &cfg->chain) != KC_OK) {
         problem("%s: the controller refuses this configuration with robot \"%s\" (%s; check the limits, period and "
                 "cartesian settings)",

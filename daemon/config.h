@@ -63,6 +63,10 @@
  *       omega = 1.0; alpha = 4.0;      # rad/s, rad/s^2 of the tool
  *       track_tol = 0.001;             # m: tool behind the path -> fault
  *     };
+ *     zones = {                 # forbidden zones (base frame), checked
+ *       margin = 0.02;          # against the robot's link volumes; the
+ *       list = ( ... );         # format: core/desc/include/kinctl/desc.h
+ *     };                        # (margin must exceed one cycle's travel)
  *   };
  *
  * Not for the cycle: stdio, libconfig, malloc.
@@ -128,6 +132,11 @@ typedef struct kd_config {
     int rt_enable, rt_priority, rt_cpu, rt_mlock;
     double plant_lag_s;
     kd_can_cfg can;
+    /* controller.zones (cfg->ctrl.zones points here when there are any) and
+     * the names messages give zones and link volumes ("" where none). */
+    kc_zone_set zones;
+    char zone_names[KC_ZONE_MAX][KD_NAME_MAX];
+    char volume_names[KC_MAX_VOLUMES][KD_NAME_MAX];
 } kd_config;
 
 /* Outcome of kd_config_load. */
@@ -140,6 +149,10 @@ typedef enum kd_config_result {
 /* Parses the command line (getopt_long) and the files it names into cfg.
  * Prints --help to stdout and problems to stderr. */
 kd_config_result kd_config_load(kd_config *cfg, int argc, char **argv);
+
+/* Names a zone and a link volume for a message: zone "table" and link
+ * volume "forearm" (frame 4), or zone 2 / volume 3 where unnamed. */
+void kd_config_zone_pair(const kd_config *cfg, int zone, int volume, char *buf, int size);
 
 /* One line about cfg for the log (robot, joints, period, URL, prefix). */
 void kd_config_describe(const kd_config *cfg, char *buf, int size);

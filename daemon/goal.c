@@ -25,6 +25,7 @@ const char *kd_reason_token(kc_ctrl_reason reason)
     case KC_REASON_LIMIT_GUARD: return "limit_guard";
     case KC_REASON_SERVO_TIMEOUT: return "servo_timeout";
     case KC_REASON_DUPLICATE_ID: return "duplicate_id";
+    case KC_REASON_ZONE: return "zone";
     case (int)KD_REASON_OVERRUN: return "overrun";
     case (int)KD_REASON_SHUTDOWN: return "shutdown";
     case KC_REASON_EXTERNAL: return "external";
@@ -42,6 +43,7 @@ kc_status kd_reason_code(kc_ctrl_reason reason)
     case KC_REASON_JOINT_COUNT:
     case KC_REASON_PLAN: return KC_E_ARG;
     case KC_REASON_JOINT_LIMIT:
+    case KC_REASON_ZONE:
     case KC_REASON_LIMIT_GUARD: return KC_E_LIMIT;
     case KC_REASON_QUEUE_FULL: return KC_E_CAPACITY;
     case KC_REASON_UNREACHABLE:

@@ -172,9 +172,13 @@ static void publish_event(kd_io *io, const kc_ctrl_event *e)
     if (e->kind == KC_EVENT_REJECTED || e->kind == KC_EVENT_ABORTED || e->kind == KC_EVENT_FAULT) {
         if (e->kind == KC_EVENT_REJECTED)
             io->rejections++;
-        if (e->reason == KC_REASON_EXTERNAL)
+        if (e->reason == KC_REASON_EXTERNAL) {
             kd_reject_set(&rej, io->ext_reason, "%s", io->ext_text);
-        else if (e->kind == KC_EVENT_FAULT || e->reason == KC_REASON_TRACKING)
+        } else if (e->reason == KC_REASON_ZONE) {
+            char pair[256];
+            kd_config_zone_pair(io->cfg, e->zone, e->volume, pair, sizeof pair);
+            kd_reject_set(&rej, e->reason, "%s: %s (at %.6g)", kc_ctrl_reason_str(e->reason), pair, (double)e->where);
+        } else if (e->kind == KC_EVENT_FAULT || e->reason == KC_REASON_TRACKING)
             kd_reject_set(&rej, e->reason, "%s (at %.6g)", kc_ctrl_reason_str(e->reason), (double)e->where);
         else
             kd_reject_set(&rej, e->reason, "%s", kc_ctrl_reason_str(e->reason));
@@ -279,7 +283,13 @@ static void handle_goal(kd_io *io, kd_msg_type type, int64_t received_ns)
         if (st != KC_OK) {
             if (reason == KC_REASON_NONE)
                 reason = KC_REASON_PLAN;
-            if (reason == KC_REASON_UNREACHABLE || reason == KC_REASON_TRACKING)
+            if (reason == KC_REASON_ZONE) {
+                char pair[256];
+                kd_config_zone_pair(io->cfg, io->scratch->zone_hit.zone, io->scratch->zone_hit.volume, pair,
+                                    sizeof pair);
+                kd_reject_set(&rej, reason, "%s: %s (%.4g m, at %.6g)", kc_ctrl_reason_str(reason), pair,
+                              (double)io->scratch->zone_hit.distance, (double)where);
+            } else if (reason == KC_REASON_UNREACHABLE || reason == KC_REASON_TRACKING)
                 kd_reject_set(&rej, reason, "%s (%s at %.6g)", kc_ctrl_reason_str(reason), kc_status_str(st),
                               (double)where);
             else
@@ -523,6 +533,14 @@ int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_ctrl *scratc
     io->check_cfg = cfg->ctrl;
     if (io->check_cfg.dt < KD_CHECK_PERIOD)
         io->check_cfg.dt = KD_CHECK_PERIOD;
+    if (cfg->ctrl.zones != NULL && cfg->chain.n_volumes > 0) {
+        /* With zones, the dry run's tick must keep each volume's travel
+         * below the margin (kinctl/zone.h): at most 0.9 margin a tick. */
+        kc_real per_s = kc_zone_tick_travel(&cfg->chain, KC_R(1.0));
+        kc_real dt_max = per_s > KC_R(0.0) ? KC_R(0.9) * cfg->ctrl.zones->margin / per_s : KD_CHECK_PERIOD;
+        if (io->check_cfg.dt > dt_max)
+            io->check_cfg.dt = kc_max(dt_max, cfg->ctrl.dt);
+    }
     io->check_max_ticks = (int64_t)(cfg->check_max_s / (double)io->check_cfg.dt) + 1;
     io->status_period_ns = (int64_t)(1e9 / cfg->status_hz);
     io->stats_period_ns = (int64_t)(1e9 / cfg->stats_hz);

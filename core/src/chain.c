@@ -199,6 +199,18 @@ kc_status kc_chain_set_tool(kc_chain *chain, const kc_pose *tool)
     return KC_OK;
 }
 
+kc_status kc_chain_add_volume(kc_chain *chain, int frame, const kc_shape *shape)
+{
+    if (chain == NULL || shape == NULL || frame < 0 || frame >= chain->n_frames || kc_shape_check(shape, 0) != KC_OK)
+        return KC_E_ARG;
+    if (chain->n_volumes >= KC_MAX_VOLUMES)
+        return KC_E_CAPACITY;
+    chain->volumes[chain->n_volumes].frame = frame;
+    chain->volumes[chain->n_volumes].shape = *shape;
+    chain->n_volumes++;
+    return KC_OK;
+}
+
 kc_status kc_chain_set_limits(kc_chain *chain, int j, const kc_joint_limits *limits)
 {
     if (chain == NULL || j < 0 || j >= chain->n_joints || kc_chain_check_limits(limits) != KC_OK)
@@ -234,6 +246,12 @@ kc_status kc_chain_check(const kc_chain *chain)
             return KC_E_ARG;
     if (check_rigid(&chain->base) != KC_OK || check_rigid(&chain->tool) != KC_OK)
         return KC_E_ARG;
+    if (chain->n_volumes < 0 || chain->n_volumes > KC_MAX_VOLUMES)
+        return KC_E_ARG;
+    for (int v = 0; v < chain->n_volumes; v++)
+        if (chain->volumes[v].frame < 0 || chain->volumes[v].frame >= chain->n_frames ||
+            kc_shape_check(&chain->volumes[v].shape, 0) != KC_OK)
+            return KC_E_ARG;
     return KC_OK;
 }
 
@@ -391,6 +409,141 @@ static kc_status build_rm01(kc_chain *c)
     return build_coded(c, codes, lens, 9);
 }
 
+/* ---- built-in link volumes ----
+ *
+ * Capsules around each link's segments, written in the frame that carries
+ * the segment rigidly. Standard DH (A_i = Rz(q) Tz(d) Tx(a) Rx(alpha)):
+ * frame i-1's origin is, in frame i, (-a, -d sin(alpha), -d cos(alpha)), and
+ * the corner of the link's L (after Tz(d)) is (-a, 0, 0), whatever q.
+ * Modified DH (A_i = Rx(alpha) Tx(a) Rz(q) Tz(d)): the offset a is the
+ * segment from 0 to (a, 0, 0) in frame i-1, the offset d the segment from
+ * (0, 0, -d) to 0 in frame i. Coded chains (Tz(len) then the code): the
+ * segment from 0 to (0, 0, len) in the frame before. Columns standing on
+ * the base start 0.15 m above it, so a table top under the base is clear.
+ * Radii are assumptions of the links' thickness. */
+
+static kc_status add_seg(kc_chain *c, int kind, int frame, kc_real x0, kc_real y0, kc_real z0, kc_real x1, kc_real y1,
+                         kc_real z1, kc_real r)
+{
+    kc_vec3 p0 = kc_vec3_make(x0, y0, z0), p1 = kc_vec3_make(x1, y1, z1);
+    kc_shape s;
+    kc_status st = kc_shape_segment(kind, &p0, &p1, r, &s);
+    return st == KC_OK ? kc_chain_add_volume(c, frame, &s) : st;
+}
+
+static kc_status add_caps(kc_chain *c, int frame, kc_real x0, kc_real y0, kc_real z0, kc_real x1, kc_real y1, kc_real z1,
+                          kc_real r)
+{
+    return add_seg(c, KC_SHAPE_CAPSULE, frame, x0, y0, z0, x1, y1, z1, r);
+}
+
+static kc_status volumes_rrr3(kc_chain *c, const kc_real len[3])
+{
+    kc_real z = KC_R(0.0), col = kc_max(len[0] - KC_R(0.15), KC_R(0.5) * len[0]);
+    kc_status st = add_caps(c, 0, z, -col, z, z, z, z, KC_R(0.05));
+    if (st == KC_OK)
+        st = add_caps(c, 1, -len[1], z, z, z, z, z, KC_R(0.04));
+    if (st == KC_OK)
+        st = add_caps(c, 2, -len[2], z, z, z, z, z, KC_R(0.035));
+    return st;
+}
+
+static kc_status volumes_planar2(kc_chain *c, const kc_real len[2])
+{
+    kc_real z = KC_R(0.0);
+    kc_status st = add_caps(c, 0, -len[0], z, z, z, z, z, KC_R(0.04));
+    return st == KC_OK ? add_caps(c, 1, -len[1], z, z, z, z, z, KC_R(0.03)) : st;
+}
+
+static kc_status volumes_puma560(kc_chain *c)
+{
+    kc_real z = KC_R(0.0);
+    /* column (d1 = 0.672, alpha1 = pi/2), upper arm (a2), the elbow's
+     * d3/a3 offset, forearm (d4), wrist and flange */
+    kc_status st = add_caps(c, 0, z, KC_R(-0.52), z, z, z, z, KC_R(0.10));
+    if (st == KC_OK)
+        st = add_caps(c, 1, KC_R(-0.4318), z, z, z, z, z, KC_R(0.08));
+    if (st == KC_OK)
+        st = add_caps(c, 2, KC_R(-0.0203), KC_R(0.15005), z, KC_R(-0.0203), z, z, KC_R(0.06));
+    if (st == KC_OK)
+        st = add_caps(c, 3, z, KC_R(-0.4318), z, z, z, z, KC_R(0.05));
+    if (st == KC_OK)
+        st = add_caps(c, 5, z, z, KC_R(-0.03), z, z, KC_R(0.06), KC_R(0.04));
+    return st;
+}
+
+static kc_status volumes_panda(kc_chain *c)
+{
+    kc_real z = KC_R(0.0);
+    /* link 1 (d1 = 0.333), upper arm (d3 = 0.316), the elbow's a = +-0.0825
+     * offsets, forearm (d5 = 0.384), the wrist's a = 0.088, flange (d7 =
+     * 0.107), then the hand: a box 0.2 m wide across the fingers, turned
+     * like the tool (Rz(-pi/4)). */
+    kc_status st = add_caps(c, 0, z, z, KC_R(-0.19), z, z, z, KC_R(0.08));
+    if (st == KC_OK)
+        st = add_caps(c, 2, z, z, KC_R(-0.316), z, z, z, KC_R(0.07));
+    if (st == KC_OK)
+        st = add_caps(c, 2, z, z, z, KC_R(0.0825), z, z, KC_R(0.07));
+    if (st == KC_OK)
+        st = add_caps(c, 3, z, z, z, KC_R(-0.0825), z, z, KC_R(0.07));
+    if (st == KC_OK)
+        st = add_caps(c, 4, z, z, KC_R(-0.384), z, z, z, KC_R(0.06));
+    if (st == KC_OK)
+        st = add_caps(c, 5, z, z, z, KC_R(0.088), z, z, KC_R(0.06));
+    if (st == KC_OK)
+        st = add_caps(c, 6, z, z, KC_R(-0.107), z, z, z, KC_R(0.05));
+    if (st == KC_OK) {
+        kc_shape hand;
+        hand.kind = KC_SHAPE_BOX;
+        kc_mat3_rot(KC_AXIS_Z, -KC_PI / KC_R(4.0), &hand.pose.R);
+        hand.pose.t = kc_vec3_make(z, z, KC_R(0.05));
+        hand.dim[0] = KC_R(0.03);
+        hand.dim[1] = KC_R(0.10);
+        hand.dim[2] = KC_R(0.04);
+        hand.dim[3] = hand.dim[4] = z;
+        st = kc_chain_add_volume(c, 6, &hand);
+    }
+    return st;
+}
+
+static kc_status volumes_rb211(kc_chain *c)
+{
+    kc_real z = KC_R(0.0);
+    /* Seed 003 on RB-211: a cylinder of revolution in O_3 and a truncated
+     * pyramid in O_4 (frames 2 and 3 here), capsules elsewhere. */
+    kc_status st = add_caps(c, 0, z, z, KC_R(0.15), z, z, KC_R(0.5), KC_R(0.08));
+    if (st == KC_OK)
+        st = add_caps(c, 1, z, z, z, z, z, KC_R(0.4), KC_R(0.06));
+    if (st == KC_OK)
+        st = add_seg(c, KC_SHAPE_CYLINDER, 2, z, z, z, z, z, KC_R(0.3), KC_R(0.05));
+    if (st == KC_OK) {
+        kc_shape f;
+        f.kind = KC_SHAPE_FRUSTUM;
+        kc_pose_identity(&f.pose);
+        f.pose.t.v[2] = KC_R(0.05);
+        f.dim[0] = f.dim[1] = KC_R(0.05);
+        f.dim[2] = f.dim[3] = KC_R(0.03);
+        f.dim[4] = KC_R(0.05);
+        st = kc_chain_add_volume(c, 3, &f);
+    }
+    if (st == KC_OK)
+        st = add_caps(c, 5, z, z, z, z, z, KC_R(0.08), KC_R(0.03));
+    return st;
+}
+
+static kc_status volumes_rm01(kc_chain *c)
+{
+    kc_real z = KC_R(0.0);
+    kc_status st = add_caps(c, 1, z, z, KC_R(-0.51), z, z, z, KC_R(0.09));
+    if (st == KC_OK)
+        st = add_caps(c, 3, z, z, z, z, z, KC_R(0.43), KC_R(0.07));
+    if (st == KC_OK)
+        st = add_caps(c, 6, z, z, z, z, z, KC_R(0.43), KC_R(0.05));
+    if (st == KC_OK)
+        st = add_caps(c, 7, z, z, z, z, z, KC_R(0.06), KC_R(0.04));
+    return st;
+}
+
 static const char *const model_names[KC_MODEL_COUNT] = {"rrr3", "planar2", "puma560", "panda", "rb211", "rm01"};
 
 const char *kc_model_name(kc_model model)
@@ -435,12 +588,36 @@ kc_status kc_chain_init_model(kc_chain *chain, kc_model model, const kc_model_pa
     }
     kc_chain_init(&tmp);
     switch (model) {
-    case KC_MODEL_RRR3: st = build_rrr3(&tmp, len); break;
-    case KC_MODEL_PLANAR2: st = build_planar2(&tmp, len); break;
-    case KC_MODEL_PUMA560: st = build_puma560(&tmp); break;
-    case KC_MODEL_PANDA: st = build_panda(&tmp); break;
-    case KC_MODEL_RB211: st = build_rb211(&tmp); break;
-    case KC_MODEL_RM01: st = build_rm01(&tmp); break;
+    case KC_MODEL_RRR3:
+        st = build_rrr3(&tmp, len);
+        if (st == KC_OK)
+            st = volumes_rrr3(&tmp, len);
+        break;
+    case KC_MODEL_PLANAR2:
+        st = build_planar2(&tmp, len);
+        if (st == KC_OK)
+            st = volumes_planar2(&tmp, len);
+        break;
+    case KC_MODEL_PUMA560:
+        st = build_puma560(&tmp);
+        if (st == KC_OK)
+            st = volumes_puma560(&tmp);
+        break;
+    case KC_MODEL_PANDA:
+        st = build_panda(&tmp);
+        if (st == KC_OK)
+            st = volumes_panda(&tmp);
+        break;
+    case KC_MODEL_RB211:
+        st = build_rb211(&tmp);
+        if (st == KC_OK)
+            st = volumes_rb211(&tmp);
+        break;
+    case KC_MODEL_RM01:
+        st = build_rm01(&tmp);
+        if (st == KC_OK)
+            st = volumes_rm01(&tmp);
+        break;
     default: st = KC_E_ARG; break;
     }
     if (st == KC_OK)

@@ -33,6 +33,7 @@ kc_ctrl_cfg kc_ctrl_cfg_default(void)
     c.limit_slack = KC_R(1e-6);
 #endif
     c.servo_timeout_ticks = 100;
+    c.zones = NULL;
     c.ik = kc_ik_cfg_default();
     /* Fed forward, the online law only has to remove what one tick leaves:
      * a gain of 100/s (k dt = 0.1) settles in tens of ms. */
@@ -65,6 +66,13 @@ kc_status kc_ctrl_cfg_check(const kc_ctrl_cfg *cfg, const kc_chain *chain)
     for (int j = 0; j < chain->n_joints; j++)
         if (!kc_isfinite(chain->joints[j].limits.qd_max) || !kc_isfinite(chain->joints[j].limits.qdd_max))
             return KC_E_ARG;
+    /* Zones: a goal is checked tick by tick, so no volume may travel as far
+     * as the margin in one tick (see kinctl/zone.h). */
+    if (cfg->zones != NULL &&
+        (kc_zone_set_check(cfg->zones) != KC_OK ||
+         (cfg->zones->n_zones > 0 && chain->n_volumes > 0 &&
+          !(cfg->zones->margin > kc_zone_tick_travel(chain, cfg->dt)))))
+        return KC_E_ARG;
     return KC_OK;
 }
 
@@ -84,6 +92,7 @@ const char *kc_ctrl_reason_str(kc_ctrl_reason reason)
     case KC_REASON_SERVO_TIMEOUT: return "the servo stream went quiet";
     case KC_REASON_DUPLICATE_ID: return "a goal with this id is already active or queued";
     case KC_REASON_EXTERNAL: return "an external device (a drive, the field bus) reported a fault";
+    case KC_REASON_ZONE: return "a link volume would enter the margin of a forbidden zone";
     case KC_REASON_COUNT: break;
     }
     return "unknown reason";
@@ -170,6 +179,122 @@ kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *g, kc_ctrl_re
     return KC_OK;
 }
 
+/* ---- forbidden zones (kinctl/zone.h) ---- */
+
+static int zones_on(const kc_ctrl *c)
+{
+    return c->cfg.zones != NULL && c->cfg.zones->n_zones > 0 && c->chain->n_volumes > 0;
+}
+
+static void zone_init(kc_ctrl *c)
+{
+    kc_zone_hit none = {-1, -1, INF};
+    c->zone_now = none;
+    c->zone_hit = none;
+    kc_zone_levers(c->chain, c->zone_lever);
+    /* The servo's braking law: a point's braking a makes joint j brake at
+     * most a / lever_j, so a = min qdd_max_j lever_j keeps every joint
+     * within its limit; half of it leaves room for the IK's own changes. */
+    c->zone_brake = INF;
+    for (int j = 0; j < c->chain->n_joints; j++)
+        if (c->zone_lever[j] > KC_R(0.0))
+            c->zone_brake = kc_min(c->zone_brake, KC_R(0.5) * c->chain->joints[j].limits.qdd_max * c->zone_lever[j]);
+    if (zones_on(c))
+        kc_zone_check(c->chain, c->cfg.zones, c->q, NULL, &c->zone_now);
+}
+
+/* A servo step toward a zone approaches it by at most dt sqrt(2 a e) and
+ * moves no volume point (by the lever bound) more than e / 2, e the
+ * clearance beyond the margin at the last setpoint: the arm brakes into the
+ * margin and never reaches it. The step is scaled as a whole (the tool
+ * keeps its direction), its velocity change kept within the acceleration
+ * limits. */
+static void zone_servo_limit(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
+{
+    int n = c->chain->n_joints;
+    kc_real travel = KC_R(0.0), dt = c->cfg.dt;
+    for (int j = 0; j < n; j++)
+        travel += kc_fabs(q[j] - c->q[j]) * c->zone_lever[j];
+    if (!(travel > KC_R(0.0)))
+        return;
+    kc_zone_hit hit;
+    kc_status st = kc_zone_check(c->chain, c->cfg.zones, q, NULL, &hit);
+    if ((st != KC_OK && st != KC_E_LIMIT) || hit.distance >= c->zone_now.distance)
+        return; /* not finite (the final check refuses it) or not approaching */
+    kc_real e = kc_max(c->zone_now.distance - c->cfg.zones->margin, KC_R(0.0));
+    /* The braking law on the measured approach; the bound on the travel
+     * of any point keeps the step short of the margin whatever it is. */
+    kc_real approach = c->zone_now.distance - hit.distance, s = KC_R(1.0), a = KC_R(1.0);
+    kc_real brake = dt * kc_sqrt(KC_R(2.0) * c->zone_brake * e);
+    if (approach > brake)
+        s = brake / approach;
+    if (travel * s > KC_R(0.5) * e)
+        s = KC_R(0.5) * e / travel;
+    if (s >= KC_R(1.0))
+        return;
+    for (int j = 0; j < n; j++) {
+        kc_real dv = kc_fabs(s * qd[j] - c->qd[j]), lim = c->chain->joints[j].limits.qdd_max * dt;
+        if (dv * a > lim)
+            a = lim / dv;
+    }
+    for (int j = 0; j < n; j++) {
+        qd[j] = c->qd[j] + a * (s * qd[j] - c->qd[j]);
+        q[j] = c->q[j] + qd[j] * dt;
+        qdd[j] = (qd[j] - c->qd[j]) / dt;
+    }
+    /* A twist stream's target stays with the restrained arm instead of
+     * running on into the zone, so a reversed twist moves it away at once. */
+    if (c->goal.servo_twist)
+        kc_fk_eval(c->chain, q, &c->servo_target);
+}
+
+static void joint_stop(kc_ctrl *c, int sync, kc_ctrl_state then);
+static void queue_clear(kc_ctrl *c, kc_ctrl_output *out);
+static void emit(kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id, kc_ctrl_reason reason, kc_real where);
+
+static void emit_zone(kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id, kc_real where, const kc_zone_hit *hit)
+{
+    int before = out->n_events;
+    emit(out, kind, id, KC_REASON_ZONE, where);
+    if (out->n_events > before) {
+        out->events[before].zone = hit->zone;
+        out->events[before].volume = hit->volume;
+    }
+}
+
+/* The final check against the zones: a setpoint that comes closer than
+ * the margin (and closer than the last one) is replaced by the first tick
+ * of an e-stop-like stop from the last good setpoint, and the controller
+ * faults naming the pair. */
+static void zone_guard(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_output *out)
+{
+    kc_zone_hit hit;
+    if (kc_zone_check(c->chain, c->cfg.zones, q, NULL, &hit) == KC_E_ARG)
+        return; /* not finite: never the case after setpoint_ok */
+    if (c->fault_reason == KC_REASON_ZONE || !(hit.distance < c->cfg.zones->margin) ||
+        !(hit.distance < c->zone_now.distance)) {
+        c->zone_now = hit;
+        return;
+    }
+    kc_real where = c->active && c->path_length > KC_R(0.0) ? out->progress * c->path_length : out->progress;
+    c->zone_hit = hit;
+    c->fault_reason = KC_REASON_ZONE;
+    emit_zone(out, KC_EVENT_FAULT, c->active ? c->goal.id : 0, where, &hit);
+    if (c->active)
+        emit_zone(out, KC_EVENT_ABORTED, c->goal.id, where, &hit);
+    queue_clear(c, out);
+    joint_stop(c, 0, KC_CTRL_FAULT);
+    c->state = KC_CTRL_STOPPING;
+    for (int j = 0; j < c->chain->n_joints; j++) {
+        kc_profile_state s;
+        kc_profile_eval(&c->jstop_prof[j], c->cycle - c->jstop_k0, &s);
+        q[j] = s.p;
+        qd[j] = s.v;
+        qdd[j] = s.a;
+    }
+    kc_zone_check(c->chain, c->cfg.zones, q, NULL, &c->zone_now);
+}
+
 /* ---- init ---- */
 
 kc_status kc_ctrl_init(kc_ctrl *c, const kc_chain *chain, const kc_ctrl_cfg *cfg, const kc_real *q0)
@@ -183,6 +308,7 @@ kc_status kc_ctrl_init(kc_ctrl *c, const kc_chain *chain, const kc_ctrl_cfg *cfg
     c->state = KC_CTRL_IDLE;
     for (int j = 0; j < chain->n_joints; j++)
         c->q[j] = q0[j];
+    zone_init(c);
     return KC_OK;
 }
 
@@ -197,6 +323,8 @@ static void emit(kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id, kc_ct
     e->goal_id = id;
     e->reason = reason;
     e->where = where;
+    e->zone = -1;
+    e->volume = -1;
 }
 
 static void queue_clear(kc_ctrl *c, kc_ctrl_output *out)
@@ -1142,6 +1270,9 @@ kc_status kc_ctrl_step(kc_ctrl *c, const kc_ctrl_input *in, kc_ctrl_output *out)
         }
     }
 
+    if (zones_on(c) && c->active && c->goal.kind == KC_GOAL_SERVO && c->state == KC_CTRL_MOVING && !joint_stopping(c))
+        zone_servo_limit(c, q, qd, qdd);
+
     if (!setpoint_ok(c, q, qd)) {
         /* Never send it: hold the last good position, stop in joint space. */
         if (c->fault_reason == KC_REASON_NONE) {
@@ -1167,6 +1298,12 @@ kc_status kc_ctrl_step(kc_ctrl *c, const kc_ctrl_input *in, kc_ctrl_output *out)
             qd[j] = s.v;
             qdd[j] = s.a;
         }
+    }
+
+    if (zones_on(c)) {
+        zone_guard(c, q, qd, qdd, out);
+        if (c->fault_reason == KC_REASON_ZONE)
+            finished = 0;
     }
 
     memcpy(c->q, q, sizeof(kc_real) * (size_t)n);
@@ -1216,8 +1353,9 @@ kc_status kc_ctrl_check(kc_ctrl *scratch, const kc_chain *chain, const kc_ctrl_c
             *reason = KC_REASON_NONE;
         return KC_OK;
     }
-    if (goal->kind == KC_GOAL_JOINT) {
-        /* A joint move is exactly its plan: the plan is the whole check. */
+    if (goal->kind == KC_GOAL_JOINT && !zones_on(scratch)) {
+        /* A joint move is exactly its plan: the plan is the whole check
+         * (with zones, its ticks are stepped like any other goal's). */
         kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS];
         scaled_limits(scratch, goal, vmax, amax);
         if (kc_interp_joint_plan(&scratch->plan.joint, chain->n_joints, q_start, goal->q, vmax, amax, KC_R(0.0),

@@ -88,6 +88,18 @@ static void check_model_file(kc_model model)
         assert_true(a->limits.qddd_max == b->limits.qddd_max);
         assert_true(info.joint_names[j][0] != '\0');
     }
+    /* The same link volumes on the same frames, each named. */
+    assert_int_equal(file.n_volumes, ref.n_volumes);
+    assert_int_equal(info.n_volumes, ref.n_volumes);
+    for (int v = 0; v < ref.n_volumes; v++) {
+        const kc_link_volume *a = &file.volumes[v], *b = &ref.volumes[v];
+        assert_int_equal(a->frame, b->frame);
+        assert_int_equal(a->shape.kind, b->shape.kind);
+        assert_pose_near(&a->shape.pose, &b->shape.pose);
+        for (int i = 0; i < KC_SHAPE_DIMS; i++)
+            assert_true(kc_fabs(a->shape.dim[i] - b->shape.dim[i]) <= TOL);
+        assert_true(info.volume_names[v][0] != '\0');
+    }
     for (int k = 0; k < N_CONFIGS; k++) {
         kc_real q[KC_MAX_JOINTS];
         kc_pose ta, tb, fa[KC_MAX_FRAMES], fb[KC_MAX_FRAMES];
@@ -253,7 +265,7 @@ static const bad_case bad_cases[] = {
     {"wrong type", HEAD "  dh = (\n    { type = \"revolute\"; a = \"0.1\"; alpha = 0.0; d = 0.0; theta = 0.0; }\n  );\n};\n",
      4, "dh row 1: a must be a number", KC_E_ARG},
     {"unknown key in robot", HEAD "  nmae = \"y\";\n  dh = ( " ROW_LAST " );\n};\n", 3,
-     "unknown key \"nmae\" in robot (expected one of: name, angles, base, tool, dh, mdh, elements)", KC_E_ARG},
+     "unknown key \"nmae\" in robot (expected one of: name, angles, base, tool, dh, mdh, elements, volumes)", KC_E_ARG},
     {"unknown key in a row", HEAD "  dh = (\n    { type = \"revolute\"; a = 0.0; alhpa = 0.0; d = 0.0; theta = 0.0; }\n  );\n};\n",
      4, "unknown key \"alhpa\" in dh row 1", KC_E_ARG},
     {"unknown key in limits", HEAD "  dh = (\n    { type = \"revolute\"; a = 0.0; alpha = 0.0; d = 0.0; theta = 0.0;\n"
@@ -294,6 +306,23 @@ static const bad_case bad_cases[] = {
      "tool rpy must be a vector of 3 numbers", KC_E_ARG},
     {"mixed array", HEAD "  tool = { xyz = [0, 0, 0.1]; };\n  dh = ( " ROW_LAST " );\n};\n", 3,
      "mismatched element type in array (an array [..] may not mix 1 and 1.5: write 1.0)", KC_E_ARG},
+    {"unknown volume shape", HEAD "  dh = ( " ROW_LAST " );\n  volumes = (\n    { frame = 1; shape = \"cone\"; }\n  );\n};\n", 6,
+     "volume 1: unknown shape \"cone\" (expected sphere, capsule, cylinder, box, frustum)", KC_E_ARG},
+    {"half-space volume", HEAD "  dh = ( " ROW_LAST " );\n  volumes = (\n    { frame = 1;\n shape = \"halfspace\"; }\n  );\n};\n", 7,
+     "volume 1: unknown shape \"halfspace\"", KC_E_ARG},
+    {"volume frame out of range", HEAD "  dh = ( " ROW_LAST " );\n  volumes = (\n    { shape = \"sphere\"; xyz = [0.0, 0.0, 0.0]; radius = 0.1;\n"
+                                       "      frame = 2; }\n  );\n};\n", 7,
+     "volume 1: frame must be a whole number 1 .. 1", KC_E_ARG},
+    {"volume without frame", HEAD "  dh = ( " ROW_LAST " );\n  volumes = (\n    { shape = \"sphere\"; xyz = [0.0, 0.0, 0.0]; radius = 0.1; }\n  );\n};\n", 6,
+     "volume 1: missing key \"frame\"", KC_E_ARG},
+    {"capsule of zero length", HEAD "  dh = ( " ROW_LAST " );\n  volumes = (\n    { frame = 1; shape = \"capsule\"; from = [0.0, 0.0, 0.0];\n"
+                                    "      to = [0.0, 0.0, 0.0]; radius = 0.1; }\n  );\n};\n", 6,
+     "volume 1: a capsule needs from != to and radius > 0", KC_E_ARG},
+    {"key of another shape", HEAD "  dh = ( " ROW_LAST " );\n  volumes = (\n    { frame = 1; shape = \"box\"; xyz = [0.0, 0.0, 0.0]; half = [0.1, 0.1, 0.1];\n"
+                                  "      radius = 0.1; }\n  );\n};\n", 7,
+     "volume 1: a box takes no radius", KC_E_ARG},
+    {"negative box size", HEAD "  dh = ( " ROW_LAST " );\n  volumes = (\n    { frame = 1; shape = \"box\"; xyz = [0.0, 0.0, 0.0]; half = [0.1, -0.1, 0.1]; }\n  );\n};\n", 6,
+     "volume 1: every size of a box must be > 0", KC_E_ARG},
     {"duplicate key", HEAD "  dh = ( " ROW_LAST " );\n  dh = ( " ROW_LAST " );\n};\n", 5, "duplicate setting name", KC_E_ARG},
 };
 
@@ -378,6 +407,77 @@ static void test_file_errors(void **state)
     assert_non_null(strstr(err.text, ":4: syntax error"));
 }
 
+static void write_file(char *path, const char *text)
+{
+    int fd = mkstemp(path);
+    assert_true(fd >= 0);
+    FILE *f = fdopen(fd, "w");
+    assert_non_null(f);
+    fputs(text, f);
+    fclose(f);
+}
+
+/* controller.zones: every kind, names, margin, angles; bad zones name the
+ * line; a file without zones gives an empty set. */
+static void test_zones(void **state)
+{
+    (void)state;
+    char path[] = "/tmp/kinctl_test_zones_XXXXXX";
+    write_file(path, "controller = {\n  period_us = 1000;\n  zones = {\n    margin = 0.03; angles = \"deg\";\n    list = (\n"
+                     "      { name = \"table\"; shape = \"halfspace\"; point = [0.0, 0.0, 0.1]; normal = [0.0, 0.0, 2.0]; },\n"
+                     "      { name = \"fence\"; shape = \"box\"; xyz = [0.8, 0.0, 0.5]; rpy = [0.0, 0.0, 90.0]; half = [0.02, 1.0, 0.5]; },\n"
+                     "      { shape = \"sphere\"; xyz = [0.1, 0.2, 0.3]; radius = 0.1; },\n"
+                     "      { name = \"pillar\"; shape = \"cylinder\"; from = [0.5, 0.5, 0.0]; to = [0.5, 0.5, 1.0]; radius = 0.05; }\n"
+                     "    );\n  };\n};\n");
+    kc_zone_set set;
+    kc_desc_zone_info info;
+    kc_desc_error err;
+    kc_status st = kc_desc_load_zones(path, &set, &info, &err);
+    remove(path);
+    if (st != KC_OK)
+        fail_msg("%s", err.text);
+    assert_int_equal(set.n_zones, 4);
+    assert_int_equal(info.n_zones, 4);
+    assert_true(kc_fabs(set.margin - KC_R(0.03)) <= TOL);
+    assert_string_equal(info.names[0], "table");
+    assert_string_equal(info.names[2], "");
+    assert_string_equal(info.names[3], "pillar");
+    assert_int_equal(set.zones[0].kind, KC_SHAPE_HALFSPACE);
+    assert_true(kc_fabs(set.zones[0].pose.R.m[2][2] - KC_R(1.0)) <= TOL); /* unit normal */
+    assert_true(kc_fabs(set.zones[0].pose.t.v[2] - KC_R(0.1)) <= TOL);
+    assert_int_equal(set.zones[1].kind, KC_SHAPE_BOX);
+    assert_true(kc_fabs(set.zones[1].pose.R.m[1][0] - KC_R(1.0)) <= TOL); /* Rz(90 deg): x to y */
+    assert_true(kc_fabs(set.zones[1].dim[1] - KC_R(1.0)) <= TOL);
+    assert_int_equal(set.zones[3].kind, KC_SHAPE_CYLINDER);
+    assert_true(kc_fabs(set.zones[3].dim[1] - KC_R(0.5)) <= TOL); /* half-length */
+    assert_true(kc_fabs(set.zones[3].pose.t.v[2] - KC_R(0.5)) <= TOL);
+    assert_int_equal(kc_zone_set_check(&set), KC_OK);
+
+    char path2[] = "/tmp/kinctl_test_zones_XXXXXX";
+    write_file(path2, "controller = {\n  zones = {\n    list = (\n      { shape = \"sphere\"; xyz = [0.0, 0.0, 0.0]; radius = 0.1;\n"
+                      "        frame = 2; }\n    );\n  };\n};\n");
+    kc_zone_set before = set;
+    assert_int_equal(kc_desc_load_zones(path2, &set, NULL, &err), KC_E_ARG);
+    remove(path2);
+    assert_int_equal(err.line, 5);
+    assert_non_null(strstr(err.problem, "zone 1: a zone is in the base frame: no frame key"));
+    assert_memory_equal(&set, &before, sizeof set);
+
+    char path3[] = "/tmp/kinctl_test_zones_XXXXXX";
+    write_file(path3, "controller = {\n  zones = {\n    margn = 0.1;\n  };\n};\n");
+    assert_int_equal(kc_desc_load_zones(path3, &set, NULL, &err), KC_E_ARG);
+    remove(path3);
+    assert_int_equal(err.line, 3);
+    assert_non_null(strstr(err.problem, "unknown key \"margn\" in controller.zones"));
+
+    char path4[] = "/tmp/kinctl_test_zones_XXXXXX";
+    write_file(path4, "controller = { period_us = 1000; };\n");
+    assert_int_equal(kc_desc_load_zones(path4, &set, &info, &err), KC_OK);
+    remove(path4);
+    assert_int_equal(set.n_zones, 0);
+    assert_int_equal(info.n_zones, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -387,6 +487,7 @@ int main(void)
         cmocka_unit_test(test_good_variants), cmocka_unit_test(test_elements_and_names),
         cmocka_unit_test(test_bad_files),    cmocka_unit_test(test_max_joints),
         cmocka_unit_test(test_too_many_frames), cmocka_unit_test(test_file_errors),
+        cmocka_unit_test(test_zones),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

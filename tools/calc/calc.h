@@ -150,6 +150,10 @@ int req_q(calc_ctx *ctx, const json_t *req, const kc_chain *chain, int deg, kc_r
 
 /* ---- subcommands defined in their own files ---- */
 
+/* zones.c: link volumes against forbidden zones. */
+extern const calc_opt zones_opts[];
+int run_zones(const json_t *req, calc_ctx *ctx);
+
 /* ik.c: inverse kinematics to a target pose. */
 extern const calc_opt ik_opts[];
 int run_ik(const json_t *req, calc_ctx *ctx);

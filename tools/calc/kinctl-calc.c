@@ -413,10 +413,26 @@ static const calc_cmd commands[] = {
      ik_opts, run_ik},
     {"interp", "sampled motions: joint move, line, arc, path (CSV; kinctl-calc interp --help)",
      "kinctl-calc interp KIND [OPTIONS]   (KIND: joint, line, arc, path; see interp.c)", interp_opts, run_interp},
+    {"zones", "distance of every link volume to every forbidden zone",
+     "kinctl-calc zones (--model NAME | --model-file PATH) --q Q1,Q2,... [--deg] [--zone KIND:NUMBERS]...\n"
+     "    [--zones-file PATH] [--margin M] [--geometry]\n"
+     "--zones-file reads controller.zones of a kinctld configuration (format: kinctl/desc.h).\n"
+     "Zones are in the base (world) frame, lengths in m: box:cx,cy,cz,hx,hy,hz (centre, half\n"
+     "extents), sphere:cx,cy,cz,r, cylinder:x0,y0,z0,x1,y1,z1,r (axis ends, radius),\n"
+     "halfspace:px,py,pz,nx,ny,nz (a point of the plane, the normal pointing out of the zone).\n"
+     "Prints {\"volumes\": [{\"kind\", \"frame\" (1..m, as description files and fk's 0T_k number them)}...],\n"
+     "\"distances\": [[d per zone] per volume] (m, 0 when\n"
+     "touching or overlapping; see kinctl/zone.h for the accuracy), \"margin\": m, \"closest\":\n"
+     "{\"volume\", \"zone\", \"distance\"} or null, \"clear\": true when every distance >= margin}, and\n"
+     "with --geometry \"geometry\": {\"volumes\": [...], \"zones\": [...]}, each {\"kind\", \"pose\" (4x4,\n"
+     "world), \"dim\" (sizes as kinctl/zone.h lists them), \"frame\" for volumes} for plotting.\n"
+     "Example: kinctl-calc zones --model puma560 --q 0,0.8,-2.4,0,0.6,0 --zone halfspace:0,0,0,0,0,1\n"
+     "    --zone box:0.6,0,0.3,0.1,0.3,0.3",
+     zones_opts, run_zones},
     {"batch", "many requests: JSON lines on stdin, one answer line each",
      "kinctl-calc batch < requests.jsonl\n"
-     "Each line is one request object with \"op\" (fk, jacobian, ik, orient, transform) and the\n"
-     "options of that subcommand as keys: --model-file is \"model_file\", positional VALUES are\n"
+     "Each line is one request object with \"op\" (fk, jacobian, ik, orient, transform, zones) and\n"
+     "the options of that subcommand as keys: --model-file is \"model_file\", positional VALUES are\n"
      "\"values\", flags are true/false, lists are arrays; transform takes \"ops\": [{\"translate\":\n"
      "[dx,dy,dz]}, {\"rotate\": {\"axis\": \"z\", \"angle\": a}}, {\"scale\": s}, {\"perspective\":\n"
      "{\"axis\": \"z\", \"f\": f}}] and \"points\": [[x,y,z], ...]. An \"id\" is echoed back.\n"

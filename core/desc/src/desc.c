@@ -359,9 +359,164 @@ static kc_status read_element(reader *r, const config_setting_t *g, const char *
     return KC_OK;
 }
 
+/* ---- shapes: link volumes and forbidden zones (kinctl/zone.h) ---- */
+
+/* A rotation from rpy (the file's angle unit), as for base and tool. */
+static void rpy_to_mat3(const kc_real *rpy, kc_mat3 *R)
+{
+    kc_euler e = {rpy[2], rpy[1], rpy[0]};
+    kc_orient_rpy_to_mat3(&e, R);
+}
+
+/* One shape group: shape = "sphere" | "capsule" | "cylinder" | "box" |
+ * "frustum" | "halfspace" (zones only) with its keys (see kinctl/desc.h).
+ * extra lists the keys the caller reads itself (name, frame). */
+static kc_status read_shape(reader *r, const config_setting_t *g, const char *where, int zone, kc_shape *out)
+{
+    static const char *const keys[] = {"name",  "frame",  "shape", "xyz",         "rpy",   "from",
+                                       "to",    "radius", "half",  "half_height", "bottom", "top",
+                                       "point", "normal", NULL};
+    static const char *const kinds[] = {"sphere", "capsule", "cylinder", "box", "frustum", "halfspace"};
+    /* the keys each kind takes, besides name and frame */
+    static const char *const takes[6][5] = {{"xyz", "radius", NULL},
+                                            {"from", "to", "radius", NULL},
+                                            {"from", "to", "radius", NULL},
+                                            {"xyz", "rpy", "half", NULL},
+                                            {"xyz", "rpy", "bottom", "top", "half_height"},
+                                            {"point", "normal", NULL}};
+    const char *shape = NULL;
+    kc_status st;
+    if (!config_setting_is_group(g))
+        return fail(r, g, "%s must be a group { shape = \"capsule\"; from = [..]; to = [..]; radius = ..; }", where);
+    if ((st = check_keys(r, g, where, keys)) != KC_OK || (st = lookup_string(r, g, "shape", where, 1, &shape)) != KC_OK)
+        return st;
+    int k = -1;
+    for (int i = 0; i < 6; i++)
+        if (strcmp(shape, kinds[i]) == 0)
+            k = i;
+    if (k < 0 || (k == 5 && !zone))
+        return fail(r, config_setting_get_member(g, "shape"), "%s: unknown shape \"%s\" (expected sphere, capsule, "
+                    "cylinder, box, frustum%s)", where, shape, zone ? " or halfspace" : "");
+    for (int i = 3; keys[i] != NULL; i++) {
+        int ok = 0;
+        for (int t = 0; t < 5 && takes[k][t] != NULL; t++)
+            ok = ok || strcmp(keys[i], takes[k][t]) == 0;
+        const config_setting_t *m = config_setting_get_member(g, keys[i]);
+        if (m != NULL && !ok)
+            return fail(r, m, "%s: a %s takes no %s", where, shape, keys[i]);
+    }
+    kc_shape sh;
+    memset(&sh, 0, sizeof sh);
+    kc_pose_identity(&sh.pose);
+    sh.kind = k + 1; /* kc_shape_kind follows kinds[] */
+    kc_real v3[3], w3[3], rpy[3] = {KC_R(0.0), KC_R(0.0), KC_R(0.0)}, two[2], r0 = KC_R(0.0);
+    char what[96];
+#define VEC(key, n, scale, dst)                                                                       \
+    do {                                                                                             \
+        const config_setting_t *m_ = config_setting_get_member(g, key);                               \
+        snprintf(what, sizeof what, "%s: %s", where, key);                                           \
+        if (m_ == NULL)                                                                              \
+            return fail(r, g, "%s: a %s needs %s", where, shape, key);                                \
+        if ((st = vector_of(r, m_, what, n, scale, dst)) != KC_OK)                                   \
+            return st;                                                                               \
+    } while (0)
+    switch (sh.kind) {
+    case KC_SHAPE_SPHERE:
+        VEC("xyz", 3, KC_R(1.0), v3);
+        sh.pose.t = kc_vec3_make(v3[0], v3[1], v3[2]);
+        if ((st = lookup_number(r, g, "radius", where, 1, KC_R(1.0), &sh.dim[0], NULL)) != KC_OK)
+            return st;
+        break;
+    case KC_SHAPE_CAPSULE:
+    case KC_SHAPE_CYLINDER: {
+        VEC("from", 3, KC_R(1.0), v3);
+        VEC("to", 3, KC_R(1.0), w3);
+        if ((st = lookup_number(r, g, "radius", where, 1, KC_R(1.0), &r0, NULL)) != KC_OK)
+            return st;
+        kc_vec3 p0 = kc_vec3_make(v3[0], v3[1], v3[2]), p1 = kc_vec3_make(w3[0], w3[1], w3[2]);
+        if (kc_shape_segment(sh.kind, &p0, &p1, r0, &sh) != KC_OK)
+            return fail(r, g, "%s: a %s needs from != to and radius > 0", where, shape);
+        break;
+    }
+    case KC_SHAPE_BOX:
+    case KC_SHAPE_FRUSTUM:
+        VEC("xyz", 3, KC_R(1.0), v3);
+        sh.pose.t = kc_vec3_make(v3[0], v3[1], v3[2]);
+        if (config_setting_get_member(g, "rpy") != NULL)
+            VEC("rpy", 3, r->deg ? KC_DEG : KC_R(1.0), rpy);
+        rpy_to_mat3(rpy, &sh.pose.R);
+        if (sh.kind == KC_SHAPE_BOX) {
+            VEC("half", 3, KC_R(1.0), sh.dim);
+        } else {
+            VEC("bottom", 2, KC_R(1.0), two);
+            sh.dim[0] = two[0];
+            sh.dim[1] = two[1];
+            VEC("top", 2, KC_R(1.0), two);
+            sh.dim[2] = two[0];
+            sh.dim[3] = two[1];
+            if ((st = lookup_number(r, g, "half_height", where, 1, KC_R(1.0), &sh.dim[4], NULL)) != KC_OK)
+                return st;
+        }
+        break;
+    default: {
+        VEC("point", 3, KC_R(1.0), v3);
+        VEC("normal", 3, KC_R(1.0), w3);
+        /* the frame whose z axis is the normal: that of a segment along it */
+        kc_vec3 p0 = kc_vec3_make(v3[0], v3[1], v3[2]), p1 = kc_vec3_make(v3[0] + w3[0], v3[1] + w3[1], v3[2] + w3[2]);
+        if (kc_shape_segment(KC_SHAPE_CYLINDER, &p0, &p1, KC_R(1.0), &sh) != KC_OK)
+            return fail(r, g, "%s: normal must not be zero", where);
+        sh.kind = KC_SHAPE_HALFSPACE;
+        sh.pose.t = p0;
+        for (int i = 0; i < KC_SHAPE_DIMS; i++)
+            sh.dim[i] = KC_R(0.0);
+        break;
+    }
+    }
+#undef VEC
+    if (kc_shape_check(&sh, zone) != KC_OK)
+        return fail(r, g, "%s: every size of a %s must be > 0", where, shape);
+    *out = sh;
+    return KC_OK;
+}
+
+static kc_status read_shape_name(reader *r, const config_setting_t *g, const char *where, char *dest)
+{
+    return read_joint_name(r, g, where, dest);
+}
+
+/* robot.volumes: link volumes on frames 1..n_frames. */
+static kc_status read_volumes(reader *r, const config_setting_t *list, kc_chain *chain, kc_desc_info *info)
+{
+    if (!config_setting_is_list(list))
+        return fail(r, list, "volumes must be a list in parentheses: volumes = ( { frame = 1; shape = ...; }, ... );");
+    int n = config_setting_length(list);
+    for (int i = 0; i < n; i++) {
+        const config_setting_t *g = config_setting_get_elem(list, (unsigned)i);
+        char where[48];
+        kc_shape sh;
+        kc_status st;
+        kc_real frame = KC_R(0.0);
+        snprintf(where, sizeof where, "volume %d", i + 1);
+        if (chain->n_volumes >= KC_MAX_VOLUMES)
+            return fail_at(r, g, KC_E_CAPACITY, "too many volumes: kinctl supports at most %d", KC_MAX_VOLUMES);
+        if ((st = read_shape(r, g, where, 0, &sh)) != KC_OK ||
+            (st = lookup_number(r, g, "frame", where, 1, KC_R(1.0), &frame, NULL)) != KC_OK ||
+            (st = read_shape_name(r, g, where, info->volume_names[chain->n_volumes])) != KC_OK)
+            return st;
+        int f = (int)frame;
+        if ((kc_real)f != frame || f < 1 || f > chain->n_frames)
+            return fail(r, config_setting_get_member(g, "frame"), "%s: frame must be a whole number 1 .. %d (the chain's frames)",
+                        where, chain->n_frames);
+        if ((st = kc_chain_add_volume(chain, f - 1, &sh)) != KC_OK)
+            return fail_at(r, g, st, "%s: rejected: %s", where, kc_status_str(st));
+    }
+    info->n_volumes = chain->n_volumes;
+    return KC_OK;
+}
+
 static kc_status read_robot(reader *r, const config_setting_t *robot, kc_chain *chain, kc_desc_info *info)
 {
-    static const char *const keys[] = {"name", "angles", "base", "tool", "dh", "mdh", "elements", NULL};
+    static const char *const keys[] = {"name", "angles", "base", "tool", "dh", "mdh", "elements", "volumes", NULL};
     static const char *const chains[3] = {"dh", "mdh", "elements"};
     const char *name = NULL, *angles = NULL;
     kc_status st;
@@ -428,6 +583,9 @@ static kc_status read_robot(reader *r, const config_setting_t *robot, kc_chain *
                                kc_status_str(st));
         }
     }
+    const config_setting_t *vols = config_setting_get_member(robot, "volumes");
+    if (vols != NULL && (st = read_volumes(r, vols, chain, info)) != KC_OK)
+        return st;
     st = kc_chain_check(chain);
     if (st != KC_OK)
         return fail_at(r, robot, st, "robot: the chain fails kc_chain_check: %s", kc_status_str(st));
@@ -448,31 +606,20 @@ static kc_status read_root(reader *r, const config_t *cfg, kc_chain *chain, kc_d
     return read_robot(r, robot, chain, info);
 }
 
-/* Parses (text != NULL) or reads path, then builds into temporaries so that
- * the outputs stay untouched on error. */
-static kc_status load(const char *path, const char *text, const char *name, kc_chain *chain, kc_desc_info *info,
-                      kc_desc_error *err)
+/* Parses (text != NULL) or reads path into cfg; on error cfg is destroyed. */
+static kc_status parse(reader *rd, const char *path, const char *text, const char *name, config_t *cfg)
 {
-    /* cppcheck-suppress ctuuninitvar ; err is an output: stored here, written before any read */
-    reader r = {name, err, 0};
-    config_t cfg;
-    kc_chain tmp;
-    kc_desc_info tmp_info;
+    reader *r = rd;
+    kc_desc_error *err = rd->err;
     kc_status st = KC_OK;
-    if (err != NULL)
-        memset(err, 0, sizeof *err);
-    if (chain == NULL || (path == NULL && text == NULL))
-        return fail(&r, NULL, "no chain to fill or no input given");
     if (path != NULL) {
         FILE *f = fopen(path, "r");
         if (f == NULL)
-            return fail(&r, NULL, "cannot open: %s", strerror(errno));
+            return fail(r, NULL, "cannot open: %s", strerror(errno));
         fclose(f);
     }
-    memset(&tmp_info, 0, sizeof tmp_info);
-    kc_chain_init(&tmp);
-    config_init(&cfg);
-    config_set_options(&cfg, CONFIG_OPTION_AUTOCONVERT);
+    config_init(cfg);
+    config_set_options(cfg, CONFIG_OPTION_AUTOCONVERT);
     int ok;
     if (path != NULL) {
         /* @include "x.cfg" is resolved beside the including file. */
@@ -483,29 +630,51 @@ static kc_status load(const char *path, const char *text, const char *name, kc_c
             if (dir != NULL) {
                 memcpy(dir, path, len + (len == 0));
                 dir[len + (len == 0)] = '\0';
-                config_set_include_dir(&cfg, dir);
+                config_set_include_dir(cfg, dir);
                 free(dir); /* libconfig keeps its own copy */
             }
         }
-        ok = config_read_file(&cfg, path);
+        ok = config_read_file(cfg, path);
     } else {
-        ok = config_read_string(&cfg, text);
+        ok = config_read_string(cfg, text);
     }
     if (!ok) {
         const char *hint = "";
-        if (config_error_text(&cfg) != NULL && strstr(config_error_text(&cfg), "mismatched element type") != NULL)
+        if (config_error_text(cfg) != NULL && strstr(config_error_text(cfg), "mismatched element type") != NULL)
             hint = " (an array [..] may not mix 1 and 1.5: write 1.0)";
-        const char *file = config_error_file(&cfg);
+        const char *file = config_error_file(cfg);
         if (err != NULL) {
             char msg[KC_DESC_TEXT_LEN];
-            snprintf(msg, sizeof msg, "%s%s", config_error_text(&cfg) != NULL ? config_error_text(&cfg) : "parse error",
+            snprintf(msg, sizeof msg, "%s%s", config_error_text(cfg) != NULL ? config_error_text(cfg) : "parse error",
                      hint);
-            write_error(err, file != NULL ? file : name, config_error_line(&cfg), msg);
+            write_error(err, file != NULL ? file : name, config_error_line(cfg), msg);
         }
         st = KC_E_ARG;
-    } else {
-        st = read_root(&r, &cfg, &tmp, &tmp_info);
+        config_destroy(cfg);
     }
+    return st;
+}
+
+/* Parses, then builds into temporaries so that the outputs stay untouched
+ * on error. */
+static kc_status load(const char *path, const char *text, const char *name, kc_chain *chain, kc_desc_info *info,
+                      kc_desc_error *err)
+{
+    /* cppcheck-suppress ctuuninitvar ; err is an output: stored here, written before any read */
+    reader r = {name, err, 0};
+    config_t cfg;
+    kc_chain tmp;
+    kc_desc_info tmp_info;
+    if (err != NULL)
+        memset(err, 0, sizeof *err);
+    if (chain == NULL || (path == NULL && text == NULL))
+        return fail(&r, NULL, "no chain to fill or no input given");
+    memset(&tmp_info, 0, sizeof tmp_info);
+    kc_chain_init(&tmp);
+    kc_status st = parse(&r, path, text, name, &cfg);
+    if (st != KC_OK)
+        return st;
+    st = read_root(&r, &cfg, &tmp, &tmp_info);
     config_destroy(&cfg);
     if (st != KC_OK)
         return st;
@@ -524,4 +693,80 @@ kc_status kc_desc_load_string(const char *text, const char *name, kc_chain *chai
                               kc_desc_error *err)
 {
     return load(NULL, text, name != NULL ? name : "<string>", chain, info, err);
+}
+
+/* ---- zones ---- */
+
+static kc_status read_zones(reader *r, const config_setting_t *g, kc_zone_set *set, kc_desc_zone_info *info)
+{
+    static const char *const keys[] = {"margin", "near", "angles", "list", NULL};
+    const char *angles = NULL;
+    kc_status st;
+    if (!config_setting_is_group(g))
+        return fail(r, g, "controller.zones must be a group { margin = 0.02; list = ( ... ); }");
+    if ((st = check_keys(r, g, "controller.zones", keys)) != KC_OK ||
+        (st = lookup_number(r, g, "margin", "controller.zones", 0, KC_R(1.0), &set->margin, NULL)) != KC_OK ||
+        (st = lookup_number(r, g, "near", "controller.zones", 0, KC_R(1.0), &set->near, NULL)) != KC_OK ||
+        (st = lookup_string(r, g, "angles", "controller.zones", 0, &angles)) != KC_OK)
+        return st;
+    if (!(set->margin >= KC_R(0.0)) || !(set->near >= KC_R(0.0)))
+        return fail(r, g, "controller.zones: margin and near must be >= 0 m");
+    r->deg = 0;
+    if (angles != NULL && strcmp(angles, "deg") == 0)
+        r->deg = 1;
+    else if (angles != NULL && strcmp(angles, "rad") != 0)
+        return fail(r, config_setting_get_member(g, "angles"),
+                    "controller.zones: unknown angle unit \"%s\" (expected \"rad\" or \"deg\")", angles);
+    const config_setting_t *list = config_setting_get_member(g, "list");
+    if (list == NULL)
+        return KC_OK;
+    if (!config_setting_is_list(list))
+        return fail(r, list, "controller.zones.list must be a list in parentheses: list = ( { ... }, ... );");
+    int n = config_setting_length(list);
+    for (int i = 0; i < n; i++) {
+        const config_setting_t *z = config_setting_get_elem(list, (unsigned)i);
+        char where[48];
+        kc_shape sh;
+        snprintf(where, sizeof where, "zone %d", i + 1);
+        if (set->n_zones >= KC_ZONE_MAX)
+            return fail_at(r, z, KC_E_CAPACITY, "too many zones: kinctl supports at most %d", KC_ZONE_MAX);
+        if (config_setting_is_group(z) && config_setting_get_member(z, "frame") != NULL)
+            return fail(r, config_setting_get_member(z, "frame"), "%s: a zone is in the base frame: no frame key", where);
+        if ((st = read_shape(r, z, where, 1, &sh)) != KC_OK ||
+            (st = read_shape_name(r, z, where, info->names[set->n_zones])) != KC_OK)
+            return st;
+        set->zones[set->n_zones++] = sh;
+    }
+    info->n_zones = set->n_zones;
+    return KC_OK;
+}
+
+kc_status kc_desc_load_zones(const char *path, kc_zone_set *set, kc_desc_zone_info *info, kc_desc_error *err)
+{
+    const char *name = path != NULL ? path : "<null>";
+    reader r = {name, err, 0};
+    config_t cfg;
+    kc_zone_set tmp;
+    kc_desc_zone_info tmp_info;
+    if (err != NULL)
+        memset(err, 0, sizeof *err);
+    if (path == NULL || set == NULL)
+        return fail(&r, NULL, "no zone set to fill or no file given");
+    kc_zone_set_init(&tmp);
+    memset(&tmp_info, 0, sizeof tmp_info);
+    kc_status st = parse(&r, path, NULL, name, &cfg);
+    if (st != KC_OK)
+        return st;
+    const config_setting_t *ctl = config_setting_get_member(config_root_setting(&cfg), "controller");
+    const config_setting_t *zones = ctl != NULL && config_setting_is_group(ctl) ? config_setting_get_member(ctl, "zones")
+                                                                                 : NULL;
+    if (zones != NULL)
+        st = read_zones(&r, zones, &tmp, &tmp_info);
+    config_destroy(&cfg);
+    if (st != KC_OK)
+        return st;
+    *set = tmp;
+    if (info != NULL)
+        *info = tmp_info;
+    return KC_OK;
 }

@@ -25,11 +25,13 @@
 #include <stdint.h>
 
 #include "kinctl/se3.h"
+#include "kinctl/zone.h"
 
 /* Compile-time capacities. */
 #define KC_MAX_JOINTS 16
 #define KC_MAX_ELEMENTS 128
 #define KC_MAX_FRAMES 64
+#define KC_MAX_VOLUMES 32
 
 typedef enum kc_joint_type { KC_JOINT_REVOLUTE = 0, KC_JOINT_PRISMATIC = 1 } kc_joint_type;
 
@@ -75,6 +77,14 @@ typedef struct kc_element {
     int8_t quarter;
 } kc_element;
 
+/* A link volume (seed 003's volume primitive in frame O_k): a shape placed in
+ * frame `frame` (0 .. n_frames-1, as kc_fk_frames numbers them), moving with
+ * it. Shapes and distances: kinctl/zone.h. */
+typedef struct kc_link_volume {
+    int frame;
+    kc_shape shape;
+} kc_link_volume;
+
 typedef struct kc_chain {
     int n_joints;
     int n_elements;
@@ -84,6 +94,9 @@ typedef struct kc_chain {
     /* Frame f is the pose after the first frame_end[f] elements. */
     uint8_t frame_end[KC_MAX_FRAMES];
     kc_pose base, tool;
+    /* Link volumes (kc_chain_add_volume), checked against forbidden zones. */
+    int n_volumes;
+    kc_link_volume volumes[KC_MAX_VOLUMES];
 } kc_chain;
 
 /* One Denavit-Hartenberg row (standard or modified, per the builder): lengths
@@ -136,6 +149,11 @@ kc_status kc_chain_add_mdh(kc_chain *chain, const kc_dh_row *row);
 kc_status kc_chain_set_base(kc_chain *chain, const kc_pose *base);
 kc_status kc_chain_set_tool(kc_chain *chain, const kc_pose *tool);
 
+/* Attaches a link volume (kc_shape_check(shape, 0) must pass) to frame
+ * `frame`, which must already exist. KC_E_ARG for a bad shape or frame,
+ * KC_E_CAPACITY beyond KC_MAX_VOLUMES; the chain is unchanged on error. */
+kc_status kc_chain_add_volume(kc_chain *chain, int frame, const kc_shape *shape);
+
 /* Replaces the limits of joint j. */
 kc_status kc_chain_set_limits(kc_chain *chain, int j, const kc_joint_limits *limits);
 
@@ -144,7 +162,7 @@ kc_status kc_chain_set_limits(kc_chain *chain, int j, const kc_joint_limits *lim
 kc_status kc_chain_check_limits(const kc_joint_limits *limits);
 
 /* Validates a built chain: at least one joint, every value finite, limits
- * sane, base and tool rigid. Call once after building. */
+ * sane, base and tool rigid, every link volume valid on an existing frame. Call once after building. */
 kc_status kc_chain_check(const kc_chain *chain);
 
 /* KC_OK when every q[i] (n_joints values) is finite and inside its position
@@ -172,7 +190,9 @@ typedef struct kc_model_params {
     kc_real len[4];
 } kc_model_params;
 
-/* Builds a built-in model into chain. */
+/* Builds a built-in model into chain, with its link volumes (capsules
+ * around the links, sized from the arm's published drawings where there
+ * are any and assumed otherwise; see models/README.md). */
 kc_status kc_chain_init_model(kc_chain *chain, kc_model model, const kc_model_params *params);
 
 /* The model's name ("rrr3", "planar2", "puma560", "panda", "rb211",

@@ -61,6 +61,27 @@
  * A violation is a bug or a bad model, never a normal outcome: the
  * controller then holds the last good setpoint's position and faults.
  *
+ * Forbidden zones (cfg.zones, kinctl/zone.h; NULL: none). Every setpoint is
+ * also checked against the zones: one that brings a link volume closer than
+ * the set's margin to a zone, and closer than the last setpoint was, is
+ * never sent; the arm stops as for e-stop (every joint at its own
+ * acceleration limit, from the last good setpoint) and faults with
+ * KC_REASON_ZONE, the event naming the zone and the volume. (A setpoint
+ * inside the margin that does not come closer passes: an arm already there
+ * may leave.) Goals are checked before they are accepted: kc_ctrl_check
+ * steps every tick of every goal, joint moves included, through the same
+ * check, and kc_ctrl_cfg_check refuses a zone set whose margin is not above
+ * kc_zone_tick_travel (the farthest any point of a volume moves in one tick
+ * at the velocity limits), so a goal whose every tick keeps the margin
+ * cannot cross a zone between two ticks. A servo goal is slowed instead:
+ * while it approaches a zone, a step may come closer by at most
+ * dt sqrt(2 a e) and move no point of a volume (by the lever bound of
+ * kinctl/zone.h) more than e / 2, e the clearance beyond the margin and a
+ * half the smallest qdd_max_j lever_j, so it brakes and comes to rest at
+ * the margin rather than entering it. The cycle's check is a last line of
+ * defence: an e-stop from speed travels its stopping distance, possibly
+ * into the zone; keeping goals out is the dry run's job.
+ *
  * Threads. kc_ctrl_step is for one thread (the cycle); kc_ctrl_check may run
  * on another thread with its own scratch kc_ctrl (it needs about
  * sizeof(kc_ctrl) of storage and runs the goal through the same step code:
@@ -75,6 +96,7 @@
 #include "kinctl/interp.h"
 #include "kinctl/path.h"
 #include "kinctl/profile.h"
+#include "kinctl/zone.h"
 
 #define KC_CTRL_QUEUE_MAX 8
 /* Events one tick can produce. Every event names a goal: each of the at
@@ -162,6 +184,7 @@ typedef enum kc_ctrl_reason {
     KC_REASON_SERVO_TIMEOUT, /* the servo stream went quiet: stopped */
     KC_REASON_DUPLICATE_ID,  /* a goal with this id is active or queued */
     KC_REASON_EXTERNAL,      /* fault: the caller reported one (a drive, the field bus) */
+    KC_REASON_ZONE,          /* a link volume would enter a forbidden zone's margin */
     KC_REASON_COUNT
 } kc_ctrl_reason;
 
@@ -183,6 +206,9 @@ typedef struct kc_ctrl_event {
     int64_t goal_id;
     kc_ctrl_reason reason;
     kc_real where; /* path length (m) or fraction where a fault happened */
+    /* KC_REASON_ZONE: the zone (index into cfg.zones) and the link volume
+     * (index into chain->volumes); -1 otherwise. */
+    int zone, volume;
 } kc_ctrl_event;
 
 typedef struct kc_ctrl_cfg {
@@ -193,10 +219,13 @@ typedef struct kc_ctrl_cfg {
     kc_real limit_slack;           /* relative slack of the final limit check */
     int64_t servo_timeout_ticks;   /* default servo staleness */
     kc_ik_cfg ik;                  /* the online law for Cartesian motion */
+    /* Forbidden zones, or NULL; must outlive the controller, unchanged. */
+    const kc_zone_set *zones;
 } kc_ctrl_cfg;
 
 /* 1 kHz, 0.25 m/s and 0.5 m/s^2, 1 rad/s and 4 rad/s^2, tracking 1 mm,
- * slack 1e-6 (1e-4 in float), servo timeout 100 ticks, kc_ik_cfg_default. */
+ * slack 1e-6 (1e-4 in float), servo timeout 100 ticks, kc_ik_cfg_default,
+ * no zones. */
 kc_ctrl_cfg kc_ctrl_cfg_default(void);
 
 /* Inputs of one tick. */
@@ -276,6 +305,11 @@ typedef struct kc_ctrl {
     kc_profile jstop_prof[KC_MAX_JOINTS];
     int64_t jstop_k0;
     kc_ctrl_state after_stop;
+    /* Zones: the closest pair at the last setpoint, and at the last
+     * violation (what a KC_REASON_ZONE names). */
+    kc_zone_hit zone_now, zone_hit;
+    kc_real zone_lever[KC_MAX_JOINTS]; /* kc_zone_levers of the chain */
+    kc_real zone_brake;                /* a of the servo's braking law (m/s^2) */
 } kc_ctrl;
 
 /* Starts at rest at q0 (inside the limits), idle. chain must outlive ctrl
@@ -283,6 +317,9 @@ typedef struct kc_ctrl {
  * chain that fails kc_chain_check, or q0 not finite or outside the limits. */
 kc_status kc_ctrl_init(kc_ctrl *ctrl, const kc_chain *chain, const kc_ctrl_cfg *cfg, const kc_real *q0);
 
+/* KC_OK for a usable cfg: positive rates, a valid IK cfg, finite joint rate
+ * limits, and zones NULL or valid with a margin above
+ * kc_zone_tick_travel(chain, dt) (when both zones and volumes exist). */
 kc_status kc_ctrl_cfg_check(const kc_ctrl_cfg *cfg, const kc_chain *chain);
 
 /* The cheap checks of a goal: finite fields, scales in (0, 1], joint
@@ -298,7 +335,9 @@ kc_status kc_ctrl_step(kc_ctrl *ctrl, const kc_ctrl_input *in, kc_ctrl_output *o
  * without a fault, by stepping a scratch controller through it (at most
  * max_ticks ticks). KC_OK with *q_end the final joints, or KC_E_ARG /
  * KC_E_UNREACHABLE / KC_E_CAPACITY with *reason and *where (path length or
- * fraction) set. Not for the cycle: it costs one step per tick of motion. */
+ * fraction) set. With zones, every tick is checked (joint moves too); a
+ * goal that would enter a zone's margin gives KC_E_UNREACHABLE with
+ * KC_REASON_ZONE, scratch->zone_hit naming the zone and volume. Not for the cycle: it costs one step per tick of motion. */
 kc_status kc_ctrl_check(kc_ctrl *scratch, const kc_chain *chain, const kc_ctrl_cfg *cfg, const kc_goal *goal,
                         const kc_real *q_start, int64_t max_ticks, kc_real *q_end, kc_ctrl_reason *reason,
                         kc_real *where);

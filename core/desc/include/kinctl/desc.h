@@ -30,6 +30,38 @@
  *       { op = "rz"; joint = true; offset = 0.0; limits = {...}; },
  *       { op = "rz"; value = 0.0; frame = true; },      # a constant that ends a frame
  *       ... );
+ *     volumes = (                  # optional: link volumes (kinctl/zone.h)
+ *       { name = "upper_arm"; frame = 2; shape = "capsule";   # frame 1..m, as below
+ *         from = [-0.4318, 0.0, 0.0]; to = [0.0, 0.0, 0.0]; radius = 0.08; },
+ *       ... );
+ *   };
+ *
+ * Shapes (lengths in m, in the volume's frame, or the base frame for a
+ * zone; rpy in the file's angle unit, R = Rz Ry Rx as for base and tool):
+ *   shape = "sphere";   xyz = [..]; radius = r;
+ *   shape = "capsule";  from = [..]; to = [..]; radius = r;  (segment swept by r)
+ *   shape = "cylinder"; from = [..]; to = [..]; radius = r;  (flat ends)
+ *   shape = "box";      xyz = [..]; rpy = [..] (optional); half = [hx, hy, hz];
+ *   shape = "frustum";  xyz; rpy (optional); bottom = [ax, ay]; top = [bx, by];
+ *                       half_height = h;   (seed 003's truncated pyramid:
+ *                       half sides ax, ay at z = -h, bx, by at z = +h)
+ *   shape = "halfspace"; point = [..]; normal = [..];   (zones only: the
+ *                       side the normal points away from is forbidden)
+ * A name (optional, up to 63 characters) is what messages call it.
+ *
+ * Zones are read by kc_desc_load_zones from the controller section (the
+ * same file kinctld reads):
+ *
+ *   controller = {
+ *     zones = {
+ *       margin = 0.02;     # m, every volume keeps this far from every zone
+ *       near = 0.25;       # m, optional (kinctl/zone.h)
+ *       angles = "deg";    # unit of the zones' rpy, optional (default rad)
+ *       list = (
+ *         { name = "table"; shape = "halfspace"; point = [0.0, 0.0, 0.0]; normal = [0.0, 0.0, 1.0]; },
+ *         { name = "fence"; shape = "box"; xyz = [0.8, 0.0, 0.5]; half = [0.02, 1.0, 0.5]; }
+ *       );
+ *     };
  *   };
  *
  * For a revolute DH row theta is the joint's offset (theta = q + theta); for
@@ -74,7 +106,16 @@ typedef struct kc_desc_info {
     int n_joints;
     /* Joint names from the file, "" where none was given. */
     char joint_names[KC_MAX_JOINTS][KC_DESC_NAME_LEN];
+    /* Link volumes read from the file (chain->volumes), and their names. */
+    int n_volumes;
+    char volume_names[KC_MAX_VOLUMES][KC_DESC_NAME_LEN];
 } kc_desc_info;
+
+/* Names of the zones kc_desc_load_zones read, "" where none was given. */
+typedef struct kc_desc_zone_info {
+    int n_zones;
+    char names[KC_ZONE_MAX][KC_DESC_NAME_LEN];
+} kc_desc_zone_info;
 
 /* Where and what went wrong. line is 0 when no line applies (the file cannot
  * be opened). text is the whole message, "<file>:<line>: <problem>". */
@@ -96,5 +137,11 @@ kc_status kc_desc_load_file(const char *path, kc_chain *chain, kc_desc_info *inf
  * "<string>"). */
 kc_status kc_desc_load_string(const char *text, const char *name, kc_chain *chain, kc_desc_info *info,
                               kc_desc_error *err);
+
+/* Reads controller.zones of a file into set (kc_zone_set_init's margin
+ * and near unless the file gives them; no zones when the file has none)
+ * and info (may be NULL). Errors as kc_desc_load_file; outputs untouched on
+ * error. */
+kc_status kc_desc_load_zones(const char *path, kc_zone_set *set, kc_desc_zone_info *info, kc_desc_error *err);
 
 #endif /* KINCTL_DESC_H */
