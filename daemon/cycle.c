@@ -104,6 +104,7 @@ static void tick(kd_cycle *c, int64_t deadline_ns, int64_t consecutive_missed, i
     t->in_goal_id = goal != NULL ? goal->id : 0;
     t->in_command = in.command;
     t->in_servo_stale = in.servo_stale;
+    t->in_fault = in.fault != KC_REASON_NONE;
     st = kc_ctrl_step(c->ctrl, &in, &t->out);
     if (goal != NULL) {
         kd_spsc_release(&c->goals);

@@ -52,6 +52,7 @@ typedef struct kd_tick {
     int64_t in_goal_id;
     kc_ctrl_command in_command;
     int in_servo_stale;
+    int in_fault; /* the step was given an external fault */
 } kd_tick;
 
 /* A command with what the I/O thread wants done about it. */

@@ -67,6 +67,7 @@ static void publish_setpoint(kd_io *io, const kd_tick *t)
     sp->input_goal_id = t->in_goal_id;
     sp->input_command = (int8_t)t->in_command;
     sp->input_servo_stale = (int8_t)(t->in_servo_stale != 0);
+    sp->input_fault = (int8_t)(t->in_fault != 0);
     publish(io, KD_MSG_SETPOINT, sp);
 }
 

@@ -77,7 +77,7 @@ static const kd_msg_info info[KD_MSG_TYPE_COUNT] = {
      8 + 8 + 8 + 5 * 1 + 2 * 4 + 32 * 16 * 8 + 1 + 32 * 8 + 5 * 8},
     {"goal_servo_t", "GOAL_SERVO", 1, 8 + 8 + 8 + 2 * 1 + 3 * 8 + 4 * 8 + 6 * 8 + 8},
     {"command_t", "COMMAND", 1, 8 + 8 + 1},
-    {"setpoint_t", "SETPOINT", 0, 8 + 8 + 8 + 8 + 1 + 4 + 3 * 16 * 8 + 3 * 8 + 4 * 8 + 8 + 1 + 1},
+    {"setpoint_t", "SETPOINT", 0, 8 + 8 + 8 + 8 + 1 + 4 + 3 * 16 * 8 + 3 * 8 + 4 * 8 + 8 + 1 + 1 + 1},
     {"status_t", "STATUS", 0, 8 + 8 + 8 + 1 + 8 + 8 + 4 + 1 + 8 + 4 + (4 + 1) + 4 + 2 * 16 * 8 + 1},
     {"stats_t", "STATS", 0, 8 + 18 * 8 + 1 + 5 * 8},
 };
@@ -371,6 +371,7 @@ static kd_msg_status validate_setpoint(kd_reason *r, const kinctl_setpoint_t *m)
     CHECK(check_finite(r, ty, "orientation", m->orientation, 4));
     CHECK(check_enum(r, ty, "input_command", m->input_command, 0, KINCTL_COMMAND_T_RESET));
     CHECK(check_enum(r, ty, "input_servo_stale", m->input_servo_stale, 0, 1));
+    CHECK(check_enum(r, ty, "input_fault", m->input_fault, 0, 1));
     return KD_MSG_OK;
 }
 

@@ -1371,7 +1371,8 @@ kc_status kc_ctrl_check(kc_ctrl *scratch, const kc_chain *chain, const kc_ctrl_c
     kc_ctrl_input in = {&g, KC_CMD_NONE, 0, KC_REASON_NONE};
     kc_ctrl_output out;
     for (int64_t k = 0; k < max_ticks; k++) {
-        kc_ctrl_step(scratch, &in, &out);
+        if (kc_ctrl_step(scratch, &in, &out) != KC_OK)
+            return refuse(reason, KC_REASON_BAD_GOAL); /* not reached: scratch was initialised above */
         in.goal = NULL;
         for (int e = 0; e < out.n_events; e++) {
             const kc_ctrl_event *ev = &out.events[e];

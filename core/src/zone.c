@@ -9,6 +9,8 @@
  * functions s(d) = argmax_{x in core} d.x. */
 #include "kinctl/zone.h"
 
+#include <string.h>
+
 #include "kinctl/chain.h"
 #include "kinctl/fk.h"
 
@@ -343,7 +345,7 @@ kc_status kc_zone_set_init(kc_zone_set *set)
 {
     if (set == NULL)
         return KC_E_ARG;
-    set->n_zones = 0;
+    memset(set, 0, sizeof *set); /* unused entries too: a set compares and copies as plain bytes */
     set->margin = KC_R(0.02);
     set->near = KC_R(0.25);
     return KC_OK;

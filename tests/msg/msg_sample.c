@@ -151,6 +151,7 @@ void msg_sample(kd_msg_type type, uint32_t seed, kd_msg_any *m, char *reason_buf
         p->input_goal_id = big(s);
         p->input_command = (int8_t)pick(s, 0, KINCTL_COMMAND_T_RESET);
         p->input_servo_stale = (int8_t)pick(s, 0, 1);
+        p->input_fault = (int8_t)pick(s, 0, 1);
         break;
     }
     case KD_MSG_STATUS: {

@@ -102,6 +102,7 @@ static void print_json(kd_msg_type t, const kd_msg_any *m)
         pd("position", p->position, 3, 1); pd("orientation", p->orientation, 4, 1);
         pi("input_goal_id", p->input_goal_id); pi("input_command", p->input_command);
         pi("input_servo_stale", p->input_servo_stale);
+        pi("input_fault", p->input_fault);
         break;
     }
     case KD_MSG_STATUS: {

@@ -162,7 +162,7 @@ int run_zones(const json_t *req, calc_ctx *ctx)
     jw_key(w, "distances");
     jw_arr_begin(w);
     for (int i = 0; i < chain.n_volumes; i++)
-        jw_reals(w, &dist[i * set.n_zones], set.n_zones);
+        jw_reals(w, &dist[(size_t)i * (size_t)set.n_zones], set.n_zones);
     jw_arr_end(w);
     jw_key(w, "margin");
     jw_real(w, set.margin);

@@ -5,7 +5,7 @@
  *   kinctl-replay [--progress] LOG [kinctld options: --config F --model M --period-us N --prefix P]
  *
  * What makes it exact. Every setpoint_t carries the inputs its cycle's step
- * was given (input_goal_id, input_command, input_servo_stale): the goals
+ * was given (input_goal_id, input_command, input_servo_stale, input_fault): the goals
  * that reached the cycle, at the cycle they reached it, after the daemon's
  * I/O thread had dry-run and perhaps rejected others. The goal itself is
  * the message in the log with that goal_id (the next one not used yet, in
@@ -277,6 +277,7 @@ static int replay(recording *r, const kd_config *cfg, int progress)
         }
         in.command = (kc_ctrl_command)sp->input_command;
         in.servo_stale = sp->input_servo_stale != 0;
+        in.fault = sp->input_fault != 0 ? KC_REASON_EXTERNAL : KC_REASON_NONE;
         commands += in.command != KC_CMD_NONE;
         stale += in.servo_stale;
         st = kc_ctrl_step(&ctrl, &in, &out);

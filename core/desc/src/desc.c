@@ -744,6 +744,7 @@ static kc_status read_zones(reader *r, const config_setting_t *g, kc_zone_set *s
 kc_status kc_desc_load_zones(const char *path, kc_zone_set *set, kc_desc_zone_info *info, kc_desc_error *err)
 {
     const char *name = path != NULL ? path : "<null>";
+    /* cppcheck-suppress ctuuninitvar ; err is an output: stored here, written before any read */
     reader r = {name, err, 0};
     config_t cfg;
     kc_zone_set tmp;
