@@ -2,14 +2,20 @@
 # kinctld under load against the machine's own floor (issue 5's benchmark).
 #
 # For each period (1 kHz and 4 kHz by default), with the other CPUs loaded
-# by stress-ng (one CPU hog per CPU, pinned there, normal priority):
-#   1. cyclictest (Debian rt-tests) for --duration seconds at that period,
-#      SCHED_FIFO at --priority, mlockall, pinned to the cycle's CPU: the
-#      machine's floor;
-#   2. kinctld (puma560, SCHED_FIFO at the same priority on the same CPU,
-#      mlockall; nice -5 as kinctld.service runs it) for --duration seconds,
-#      with daemon_bench.py sending line and arc goals back to back so the
-#      IK step runs every cycle.
+# by stress-ng (one CPU hog per CPU, pinned there, normal priority), for
+# --duration seconds, at the same time on the same CPU:
+#   - cyclictest (Debian rt-tests) at that period, SCHED_FIFO one above
+#     --priority (so that it preempts kinctld, never the reverse: any
+#     interference between the two counts against kinctld), mlockall: the
+#     machine's floor;
+#   - kinctld (puma560, SCHED_FIFO at --priority, mlockall; nice -5 as
+#     kinctld.service runs it), with daemon_bench.py sending line and arc
+#     goals back to back so the IK step runs every cycle.
+# Run together, both see the same host: this virtual machine's host stalls
+# the guest for milliseconds now and then, and runs one after the other
+# compared one minute's stalls with another's (the tails of two 60 s runs
+# differed by 2x from one run to the next). --apart runs them one after the
+# other, cyclictest first, at the same priority.
 # Then one table: wake-up latency (p50, p99, p99.9, max), missed cycles,
 # compute time per cycle (p50, p99, max) and goal-to-first-setpoint (median,
 # p99), ours as ratios of cyclictest's, and the issue's targets met or missed.
@@ -29,7 +35,7 @@
 # (daemon_bench.txt, and the raw JSON of each run).
 #
 # Usage: tools/bench/run_daemon_bench.sh [--duration S] [--periods "1000 250"]
-#            [--cpu N] [--priority P] [--no-load] [--default-system]
+#            [--cpu N] [--priority P] [--no-load] [--default-system] [--apart]
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -41,6 +47,7 @@ cpu=$(($(nproc) - 1))
 priority=80
 load=1
 pm_qos=1
+together=1
 . "$root/tools/bench/bench_setup.sh" # bench_log
 
 while (($#)); do
@@ -51,6 +58,7 @@ while (($#)); do
     --priority) priority=$2; shift 2 ;;
     --no-load) load=0; shift ;;
     --default-system) pm_qos=0; shift ;;
+    --apart) together=0; shift ;;
     -h | --help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
     *) bench_log "unknown argument $1 (--help)"; exit 2 ;;
     esac
@@ -117,21 +125,36 @@ fi
     echo "machine: $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ *//'), $(nproc) CPUs, $(uname -sr)"
     echo "kinctl $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo '(no git)'), kinctld Release -O2;" \
         "$(cyclictest --help 2>&1 | head -1 | sed 's/^cyclictest //;s/^/cyclictest /');" \
-        "SCHED_FIFO $priority on CPU $cpu, mlockall; $load_note; $pm_note; ${duration} s per run"
+        "SCHED_FIFO $priority on CPU $cpu, mlockall; $load_note; $pm_note; ${duration} s per run;" \
+        "$( ((together)) && echo "cyclictest at the same time, priority $((priority + 1))" || echo "one after the other")"
 } | tee "$build/daemon_bench.txt"
 
 results=()
 for p in $periods; do
     ct_json=$build/cyclictest_${p}us.json
     kd_json=$build/kinctld_${p}us.json
-    bench_log "period $p us: cyclictest for $duration s"
-    cyclictest "${ct_pm[@]}" -m -q -p "$priority" -i "$p" -a "$cpu" -D "$duration" -h 100000 --json="$ct_json" \
-        >"$build/cyclictest_${p}us.txt" 2>&1 || { cat "$build/cyclictest_${p}us.txt" >&2; exit 1; }
-    bench_log "period $p us: kinctld for $duration s"
-    PYTHONPATH=$build/lcmtypes/python "$venv/bin/python" "$root/tools/bench/daemon_bench.py" \
-        --kinctld "$build/daemon/kinctld" --nice -5 "${kd_pm[@]}" --period-us "$p" --duration "$duration" --cpu "$cpu" \
-        --priority "$priority" --log "$build/kinctld_${p}us.log" >"$kd_json" ||
-        { cat "$build/kinctld_${p}us.log" >&2; exit 1; }
+    run_cyclictest() {
+        cyclictest "${ct_pm[@]}" -m -q -p "$1" -i "$p" -a "$cpu" -D "$duration" -h 100000 --json="$ct_json" \
+            >"$build/cyclictest_${p}us.txt" 2>&1 || { cat "$build/cyclictest_${p}us.txt" >&2; return 1; }
+    }
+    run_kinctld() {
+        PYTHONPATH=$build/lcmtypes/python "$venv/bin/python" "$root/tools/bench/daemon_bench.py" \
+            --kinctld "$build/daemon/kinctld" --nice -5 "${kd_pm[@]}" --period-us "$p" --duration "$duration" \
+            --cpu "$cpu" --priority "$priority" --log "$build/kinctld_${p}us.log" >"$kd_json" ||
+            { cat "$build/kinctld_${p}us.log" >&2; return 1; }
+    }
+    if ((together)); then
+        bench_log "period $p us: cyclictest and kinctld together for $duration s"
+        run_cyclictest $((priority + 1)) &
+        ct_pid=$!
+        run_kinctld
+        wait "$ct_pid"
+    else
+        bench_log "period $p us: cyclictest for $duration s"
+        run_cyclictest "$priority"
+        bench_log "period $p us: kinctld for $duration s"
+        run_kinctld
+    fi
     results+=("$p")
 done
 stop_load
@@ -188,7 +211,7 @@ for p in periods:
     rows.append((p, ct, kd, d, lat, comp, g))
 
 print()
-print("wake-up latency (us), missed cycles: kinctld against cyclictest, same period, priority and CPU")
+print("wake-up latency (us), missed cycles: kinctld against cyclictest, same period and CPU (priorities above)")
 print(f"{'period':>8} {'':>10} {'p50':>8} {'p99':>8} {'p99.9':>8} {'max':>8} {'cycles':>8} {'missed':>7}")
 for p, ct, kd, d, lat, comp, g in rows:
     print(f"{p:>6}us {'cyclictest':>10} {fmt_us(ct['p50']):>8} {fmt_us(ct['p99']):>8} {fmt_us(ct['p999']):>8} "
