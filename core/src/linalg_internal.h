@@ -72,13 +72,16 @@ KC_ALWAYS_INLINE void kc_cholesky_solve(kc_real l[KC_LINALG_MAX][KC_LINALG_MAX],
             t -= l[i][k] * b[k];
         b[i] = t / l[i][i];
     }
+    /* Counted down from r - 1 with i >= 0 as the test: clang unrolls only
+     * this form (i-- > 0 defeats the unroll pragma, an error with -Werror). */
     KC_UNROLL
-    for (int i = r; i-- > 0;) {
+    for (int i = r - 1; i >= 0; i--) {
         kc_real t = b[i];
         KC_UNROLL
         for (int k = i + 1; k < r; k++)
             t -= l[k][i] * b[k];
-        b[i] = t / l[i][i];
+        /* The analyzer lets i wrap past INT_MIN; it runs r - 1 .. 0. */
+        b[i] = t / l[i][i]; /* NOLINT(clang-analyzer-core.UndefinedBinaryOperatorResult) */
     }
 }
 
