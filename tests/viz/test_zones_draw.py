@@ -2,10 +2,16 @@
 (kinctl.zonedraw), from a real run's setpoints: the drawn wireframes checked
 numerically against the zones' sizes, lab 3's projections and the core's
 own placement of the volumes (kinctl-calc zones --geometry)."""
+import os
+import shutil
+import subprocess
+import sys
+import time
+
 import numpy as np
 import pytest
 
-from conftest import run_kinctl
+from conftest import Q11, QN, SLOW, csv_of, run_kinctl
 
 from kinctl import logcsv
 from kinctl import projection as pj
@@ -183,3 +189,32 @@ def test_help_shows_a_zone_example(cmd):
     assert r.returncode == 0
     assert "--zones-file" in r.stdout and "--no-volumes" in r.stdout
     assert "--zone " in r.stdout.split("example")[-1]
+
+
+def test_live_window_draws_zones_and_moving_volumes(recorded):
+    """The live window's path (zones and volumes set up from the daemon's first
+    setpoint, volumes redrawn at each new one) runs and follows the daemon."""
+    if shutil.which("xvfb-run") is None:
+        pytest.skip("xvfb-run is not installed (scripts/setup.sh installs Debian's xvfb)")
+    url = recorded["url"]
+    r = run_kinctl(url, "goal", "joint", "--q", csv_of(QN), "--wait")
+    assert r.returncode == 0, r.stderr
+    env = {k: v for k, v in os.environ.items() if k not in ("LCM_DEFAULT_URL", "MPLBACKEND")}
+    zone_args = [a for z in ZONES for a in ("--zone", z)]
+    v = subprocess.Popen(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", sys.executable, "-m", "kinctl",
+                          "--lcm-url", url, "view", "--model", "puma560", "--duration", "3", "--fps", "10"]
+                         + zone_args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        time.sleep(1.0 * SLOW)
+        r = run_kinctl(url, "goal", "joint", "--q", csv_of(Q11), "--wait")
+        assert r.returncode == 0, r.stderr
+        out, err = v.communicate(timeout=120 * SLOW)
+    finally:
+        if v.poll() is None:
+            v.kill()
+            v.communicate()
+        run_kinctl(url, "goal", "joint", "--q", csv_of(QN), "--wait")
+    assert v.returncode == 0, err
+    assert "Traceback" not in err, err
+    drawn = int(out.split(" frames drawn")[0].rsplit(" ", 1)[1])
+    assert drawn >= 5, out
