@@ -141,7 +141,7 @@ def test_frustum_and_cylinder_wireframes():
 
 def test_plot_draws_zones_and_the_volumes_at_start_and_end(recorded, tmp_path):
     cols = logcsv.read(recorded["csv"])
-    info = plot_run(recorded["csv"], str(tmp_path / "z.png"), model="puma560", zones=ZONES)
+    info = plot_run(recorded["csv"], str(tmp_path / "z.png"), model="puma560", zones=ZONES, volumes=True)
     first = [cols[f"q{j}"][0] for j in range(1, 7)]
     last = [cols[f"q{j}"][-1] for j in range(1, 7)]
     for vols, q in zip(info["volumes"], (first, last)):
@@ -157,8 +157,23 @@ def test_plot_draws_zones_and_the_volumes_at_start_and_end(recorded, tmp_path):
             c = BOX_C[:2] + BOX_H[:2] * [sx, sy]
             assert np.linalg.norm(pts - c, axis=1).min() < 1e-12
     # without the model, the zones alone
-    bare = plot_run(recorded["csv"], str(tmp_path / "b.png"), zones=ZONES[:1])
+    bare = plot_run(recorded["csv"], str(tmp_path / "b.png"), zones=ZONES[:1], volumes=True)
     assert bare["volumes"] == [] and [z["kind"] for z in bare["zones"]] == ["sphere"]
+
+
+def test_plot_cli_draws_the_volumes_unless_no_volumes(recorded, tmp_path):
+    """With --model the CLI asks for the volumes: the PNG differs from the
+    --no-volumes one, which is the one drawn with the zones alone."""
+    import matplotlib.image
+    imgs = {}
+    for name, extra in (("vol", []), ("novol", ["--no-volumes"])):
+        out = str(tmp_path / f"{name}.png")
+        r = run_kinctl(None, "plot", recorded["csv"], "-o", out, "--model", "puma560", "--zone", ZONES[0], *extra)
+        assert r.returncode == 0, r.stderr
+        imgs[name] = matplotlib.image.imread(out)
+    plot_run(recorded["csv"], str(tmp_path / "api.png"), model="puma560", zones=ZONES[:1])
+    assert (imgs["vol"] != imgs["novol"]).any(axis=2).mean() > 0.001
+    assert (matplotlib.image.imread(str(tmp_path / "api.png")) == imgs["novol"]).all()
 
 
 @pytest.mark.parametrize("cmd", ["view", "plot"])

@@ -11,8 +11,9 @@ kinctl record); see kinctl.runlog. Uses matplotlib's Agg backend (no display
 needed). Returns what was drawn, so that tests can check the axes without
 looking at pixels. shapes: extra 3-D geometry (kinctl.shapes) drawn into the
 path panels; so are forbidden zones (zones_file, zones: as kinctl-calc zones
-takes them) and, with the arm's model, its link volumes at the first and the
-last setpoint (kinctl.zonedraw).
+takes them) and, with volumes=True and the arm's model, its link volumes at
+the first and the last setpoint (kinctl.zonedraw; kinctl plot asks for them
+whenever --model or --model-file is given, unless --no-volumes).
 """
 import os
 
@@ -117,7 +118,7 @@ def check_output(path):
 
 
 def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefix="KINCTL_", shapes=(),
-             progress=False, model=None, model_file=None, zones_file=None, zones=(), volumes=True):
+             progress=False, model=None, model_file=None, zones_file=None, zones=(), volumes=False):
     """Writes the figure (PNG or SVG by out_path's extension). log: a path
     (CSV or LCM log) or columns as logcsv.read gives them. labels: {goal_id:
     text} for the goal markers (default "goal <id>"). model / model_file: the
