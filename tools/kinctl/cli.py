@@ -287,7 +287,9 @@ def build_parser():
                            "leading joint bold), the tool's speed along its path, the tool path in 3-D and "
                            "on XY, XZ, YZ; one colour per goal_id",
               "kinctl plot run.csv --events events.csv -o run.png --model puma560\n"
-              "  kinctl plot run.lcmlog -o run.svg          # an LCM event log (lcm-logger); SVG", parents)
+              "  kinctl plot run.lcmlog -o run.svg          # an LCM event log (lcm-logger); SVG\n"
+              "  kinctl plot run.csv --model puma560 --zones-file kinctld.cfg --zone box:0.6,0,0.3,0.05,0.4,0.3",
+              parents)
     pl.add_argument("csv", metavar="LOG", help="a setpoint CSV written by kinctl log --csv, or an LCM event log "
                                                "(lcm-logger format) holding <prefix>SETPOINT and <prefix>STATUS")
     pl.add_argument("--events", metavar="FILE", default=None,
@@ -301,6 +303,8 @@ def build_parser():
                           "each joint's limits (default: the joint that travels farthest)")
     arm.add_argument("--model-file", default=None, metavar="PATH", help="the daemon's robot description file, "
                                                                         "as --model")
+    from kinctl.zonedraw import add_options
+    add_options(pl)
     from kinctl.view import add_view_parser
     add_view_parser(sub, _sub, parents)
 
@@ -591,7 +595,8 @@ def cmd_plot(args):
     from kinctl.plot import plot_run
     out = args.output or os.path.splitext(args.csv)[0] + ".png"
     info = plot_run(args.csv, out, events=args.events, title=args.title, prefix=args.prefix, progress=True,
-                    model=args.model, model_file=args.model_file)
+                    model=args.model, model_file=args.model_file, zones_file=args.zones_file, zones=args.zone,
+                    volumes=not args.no_volumes)
     _say(f"plot: {out} ({info['rows']} setpoints, {len(info['goals'])} goals)")
     return 0
 

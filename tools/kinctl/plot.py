@@ -10,7 +10,10 @@ The log is a setpoint CSV (kinctl log --csv) or an LCM event log (lcm-logger,
 kinctl record); see kinctl.runlog. Uses matplotlib's Agg backend (no display
 needed). Returns what was drawn, so that tests can check the axes without
 looking at pixels. shapes: extra 3-D geometry (kinctl.shapes) drawn into the
-path panels.
+path panels; so are forbidden zones (zones_file, zones: as kinctl-calc zones
+takes them) and, with volumes=True and the arm's model, its link volumes at
+the first and the last setpoint (kinctl.zonedraw; kinctl plot asks for them
+whenever --model or --model-file is given, unless --no-volumes).
 """
 import os
 
@@ -115,15 +118,16 @@ def check_output(path):
 
 
 def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefix="KINCTL_", shapes=(),
-             progress=False, model=None, model_file=None):
+             progress=False, model=None, model_file=None, zones_file=None, zones=(), volumes=False):
     """Writes the figure (PNG or SVG by out_path's extension). log: a path
     (CSV or LCM log) or columns as logcsv.read gives them. labels: {goal_id:
     text} for the goal markers (default "goal <id>"). model / model_file: the
     arm, for the planner's leading joint of joint moves (leading_joints).
     Returns {"rows", "joints", "period_s", "out", "goals": [ids in order],
     "leading": {id: joint}, "leading_how": {id: "planner" or "travel"},
-    "max_speed", "axes": [{"title", "name", "xlabel", "ylabel", "xlim", "ylim",
-    "lines", "curves" (labelled lines), "data" (each line's x, y (, z) arrays)}...] in
+    "max_speed", "zones" (the zones' geometry), "volumes" ([start, end]
+    volumes' geometry, or []), "axes": [{"title", "name", "xlabel", "ylabel",
+    "xlim", "ylim", "lines", "curves" (labelled lines), "data" (each line's x, y (, z) arrays)}...] in
     the order q, qd, qdd, 3-D path, XY, XZ, YZ, speed}."""
     import matplotlib
     matplotlib.use("Agg")
@@ -246,7 +250,8 @@ def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefi
         ax3.plot([x[i]], [y[i]], [z[i]], marker=marker, color="k", ms=4, ls="")
         for axp, un, vn, _ in planes:
             axp.plot([coord[un][i]], [coord[vn][i]], marker=marker, color="k", ms=4, ls="")
-    for s in shapes:
+    zone_geo, vol_geo, extra = _zones_and_volumes(cols, n, x, y, z, model, model_file, zones_file, zones, volumes)
+    for s in list(shapes) + extra:
         shp.draw3d(ax3, s)
         for axp, un, vn, _ in planes:
             shp.draw_plane(axp, s, "xyz".index(un), "xyz".index(vn))
@@ -259,7 +264,8 @@ def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefi
     axkey.axis("off")
     handles, texts = axxy.get_legend_handles_labels()
     if handles:
-        axkey.legend(handles, texts, loc="center", fontsize=9, title="goals (goal_id)", framealpha=0.9,
+        axkey.legend(handles, texts, loc="center", fontsize=9, framealpha=0.9,
+                     title="goals (goal_id)" + (", zones, volumes" if extra else ""),
                      ncol=1 if len(handles) <= 8 else 2)
     fig.suptitle(title or f"kinctld setpoints: {rows} cycles of {dt * 1e3:g} ms", fontsize=13)
     fig.savefig(out_path, dpi=dpi)
@@ -277,4 +283,30 @@ def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefi
     return {"rows": rows, "joints": n, "png": out_path, "out": out_path, "axes": axes,
             "goals": [g for _, _, g in segs], "leading": leading,
             "leading_how": {gid: how for gid, (_, how) in lead_how.items()}, "period_s": dt,
-            "max_speed": float(max(speed))}
+            "max_speed": float(max(speed)), "zones": zone_geo, "volumes": vol_geo}
+
+
+def _zones_and_volumes(cols, n, x, y, z, model, model_file, zones_file, zones, volumes):
+    """(zones' geometry, [start, end] volumes' geometry, kinctl.shapes to draw):
+    the zones, half-spaces clipped to a box around the path, the volumes and
+    the other zones; the volumes only with the arm's model."""
+    import numpy as np
+    from kinctl import zonedraw as zd
+    vols = []
+    if (model or model_file) and volumes:
+        ends = [[cols[f"q{j}"][i] for j in range(1, n + 1)] for i in (0, -1)]
+        geos = [zd.geometry(model, model_file, q, zones_file, zones) for q in ends]
+        zone_geo = geos[0]["zones"]
+        vols = [g["volumes"] for g in geos]
+    else:
+        zone_geo = zd.zones_only(zones_file, zones)
+    if not zone_geo and not any(vols):
+        return zone_geo, vols, []
+    pts = [np.column_stack([x, y, z]), zd.bounded_points(zone_geo)] + [zd.bounded_points(v) for v in vols]
+    pts = np.vstack(pts)
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    pad = 0.1 * float(max(hi - lo)) + 0.05
+    out = zd.zone_shapes(zone_geo, (lo - pad, hi + pad))
+    for v, (what, alpha) in zip(vols, (("link volumes at the start", 0.45), ("link volumes at the end", 0.85))):
+        out += zd.volume_shapes(v, label=what, alpha=alpha)
+    return zone_geo, vols, out

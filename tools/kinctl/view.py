@@ -18,7 +18,9 @@ tool position that disagrees with the setpoint's is reported.
         info = render(samples_from_columns(logcsv.read("run.csv"), fps=25), "arm.gif", fk)
 
 Extra 3-D geometry (kinctl.shapes) is drawn in every panel: render(...,
-shapes=[...]).
+shapes=[...]). Forbidden zones (--zones-file, --zone) are drawn where they
+are, the arm's link volumes (whenever --model or --model-file names it)
+moving with it (kinctl.zonedraw): render(..., zones=..., volumes=...).
 """
 import math
 import os
@@ -31,7 +33,8 @@ AXIS_COLORS = ("#d62728", "#2ca02c", "#1f77b4")  # x red, y green, z blue
 EXAMPLE = ("kinctl view                                  # live window (needs a display)\n"
            "  kinctl view --save arm.gif --duration 5        # headless: 5 s of live setpoints\n"
            "  kinctl view --log run.csv --save run.mp4       # a recorded log (CSV or LCM log); mp4 needs ffmpeg\n"
-           "  kinctl view --model-file models/panda.cfg --save now.png")
+           "  kinctl view --model-file models/panda.cfg --save now.png\n"
+           "  kinctl view --model puma560 --zones-file kinctld.cfg --zone sphere:0.5,0.3,0.4,0.1 --save cell.png")
 
 
 def add_view_parser(sub, make_sub, parents):
@@ -57,6 +60,8 @@ def add_view_parser(sub, make_sub, parents):
     v.add_argument("--trail", type=nonneg, default=3.0, metavar="S",
                    help="seconds of tool path drawn behind the tool (default 3; 0: none)")
     v.add_argument("--dpi", type=positive, default=80.0, help="resolution of saved files (default 80)")
+    from kinctl.zonedraw import add_options
+    add_options(v)
     return v
 
 
@@ -138,16 +143,17 @@ def triad_lines(pose, length):
 class Scene:
     """The four panels and their artists; update(pose, sample, trail) redraws."""
 
-    def __init__(self, fig, bounds, triad, shapes=(), title="", points=None, status_in_axes=False):
+    def __init__(self, fig, bounds, triad, shapes=(), title="", points=None, status_in_axes=False, volumes=None):
         """bounds: (lo, hi) of the 3-D view; points: N x 3 world points every
         frame will stay near (the 2-D views are fitted to their images; by
         default the corners of bounds). status_in_axes: the changing text
         (time, cycle, goal, state, q) in the 3-D panel instead of the figure's
-        title, where a live window's blitting redraws it."""
+        title, where a live window's blitting redraws it. volumes: the link
+        volumes (kinctl.zonedraw.MovingVolumes) drawn at every pose."""
         import numpy as np
         from kinctl import projection as pj
         from kinctl import shapes as shp
-        self.fig, self.triad, self.title = fig, triad, title
+        self.fig, self.triad, self.title, self.volumes = fig, triad, title, volumes
         lo, hi = np.asarray(bounds[0], float), np.asarray(bounds[1], float)
         corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1]) for z in (lo[2], hi[2])]).T
         fit = corners if points is None else np.asarray(points, dtype=float).T
@@ -191,6 +197,9 @@ class Scene:
                                        mec="0.15", label="links")
             p["triads"] = [self._line(ax, M, color=col, lw=1.4, label=f"{a} axes")
                            for a, col in zip("xyz", AXIS_COLORS)]
+            if volumes is not None:
+                from kinctl.zonedraw import VOLUME_COLOR
+                p["volumes"] = self._line(ax, M, color=VOLUME_COLOR, lw=0.8, alpha=0.7, label="link volumes")
             for s in shapes:
                 if M is None:
                     shp.draw3d(ax, s)
@@ -227,7 +236,7 @@ class Scene:
         """What update() changes: every panel's lines and the title."""
         out = []
         for p in self.panels.values():
-            out += [p["trail"], p["skeleton"]] + p["triads"]
+            out += [p["trail"], p["skeleton"]] + p["triads"] + ([p["volumes"]] if "volumes" in p else [])
         return out + [self.text]
 
     def update(self, pose, sample, trail_pts):
@@ -235,7 +244,11 @@ class Scene:
         skel = skeleton_points(pose)
         triads = triad_lines(pose, self.triad)
         artists = []
+        vol = self.volumes.points(pose[1]) if self.volumes is not None else None
         for p in self.panels.values():
+            if vol is not None:
+                self._set(p["volumes"], p["M"], vol)
+                artists.append(p["volumes"])
             self._set(p["skeleton"], p["M"], skel)
             for line, pts in zip(p["triads"], triads):
                 self._set(line, p["M"], pts)
@@ -252,11 +265,11 @@ class Scene:
         return artists + [self.text]
 
 
-def bounds_of(poses, margin=0.08):
-    """A cube around every drawn point (lo, hi), padded: every panel keeps
-    one scale on all three axes."""
+def bounds_of(poses, margin=0.08, extra=None):
+    """A cube around every drawn point (lo, hi) (the arm's, and extra: N x 3),
+    padded: every panel keeps one scale on all three axes."""
     import numpy as np
-    pts = np.vstack([skeleton_points(p) for p in poses])
+    pts = np.vstack([skeleton_points(p) for p in poses] + ([np.asarray(extra)] if extra is not None else []))
     lo, hi = pts.min(axis=0), pts.max(axis=0)
     half = (float(max(hi - lo)) or 1.0) * (0.5 + margin)
     mid = (lo + hi) / 2
@@ -301,11 +314,16 @@ def fk_mismatch(poses, samples):
     return max(float(np.linalg.norm(p[2][:3, 3] - np.asarray(s.tool))) for p, s in zip(poses, samples))
 
 
-def render(samples, path, fk, fps=25.0, trail=3.0, dpi=80, shapes=(), title="", progress=False):
+def render(samples, path, fk, fps=25.0, trail=3.0, dpi=80, shapes=(), title="", progress=False, zones=(),
+           volumes=None):
     """Draws samples to path (.png: the last sample; .gif, .mp4: all of them at
-    fps). Returns {"frames", "size", "fk_mismatch_m", "panels":
-    {name: {"title", "xlim", "ylim", "skeleton", "triads", "trail"}}} with the
-    last frame's drawn data (u, v, or x, y, z per line)."""
+    fps). zones: forbidden zones as kinctl.zonedraw.geometry gives them
+    (a half-space clipped to the view); volumes: the link volumes
+    (zonedraw.MovingVolumes) drawn at every sample. Returns {"frames", "size",
+    "fk_mismatch_m", "bounds", "panels": {name: {"title", "xlim", "ylim",
+    "skeleton", "triads", "trail", "volumes", "zones"}}} with the last frame's
+    drawn data (u, v, or x, y, z per line; "zones": every zone's polylines,
+    projected)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -325,7 +343,20 @@ def render(samples, path, fk, fps=25.0, trail=3.0, dpi=80, shapes=(), title="", 
     pts = np.vstack(pts)
     cube = np.array([[x, y, z] for x in (-1, 1) for y in (-1, 1) for z in (-1, 1)], dtype=float) * triad
     pts = np.vstack([pts + d for d in cube])
-    scene = Scene(fig, bounds_of(poses), triad, shapes, title, points=pts)
+    bounds = bounds_of(poses)
+    zone_shapes = []
+    if zones or volumes is not None:
+        from kinctl import zonedraw as zd
+        extra = [zd.bounded_points(zones)]
+        if volumes is not None:
+            extra += [zd.joined(volumes.lines(p[1])) for p in (poses[0], poses[-1])]
+        extra = np.vstack(extra)
+        extra = extra[np.isfinite(extra).all(axis=1)]
+        if len(extra):
+            pts = np.vstack([pts, extra])
+            bounds = bounds_of(poses, extra=extra)
+        zone_shapes = zd.zone_shapes(zones, bounds)
+    scene = Scene(fig, bounds, triad, list(shapes) + zone_shapes, title, points=pts, volumes=volumes)
     offset = len(samples) - len(todo)
 
     def frame(k):
@@ -357,7 +388,7 @@ def render(samples, path, fk, fps=25.0, trail=3.0, dpi=80, shapes=(), title="", 
             a.set_animated(False)
         count = len(todo)
     info = {"frames": count, "size": tuple(int(v) for v in fig.get_size_inches() * dpi),
-            "fk_mismatch_m": mismatch, "panels": {}}
+            "fk_mismatch_m": mismatch, "bounds": bounds, "panels": {}}
     for name, p in scene.panels.items():
         ax = p["ax"]
 
@@ -368,11 +399,19 @@ def render(samples, path, fk, fps=25.0, trail=3.0, dpi=80, shapes=(), title="", 
         info["panels"][name] = {"title": ax.get_title(loc="left"), "xlim": tuple(ax.get_xlim()),
                                 "ylim": tuple(ax.get_ylim()), "skeleton": data(p["skeleton"]),
                                 "triads": [data(t) for t in p["triads"]], "trail": data(p["trail"]),
-                                "lines": len(ax.get_lines())}
+                                "lines": len(ax.get_lines()),
+                                "volumes": data(p["volumes"]) if "volumes" in p else None,
+                                "zones": [[_projected(l, p["M"]) for l in z.lines()] for z in zone_shapes]}
         if p["M"] is None:
             info["panels"][name]["zlim"] = tuple(ax.get_zlim())
     plt.close(fig)
     return info
+
+
+def _projected(pts, M):
+    """A polyline as a panel draws it: u, v rows (M) or x, y, z rows (3-D)."""
+    import numpy as np
+    return np.asarray(pts).T if M is None else np.asarray(M) @ np.asarray(pts).T
 
 
 def write_frames(path, ext, fps, count, image, advance):
@@ -467,6 +506,14 @@ def record(args, seconds):
     return setpoint_columns(sps)
 
 
+def zones_of(args, fk, q):
+    """The zones and the moving link volumes the options ask for (the volumes
+    whenever --model or --model-file names the arm, unless --no-volumes)."""
+    from kinctl.zonedraw import for_arm
+    return for_arm(fk, q, args.zones_file, args.zone,
+                   volumes=bool(args.model or args.model_file) and not args.no_volumes)
+
+
 def cmd_view(args):
     from kinctl.kinematics import ArmFK
     ext = check_save(args.save) if args.save else None
@@ -474,6 +521,8 @@ def cmd_view(args):
         raise ValueError("--log draws to a file: add --save FILE.gif, .mp4 or .png (to watch an LCM log in "
                          "the window, play it with lcm-logplayer and run kinctl view)")
     with ArmFK(model=args.model, model_file=args.model_file) as fk:
+        # Bad --zone or --zones-file: exit 2 before anything is recorded.
+        zones_of(args, fk, [0.0] * fk.n_joints)
         if args.log:
             from kinctl.runlog import read_run
             cols, _ = read_run(args.log, prefix=args.prefix, progress=True)
@@ -488,8 +537,9 @@ def cmd_view(args):
         if len(samples[0].q) != fk.n_joints:
             raise ValueError(f"the setpoints have {len(samples[0].q)} joints, {fk.describe()} has {fk.n_joints}: "
                              f"pass the daemon's --model or --model-file")
+        zones, volumes = zones_of(args, fk, samples[0].q)
         info = render(samples, args.save, fk, fps=args.fps, trail=args.trail, dpi=args.dpi, title=title,
-                      progress=True)
+                      progress=True, zones=zones, volumes=volumes)
         _warn_mismatch(info["fk_mismatch_m"], fk)
         if info["frames"] == 1:
             _say(f"view: {args.save} (1 frame, {info['size'][0]}x{info['size'][1]}, the setpoint of cycle "
@@ -521,8 +571,11 @@ def live(args, fk):
         pose0 = fk.frames(list(sp.q[:sp.n]))
         fig = plt.figure(figsize=(12, 9.5))
         bounds, reachable = reach_space(pose0)
-        scene = Scene(fig, bounds, triad_length(pose0), (), f"kinctld live ({fk.describe().lstrip('-')})",
-                      points=reachable, status_in_axes=True)
+        zones, volumes = zones_of(args, fk, list(sp.q[:sp.n]))
+        from kinctl.zonedraw import zone_shapes
+        scene = Scene(fig, bounds, triad_length(pose0), zone_shapes(zones, bounds),
+                      f"kinctld live ({fk.describe().lstrip('-')})", points=reachable, status_in_axes=True,
+                      volumes=volumes)
         history = []
         state = {"last_cycle": None, "warned": False, "drawn": 0}
 
