@@ -1111,7 +1111,9 @@ static int setpoint_ok(const kc_ctrl *c, const kc_real *q, const kc_real *qd)
         kc_real range_slack = slack * (kc_fabs(l->q_min) + kc_fabs(l->q_max) + KC_R(1.0));
         if (!kc_isfinite(q[j]) || !kc_isfinite(qd[j]))
             return 0;
-        if (q[j] < l->q_min - range_slack || q[j] > l->q_max + range_slack)
+        /* Outside, only no further out than the last setpoint: an arm a stop
+         * carried past a limit may come to rest there and move back in. */
+        if ((q[j] < l->q_min - range_slack && q[j] < c->q[j]) || (q[j] > l->q_max + range_slack && q[j] > c->q[j]))
             return 0;
         if (kc_fabs(qd[j]) > l->qd_max * (KC_R(1.0) + slack))
             return 0;
@@ -1340,10 +1342,21 @@ kc_status kc_ctrl_check(kc_ctrl *scratch, const kc_chain *chain, const kc_ctrl_c
     kc_ctrl_reason why = KC_REASON_NONE;
     if (where != NULL)
         *where = KC_R(0.0);
-    if (scratch == NULL || goal == NULL || q_end == NULL || max_ticks < 1)
+    if (scratch == NULL || goal == NULL || q_end == NULL || max_ticks < 1 || chain == NULL || q_start == NULL ||
+        chain->n_joints < 1 || chain->n_joints > KC_MAX_JOINTS)
         return refuse(reason, KC_REASON_BAD_GOAL);
-    if (kc_ctrl_init(scratch, chain, cfg, q_start) != KC_OK)
+    /* A start outside the position limits (an arm a stop carried past one)
+     * is judged from where it is: the scratch controller starts inside and
+     * is then put there. */
+    kc_real inside[KC_MAX_JOINTS];
+    for (int j = 0; j < chain->n_joints; j++) {
+        if (!kc_isfinite(q_start[j]))
+            return refuse(reason, KC_REASON_BAD_GOAL);
+        inside[j] = kc_clamp(q_start[j], chain->joints[j].limits.q_min, chain->joints[j].limits.q_max);
+    }
+    if (kc_ctrl_init(scratch, chain, cfg, inside) != KC_OK)
         return refuse(reason, KC_REASON_BAD_GOAL);
+    memcpy(scratch->q, q_start, sizeof(kc_real) * (size_t)chain->n_joints);
     if (kc_ctrl_goal_check(chain, goal, &why) != KC_OK)
         return refuse(reason, why);
     if (goal->kind == KC_GOAL_SERVO) {

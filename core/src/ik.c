@@ -666,6 +666,23 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
             }
         }
     }
+    /* Towards a position limit no faster than the joint can brake before
+     * it in whole ticks: slowing by A dt a tick from v covers
+     * dt v (v / (A dt) + 1) / 2, so v <= (sqrt(A^2 dt^2 + 8 A room) - A dt) / 2.
+     * Stopped at the limit by a velocity step instead, the joint failed the
+     * controller's final check, whose stop from full speed then carried it
+     * past the limit. A is half the acceleration limit, since one scale for
+     * every joint's acceleration may slow this joint's braking. */
+    for (int j = 0; j < n; j++) {
+        kc_real v = kc_fabs(qd_des[j]);
+        kc_real room = qd_des[j] > KC_R(0.0) ? p.hi[j] - q[j] : q[j] - p.lo[j];
+        if (v > KC_R(0.0) && kc_isfinite(room)) {
+            kc_real A = KC_R(0.5) * chain->joints[j].limits.qdd_max, Adt = A * dt;
+            kc_real vmax = KC_R(0.5) * (kc_sqrt(Adt * Adt + KC_R(8.0) * A * kc_max(room, KC_R(0.0))) - Adt);
+            if (v * s > vmax)
+                s = vmax / v;
+        }
+    }
     kc_real a = KC_R(1.0);
     for (int j = 0; j < n; j++) {
         kc_real dv = kc_fabs(s * qd_des[j] - qd[j]);

@@ -295,6 +295,44 @@ static void test_step_online(void **state)
     }
 }
 
+/* A target beyond a joint's position limit: the online step brings the
+ * joint to rest at the limit within its acceleration limit every tick (no
+ * velocity step at the limit, which the controller's final check refuses). */
+static void test_step_into_a_limit(void **state)
+{
+    (void)state;
+    kc_chain c;
+    kc_chain_init_model(&c, KC_MODEL_PUMA560, NULL);
+    kc_ik_cfg cfg = kc_ik_cfg_default();
+    const kc_real dt = KC_R(0.001);
+    const kc_joint_limits *l4 = &c.joints[3].limits;
+    kc_real q[6] = {0, KC_R(0.7853981633974483), KC_R(-3.141592653589793), KC_R(2.5), KC_R(0.7853981633974483), 0};
+    kc_real qd[6] = {0}, qg[6];
+    memcpy(qg, q, sizeof qg);
+    qg[3] = l4->q_max + KC_R(0.6); /* out of reach for joint 4 */
+    kc_pose target;
+    kc_fk_eval(&c, qg, &target);
+    kc_ik_result res;
+    double top = (double)q[3];
+    for (int t = 0; t < 3000; t++) {
+        kc_real qn[6], qdn[6];
+        kc_status st = kc_ik_step(&c, &cfg, &target, NULL, dt, q, qd, qn, qdn, &res);
+        assert_true(st != KC_E_ARG);
+        for (int j = 0; j < 6; j++) {
+            const kc_joint_limits *l = &c.joints[j].limits;
+            double slack = 4.0 * (double)KC_REAL_EPS * (fabs((double)qd[j]) + fabs((double)qdn[j]));
+            if (!(fabs((double)(qdn[j] - qd[j])) <= (double)(l->qdd_max * dt) + slack))
+                fail_msg("tick %d: joint %d velocity steps from %g to %g", t, j + 1, (double)qd[j], (double)qdn[j]);
+        }
+        assert_within_limits(&c, qn);
+        top = fmax(top, (double)qn[3]);
+        memcpy(q, qn, sizeof q);
+        memcpy(qd, qdn, sizeof qd);
+    }
+    /* It got to the limit (within a millimetre-sized angle) and rests there. */
+    assert_true(top > (double)l4->q_max - 2e-3);
+    kt_near((double)qd[3], 0.0, 1e-3, "at rest at the limit");
+}
 
 /* A target moving at 0.3 m/s: with its twist fed forward the tool follows
  * within a few micrometres; without it the lag is about v / k. */
@@ -386,7 +424,7 @@ int main(void)
         cmocka_unit_test(test_random_panda),        cmocka_unit_test(test_random_rrr3_position),
         cmocka_unit_test(test_random_masks_redundant), cmocka_unit_test(test_unreachable),
         cmocka_unit_test(test_bad_input),           cmocka_unit_test(test_singular_targets),
-        cmocka_unit_test(test_deterministic),       cmocka_unit_test(test_step_online),
+        cmocka_unit_test(test_deterministic),       cmocka_unit_test(test_step_online), cmocka_unit_test(test_step_into_a_limit),
         cmocka_unit_test(test_miss_reasons),        cmocka_unit_test(test_step_feed_forward),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
