@@ -87,16 +87,6 @@ static int run_until_state(kc_ctrl_state state, int max)
     return -1;
 }
 
-static kc_goal joint_goal(int64_t id, const kc_real *q)
-{
-    kc_goal g;
-    memset(&g, 0, sizeof g);
-    g.id = id;
-    g.kind = KC_GOAL_JOINT;
-    g.vel_scale = g.acc_scale = KC_R(1.0);
-    memcpy(g.q, q, sizeof(kc_real) * 6);
-    return g;
-}
 
 static kc_goal line_goal(int64_t id, const kc_pose *to)
 {
@@ -160,7 +150,7 @@ static void test_joint_goal(void **state)
     (void)state;
     setup(KC_MODEL_PUMA560, PUMA_Q0);
     const kc_real target[6] = {KC_R(-0.5), KC_R(0.3), KC_R(-1.5), KC_R(0.8), KC_R(-0.4), KC_R(1.0)};
-    kc_goal g = joint_goal(7, target);
+    kc_goal g = kt_joint_goal(7, target, 6);
     tick(&g, KC_CMD_NONE);
     assert_int_equal(H.count[KC_EVENT_ACCEPTED], 1);
     assert_int_equal(H.count[KC_EVENT_STARTED], 1);
@@ -266,7 +256,7 @@ static void test_queue_and_preemption(void **state)
         b[j] = PUMA_Q0[j] - KC_R(0.2);
         c[j] = PUMA_Q0[j] + KC_R(0.1);
     }
-    kc_goal ga = joint_goal(1, a), gb = joint_goal(2, b), gc = joint_goal(3, c);
+    kc_goal ga = kt_joint_goal(1, a, 6), gb = kt_joint_goal(2, b, 6), gc = kt_joint_goal(3, c, 6);
     tick(&ga, KC_CMD_NONE);
     tick(&gb, KC_CMD_NONE);
     assert_int_equal(H.out.queue_length, 1);
@@ -289,7 +279,7 @@ static void test_queue_and_preemption(void **state)
 
     /* An id in flight names one goal: the same id again, active or queued,
      * is refused; once its goal has ended the id may be used again. */
-    kc_goal dup = joint_goal(1, a);
+    kc_goal dup = kt_joint_goal(1, a, 6);
     tick(&ga, KC_CMD_NONE);
     tick(&gb, KC_CMD_NONE);
     int rejected = H.count[KC_EVENT_REJECTED];
@@ -310,7 +300,7 @@ static void test_queue_and_preemption(void **state)
     /* A full queue refuses more. */
     rejected = H.count[KC_EVENT_REJECTED];
     for (int i = 0; i < KC_CTRL_QUEUE_MAX + 2; i++) {
-        kc_goal g = joint_goal(100 + i, (i % 2) ? a : b);
+        kc_goal g = kt_joint_goal(100 + i, (i % 2) ? a : b, 6);
         tick(&g, KC_CMD_NONE);
     }
     assert_int_equal(H.count[KC_EVENT_REJECTED], rejected + 1);
@@ -319,7 +309,7 @@ static void test_queue_and_preemption(void **state)
 
     /* Replacing all of it answers every goal in one tick: each queued one
      * preempted, the new one accepted and started, the active one preempted. */
-    kc_goal gr = joint_goal(200, c);
+    kc_goal gr = kt_joint_goal(200, c, 6);
     gr.replace = 1;
     int preempted = H.count[KC_EVENT_PREEMPTED];
     tick(&gr, KC_CMD_NONE);
@@ -368,7 +358,7 @@ static void test_retarget(void **state)
     ahead[1] += KC_R(0.3);
     back[0] = KC_R(-1.0);
     back[1] -= KC_R(0.2);
-    kc_goal ga = joint_goal(41, ahead), gb = joint_goal(42, back);
+    kc_goal ga = kt_joint_goal(41, ahead, 6), gb = kt_joint_goal(42, back, 6);
     gb.replace = 1;
 
     /* Cruising at joint 0's full speed, reversed. */
@@ -393,7 +383,7 @@ static void test_retarget(void **state)
 
     /* The same reversal at a tenth of the acceleration would brake to
      * 2.x + 4 / 1 rad, past joint 0's limit: stop on the path, then start. */
-    kc_goal gc = joint_goal(43, back);
+    kc_goal gc = kt_joint_goal(43, back, 6);
     gc.replace = 1;
     gc.acc_scale = KC_R(0.1);
     tick(&ga, KC_CMD_NONE);
@@ -432,7 +422,7 @@ static void test_retarget(void **state)
     kc_pose to = pose_of(H.out.q);
     to.t.v[2] += KC_R(0.15);
     kc_goal gl = line_goal(45, &to);
-    kc_goal gd = joint_goal(46, PUMA_Q0);
+    kc_goal gd = kt_joint_goal(46, PUMA_Q0, 6);
     gd.replace = 1;
     tick(&gl, KC_CMD_NONE);
     for (int k = 0; k < 400; k++)
@@ -468,7 +458,7 @@ static void test_outside_a_limit(void **state)
     kc_real q_end[6];
     kc_ctrl_reason why;
     kc_real where;
-    kc_goal g = joint_goal(51, back);
+    kc_goal g = kt_joint_goal(51, back, 6);
     assert_int_equal(kc_ctrl_check(&SCRATCH, &H.chain, &H.cfg, &g, H.ctrl.q, 100000, q_end, &why, &where), KC_OK);
     /* tick() checks the limits: only once the joint is back inside. */
     kc_ctrl_input in = {&g, KC_CMD_NONE, 0, KC_REASON_NONE};
@@ -530,7 +520,7 @@ static void test_estop_and_reset(void **state)
     kc_real a[6];
     for (int j = 0; j < 6; j++)
         a[j] = PUMA_Q0[j] + KC_R(0.5);
-    kc_goal g = joint_goal(41, a);
+    kc_goal g = kt_joint_goal(41, a, 6);
     tick(&g, KC_CMD_NONE);
     for (int k = 0; k < 400; k++)
         tick(NULL, KC_CMD_NONE);
@@ -542,7 +532,7 @@ static void test_estop_and_reset(void **state)
     assert_int_equal(H.out.state, KC_CTRL_ESTOP); /* latched */
     for (int j = 0; j < 6; j++)
         kt_near((double)H.out.qd[j], 0.0, 0.0, "at rest after e-stop");
-    kc_goal g2 = joint_goal(42, PUMA_Q0);
+    kc_goal g2 = kt_joint_goal(42, PUMA_Q0, 6);
     tick(&g2, KC_CMD_NONE);
     assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_STATE);
     tick(NULL, KC_CMD_RESET);
@@ -563,7 +553,7 @@ static void test_external_fault(void **state)
     kc_real a[6];
     for (int j = 0; j < 6; j++)
         a[j] = PUMA_Q0[j] + KC_R(0.5);
-    kc_goal g = joint_goal(61, a);
+    kc_goal g = kt_joint_goal(61, a, 6);
     tick(&g, KC_CMD_NONE);
     for (int k = 0; k < 300; k++)
         tick(NULL, KC_CMD_NONE);
@@ -588,7 +578,7 @@ static void test_external_fault(void **state)
         kt_near((double)H.out.qd[j], 0.0, 0.0, "at rest after the external fault");
     tick_fault(NULL, KC_CMD_NONE, KC_REASON_EXTERNAL);
     assert_int_equal(H.count[KC_EVENT_FAULT], 1);
-    kc_goal g2 = joint_goal(62, PUMA_Q0);
+    kc_goal g2 = kt_joint_goal(62, PUMA_Q0, 6);
     tick(&g2, KC_CMD_NONE);
     assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_STATE);
     tick(NULL, KC_CMD_RESET);
@@ -605,14 +595,14 @@ static void test_rejections(void **state)
     kc_real far[6];
     memcpy(far, PUMA_Q0, sizeof far);
     far[4] = KC_R(2.5); /* beyond q5's limit */
-    kc_goal g = joint_goal(51, far);
+    kc_goal g = kt_joint_goal(51, far, 6);
     tick(&g, KC_CMD_NONE);
     assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_JOINT_LIMIT);
-    g = joint_goal(52, PUMA_Q0);
+    g = kt_joint_goal(52, PUMA_Q0, 6);
     g.q[2] = (kc_real)NAN;
     tick(&g, KC_CMD_NONE);
     assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_BAD_GOAL);
-    g = joint_goal(53, PUMA_Q0);
+    g = kt_joint_goal(53, PUMA_Q0, 6);
     g.vel_scale = KC_R(1.5);
     tick(&g, KC_CMD_NONE);
     assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_BAD_GOAL);
@@ -782,7 +772,7 @@ static uint64_t hash_run(void)
     kc_real a[6];
     for (int j = 0; j < 6; j++)
         a[j] = PUMA_Q0[j] + KC_R(0.2);
-    kc_goal jg = joint_goal(82, a);
+    kc_goal jg = kt_joint_goal(82, a, 6);
     for (int k = 0; k < 6000; k++) {
         const kc_goal *g = k == 0 ? &l : (k == 1 ? &jg : NULL);
         kc_ctrl_command cmd = k == 500 ? KC_CMD_PAUSE : (k == 900 ? KC_CMD_RESUME : KC_CMD_NONE);

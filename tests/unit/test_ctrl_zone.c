@@ -64,16 +64,6 @@ static void tick(const kc_goal *g, kc_ctrl_command cmd)
         H.min_clear = fmin(H.min_clear, clearance(H.out.q));
 }
 
-static kc_goal joint_goal(int64_t id, const kc_real *q)
-{
-    kc_goal g;
-    memset(&g, 0, sizeof g);
-    g.id = id;
-    g.kind = KC_GOAL_JOINT;
-    g.vel_scale = g.acc_scale = KC_R(1.0);
-    memcpy(g.q, q, sizeof(kc_real) * 6);
-    return g;
-}
 
 static void add_sphere(kc_vec3 c, kc_real r)
 {
@@ -126,7 +116,7 @@ static void test_joint_goal_through_and_near(void **state)
     assert_true(clearance(qa) > (double)margin() && clearance(qb) > (double)margin());
     assert_true(clearance(qm) == 0.0);
 
-    kc_goal g = joint_goal(1, qb);
+    kc_goal g = kt_joint_goal(1, qb, 6);
     kc_real q_end[KC_MAX_JOINTS], where = 0;
     kc_ctrl_reason why = KC_REASON_NONE;
     kc_status st = kc_ctrl_check(&SCRATCH, &H.chain, &H.cfg, &g, qa, 100000, q_end, &why, &where);
@@ -203,7 +193,7 @@ static void test_step_stops_on_violation(void **state)
     add_sphere(kc_vec3_make(KC_R(3.0), KC_R(3.0), KC_R(3.0)), KC_R(0.1)); /* far away: zone 0 */
     add_sphere(mid.t, KC_R(0.05));                                      /* in the way: zone 1 */
     start(qa);
-    kc_goal g = joint_goal(7, qb);
+    kc_goal g = kt_joint_goal(7, qb, 6);
     tick(&g, KC_CMD_NONE);
     double last_clear = HUGE_VAL;
     int k;
@@ -238,7 +228,7 @@ static void test_step_stops_on_violation(void **state)
     memcpy(back, H.out.q, sizeof back);
     back[0] = H.out.q[0] > KC_R(0.0) ? KC_R(0.8) : KC_R(-0.8);
     assert_true(rest < 0.2);
-    g = joint_goal(8, back);
+    g = kt_joint_goal(8, back, 6);
     tick(&g, KC_CMD_NONE);
     assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_STATE);
     tick(NULL, KC_CMD_RESET);

@@ -400,3 +400,14 @@ int kt_index_listed(const json_t *list, size_t i)
             return 1;
     return 0;
 }
+
+kc_goal kt_joint_goal(int64_t id, const kc_real *q, int n)
+{
+    kc_goal g;
+    memset(&g, 0, sizeof g);
+    g.id = id;
+    g.kind = KC_GOAL_JOINT;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    memcpy(g.q, q, sizeof(kc_real) * (size_t)n);
+    return g;
+}

@@ -125,6 +125,9 @@ void kt_near_jac_json_(const char *file, int line, const kc_jacobian *a, int n, 
 /* Number of scalar comparisons made so far (reported by kt_report). */
 extern unsigned long kt_checks;
 /* Prints "<suite> (<precision>): N scalar comparisons" to stdout. */
+/* A joint goal to q (n joints) at the full limits, queued. */
+kc_goal kt_joint_goal(int64_t id, const kc_real *q, int n);
+
 void kt_report(const char *suite);
 
 /* Fills a buffer with a recognisable byte, to prove an output untouched. */
