@@ -10,8 +10,10 @@ are bad on purpose (a target outside the limits, an unreachable line): they
 are counted as rejected, which is what they must be.
 
 Printed at the end (and as JSON with --json FILE): cycles, overruns, wake-up
-latency max, goals sent = accepted + rejected, completed + preempted +
-aborted = accepted, setpoints received = cycles, kinctld's resident memory at
+latency max, goals sent = accepted + rejected (a servo stream whose goal
+ended, say by its timeout while the sender stalled, starts a new goal under
+its id: those restarts are counted with the goals sent), completed +
+preempted + aborted = accepted, setpoints received = cycles, kinctld's resident memory at
 the start and the end. Exit status 1 when a book does not balance.
 """
 import argparse
@@ -52,10 +54,14 @@ class Books:
         self.first_cycle = self.last_cycle = None
         self.cycle_gaps = 0
         self.last = None
-        self.answers = {}   # goal_id -> ACCEPTED / REJECTED (first answer)
-        self.twice = 0      # goals answered more than once
-        self.ends = {}      # goal_id -> end event
-        self.ended_twice = 0
+        # Per goal id, in order: every answer (ACCEPTED / REJECTED) and every
+        # end. A servo message whose goal has ended starts a new goal under
+        # the same id (daemon/README), so a servo id may hold several goals;
+        # any other id must hold exactly one.
+        self.answers = {}   # goal_id -> [answer, ...]
+        self.ends = {}      # goal_id -> [end event, ...]
+        self.servo_ids = set()
+        self.out_of_order = 0   # answered again before the previous goal ended, or ended unanswered
         self.stats = None
         self.reject_reasons = {}  # reason token -> count
 
@@ -73,17 +79,31 @@ class Books:
     def on_status(self, channel, data):
         st = status_t.decode(data)
         with self.lock:
+            gid = st.event_goal_id
+            answers, ends = self.answers.setdefault(gid, []), self.ends.setdefault(gid, [])
             if st.event in (status_t.ACCEPTED, status_t.REJECTED):
-                if st.event_goal_id in self.answers:
-                    self.twice += 1
-                self.answers[st.event_goal_id] = st.event
+                if answers and self.open_goals(gid):
+                    self.out_of_order += 1
+                answers.append(st.event)
                 if st.event == status_t.REJECTED:
                     token = st.reason.split(":")[0]
                     self.reject_reasons[token] = self.reject_reasons.get(token, 0) + 1
             elif st.event in ENDS:
-                if st.event_goal_id in self.ends:
-                    self.ended_twice += 1
-                self.ends[st.event_goal_id] = st.event
+                if not self.open_goals(gid):
+                    self.out_of_order += 1
+                ends.append(st.event)
+
+    def open_goals(self, gid):
+        """Accepted goals under this id that have not ended yet."""
+        return self.answers[gid].count(status_t.ACCEPTED) - len(self.ends[gid])
+
+    def tally(self):
+        """(answers, ends, goals the servo streams restarted, ids answered more than once that are no servo stream)"""
+        answers = [a for v in self.answers.values() for a in v]
+        ends = [e for v in self.ends.values() for e in v]
+        restarts = sum(len(v) - 1 for gid, v in self.answers.items() if gid in self.servo_ids and v)
+        twice = sum(1 for gid, v in self.answers.items() if gid not in self.servo_ids and len(v) > 1)
+        return answers, ends, restarts, twice
 
     def on_stats(self, channel, data):
         with self.lock:
@@ -187,6 +207,8 @@ def main():
                 # A short servo stream (its updates carry one goal id).
                 gid += 1
                 sent += 1
+                with books.lock:
+                    books.servo_ids.add(gid)
                 twist = [rng.uniform(-0.03, 0.03) for _ in range(3)] + [0.0, 0.0, 0.0]
                 for _ in range(rng.randint(5, 40)):
                     m = client.make_servo_message(gid, twist=twist, replace=True, timeout_s=0.1)
@@ -204,8 +226,9 @@ def main():
             if now >= next_report:
                 next_report += 10
                 with books.lock:
-                    print(f"soak: {now - start:6.0f}/{a.duration:.0f} s  goals {sent}  answered {len(books.answers)}"
-                          f"  ended {len(books.ends)}  setpoints {books.setpoints}  rss {rss_kib(daemon.pid)} KiB",
+                    answers, ends, _, _ = books.tally()
+                    print(f"soak: {now - start:6.0f}/{a.duration:.0f} s  goals {sent}  answered {len(answers)}"
+                          f"  ended {len(ends)}  setpoints {books.setpoints}  rss {rss_kib(daemon.pid)} KiB",
                           file=sys.stderr, flush=True)
         # Quiet down: stop, let the last answers and ends arrive.
         cmd = command_t()
@@ -223,23 +246,23 @@ def main():
         pumper.join(2)
     with books.lock:
         st = books.stats
-        accepted = sum(1 for v in books.answers.values() if v == status_t.ACCEPTED)
-        rejected = sum(1 for v in books.answers.values() if v == status_t.REJECTED)
-        ends = {name: sum(1 for v in books.ends.values() if v == code_) for code_, name in ENDS.items()}
+        answers, ended, restarts, twice = books.tally()
+        accepted, rejected = answers.count(status_t.ACCEPTED), answers.count(status_t.REJECTED)
+        ends = {name: ended.count(code_) for code_, name in ENDS.items()}
         received_cycles = books.last_cycle - books.first_cycle + 1
         figures = {
             "duration_s": a.duration, "cycles": st.cycles, "overruns": st.overruns,
             "latency_max_us": st.latency_max_ns / 1000, "goals_sent": sent, "accepted": accepted,
             "rejected": rejected, "rejected_by_reason": dict(sorted(books.reject_reasons.items())),
-            "answered_twice": books.twice, **ends, "ended_twice": books.ended_twice,
+            "servo_restarts": restarts, "answered_twice": twice, **ends, "out_of_order": books.out_of_order,
             "setpoints_received": books.setpoints, "setpoint_cycle_gaps": books.cycle_gaps,
             "cycles_seen": received_cycles, "daemon_dropped": st.msgs_dropped, "rss_start_kib": rss_start,
             "rss_end_kib": rss_end, "exit_code": code,
         }
     checks = [
-        ("goals sent = accepted + rejected", sent == accepted + rejected and books.twice == 0),
-        ("completed + preempted + aborted = accepted",
-         sum(ends.values()) == accepted and books.ended_twice == 0),
+        ("goals sent (+ servo restarts) = accepted + rejected", sent + restarts == accepted + rejected and twice == 0),
+        ("completed + preempted + aborted = accepted, each after its answer",
+         sum(ends.values()) == accepted and books.out_of_order == 0),
         ("setpoints received = cycles (none missing)",
          books.setpoints == received_cycles and books.cycle_gaps == 0 and st.msgs_dropped == 0),
         ("memory flat (end within 1 MiB of start)", rss_end - rss_start <= 1024),
