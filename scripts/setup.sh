@@ -2,6 +2,7 @@
 # Installs what kinctl needs on a Debian 12 machine and builds it. Idempotent:
 # a second run installs nothing and rebuilds only what changed.
 #   scripts/setup.sh [BUILD_DIR [extra cmake args...]]
+# KINCTL_BUILD_TARGETS="t1 t2" builds only those targets (default: all).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build_dir=${1:-build}
@@ -63,7 +64,8 @@ lcm_prefix=$(.venv/bin/python -c 'import lcm, os; print(os.path.dirname(os.path.
 say "configuring and building in $build_dir"
 cmake -S . -B "$build_dir" -G Ninja -DPython3_EXECUTABLE="$PWD/.venv/bin/python" \
     -Dlcm_DIR="$lcm_prefix/lib/lcm/cmake" "$@" >/dev/null
-cmake --build "$build_dir"
+read -r -a targets <<<"${KINCTL_BUILD_TARGETS:-all}"
+cmake --build "$build_dir" --target "${targets[@]}"
 
 # The kinctl CLI and Python API (tools/kinctl), installed editable into .venv
 # (.venv/bin/kinctl). It imports the message classes kinctl_msgs that the build

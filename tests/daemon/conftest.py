@@ -16,7 +16,12 @@ send goals, commands and raw datagrams.
 Environment (set by tests/daemon/CMakeLists.txt): KINCTLD (the binary),
 PYTHONPATH with the generated kinctl_msgs, KINCTL_MODELS (models/).
 KINCTLD_EXTRA_ARGS adds arguments to every start (e.g. "--rt").
+KINCTLD_MEMCHECK=DIR runs every daemon under valgrind memcheck, its report
+in DIR, and fails the test that started it on any error or leak (the vcan
+suite's memory check, where ASan cannot run; set KINCTLD_TEST_SLOWDOWN too).
 """
+import glob
+import re
 import math
 import os
 import shlex
@@ -37,6 +42,33 @@ KINCTLD = os.environ.get("KINCTLD", "")
 MODELS = os.environ.get("KINCTL_MODELS", os.path.join(os.path.dirname(__file__), "..", "..", "models"))
 # Slow builds (sanitizers) get more time for everything.
 SLOW = float(os.environ.get("KINCTLD_TEST_SLOWDOWN", "1"))
+MEMCHECK_DIR = os.environ.get("KINCTLD_MEMCHECK", "")
+
+
+def daemon_argv(args):
+    """kinctld's command line, under valgrind memcheck when KINCTLD_MEMCHECK is set."""
+    if not MEMCHECK_DIR:
+        return [KINCTLD] + list(args)
+    os.makedirs(MEMCHECK_DIR, exist_ok=True)
+    return ["valgrind", "--tool=memcheck", "--leak-check=full", "--errors-for-leak-kinds=definite,indirect",
+            "--show-leak-kinds=definite,indirect", "--error-exitcode=99",
+            f"--log-file={MEMCHECK_DIR}/kinctld.%p.log", KINCTLD] + list(args)
+
+
+def memcheck_errors(pid):
+    """valgrind's complaints about the daemon that ran as pid ('' when clean
+    or not under valgrind). A daemon killed outright has no summary, but its
+    errors were written as they happened."""
+    if not MEMCHECK_DIR:
+        return ""
+    text = "".join(open(f).read() for f in glob.glob(f"{MEMCHECK_DIR}/kinctld.{pid}.log"))
+    summary = re.search(r"ERROR SUMMARY: (\d+) errors", text)
+    blocks = re.findall(r"^==\d+== (?:Invalid|Conditional|Use of uninitialised|Syscall param|Mismatched|"
+                        r"Source and destination|Argument|Process terminating|\S.* are definitely lost|"
+                        r"\S.* are indirectly lost).*$", text, re.M)
+    if (summary and summary.group(1) != "0") or blocks:
+        return text
+    return ""
 
 EVENTS = {"NONE": 0, "ACCEPTED": 1, "REJECTED": 2, "COMPLETED": 3, "PREEMPTED": 4, "ABORTED": 5, "FAULT": 6, "STARTED": 7}
 EVENT_NAMES = {v: k for k, v in EVENTS.items()}
@@ -181,7 +213,7 @@ class Daemon:
     def __init__(self, args, url, prefix, env):
         self.url, self.prefix = url, prefix
         self.bus = Bus(url, prefix)
-        self.proc = subprocess.Popen([KINCTLD] + args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        self.proc = subprocess.Popen(daemon_argv(args), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                      env=env)
         self.stdout = self.stderr = None
 
@@ -200,10 +232,19 @@ class Daemon:
         return self.proc.returncode
 
     def close(self):
+        if self.proc.poll() is None and MEMCHECK_DIR:
+            # SIGTERM, so that valgrind gets to check for leaks at the exit.
+            self.proc.send_signal(signal.SIGTERM)
+            try:
+                self.proc.communicate(timeout=15.0 * SLOW)
+            except subprocess.TimeoutExpired:
+                pass
         if self.proc.poll() is None:
             self.proc.kill()
             self.proc.communicate()
         self.bus.close()
+        errors = memcheck_errors(self.proc.pid)
+        assert not errors, f"valgrind memcheck found errors in kinctld:\n{errors}"
 
 
 @pytest.fixture
@@ -245,7 +286,7 @@ def run_kinctld(*args, env=None, timeout=10.0):
     """Runs kinctld to completion (configuration errors, --help, --check)."""
     e = dict(os.environ)
     e.update(env or {})
-    return subprocess.run([KINCTLD] + list(args), capture_output=True, text=True, timeout=timeout * SLOW, env=e)
+    return subprocess.run(daemon_argv(args), capture_output=True, text=True, timeout=timeout * SLOW, env=e)
 
 
 def quat_norm(q):
