@@ -4,22 +4,20 @@ on the bus. Run by tests/vcan/uml_run.sh: on this host's vcan0, or inside
 User Mode Linux where the host has no SocketCAN.
 
 The daemon fixture is tests/daemon's (kinctld, multicast, Bus): the same
-private LCM URL per test. Frames are read from a raw CAN socket with an
-8 MiB receive buffer (SO_RCVBUFFORCE), so the reader does not lose frames
-at its own queue.
+private LCM URL per test. Frames are read by kinctl.canraw's recorder: a
+raw CAN socket with an 8 MiB receive buffer, so the reader does not lose
+frames at its own queue, and the kernel's timestamps.
 """
 import importlib.util
 import math
 import os
-import socket
 import struct
 import subprocess
 import sys
-import tempfile
-import threading
-import time
 
 import pytest
+
+from kinctl import canraw
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 _spec = importlib.util.spec_from_file_location("kinctl_daemon_fixtures", os.path.join(HERE, "..", "daemon",
@@ -40,17 +38,11 @@ MASTER = 127
 # Per joint: counts per rad, sign, offset (counts): every kind of scaling.
 SCALING = [(100000.0, 1, 0), (100000.0, -1, 0), (65536.0, 1, 1000), (50000.0, 1, -250000), (100000.0, -1, 12345),
            (131072.0, 1, 0)]
-CAN_ERR_FLAG, CAN_EFF_FLAG, CAN_RTR_FLAG = 0x20000000, 0x80000000, 0x40000000
-SO_RCVBUFFORCE = 33
-SO_TIMESTAMPNS = 35
-FRAME = struct.Struct("=IB3x8s")
 
 
 def have_vcan():
     try:
-        s = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
-        s.bind((IFACE,))
-        s.close()
+        canraw.open_raw(IFACE).close()
         return True
     except OSError:
         return False
@@ -113,69 +105,19 @@ def write_config(path, on_error="stop", feedback=True, following_error=FOLLOWING
     return path
 
 
-class Recorder:
-    """Every frame on the interface, (t, id, data), from a thread; t is the
-    kernel's receive timestamp (SO_TIMESTAMPNS, CLOCK_REALTIME, ns): on vcan
-    the moment the frame was sent."""
-
-    def __init__(self, iface=IFACE):
-        self.sock = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
-        try:
-            self.sock.setsockopt(socket.SOL_SOCKET, SO_RCVBUFFORCE, 8 << 20)
-        except OSError:
-            self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 8 << 20)
-        self.sock.setsockopt(socket.SOL_SOCKET, SO_TIMESTAMPNS, 1)
-        self.sock.bind((iface,))
-        self.sock.settimeout(0.1)
-        self.frames = []
-        self.lock = threading.Lock()
-        self.run = True
-        self.thread = threading.Thread(target=self._loop, daemon=True)
-        self.thread.start()
-
-    def _loop(self):
-        while self.run:
-            try:
-                raw, anc, _, _ = self.sock.recvmsg(16, 64)
-            except socket.timeout:
-                continue
-            except OSError:
-                time.sleep(0.02)  # the interface is down
-                continue
-            ts = time.time_ns()
-            for level, kind, value in anc:
-                if level == socket.SOL_SOCKET and kind == SO_TIMESTAMPNS:
-                    sec, nsec = struct.unpack("qq", value[:16])
-                    ts = sec * 1_000_000_000 + nsec
-            can_id, dlc, data = FRAME.unpack(raw)
-            if can_id & (CAN_ERR_FLAG | CAN_EFF_FLAG | CAN_RTR_FLAG):
-                continue
-            with self.lock:
-                self.frames.append((ts, can_id, bytes(data[:dlc])))
+class Recorder(canraw.FrameRecorder):
+    """Every frame on the interface, (t_ns, id, data)."""
 
     def snapshot(self, quiet_s=0.3, longest_s=5.0):
         """The frames so far, once no SYNC or RPDO has arrived for quiet_s
         (the reader may trail the bus; the drives' heartbeats go on), or
         after longest_s."""
-        n, since, start = -1, time.monotonic(), time.monotonic()
-        while time.monotonic() - since < quiet_s * SLOW and time.monotonic() - start < longest_s * SLOW:
-            with self.lock:
-                m = sum(1 for f in self.frames if f[1] == 0x080 or 0x200 < f[1] < 0x280)
-            if m != n:
-                n, since = m, time.monotonic()
-            time.sleep(0.02)
-        with self.lock:
-            return list(self.frames)
-
-    def close(self):
-        self.run = False
-        self.thread.join(2)
-        self.sock.close()
+        return self.settle(quiet_s * SLOW, longest_s * SLOW, counted=lambda cid: cid == 0x080 or 0x200 < cid < 0x280)
 
 
 @pytest.fixture
 def recorder(vcan):
-    r = Recorder()
+    r = Recorder(IFACE)
     yield r
     r.close()
 

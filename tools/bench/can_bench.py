@@ -23,23 +23,15 @@ import argparse
 import os
 import re
 import signal
-import socket
-import struct
 import subprocess
 import sys
 import tempfile
-import threading
 import time
 
 import lcm
 
-from kinctl import local
+from kinctl import canraw, local
 from kinctl_msgs import goal_joint_t, setpoint_t
-
-SO_TIMESTAMPNS = 35
-SO_RXQ_OVFL = 40
-SO_RCVBUFFORCE = 33
-FRAME = struct.Struct("=IB3x8s")
 
 
 def chain12():
@@ -58,53 +50,6 @@ def config(n, period_us, iface):
     text += (f'controller = {{ period_us = {period_us};\n  can = {{ interface = "{iface}"; joints = ( {joints} );\n'
              '    feedback = { enable = false; }; };\n};\n')
     return text
-
-
-class Recorder:
-    """Frames with the kernel's receive timestamps (ns, CLOCK_REALTIME)."""
-
-    def __init__(self, iface):
-        self.sock = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
-        try:
-            self.sock.setsockopt(socket.SOL_SOCKET, SO_RCVBUFFORCE, 16 << 20)
-        except OSError:
-            self.sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 16 << 20)
-        self.sock.setsockopt(socket.SOL_SOCKET, SO_TIMESTAMPNS, 1)
-        self.sock.setsockopt(socket.SOL_SOCKET, SO_RXQ_OVFL, 1)
-        self.lost = 0  # frames the kernel dropped at this reader's full queue
-        self.sock.bind((iface,))
-        self.sock.settimeout(0.2)
-        self.frames = []
-        self.run = True
-        self.thread = threading.Thread(target=self._loop, daemon=True)
-        self.thread.start()
-
-    def _loop(self):
-        while self.run:
-            try:
-                data, anc, _, _ = self.sock.recvmsg(16, 64)
-            except socket.timeout:
-                continue
-            ts = None
-            for level, kind, raw in anc:
-                if level == socket.SOL_SOCKET and kind == SO_TIMESTAMPNS:
-                    sec, nsec = struct.unpack("qq", raw[:16])
-                    ts = sec * 1_000_000_000 + nsec
-                elif level == socket.SOL_SOCKET and kind == SO_RXQ_OVFL:
-                    self.lost = struct.unpack("I", raw[:4])[0]
-            can_id, dlc, payload = FRAME.unpack(data)
-            self.frames.append((ts, can_id & 0x7FF, payload[:dlc]))
-
-    def close(self, quiet_s=0.5, longest_s=20.0):
-        """Stops once the backlog is read: no frame for quiet_s."""
-        n, since, start = -1, time.monotonic(), time.monotonic()
-        while time.monotonic() - since < quiet_s and time.monotonic() - start < longest_s:
-            if len(self.frames) != n:
-                n, since = len(self.frames), time.monotonic()
-            time.sleep(0.05)
-        self.run = False
-        self.thread.join(2)
-        self.sock.close()
 
 
 def pct(values, p):
@@ -126,7 +71,7 @@ def run_one(kinctld, n, period_us, duration, iface, rt):
 
     sub = lc.subscribe("KINCTL_SETPOINT", on_sp)
     sub.set_queue_capacity(1000000)
-    rec = Recorder(iface)
+    rec = canraw.FrameRecorder(iface, rcvbuf=16 << 20)
     argv = [kinctld, "--config", cfg_path, "--lcm-url", url, "--rt" if rt else "--no-rt"]
     if n == 6:
         argv += ["--model", "puma560"]
@@ -150,10 +95,11 @@ def run_one(kinctld, n, period_us, duration, iface, rt):
     _, err = proc.communicate(timeout=30)
     for _ in range(20):
         lc.handle_timeout(20)
+    frames = rec.settle(quiet_s=0.5, longest_s=20.0)  # the backlog read
     rec.close()
     os.unlink(cfg_path)
     ours = {0x080} | {0x200 + k for k in range(1, n + 1)} | {0x77F}
-    frames = [f for f in rec.frames if f[1] in ours]
+    frames = [f for f in frames if f[1] in ours]
     span_s = (frames[-1][0] - frames[0][0]) * 1e-9 if len(frames) > 1 else float("nan")
     m = re.search(r"CAN \S+: frames (\d+), dropped (\d+), errors (\d+).*per bus cycle p50 (\d+) ns, p99 (\d+) ns, "
                   r"max (\d+) ns over (\d+)", err)
@@ -170,7 +116,7 @@ def run_one(kinctld, n, period_us, duration, iface, rt):
             if data[0] != k % 240 + 1:
                 gaps += 1
                 continue
-            if k in deadlines and ts is not None:
+            if k in deadlines:
                 lat.append(ts / 1000.0 - deadlines[k])  # us
     return {
         "joints": n, "cycles": cycles, "overruns": overruns, "frames_seen": len(frames), "span_s": span_s,

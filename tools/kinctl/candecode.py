@@ -11,18 +11,14 @@ or, with --json, one JSON object a line ({"t", "interface", "id", "name",
 """
 import json
 import re
-import socket
-import struct
 import sys
 import time
 
-from kinctl import dbc
+from kinctl import canraw, dbc
 
 LOG_LINE = re.compile(r"^\s*\((?P<t>[0-9.]+)\)\s+(?P<iface>\S+)\s+(?P<id>[0-9A-Fa-f]+)#(?P<data>[0-9A-Fa-f]*)\s*$")
 PLAIN_LINE = re.compile(r"^\s*(?:\((?P<t>[0-9.]+)\)\s+)?(?P<iface>\S+)\s+(?P<id>[0-9A-Fa-f]+)\s+\[(?P<n>\d)\]"
                         r"(?P<data>(?:\s+[0-9A-Fa-f]{2})*)\s*$")
-CAN_FRAME = struct.Struct("=IB3x8s")
-CAN_ERR_FLAG, CAN_EFF_FLAG, CAN_RTR_FLAG = 0x20000000, 0x80000000, 0x40000000
 
 
 def parse_line(line):
@@ -69,27 +65,19 @@ def format_frame(t, iface, can_id, data, name, signals, as_json):
 
 
 def live_frames(interface, count=None, duration=None):
-    """(t, interface, id, data) from a raw socket with an 8 MiB receive buffer."""
-    s = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
-    try:
-        s.setsockopt(socket.SOL_SOCKET, 33, 8 << 20)  # SO_RCVBUFFORCE
-    except OSError:
-        s.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 8 << 20)
-    s.bind((interface,))
-    s.settimeout(0.2)
+    """(t, interface, id, data) from the interface, t the kernel's receive
+    timestamp in seconds."""
+    s = canraw.open_raw(interface)
     end = None if duration is None else time.monotonic() + duration
     seen = 0
     try:
         while (count is None or seen < count) and (end is None or time.monotonic() < end):
-            try:
-                raw = s.recv(16)
-            except socket.timeout:
-                continue
-            can_id, dlc, data = CAN_FRAME.unpack(raw)
-            if can_id & (CAN_ERR_FLAG | CAN_EFF_FLAG | CAN_RTR_FLAG):
+            got = canraw.receive(s)
+            if got is None:
                 continue
             seen += 1
-            yield time.time(), interface, can_id & 0x7FF, data[:dlc]
+            t_ns, can_id, data, _ = got
+            yield t_ns * 1e-9, interface, can_id, data
     finally:
         s.close()
 

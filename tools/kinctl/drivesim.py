@@ -29,15 +29,14 @@ line, answered with "ok <command>" on stdout once applied:
     quit
 """
 import math
-import socket
 import struct
 import sys
 import threading
 import time
 
+from kinctl import canraw
 from kinctl.dbc import HEARTBEAT_BASE, RPDO_BASE, SYNC_ID, TPDO_BASE
 
-SO_RCVBUFFORCE = 33
 RCVBUF = 8 << 20
 SW_ENABLED = 0x0237
 SW_FOLLOWS = 1 << 12
@@ -108,11 +107,7 @@ class DriveSim:
         filters += [{"can_id": RPDO_BASE + n, "can_mask": 0x7FF, "extended": False} for n in nodes]
         self.bus = can.Bus(interface="socketcan", channel=channel, can_filters=filters,
                            receive_own_messages=False)
-        # A reader that falls behind loses frames at its own socket: size it.
-        try:
-            self.bus.socket.setsockopt(socket.SOL_SOCKET, SO_RCVBUFFORCE, RCVBUF)
-        except OSError:
-            self.bus.socket.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, RCVBUF)
+        canraw.size_receive_buffer(self.bus.socket, RCVBUF)
         self.out = out
         self.lock = threading.Lock()
         self.running = False
