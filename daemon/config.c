@@ -884,9 +884,15 @@ void kd_config_describe(const kd_config *cfg, char *buf, int size)
         return;
     snprintf(buf, (size_t)size,
              "robot %s (%d joints%s), period %lld us, channels %s*, LCM %s (%s), queue %d, overrun policy %s, "
-             "rt %s, plant lag %g s, CAN %s",
+             "rt %s, plant lag %g s, CAN %s, ",
              cfg->robot_name, cfg->chain.n_joints, cfg->config_path[0] ? ", from the config file" : ", built-in",
              (long long)(cfg->period_ns / 1000), cfg->prefix, cfg->lcm_url, cfg->lcm_url_source, cfg->queue_size,
              cfg->overrun_missed > 0 ? (cfg->overrun_action == KC_CMD_ESTOP ? "estop" : "stop") : "off",
              cfg->rt_enable ? "on" : "off", cfg->plant_lag_s, cfg->can.enable ? cfg->can.interface : "off");
+    size_t used = strlen(buf);
+    if (cfg->zones.n_zones == 0)
+        snprintf(buf + used, (size_t)size - used, "zones off");
+    else
+        snprintf(buf + used, (size_t)size - used, "%d zones (margin %g m) against %d link volumes", cfg->zones.n_zones,
+                 (double)cfg->zones.margin, cfg->chain.n_volumes);
 }

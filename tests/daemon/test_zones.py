@@ -8,6 +8,7 @@ nominal pose QN: the tool at QN_POSITION, its z axis (the flange capsule,
 0.06 m beyond the wrist centre plus 0.04 m radius) along world +x."""
 import math
 import os
+import re
 import time
 
 from conftest import EVENTS, EVENT_NAMES, MODELS, SLOW, goal_servo_t, run_kinctld
@@ -114,9 +115,15 @@ def test_bad_zone_configurations_refused(tmp_path):
     r = run_kinctld("--config", str(bad), "--check")
     assert r.returncode == 2
     assert "bad.cfg:4: zone 1: unknown shape \"cone\"" in r.stderr, r.stderr
-    # A good one passes --check.
-    r = run_kinctld("--config", config(tmp_path, [ball("ball", on_sweep(0.6))]), "--check")
+    # A good one passes --check, which says what it will guard.
+    cfg = config(tmp_path, [ball("ball", on_sweep(0.6)), DEMO_CELL[0]], margin=0.03)
+    r = run_kinctld("--config", cfg, "--check")
     assert r.returncode == 0, r.stderr
+    volumes = re.search(r"volumes = \((.*?)\n  \);", open(os.path.join(MODELS, "puma560.cfg")).read(), re.S).group(1)
+    n_volumes = volumes.count("shape =")
+    assert n_volumes == 5  # what the regex found: column, upper_arm, elbow, forearm, flange
+    assert f"2 zones (margin 0.03 m) against {n_volumes} link volumes" in r.stdout, r.stdout
+    assert "zones off" in run_kinctld("--check").stdout
 
 
 # The demo's cell: a table top under the base, a wall behind the arm and a
