@@ -4,9 +4,11 @@ the world geometry moving rigidly with the frames, and bad input.
 
 Independent reference: a capsule is a segment p(t) swept by a radius r;
 its distance to a convex zone is min_t dist(p(t), zone) - r, and
-dist(p(t), zone) is convex in t, so a ternary search finds the minimum.
-Point distances are closed forms (box: clamping in the box frame, sphere,
-cylinder: the (rho, z) rectangle, half-space: the height above the plane).
+dist(p(t), zone) is convex in t, so a golden-section search finds the
+minimum. Point distances are closed forms (box: clamping in the box frame,
+sphere, cylinder: the (rho, z) rectangle, capsule: the nearest point of its
+segment, half-space: the height above the plane), the frustum's the same
+search over its rectangular slices.
 
 Environment as test_calc.py: KINCTL_CALC, KINCTL_REAL.
 """
@@ -75,10 +77,46 @@ def zone_point_distance(spec, p):
         z = dot(d, u)
         rho = norm([d[i] - z * u[i] for i in range(3)])
         return math.hypot(max(rho - r, 0.0), max(abs(z) - length / 2, 0.0))
+    if kind == "capsule":
+        a, b, r = v[0:3], v[3:6], v[6]
+        ab = sub(b, a)
+        t = min(max(dot(sub(p, a), ab) / dot(ab, ab), 0.0), 1.0)
+        return max(norm(sub(p, [a[i] + t * ab[i] for i in range(3)])) - r, 0.0)
+    if kind == "frustum":
+        # The slice at height s is a rectangle whose half extents go linearly
+        # from the bottom's to the top's; the distance to the slice is
+        # convex in s (the frustum is convex): ternary search.
+        c, bottom, top, h = v[0:3], v[3:5], v[5:7], v[7]
+        d = sub(p, c)
+
+        def to_slice(s):
+            w = (s + h) / (2 * h)
+            e = [max(abs(d[i]) - (bottom[i] + w * (top[i] - bottom[i])), 0.0) for i in range(2)]
+            return math.sqrt(e[0] ** 2 + e[1] ** 2 + (d[2] - s) ** 2)
+
+        return max(convex_min(to_slice, -h, h), 0.0)
     if kind == "halfspace":
         n = unit(v[3:6])
         return max(dot(sub(p, v[0:3]), n), 0.0)
     raise ValueError(kind)
+
+
+def convex_min(f, lo, hi):
+    """The minimum of a convex f on [lo, hi] (golden-section search)."""
+    g = (math.sqrt(5) - 1) / 2
+    a, b = lo, hi
+    c, d = b - g * (b - a), a + g * (b - a)
+    fc, fd = f(c), f(d)
+    for _ in range(90):
+        if fc <= fd:
+            b, d, fd = d, c, fc
+            c = b - g * (b - a)
+            fc = f(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + g * (b - a)
+            fd = f(d)
+    return min(fc, fd, f(lo), f(hi))
 
 
 def capsule_distance(shape, spec):
@@ -88,14 +126,7 @@ def capsule_distance(shape, spec):
     def f(t):
         return zone_point_distance(spec, [c[i] + t * z[i] for i in range(3)])
 
-    lo, hi = -h, h
-    for _ in range(200):
-        m1, m2 = lo + (hi - lo) / 3, hi - (hi - lo) / 3
-        if f(m1) <= f(m2):
-            hi = m2
-        else:
-            lo = m1
-    return max(min(f(lo), f(-h), f(h)) - r, 0.0)
+    return max(convex_min(f, -h, h) - r, 0.0)
 
 
 ZONES = [
@@ -104,6 +135,8 @@ ZONES = [
     "sphere:0.2,-0.4,0.7,0.12",
     "cylinder:-0.3,0.3,0,-0.3,0.3,1.2,0.08",
     "halfspace:0.7,0,0,-1,0,0",
+    "capsule:0.3,-0.3,0.2,0.5,-0.1,0.9,0.06",
+    "frustum:-0.1,0.45,0.45,0.2,0.12,0.06,0.1,0.25",
 ]
 
 MODELS = {
@@ -174,7 +207,7 @@ def test_geometry_moves_with_its_frame():
     # panda's hand is a box, the rest capsules
     kinds = [s["kind"] for s in out["geometry"]["volumes"]]
     assert kinds.count("box") == 1 and kinds.count("capsule") == len(kinds) - 1
-    assert [z["kind"] for z in out["geometry"]["zones"]] == ["halfspace", "box", "sphere", "cylinder", "halfspace"]
+    assert [z["kind"] for z in out["geometry"]["zones"]] == [spec.split(":")[0] for spec in ZONES]
 
 
 def test_margin_and_batch_op():
@@ -198,6 +231,9 @@ def test_bad_input():
         ("sphere:0,0,0,-1", "positive"),
         ("cylinder:0,0,0,0,0,0,0.1", "nonzero"),
         ("halfspace:0,0,0,0,0,0", "nonzero"),
+        ("capsule:1,2,3,1,2,3,0.1", "nonzero"),
+        ("frustum:0,0,0,0.2,0.2,0.1,0.1", "takes 8 numbers"),
+        ("frustum:0,0,0,0.2,0.2,0.1,0.1,-0.3", "positive"),
         ("box", "KIND:NUMBERS"),
     ]:
         r = run(base + ["--zone", zone])

@@ -12,7 +12,8 @@ const calc_opt zones_opts[] = {
     CALC_MODEL_OPTS,
     {"--zone", "zone", CALC_APPEND, calc_conv_string, "KIND:NUMBERS",
      "a forbidden zone (repeatable), world frame, m: box:cx,cy,cz,hx,hy,hz | sphere:cx,cy,cz,r | "
-     "cylinder:x0,y0,z0,x1,y1,z1,r | halfspace:px,py,pz,nx,ny,nz (normal out of the zone)"},
+     "cylinder:x0,y0,z0,x1,y1,z1,r | capsule:x0,y0,z0,x1,y1,z1,r | frustum:cx,cy,cz,bx,by,tx,ty,h | "
+     "halfspace:px,py,pz,nx,ny,nz (normal out of the zone)"},
     {"--zones-file", "zones_file", CALC_VALUE, calc_conv_string, "PATH",
      "read the zones (and margin) of a kinctld configuration's controller.zones; --zone adds to them"},
     {"--margin", "margin", CALC_VALUE, calc_conv_real, "M", "the margin judged against (m, default 0.02)"},
@@ -22,6 +23,7 @@ const calc_opt zones_opts[] = {
 };
 
 static const char *const kind_names[] = {"", "sphere", "capsule", "cylinder", "box", "frustum", "halfspace"};
+#define ZONE_KINDS "box, sphere, cylinder, capsule, frustum or halfspace"
 
 /* Parses "kind:n1,n2,..." into a zone. */
 static int parse_zone(calc_ctx *ctx, const char *spec, kc_shape *z)
@@ -29,17 +31,18 @@ static int parse_zone(calc_ctx *ctx, const char *spec, kc_shape *z)
     static const struct {
         const char *name;
         int count;
-    } forms[] = {{"box", 6}, {"sphere", 4}, {"cylinder", 7}, {"halfspace", 6}};
+    } forms[] = {{"box", 6}, {"sphere", 4}, {"cylinder", 7}, {"capsule", 7}, {"frustum", 8}, {"halfspace", 6}};
+    enum { N_FORMS = sizeof forms / sizeof forms[0] };
     const char *colon = strchr(spec, ':');
     if (colon == NULL)
-        return calc_fail(ctx, "zone \"%s\": expected KIND:NUMBERS (box, sphere, cylinder, halfspace)", spec);
+        return calc_fail(ctx, "zone \"%s\": expected KIND:NUMBERS (%s)", spec, ZONE_KINDS);
     size_t klen = (size_t)(colon - spec);
     int form = -1;
-    for (int f = 0; f < 4; f++)
+    for (int f = 0; f < N_FORMS; f++)
         if (strlen(forms[f].name) == klen && strncmp(spec, forms[f].name, klen) == 0)
             form = f;
     if (form < 0)
-        return calc_fail(ctx, "zone \"%s\": unknown kind (expected box, sphere, cylinder or halfspace)", spec);
+        return calc_fail(ctx, "zone \"%s\": unknown kind (expected %s)", spec, ZONE_KINDS);
     char err[256];
     json_t *arr = calc_conv_reals(colon + 1, err, sizeof err);
     if (arr == NULL)
@@ -68,11 +71,19 @@ static int parse_zone(calc_ctx *ctx, const char *spec, kc_shape *z)
         z->pose.t = kc_vec3_make(v[0], v[1], v[2]);
         z->dim[0] = v[3];
         break;
-    case 2: {
+    case 2:
+    case 3: {
         kc_vec3 p0 = kc_vec3_make(v[0], v[1], v[2]), p1 = kc_vec3_make(v[3], v[4], v[5]);
-        st = kc_shape_segment(KC_SHAPE_CYLINDER, &p0, &p1, v[6], z);
+        st = kc_shape_segment(form == 2 ? KC_SHAPE_CYLINDER : KC_SHAPE_CAPSULE, &p0, &p1, v[6], z);
         break;
     }
+    case 4:
+        /* upright: the bottom rectangle at cz - h, the top one at cz + h */
+        z->kind = KC_SHAPE_FRUSTUM;
+        z->pose.t = kc_vec3_make(v[0], v[1], v[2]);
+        for (int i = 0; i < 5; i++)
+            z->dim[i] = v[3 + i];
+        break;
     default: {
         /* a frame whose z axis is the normal: the one a segment along it has */
         kc_vec3 p0 = kc_vec3_make(v[0], v[1], v[2]), p1 = kc_vec3_make(v[0] + v[3], v[1] + v[4], v[2] + v[5]);
@@ -85,8 +96,8 @@ static int parse_zone(calc_ctx *ctx, const char *spec, kc_shape *z)
     }
     }
     if (st != KC_OK || kc_shape_check(z, 1) != KC_OK)
-        return calc_fail(ctx, "zone \"%s\": sizes must be positive and finite, a cylinder's ends and a normal nonzero",
-                         spec);
+        return calc_fail(ctx, "zone \"%s\": sizes must be positive and finite, a cylinder's or capsule's ends and a "
+                         "normal nonzero", spec);
     return 0;
 }
 

@@ -21,9 +21,9 @@ import numpy as np
 
 from kinctl.shapes import Polyline
 
-KINDS = ("box", "sphere", "cylinder", "halfspace")
 ZONE_HELP = ("a forbidden zone to draw (repeatable), world frame, m, as kinctl-calc zones takes it: "
              "box:cx,cy,cz,hx,hy,hz | sphere:cx,cy,cz,r | cylinder:x0,y0,z0,x1,y1,z1,r | "
+             "capsule:x0,y0,z0,x1,y1,z1,r | frustum:cx,cy,cz,bx,by,tx,ty,h (upright) | "
              "halfspace:px,py,pz,nx,ny,nz (a point of the plane, its normal out of the zone)")
 ZONE_COLOR = "tab:red"
 VOLUME_COLOR = "tab:purple"
