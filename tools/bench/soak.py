@@ -35,6 +35,8 @@ from kinctl_msgs import command_t, setpoint_t, stats_t, status_t
 QN = [0.0, 0.7854, -3.1416, 0.0, 0.7854, 0.0]
 LIMITS = [(-2.79, 2.79), (-0.785, 3.93), (-3.93, 0.785), (-1.92, 2.97), (-1.75, 1.75), (-4.64, 4.64)]
 ENDS = {status_t.COMPLETED: "completed", status_t.PREEMPTED: "preempted", status_t.ABORTED: "aborted"}
+EVENT_NAMES = {getattr(status_t, k): k for k in ("NONE", "ACCEPTED", "REJECTED", "COMPLETED", "PREEMPTED", "ABORTED",
+                                                 "EVENT_FAULT", "STARTED")}
 
 
 def rss_kib(pid):
@@ -62,6 +64,10 @@ class Books:
         self.ends = {}      # goal_id -> [end event, ...]
         self.servo_ids = set()
         self.out_of_order = 0   # answered again before the previous goal ended, or ended unanswered
+        self.history = {}   # goal_id -> [(utime, event name, reason, state)]: printed for an id out of order
+        self.odd_ids = []
+        self.latency_max_ns = 0  # over every stats window (each stats_t covers the cycles since the last)
+        self.stats_windows = 0
         self.stats = None
         self.reject_reasons = {}  # reason token -> count
 
@@ -81,17 +87,24 @@ class Books:
         with self.lock:
             gid = st.event_goal_id
             answers, ends = self.answers.setdefault(gid, []), self.ends.setdefault(gid, [])
+            if gid:
+                self.history.setdefault(gid, []).append((st.utime, EVENT_NAMES.get(st.event, st.event), st.reason,
+                                                         st.state))
+            odd = False
             if st.event in (status_t.ACCEPTED, status_t.REJECTED):
                 if answers and self.open_goals(gid):
-                    self.out_of_order += 1
+                    odd = True
                 answers.append(st.event)
                 if st.event == status_t.REJECTED:
                     token = st.reason.split(":")[0]
                     self.reject_reasons[token] = self.reject_reasons.get(token, 0) + 1
             elif st.event in ENDS:
                 if not self.open_goals(gid):
-                    self.out_of_order += 1
+                    odd = True
                 ends.append(st.event)
+            if odd:
+                self.out_of_order += 1
+                self.odd_ids.append(gid)
 
     def open_goals(self, gid):
         """Accepted goals under this id that have not ended yet."""
@@ -108,6 +121,8 @@ class Books:
     def on_stats(self, channel, data):
         with self.lock:
             self.stats = stats_t.decode(data)
+            self.latency_max_ns = max(self.latency_max_ns, self.stats.latency_max_ns)
+            self.stats_windows += 1
 
 
 def random_goal(rng, gid, here):
@@ -176,6 +191,8 @@ def main():
     daemon = subprocess.Popen([a.kinctld, "--config", cfg.name], stdout=log, stderr=log)
     rng = random.Random(a.seed)
     sent = 0
+    sent_log = {}   # goal_id -> what was sent, when (wall clock)
+    commands = []   # (utime, command)
     try:
         deadline = time.monotonic() + 10
         while books.last is None:
@@ -198,11 +215,13 @@ def main():
                     else command_t.RESET
                 cmd.utime = int(time.time() * 1e6)
                 lc.publish(prefix + "COMMAND", cmd.encode())
+                commands.append((cmd.utime, cmd.command))
             elif r < 0.06:
                 cmd = command_t()
                 cmd.command = rng.choice([command_t.STOP, command_t.PAUSE, command_t.RESUME])
                 cmd.utime = int(time.time() * 1e6)
                 lc.publish(prefix + "COMMAND", cmd.encode())
+                commands.append((cmd.utime, cmd.command))
             elif r < 0.10:
                 # A short servo stream (its updates carry one goal id).
                 gid += 1
@@ -210,16 +229,20 @@ def main():
                 with books.lock:
                     books.servo_ids.add(gid)
                 twist = [rng.uniform(-0.03, 0.03) for _ in range(3)] + [0.0, 0.0, 0.0]
-                for _ in range(rng.randint(5, 40)):
+                count = rng.randint(5, 40)
+                sent_log[gid] = f"servo stream of {count} messages from {time.time():.6f}"
+                for _ in range(count):
                     m = client.make_servo_message(gid, twist=twist, replace=True, timeout_s=0.1)
                     lc.publish(prefix + "GOAL_SERVO", m.encode())
                     time.sleep(0.01)
+                sent_log[gid] += f" to {time.time():.6f}"
             else:
                 gid += 1
                 sent += 1
                 m = random_goal(rng, gid, here)
                 channel = {"goal_joint_t": "GOAL_JOINT", "goal_line_t": "GOAL_LINE", "goal_arc_t": "GOAL_ARC",
                            "goal_path_t": "GOAL_PATH"}[type(m).__name__]
+                sent_log[gid] = f"{type(m).__name__} mode {m.mode} at {time.time():.6f}"
                 lc.publish(prefix + channel, m.encode())
             time.sleep(rng.uniform(0.05, 1.0))
             now = time.monotonic()
@@ -252,7 +275,7 @@ def main():
         received_cycles = books.last_cycle - books.first_cycle + 1
         figures = {
             "duration_s": a.duration, "cycles": st.cycles, "overruns": st.overruns,
-            "latency_max_us": st.latency_max_ns / 1000, "goals_sent": sent, "accepted": accepted,
+            "latency_max_us": books.latency_max_ns / 1000, "stats_windows": books.stats_windows, "goals_sent": sent, "accepted": accepted,
             "rejected": rejected, "rejected_by_reason": dict(sorted(books.reject_reasons.items())),
             "servo_restarts": restarts, "answered_twice": twice, **ends, "out_of_order": books.out_of_order,
             "setpoints_received": books.setpoints, "setpoint_cycle_gaps": books.cycle_gaps,
@@ -273,6 +296,15 @@ def main():
         print(f"  {k:28s} {v}")
     for name, ok in checks:
         print(f"  {'PASS' if ok else 'FAIL'}  {name}")
+    for gid in books.odd_ids:
+        # The goal out of order and its neighbours: what was sent, what came back.
+        print(f"\ngoal {gid} out of order:")
+        for near in range(gid - 2, gid + 3):
+            print(f"  {near}: sent {sent_log.get(near, '-')}")
+            for utime, event, reason, state in books.history.get(near, []):
+                print(f"      {utime / 1e6:.6f} {event} {reason!r} state {state}")
+        t0 = min((u for u, *_ in books.history.get(gid, [])), default=0)
+        print("  commands within 2 s: " + ", ".join(f"{u / 1e6:.6f} {c}" for u, c in commands if abs(u - t0) < 2e6))
     if a.json:
         with open(a.json, "w") as f:
             json.dump({"figures": figures, "checks": {n: ok for n, ok in checks}}, f, indent=1)
