@@ -1285,6 +1285,7 @@ kc_status kc_ctrl_step(kc_ctrl *c, const kc_ctrl_input *in, kc_ctrl_output *out)
             queue_clear(c, out);
         }
         c->active = 0;
+        finished = 0; /* a segment whose last setpoint is refused has not ended: it was aborted */
         for (int j = 0; j < n; j++) {
             q[j] = c->q[j];
             qd[j] = c->qd[j];

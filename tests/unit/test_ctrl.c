@@ -793,6 +793,71 @@ static void test_determinism(void **state)
     assert_true(a == b);
 }
 
+/* A joint move (81) that a replacing line (82) makes stop on its path, up to
+ * the replacement. */
+static void joint_move_stopped_by_a_line(void)
+{
+    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    kc_real a[6];
+    for (int j = 0; j < 6; j++)
+        a[j] = PUMA_Q0[j] + KC_R(0.5);
+    kc_goal move = kt_joint_goal(81, a, 6);
+    tick(&move, KC_CMD_NONE);
+    for (int k = 0; k < 300; k++)
+        tick(NULL, KC_CMD_NONE);
+    kc_pose to = pose_of(PUMA_Q0);
+    to.t.v[2] += KC_R(0.05);
+    kc_goal line = line_goal(82, &to);
+    line.replace = 1;
+    tick(&line, KC_CMD_NONE);
+    assert_true(has_event(KC_EVENT_ACCEPTED, 82));
+    assert_int_equal(H.out.state, KC_CTRL_STOPPING);
+}
+
+/* A setpoint the final check refuses on the very tick a stop on the path
+ * comes to rest: the goal is aborted by the fault and is not preempted as
+ * well (the soak once saw a goal ended twice), the replacing goal waiting
+ * behind it ends once, and the controller ends in FAULT. The refused
+ * setpoint is made here by giving the controller a last velocity the stop
+ * cannot follow within one tick's acceleration. */
+static void test_final_check_on_the_last_tick_of_a_stop(void **state)
+{
+    (void)state;
+    /* The ticks the stop takes to come to rest, */
+    joint_move_stopped_by_a_line();
+    int n = 1;
+    for (tick(NULL, KC_CMD_NONE); !has_event(KC_EVENT_PREEMPTED, 81); tick(NULL, KC_CMD_NONE))
+        assert_true(++n < 20000);
+    /* then again, to the tick before. */
+    joint_move_stopped_by_a_line();
+    int ends[2] = {0, 0}, faults = 0;
+    kc_ctrl_reason fault_reason = KC_REASON_NONE;
+    for (int k = 1; k < n; k++)
+        tick(NULL, KC_CMD_NONE);
+    assert_int_equal(H.out.state, KC_CTRL_STOPPING);
+    H.ctrl.qd[0] += KC_R(0.5) * H.chain.joints[0].limits.qd_max;
+    kc_ctrl_input in = {NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
+    for (int k = 0; k < 20000 && H.out.state != KC_CTRL_FAULT; k++) {
+        assert_int_equal(kc_ctrl_step(&H.ctrl, &in, &H.out), KC_OK);
+        for (int e = 0; e < H.out.n_events; e++) {
+            const kc_ctrl_event *ev = &H.out.events[e];
+            if (ev->kind == KC_EVENT_FAULT) {
+                faults++;
+                fault_reason = ev->reason;
+            }
+            if ((ev->kind == KC_EVENT_COMPLETED || ev->kind == KC_EVENT_PREEMPTED || ev->kind == KC_EVENT_ABORTED) &&
+                (ev->goal_id == 81 || ev->goal_id == 82))
+                ends[ev->goal_id - 81]++;
+        }
+    }
+    assert_int_equal(faults, 1);
+    assert_int_equal(fault_reason, KC_REASON_LIMIT_GUARD);
+    assert_int_equal(ends[0], 1);
+    assert_int_equal(ends[1], 1);
+    assert_int_equal(H.out.state, KC_CTRL_FAULT);
+    assert_int_equal(H.out.goal_id, 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -804,6 +869,7 @@ int main(void)
         cmocka_unit_test(test_dry_run),           cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_path_pause_stop),   cmocka_unit_test(test_lagrange_path),
         cmocka_unit_test(test_retarget), cmocka_unit_test(test_outside_a_limit),
+        cmocka_unit_test(test_final_check_on_the_last_tick_of_a_stop),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
     kt_report("ctrl");
