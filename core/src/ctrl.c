@@ -1089,6 +1089,14 @@ static void stop_finished(kc_ctrl *c, kc_ctrl_output *out)
  * when the segment allows it, else in joint space). */
 static void fault(kc_ctrl *c, kc_ctrl_reason why, kc_real where, int on_path, kc_ctrl_output *out)
 {
+    if (c->fault_reason != KC_REASON_NONE) {
+        /* Already in a fault, whose events went out with it (the goal
+         * aborted once): a stop on the path that fails too gives way to
+         * one in joint space. */
+        joint_stop(c, 1, KC_CTRL_FAULT);
+        c->state = KC_CTRL_STOPPING;
+        return;
+    }
     c->fault_reason = why;
     emit(out, KC_EVENT_FAULT, c->active ? c->goal.id : 0, why, where);
     if (c->active)
