@@ -793,6 +793,29 @@ static void test_determinism(void **state)
     assert_true(a == b);
 }
 
+/* Steps without input until the controller is in FAULT (at most max ticks),
+ * counting FAULT events (the last one's reason too) and the ends of goals
+ * first_id .. first_id + n_ids - 1 into ends[]; returns the ticks taken. */
+static int run_to_fault_counting(int64_t first_id, int n_ids, int max, int *faults, int *ends, kc_ctrl_reason *reason)
+{
+    kc_ctrl_input in = {NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
+    int k = 0;
+    for (; k < max && H.out.state != KC_CTRL_FAULT; k++) {
+        assert_int_equal(kc_ctrl_step(&H.ctrl, &in, &H.out), KC_OK);
+        for (int e = 0; e < H.out.n_events; e++) {
+            const kc_ctrl_event *ev = &H.out.events[e];
+            if (ev->kind == KC_EVENT_FAULT) {
+                (*faults)++;
+                *reason = ev->reason;
+            }
+            if ((ev->kind == KC_EVENT_COMPLETED || ev->kind == KC_EVENT_PREEMPTED || ev->kind == KC_EVENT_ABORTED) &&
+                ev->goal_id >= first_id && ev->goal_id < first_id + n_ids)
+                ends[ev->goal_id - first_id]++;
+        }
+    }
+    return k;
+}
+
 /* A joint move (81) that a replacing line (82) makes stop on its path, up to
  * the replacement. */
 static void joint_move_stopped_by_a_line(void)
@@ -836,48 +859,13 @@ static void test_final_check_on_the_last_tick_of_a_stop(void **state)
         tick(NULL, KC_CMD_NONE);
     assert_int_equal(H.out.state, KC_CTRL_STOPPING);
     H.ctrl.qd[0] += KC_R(0.5) * H.chain.joints[0].limits.qd_max;
-    kc_ctrl_input in = {NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
-    for (int k = 0; k < 20000 && H.out.state != KC_CTRL_FAULT; k++) {
-        assert_int_equal(kc_ctrl_step(&H.ctrl, &in, &H.out), KC_OK);
-        for (int e = 0; e < H.out.n_events; e++) {
-            const kc_ctrl_event *ev = &H.out.events[e];
-            if (ev->kind == KC_EVENT_FAULT) {
-                faults++;
-                fault_reason = ev->reason;
-            }
-            if ((ev->kind == KC_EVENT_COMPLETED || ev->kind == KC_EVENT_PREEMPTED || ev->kind == KC_EVENT_ABORTED) &&
-                (ev->goal_id == 81 || ev->goal_id == 82))
-                ends[ev->goal_id - 81]++;
-        }
-    }
+    run_to_fault_counting(81, 2, 20000, &faults, ends, &fault_reason);
     assert_int_equal(faults, 1);
     assert_int_equal(fault_reason, KC_REASON_LIMIT_GUARD);
     assert_int_equal(ends[0], 1);
     assert_int_equal(ends[1], 1);
     assert_int_equal(H.out.state, KC_CTRL_FAULT);
     assert_int_equal(H.out.goal_id, 0);
-}
-
-/* Steps without input until the controller is in FAULT (at most max ticks),
- * counting FAULT events and the ends of goal id; returns the ticks taken. */
-static int run_to_fault_counting(int64_t id, int max, int *faults, int *ends, kc_ctrl_reason *reason)
-{
-    kc_ctrl_input in = {NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
-    int k = 0;
-    for (; k < max && H.out.state != KC_CTRL_FAULT; k++) {
-        assert_int_equal(kc_ctrl_step(&H.ctrl, &in, &H.out), KC_OK);
-        for (int e = 0; e < H.out.n_events; e++) {
-            const kc_ctrl_event *ev = &H.out.events[e];
-            if (ev->kind == KC_EVENT_FAULT) {
-                (*faults)++;
-                *reason = ev->reason;
-            }
-            if ((ev->kind == KC_EVENT_COMPLETED || ev->kind == KC_EVENT_PREEMPTED || ev->kind == KC_EVENT_ABORTED) &&
-                ev->goal_id == id)
-                (*ends)++;
-        }
-    }
-    return k;
 }
 
 /* A tracking fault's stop on the path whose end never settles is given up
@@ -900,13 +888,13 @@ static void test_fault_stop_that_cannot_settle(void **state)
     H.ctrl.q[0] += KC_R(0.003);
     int faults = 0, ends = 0;
     kc_ctrl_reason reason = KC_REASON_NONE;
-    run_to_fault_counting(91, 1, &faults, &ends, &reason);
+    run_to_fault_counting(91, 1, 1, &faults, &ends, &reason);
     H.ctrl.cfg.ik.tol_pos = KC_R(1e-30);
     assert_int_equal(faults, 1); /* the tracking fault, */
     assert_int_equal(reason, KC_REASON_TRACKING);
     assert_int_equal(H.out.state, KC_CTRL_STOPPING);
     assert_int_equal(H.out.goal_id, 91); /* its stop on the path, */
-    int ticks = run_to_fault_counting(91, 20000, &faults, &ends, &reason);
+    int ticks = run_to_fault_counting(91, 1, 20000, &faults, &ends, &reason);
     assert_true(ticks > 1000); /* given up after the settling time, */
     assert_int_equal(faults, 1);
     assert_int_equal(ends, 1); /* the goal ended once */
