@@ -145,6 +145,20 @@ static void assert_pose_near(const kc_pose *a, const kc_pose *b, double tol)
     kt_near_mat3(&a->R, &b->R, tol, "orientation");
 }
 
+/* From PUMA_Q0, a joint move of every joint by 0.5 rad (goal id), followed
+ * for the given ticks. */
+static void start_joint_move(int64_t id, int ticks)
+{
+    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    kc_real a[6];
+    for (int j = 0; j < 6; j++)
+        a[j] = PUMA_Q0[j] + KC_R(0.5);
+    kc_goal g = kt_joint_goal(id, a, 6);
+    tick(&g, KC_CMD_NONE);
+    for (int k = 0; k < ticks; k++)
+        tick(NULL, KC_CMD_NONE);
+}
+
 static void test_joint_goal(void **state)
 {
     (void)state;
@@ -516,14 +530,7 @@ static void test_stop_pause_resume(void **state)
 static void test_estop_and_reset(void **state)
 {
     (void)state;
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
-    kc_real a[6];
-    for (int j = 0; j < 6; j++)
-        a[j] = PUMA_Q0[j] + KC_R(0.5);
-    kc_goal g = kt_joint_goal(41, a, 6);
-    tick(&g, KC_CMD_NONE);
-    for (int k = 0; k < 400; k++)
-        tick(NULL, KC_CMD_NONE);
+    start_joint_move(41, 400);
     tick(NULL, KC_CMD_ESTOP);
     assert_int_equal(H.out.state, KC_CTRL_ESTOP);
     assert_int_equal(H.last[KC_EVENT_ABORTED].goal_id, 41);
@@ -549,14 +556,7 @@ static void test_estop_and_reset(void **state)
 static void test_external_fault(void **state)
 {
     (void)state;
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
-    kc_real a[6];
-    for (int j = 0; j < 6; j++)
-        a[j] = PUMA_Q0[j] + KC_R(0.5);
-    kc_goal g = kt_joint_goal(61, a, 6);
-    tick(&g, KC_CMD_NONE);
-    for (int k = 0; k < 300; k++)
-        tick(NULL, KC_CMD_NONE);
+    start_joint_move(61, 300);
     double t_brake = 0.0;
     for (int j = 0; j < 6; j++)
         t_brake = fmax(t_brake, fabs((double)H.out.qd[j]) / (double)H.chain.joints[j].limits.qdd_max);
@@ -820,14 +820,7 @@ static int run_to_fault_counting(int64_t first_id, int n_ids, int max, int *faul
  * the replacement. */
 static void joint_move_stopped_by_a_line(void)
 {
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
-    kc_real a[6];
-    for (int j = 0; j < 6; j++)
-        a[j] = PUMA_Q0[j] + KC_R(0.5);
-    kc_goal move = kt_joint_goal(81, a, 6);
-    tick(&move, KC_CMD_NONE);
-    for (int k = 0; k < 300; k++)
-        tick(NULL, KC_CMD_NONE);
+    start_joint_move(81, 300);
     kc_pose to = pose_of(PUMA_Q0);
     to.t.v[2] += KC_R(0.05);
     kc_goal line = line_goal(82, &to);

@@ -46,6 +46,42 @@ def run_kinctl(url, *args, timeout=60.0):
                           capture_output=True, text=True, timeout=timeout * SLOW, env=env)
 
 
+def goal_columns(recorded, goal_id):
+    """The logged columns from the first setpoint of goal_id on."""
+    from kinctl import logcsv
+    cols = logcsv.read(recorded["csv"])
+    start = cols["goal_id"].index(goal_id)
+    return {k: v[start:] for k, v in cols.items()}
+
+
+def live_view_while_moving(url, *view_args):
+    """`kinctl view` with a live window (under xvfb-run, 3 s at 10 frames/s)
+    while the arm moves from QN to Q11; its (stdout, stderr) once it has
+    exited 0 without a traceback, and the number of frames it says it drew."""
+    import shutil
+    if shutil.which("xvfb-run") is None:
+        pytest.skip("xvfb-run is not installed (scripts/setup.sh installs Debian's xvfb)")
+    r = run_kinctl(url, "goal", "joint", "--q", csv_of(QN), "--wait")
+    assert r.returncode == 0, r.stderr
+    env = {k: v for k, v in os.environ.items() if k not in ("LCM_DEFAULT_URL", "MPLBACKEND")}
+    v = subprocess.Popen(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", sys.executable, "-m", "kinctl",
+                          "--lcm-url", url, "view", "--duration", "3", "--fps", "10", *view_args],
+                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    try:
+        time.sleep(1.0 * SLOW)
+        r = run_kinctl(url, "goal", "joint", "--q", csv_of(Q11), "--wait")
+        assert r.returncode == 0, r.stderr
+        out, err = v.communicate(timeout=120 * SLOW)
+    finally:
+        if v.poll() is None:
+            v.kill()
+            v.communicate()
+    assert v.returncode == 0, err
+    assert "Traceback" not in err, err
+    drawn = int(out.split(" frames drawn")[0].rsplit(" ", 1)[1])
+    return out, err, drawn
+
+
 @pytest.fixture(scope="session")
 def multicast():
     if not ensure_multicast():

@@ -5,12 +5,11 @@ import shutil
 import signal
 import subprocess
 import sys
-import time
 
 import numpy as np
 import pytest
 
-from conftest import Q11, QN, SLOW, csv_of, run_kinctl
+from conftest import Q11, QN, SLOW, csv_of, goal_columns, live_view_while_moving, run_kinctl
 
 from kinctl import logcsv
 from kinctl import projection as pj
@@ -35,9 +34,7 @@ def gif_frames(path):
 @pytest.fixture(scope="module")
 def logged_view(recorded, tmp_path_factory):
     """render() of the first 2 s of goal 12 (the line) at 10 frames/s."""
-    cols = logcsv.read(recorded["csv"])
-    start = cols["goal_id"].index(12)
-    part = {k: v[start:] for k, v in cols.items()}
+    part = goal_columns(recorded, 12)
     samples = samples_from_columns(part, fps=10, duration=2.0)
     path = str(tmp_path_factory.mktemp("view") / "line.gif")
     with ArmFK(model="puma560") as fk:
@@ -225,28 +222,8 @@ def test_bad_input_says_what_to_do(recorded, tmp_path, args, message):
 
 
 def test_live_window_follows_the_setpoints(recorded):
-    if shutil.which("xvfb-run") is None:
-        pytest.skip("xvfb-run is not installed (scripts/setup.sh installs Debian's xvfb)")
-    url = recorded["url"]
-    r = run_kinctl(url, "goal", "joint", "--q", csv_of(QN), "--wait")
-    assert r.returncode == 0, r.stderr
-    env = {k: v for k, v in os.environ.items() if k not in ("LCM_DEFAULT_URL", "MPLBACKEND")}
-    v = subprocess.Popen(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", sys.executable, "-m", "kinctl",
-                          "--lcm-url", url, "view", "--duration", "3", "--fps", "10"],
-                         stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
-    try:
-        time.sleep(1.0 * SLOW)
-        r = run_kinctl(url, "goal", "joint", "--q", csv_of(Q11), "--wait")
-        assert r.returncode == 0, r.stderr
-        out, err = v.communicate(timeout=120 * SLOW)
-    finally:
-        if v.poll() is None:
-            v.kill()
-            v.communicate()
-    assert v.returncode == 0, err
-    assert "Traceback" not in err, err
+    out, _, drawn = live_view_while_moving(recorded["url"])
     # A frame is drawn only for a new setpoint: the window followed the daemon, several times.
-    drawn = int(out.split(" frames drawn")[0].rsplit(" ", 1)[1])
     assert drawn >= 5, out
 
 

@@ -2,16 +2,11 @@
 (kinctl.zonedraw), from a real run's setpoints: the drawn wireframes checked
 numerically against the zones' sizes, lab 3's projections and the core's
 own placement of the volumes (kinctl-calc zones --geometry)."""
-import os
-import shutil
-import subprocess
-import sys
-import time
 
 import numpy as np
 import pytest
 
-from conftest import Q11, QN, SLOW, csv_of, run_kinctl
+from conftest import QN, csv_of, goal_columns, live_view_while_moving, run_kinctl
 
 from kinctl import logcsv
 from kinctl import projection as pj
@@ -32,9 +27,7 @@ PROJECTIONS = ("frontal_dimetric", "horizontal_isometric", "orthographic")
 @pytest.fixture(scope="module")
 def zoned_view(recorded, tmp_path_factory):
     """render() of 1 s of goal 13 (a joint move) with the zones and puma560's volumes."""
-    cols = logcsv.read(recorded["csv"])
-    start = cols["goal_id"].index(13)
-    part = {k: v[start:] for k, v in cols.items()}
+    part = goal_columns(recorded, 13)
     samples = samples_from_columns(part, fps=5, duration=1.0)
     path = str(tmp_path_factory.mktemp("zview") / "cell.png")
     with ArmFK(model="puma560") as fk:
@@ -209,27 +202,9 @@ def test_help_shows_a_zone_example(cmd):
 def test_live_window_draws_zones_and_moving_volumes(recorded):
     """The live window's path (zones and volumes set up from the daemon's first
     setpoint, volumes redrawn at each new one) runs and follows the daemon."""
-    if shutil.which("xvfb-run") is None:
-        pytest.skip("xvfb-run is not installed (scripts/setup.sh installs Debian's xvfb)")
-    url = recorded["url"]
-    r = run_kinctl(url, "goal", "joint", "--q", csv_of(QN), "--wait")
-    assert r.returncode == 0, r.stderr
-    env = {k: v for k, v in os.environ.items() if k not in ("LCM_DEFAULT_URL", "MPLBACKEND")}
     zone_args = [a for z in ZONES for a in ("--zone", z)]
-    v = subprocess.Popen(["xvfb-run", "-a", "-s", "-screen 0 1280x1024x24", sys.executable, "-m", "kinctl",
-                          "--lcm-url", url, "view", "--model", "puma560", "--duration", "3", "--fps", "10"]
-                         + zone_args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
     try:
-        time.sleep(1.0 * SLOW)
-        r = run_kinctl(url, "goal", "joint", "--q", csv_of(Q11), "--wait")
-        assert r.returncode == 0, r.stderr
-        out, err = v.communicate(timeout=120 * SLOW)
+        out, _, drawn = live_view_while_moving(recorded["url"], "--model", "puma560", *zone_args)
     finally:
-        if v.poll() is None:
-            v.kill()
-            v.communicate()
-        run_kinctl(url, "goal", "joint", "--q", csv_of(QN), "--wait")
-    assert v.returncode == 0, err
-    assert "Traceback" not in err, err
-    drawn = int(out.split(" frames drawn")[0].rsplit(" ", 1)[1])
+        run_kinctl(recorded["url"], "goal", "joint", "--q", csv_of(QN), "--wait")
     assert drawn >= 5, out
