@@ -70,6 +70,8 @@ def memcheck_errors(pid):
         return text
     return ""
 
+SANITIZER_REPORT = re.compile(r"runtime error:|ERROR: (?:Address|Leak|UndefinedBehavior)Sanitizer")
+
 EVENTS = {"NONE": 0, "ACCEPTED": 1, "REJECTED": 2, "COMPLETED": 3, "PREEMPTED": 4, "ABORTED": 5, "FAULT": 6, "STARTED": 7}
 EVENT_NAMES = {v: k for k, v in EVENTS.items()}
 STATES = {"IDLE": 0, "MOVING": 1, "PAUSED": 2, "STOPPING": 3, "FAULT": 4, "ESTOP": 5}
@@ -236,15 +238,22 @@ class Daemon:
             # SIGTERM, so that valgrind gets to check for leaks at the exit.
             self.proc.send_signal(signal.SIGTERM)
             try:
-                self.proc.communicate(timeout=15.0 * SLOW)
+                self.stdout, self.stderr = self.proc.communicate(timeout=15.0 * SLOW)
             except subprocess.TimeoutExpired:
                 pass
         if self.proc.poll() is None:
             self.proc.kill()
-            self.proc.communicate()
+        if self.stderr is None:
+            self.stdout, self.stderr = self.proc.communicate()
         self.bus.close()
         errors = memcheck_errors(self.proc.pid)
         assert not errors, f"valgrind memcheck found errors in kinctld:\n{errors}"
+        # A sanitizer build's daemon that died of a finding mid-test may have
+        # failed nothing the test asserts: its report fails the test here.
+        report = SANITIZER_REPORT.search(self.stderr or "")
+        if report:
+            line_start = self.stderr.rfind("\n", 0, report.start()) + 1
+            raise AssertionError(f"kinctld's sanitizer report:\n{self.stderr[line_start:]}")
 
 
 @pytest.fixture
