@@ -10,7 +10,8 @@ are bad on purpose (a target outside the limits, an unreachable line): they
 are counted as rejected, which is what they must be.
 
 Printed at the end (and as JSON with --json FILE): cycles, overruns, wake-up
-latency max, goals sent = accepted + rejected (a servo stream whose goal
+latency max (when it came, and how many one-second stats windows had a
+wake-up over 1 ms late), goals sent = accepted + rejected (a servo stream whose goal
 ended, say by its timeout while the sender stalled, starts a new goal under
 its id: those restarts are counted with the goals sent), completed +
 preempted + aborted = accepted, setpoints received = cycles, kinctld's resident memory at
@@ -67,6 +68,9 @@ class Books:
         self.history = {}   # goal_id -> [(utime, event name, reason, state)]: printed for an id out of order
         self.odd_ids = []
         self.latency_max_ns = 0  # over every stats window (each stats_t covers the cycles since the last)
+        self.latency_max_at_s = 0.0  # when that window ended, in seconds since the first
+        self.windows_over_1ms = 0  # windows whose worst wake-up was over 1 ms late: how often stalls came
+        self.first_stats_utime = None
         self.stats_windows = 0
         self.stats = None
         self.reject_reasons = {}  # reason token -> count
@@ -120,8 +124,13 @@ class Books:
 
     def on_stats(self, channel, data):
         with self.lock:
-            self.stats = stats_t.decode(data)
-            self.latency_max_ns = max(self.latency_max_ns, self.stats.latency_max_ns)
+            self.stats = st = stats_t.decode(data)
+            if self.first_stats_utime is None:
+                self.first_stats_utime = st.utime
+            if st.latency_max_ns > self.latency_max_ns:
+                self.latency_max_ns = st.latency_max_ns
+                self.latency_max_at_s = (st.utime - self.first_stats_utime) / 1e6
+            self.windows_over_1ms += st.latency_max_ns > 1_000_000
             self.stats_windows += 1
 
 
@@ -275,7 +284,9 @@ def main():
         received_cycles = books.last_cycle - books.first_cycle + 1
         figures = {
             "duration_s": a.duration, "cycles": st.cycles, "overruns": st.overruns,
-            "latency_max_us": books.latency_max_ns / 1000, "stats_windows": books.stats_windows, "goals_sent": sent, "accepted": accepted,
+            "latency_max_us": books.latency_max_ns / 1000, "latency_max_at_s": round(books.latency_max_at_s, 1),
+            "stats_windows": books.stats_windows, "windows_over_1ms": books.windows_over_1ms, "goals_sent": sent,
+            "accepted": accepted,
             "rejected": rejected, "rejected_by_reason": dict(sorted(books.reject_reasons.items())),
             "servo_restarts": restarts, "answered_twice": twice, **ends, "out_of_order": books.out_of_order,
             "setpoints_received": books.setpoints, "setpoint_cycle_gaps": books.cycle_gaps,
