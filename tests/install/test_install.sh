@@ -10,9 +10,10 @@
 #   - neither binary carries an RPATH/RUNPATH, and every library they load
 #     resolves outside the build tree and the venv (liblcm is linked in).
 #
-#   test_install.sh BUILD_DIR VECTORS_DIR PYTHON C_COMPILER REAL SANITIZE
+#   test_install.sh BUILD_DIR VECTORS_DIR PYTHON C_COMPILER REAL SANITIZERS
+#   (SANITIZERS: the build's -fsanitize= list, or empty)
 set -euo pipefail
-build=$1 vectors=$2 python=$3 cc=$4 real=$5 sanitize=$6
+build=$1 vectors=$2 python=$3 cc=$4 real=$5 sanitizers=${6:-}
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../.." && pwd)
 tmp=$(mktemp -d "${TMPDIR:-/tmp}/kinctl-install.XXXXXX")
@@ -34,8 +35,8 @@ echo "installed into $prefix: $(cd "$prefix" && find . -type f | wc -l) files"
 # sanitizer build installs instrumented libraries, so the consumer links the
 # sanitizer runtimes too.
 flags=()
-if [[ $sanitize == 1 ]]; then
-    flags=(-DCMAKE_C_FLAGS="-fsanitize=address,undefined" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined")
+if [[ -n $sanitizers ]]; then
+    flags=(-DCMAKE_C_FLAGS="-fsanitize=$sanitizers" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=$sanitizers")
 fi
 cmake -S "$here/consumer" -B "$tmp/consumer" -DCMAKE_C_COMPILER="$cc" -DCMAKE_PREFIX_PATH="$prefix" \
     -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF "${flags[@]}" >"$tmp/consumer-configure.log" 2>&1 ||
