@@ -51,8 +51,9 @@ fi
 if [ "${KINCTL_VCAN_HOST_ONLY:-0}" = 1 ]; then
     echo "************************************************************************"
     echo "vcan suite SKIPPED in this build: this kernel has no AF_CAN/vcan, and"
-    echo "this build's kinctld (ASan) cannot run inside User Mode Linux; the plain"
-    echo "build's vcan.memcheck runs the suite under valgrind memcheck instead"
+    echo "this build's kinctld (ASan) cannot run inside User Mode Linux; in UML"
+    echo "the UBSan-only build runs the suite (scripts/test.sh), and the plain"
+    echo "build's vcan.memcheck runs it under valgrind memcheck"
     echo "************************************************************************"
     exit 77
 fi
