@@ -85,6 +85,7 @@ class Kinctld:
         self._stderr = open(stderr, "w") if stderr else subprocess.PIPE
         self.proc = subprocess.Popen(self.argv, stdout=subprocess.DEVNULL, stderr=self._stderr, text=True, env=env)
         self.stderr_text = ""
+        self.stopped = False
 
     def wait_ready(self, timeout=10.0):
         """Waits for the first setpoint; raises RuntimeError with stderr when none comes."""
@@ -103,7 +104,11 @@ class Kinctld:
                            f"{self.stderr_text.strip()}")
 
     def stop(self, sig=signal.SIGTERM, timeout=20.0):
-        """Signals the daemon (SIGTERM: controlled stop), waits, returns its exit code."""
+        """Signals the daemon (SIGTERM: controlled stop), waits, returns its exit code
+        (at once when stopped before; also when it had exited on its own)."""
+        if self.stopped:
+            return self.proc.returncode
+        self.stopped = True
         if self.proc.poll() is None:
             self.proc.send_signal(sig)
         try:
