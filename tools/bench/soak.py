@@ -31,13 +31,12 @@ import time
 import lcm
 
 from kinctl import client, local
+from kinctl.msgs import event_name
 from kinctl_msgs import command_t, setpoint_t, stats_t, status_t
 
 QN = [0.0, 0.7854, -3.1416, 0.0, 0.7854, 0.0]
 LIMITS = [(-2.79, 2.79), (-0.785, 3.93), (-3.93, 0.785), (-1.92, 2.97), (-1.75, 1.75), (-4.64, 4.64)]
 ENDS = {status_t.COMPLETED: "completed", status_t.PREEMPTED: "preempted", status_t.ABORTED: "aborted"}
-EVENT_NAMES = {getattr(status_t, k): k for k in ("NONE", "ACCEPTED", "REJECTED", "COMPLETED", "PREEMPTED", "ABORTED",
-                                                 "EVENT_FAULT", "STARTED")}
 
 
 def rss_kib(pid):
@@ -92,7 +91,7 @@ class Books:
             gid = st.event_goal_id
             answers, ends = self.answers.setdefault(gid, []), self.ends.setdefault(gid, [])
             if gid:
-                self.history.setdefault(gid, []).append((st.utime, EVENT_NAMES.get(st.event, st.event), st.reason,
+                self.history.setdefault(gid, []).append((st.utime, event_name(st.event), st.reason,
                                                          st.state))
             odd = False
             if st.event in (status_t.ACCEPTED, status_t.REJECTED):
