@@ -10,21 +10,40 @@ shift || true
 
 say() { printf '\033[1m[setup]\033[0m %s\n' "$*"; }
 
-# Debian packages: compilers and build tools, cmocka for the C unit tests,
-# libconfig for description files, jansson for JSON in kinctl-calc; glib (which
-# the LCM wheel's lcm-gen and liblcm load) and a JDK (javac and jar build the
-# message jar for lcm-spy); libglib2.0-dev because kinctld links the wheel's
-# static liblcm, whose GLib is found with pkg-config; stress-ng loads the CPUs in
-# the fault-injection tests; ffmpeg for `kinctl view --save FILE.mp4`, xvfb (and
-# xauth for xvfb-run) to test its live window. The vcan suite: can-utils
-# (candump, cangen), and User Mode Linux with kmod (insmod) for a kernel with
-# vcan where the host's has no AF_CAN (tests/vcan/uml_run.sh). cppcheck,
-# clang-tidy and valgrind for the analysis tests (tests/analysis).
-apt_packages=(build-essential cmake ninja-build clang pkg-config python3 python3-venv
-              libcmocka-dev libconfig-dev libjansson-dev libglib2.0-0 default-jdk-headless
-              libglib2.0-dev stress-ng ffmpeg xvfb xauth
-              can-utils user-mode-linux kmod
-              cppcheck clang-tidy valgrind)
+# Debian packages, each with the step that needs it. A fresh Debian 12 root
+# (minbase, as the debian:12 image) has none of them.
+apt_packages=(
+    # build: compilers and build tools (build-essential brings dpkg-dev, whose
+    # dpkg-shlibdeps the .deb needs, and binutils' readelf for the install test)
+    build-essential cmake ninja-build pkg-config python3 python3-venv
+    # build: clang for the ASan + UBSan and UBSan builds (scripts/test.sh) and
+    # the fuzzers; its sanitizer and libFuzzer runtimes are a package of their own
+    clang libclang-rt-14-dev
+    # build: libconfig (description and configuration files), jansson (JSON in
+    # kinctl-calc), cmocka (the C unit tests)
+    libconfig-dev libjansson-dev libcmocka-dev
+    # build: the LCM wheel's lcm-gen and liblcm load GLib; kinctld links the
+    # wheel's static liblcm, whose GLib is found with pkg-config
+    libglib2.0-0 libglib2.0-dev
+    # build: javac and jar make the message jar for lcm-spy (tests/msg, kinctl spy)
+    default-jdk-headless
+    # install.deb: CPack's DEB generator runs `file` for the shared-library
+    # dependencies
+    file
+    # faults: stress-ng loads the CPUs
+    stress-ng
+    # viz: ffmpeg for `kinctl view --save FILE.mp4`; Tk for matplotlib's live
+    # window (`kinctl view` without --save), xvfb and xauth (xvfb-run) give it a
+    # display
+    ffmpeg python3-tk xvfb xauth
+    # vcan: candump and cangen; User Mode Linux with kmod (insmod) for a kernel
+    # with vcan where the host's has none (tests/vcan/uml_run.sh), iproute2 (ip:
+    # vcan0, the multicast route) and procps (sysctl: socket buffer limits)
+    # inside it and on a host with vcan
+    can-utils user-mode-linux kmod iproute2 procps
+    # analysis: tests/analysis
+    cppcheck clang-tidy valgrind
+)
 missing=()
 for p in "${apt_packages[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -104,7 +104,9 @@ echo "vcan suite: inside User Mode Linux \$(uname -r), vcan0 up"
 bash -c "\$(cat "$work/cmd")" </dev/null 2>&1 | tee "$work/log"
 echo \${PIPESTATUS[0]} >"$work/rc"
 sync
-halt -f
+# Power off (reboot(2), LINUX_REBOOT_CMD_POWER_OFF) without halt(8), which a
+# minimal root lacks: PID 1 must never exit, or UML panics.
+exec "$python" -c 'import ctypes; ctypes.CDLL(None, use_errno=True).reboot(0x4321FEDC); raise SystemExit("uml: reboot(2) failed")'
 EOF
 chmod +x "$work/init.sh"
 echo "vcan suite: no AF_CAN here; booting User Mode Linux ($(basename "$uml_modules"))"
