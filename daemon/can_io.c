@@ -1,6 +1,7 @@
 /* can_io.c - the CAN output (can_io.h). */
 #define _GNU_SOURCE /* sendmmsg */
 #include "can_io.h"
+#include "clock.h"
 
 #include <errno.h>
 #include <math.h>
@@ -9,25 +10,16 @@
 #include <string.h>
 #include <sys/ioctl.h>
 #include <sys/socket.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <linux/can.h>
 #include <linux/can/error.h>
 #include <linux/can/raw.h>
 
-#define KD_NS 1000000000LL
 #define KD_CAN_PROBE_NS 100000000LL      /* a lost interface is probed every 100 ms */
 #define KD_CAN_RCVBUF (8 << 20)          /* feedback must wait in the socket, not be dropped */
 #define KD_CAN_RX_BURST 1024             /* frames read per call */
 #define KD_CAN_FRAMES_MAX (1 + KC_MAX_JOINTS)
-
-static int64_t now_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (int64_t)ts.tv_sec * KD_NS + ts.tv_nsec;
-}
 
 static int32_t saturate(double x)
 {
@@ -232,7 +224,7 @@ void kd_can_send(kd_can *c, int64_t cycle, const kc_real *q, const kc_real *qd)
     int j, n = c->n;
     if (c->state == KD_CAN_OFF || cycle % c->cfg->sync_every != 0)
         return;
-    t0 = now_ns();
+    t0 = kd_now_ns();
     bus_cycle = cycle / c->cfg->sync_every;
     memset(frames, 0, sizeof frames[0] * (size_t)(n + 1));
     frames[0].can_id = KD_CAN_SYNC_ID;
@@ -249,7 +241,7 @@ void kd_can_send(kd_can *c, int64_t cycle, const kc_real *q, const kc_real *qd)
     }
     if (write_frames(c, frames, n + 1, t0) > 0)
         c->syncs_out++; /* the SYNC went out: the drives answer it */
-    kd_hist_add(&c->send_ns, now_ns() - t0);
+    kd_hist_add(&c->send_ns, kd_now_ns() - t0);
 }
 
 static void set_condition(kd_can *c, int kind, const char *text)
