@@ -118,17 +118,20 @@ int kc_cfg_is_number(const config_setting_t *s)
     return t == CONFIG_TYPE_INT || t == CONFIG_TYPE_INT64 || t == CONFIG_TYPE_FLOAT;
 }
 
+double kc_cfg_value(const config_setting_t *s)
+{
+    if (config_setting_type(s) == CONFIG_TYPE_INT64)
+        return (double)config_setting_get_int64(s);
+    if (config_setting_type(s) == CONFIG_TYPE_INT)
+        return (double)config_setting_get_int(s);
+    return config_setting_get_float(s);
+}
+
 kc_status kc_cfg_number(kc_cfg *r, const config_setting_t *s, const char *what, double *out)
 {
-    double v;
     if (!kc_cfg_is_number(s))
         return kc_cfg_fail(r, s, "%s must be a number", what);
-    if (config_setting_type(s) == CONFIG_TYPE_INT64)
-        v = (double)config_setting_get_int64(s);
-    else if (config_setting_type(s) == CONFIG_TYPE_INT)
-        v = (double)config_setting_get_int(s);
-    else
-        v = config_setting_get_float(s);
+    double v = kc_cfg_value(s);
     if (!isfinite(v))
         return kc_cfg_fail(r, s, "%s is not a finite number", what);
     *out = v;

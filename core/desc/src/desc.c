@@ -90,6 +90,17 @@ static kc_status too_many_joints(kc_desc_reader *r, const config_setting_t *s)
     return fail_at(r, s, KC_E_CAPACITY, "too many joints: kinctl supports at most %d", KC_MAX_JOINTS);
 }
 
+/* What the chain builder answered to row or element g. */
+static kc_status built(kc_desc_reader *r, const config_setting_t *g, const char *where, kc_status st)
+{
+    if (st == KC_E_CAPACITY)
+        return fail_at(r, g, st, "%s: the chain exceeds kinctl's capacity (%d elements, %d frames)", where,
+                       KC_MAX_ELEMENTS, KC_MAX_FRAMES);
+    if (st != KC_OK)
+        return fail_at(r, g, st, "%s: rejected by the chain builder: %s", where, kc_status_str(st));
+    return KC_OK;
+}
+
 /* One standard or modified DH row. */
 static kc_status read_dh_row(kc_desc_reader *r, const config_setting_t *g, const char *where, int modified,
                              kc_chain *chain, kc_desc_info *info)
@@ -122,12 +133,7 @@ static kc_status read_dh_row(kc_desc_reader *r, const config_setting_t *g, const
         (st = kc_desc_read_name(r, g, where, info->joint_names[chain->n_joints])) != KC_OK)
         return st;
     st = modified ? kc_chain_add_mdh(chain, &row) : kc_chain_add_dh(chain, &row);
-    if (st == KC_E_CAPACITY)
-        return fail_at(r, g, st, "%s: the chain exceeds kinctl's capacity (%d elements, %d frames)", where,
-                       KC_MAX_ELEMENTS, KC_MAX_FRAMES);
-    if (st != KC_OK)
-        return fail_at(r, g, st, "%s: rejected by the chain builder: %s", where, kc_status_str(st));
-    return KC_OK;
+    return built(r, g, where, st);
 }
 
 /* "rx".."tz" to 0..5 (rotations x, y, z then translations x, y, z). */
@@ -189,12 +195,7 @@ static kc_status read_element(kc_desc_reader *r, const config_setting_t *g, cons
         if (st == KC_OK && frame)
             st = kc_chain_add_frame(chain);
     }
-    if (st == KC_E_CAPACITY)
-        return fail_at(r, g, st, "%s: the chain exceeds kinctl's capacity (%d elements, %d frames)", where,
-                       KC_MAX_ELEMENTS, KC_MAX_FRAMES);
-    if (st != KC_OK)
-        return fail_at(r, g, st, "%s: rejected by the chain builder: %s", where, kc_status_str(st));
-    return KC_OK;
+    return built(r, g, where, st);
 }
 
 /* robot.volumes: link volumes on frames 1..n_frames. */

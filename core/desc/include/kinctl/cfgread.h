@@ -69,6 +69,10 @@ kc_status kc_cfg_require(kc_cfg *r, const config_setting_t *group, const char *k
 /* Whether s is an integer or a decimal. */
 int kc_cfg_is_number(const config_setting_t *s);
 
+/* The value of s, a number (kc_cfg_is_number), as a double; reports
+ * nothing. */
+double kc_cfg_value(const config_setting_t *s);
+
 /* s as a finite number (what names it in messages). */
 kc_status kc_cfg_number(kc_cfg *r, const config_setting_t *s, const char *what, double *out);
 
