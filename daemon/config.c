@@ -138,99 +138,129 @@ static void default_home(const kc_chain *chain, kc_real *home)
     }
 }
 
-kd_config_result kd_config_load(kd_config *cfg, int argc, char **argv)
+/* The command line over the file (and the environment): prefix, LCM URL,
+ * period, rt. */
+static int apply_flags(kd_config *cfg, const kd_args *a, const kd_file *fc)
 {
-    kd_args a;
-    kd_file fc;
-    kd_config_result parsed;
-    const char *config_path, *model, *prefix, *url, *env;
-    int robot_deg = 0, j;
-
-    defaults(cfg);
-    memset(&fc, 0, sizeof fc);
-    parsed = kd_args_parse(&a, argc, argv);
-    if (parsed != KD_CONFIG_RUN)
-        return parsed;
-    config_path = a.config_path;
-    model = a.model;
-    prefix = a.prefix;
-    url = a.url;
-    if (config_path != NULL) {
-        snprintf(cfg->config_path, sizeof cfg->config_path, "%s", config_path);
-        if (kd_config_read_file(config_path, cfg, &fc) != 0)
-            return KD_CONFIG_ERROR;
-        robot_deg = fc.robot_deg;
+    const char *env;
+    if (a->prefix != NULL) {
+        if (refused("--prefix", a->prefix, kd_prefix_problem(a->prefix)))
+            return -1;
+        snprintf(cfg->prefix, sizeof cfg->prefix, "%s", a->prefix);
     }
-    if (model != NULL || !fc.has_robot) {
-        memset(cfg->volume_names, 0, sizeof cfg->volume_names);
-        if (builtin_model(cfg, model != NULL ? model : "puma560") != 0) {
-            kd_problem("cannot build the built-in model \"%s\"", model != NULL ? model : "puma560");
-            return KD_CONFIG_ERROR;
-        }
-        robot_deg = 0;
-    }
-
-    /* Flags over the file. */
-    if (prefix != NULL) {
-        if (refused("--prefix", prefix, kd_prefix_problem(prefix)))
-            return KD_CONFIG_ERROR;
-        snprintf(cfg->prefix, sizeof cfg->prefix, "%s", prefix);
-    }
-    if (url != NULL) {
-        if (refused("--lcm-url", url, kd_url_problem(url)))
-            return KD_CONFIG_ERROR;
-        snprintf(cfg->lcm_url, sizeof cfg->lcm_url, "%s", url);
+    if (a->url != NULL) {
+        if (refused("--lcm-url", a->url, kd_url_problem(a->url)))
+            return -1;
+        snprintf(cfg->lcm_url, sizeof cfg->lcm_url, "%s", a->url);
         cfg->lcm_url_source = "command line";
-    } else if (fc.has_url) {
-        snprintf(cfg->lcm_url, sizeof cfg->lcm_url, "%s", fc.url);
+    } else if (fc->has_url) {
+        snprintf(cfg->lcm_url, sizeof cfg->lcm_url, "%s", fc->url);
         cfg->lcm_url_source = "config";
     } else if ((env = getenv("LCM_DEFAULT_URL")) != NULL && env[0] != '\0') {
         if (refused("LCM_DEFAULT_URL", env, kd_url_problem(env)))
-            return KD_CONFIG_ERROR;
+            return -1;
         snprintf(cfg->lcm_url, sizeof cfg->lcm_url, "%s", env);
         cfg->lcm_url_source = "LCM_DEFAULT_URL";
     } else {
         snprintf(cfg->lcm_url, sizeof cfg->lcm_url, "%s", KD_DEFAULT_URL);
         cfg->lcm_url_source = "default";
     }
-    if (a.period_us > 0)
-        cfg->period_ns = (int64_t)a.period_us * 1000;
-    else if (fc.has_period)
-        cfg->period_ns = (int64_t)llround(fc.period_us * 1000.0);
-    if (a.rt >= 0)
-        cfg->rt_enable = a.rt;
+    if (a->period_us > 0)
+        cfg->period_ns = (int64_t)a->period_us * 1000;
+    else if (fc->has_period)
+        cfg->period_ns = (int64_t)llround(fc->period_us * 1000.0);
+    if (a->rt >= 0)
+        cfg->rt_enable = a->rt;
+    return 0;
+}
 
-    /* The robot: scaled limits and the start joints. */
-    scale_limits(&cfg->chain, cfg->vel_scale, cfg->acc_scale);
-    if (fc.has_home) {
-        /* home needs the robot, known only now. */
-        int n = fc.home_n, line = fc.home_line;
-        int deg = fc.home_deg_set ? fc.home_deg : robot_deg;
-        int bad_joint = -1;
-        kc_status st;
-        if (n != cfg->chain.n_joints) {
-            fprintf(stderr, "%s:%d: controller.home has %d values, the arm \"%s\" has %d joints\n", config_path, line,
-                    n, cfg->robot_name, cfg->chain.n_joints);
-            return KD_CONFIG_ERROR;
-        }
-        for (j = 0; j < n; j++) {
-            double x = fc.home[j];
-            if (deg && cfg->chain.joints[j].type == KC_JOINT_REVOLUTE)
-                x *= (double)KC_DEG;
-            cfg->home[j] = (kc_real)x;
-        }
-        st = kc_chain_check_q(&cfg->chain, cfg->home, &bad_joint);
-        if (st != KC_OK) {
-            fprintf(stderr, "%s:%d: controller.home[%d] is outside joint %d's limits [%.6g, %.6g]\n", config_path,
-                    line, bad_joint, bad_joint + 1, (double)cfg->chain.joints[bad_joint].limits.q_min,
-                    (double)cfg->chain.joints[bad_joint].limits.q_max);
-            return KD_CONFIG_ERROR;
-        }
-    } else {
+/* The start joints: controller.home (it needs the robot, known only now;
+ * in the unit of controller.angles, else the robot section's), else
+ * default_home. */
+static int place_home(kd_config *cfg, const kd_file *fc, int robot_deg, const char *path)
+{
+    int n = fc->home_n, line = fc->home_line, j;
+    int deg = fc->home_deg_set ? fc->home_deg : robot_deg;
+    int bad_joint = -1;
+    if (!fc->has_home) {
         default_home(&cfg->chain, cfg->home);
+        return 0;
     }
+    if (n != cfg->chain.n_joints) {
+        fprintf(stderr, "%s:%d: controller.home has %d values, the arm \"%s\" has %d joints\n", path, line, n,
+                cfg->robot_name, cfg->chain.n_joints);
+        return -1;
+    }
+    for (j = 0; j < n; j++) {
+        double x = fc->home[j];
+        if (deg && cfg->chain.joints[j].type == KC_JOINT_REVOLUTE)
+            x *= (double)KC_DEG;
+        cfg->home[j] = (kc_real)x;
+    }
+    if (kc_chain_check_q(&cfg->chain, cfg->home, &bad_joint) != KC_OK) {
+        fprintf(stderr, "%s:%d: controller.home[%d] is outside joint %d's limits [%.6g, %.6g]\n", path, line,
+                bad_joint, bad_joint + 1, (double)cfg->chain.joints[bad_joint].limits.q_min,
+                (double)cfg->chain.joints[bad_joint].limits.q_max);
+        return -1;
+    }
+    return 0;
+}
 
-    if (kd_can_cfg_check(&cfg->can, &cfg->chain, cfg->robot_name, config_path) != 0)
+/* The zones against the arm: goals are checked tick by tick, so no volume
+ * may travel the margin in one cycle (kinctl/zone.h). */
+static int check_zones(kd_config *cfg, const char *path)
+{
+    kc_real travel;
+    if (cfg->zones.n_zones == 0)
+        return 0;
+    travel = kc_zone_tick_travel(&cfg->chain, cfg->ctrl.dt);
+    cfg->ctrl.zones = &cfg->zones;
+    if (cfg->chain.n_volumes == 0) {
+        fprintf(stderr, "%s: warning: controller.zones is set but robot \"%s\" has no link volumes\n", path,
+                cfg->robot_name);
+    } else if (!(cfg->zones.margin > travel)) {
+        fprintf(stderr, "%s: controller.zones.margin = %g m is not above %g m, the farthest a link volume moves in "
+                        "one cycle at the joints' velocity limits (raise the margin, shorten period_us or lower "
+                        "vel_scale)\n", path, (double)cfg->zones.margin, (double)travel);
+        return -1;
+    }
+    return 0;
+}
+
+kd_config_result kd_config_load(kd_config *cfg, int argc, char **argv)
+{
+    kd_args a;
+    kd_file fc;
+    kd_config_result parsed;
+    int robot_deg = 0;
+
+    defaults(cfg);
+    memset(&fc, 0, sizeof fc);
+    parsed = kd_args_parse(&a, argc, argv);
+    if (parsed != KD_CONFIG_RUN)
+        return parsed;
+    if (a.config_path != NULL) {
+        snprintf(cfg->config_path, sizeof cfg->config_path, "%s", a.config_path);
+        if (kd_config_read_file(a.config_path, cfg, &fc) != 0)
+            return KD_CONFIG_ERROR;
+        robot_deg = fc.robot_deg;
+    }
+    if (a.model != NULL || !fc.has_robot) {
+        const char *model = a.model != NULL ? a.model : "puma560";
+        memset(cfg->volume_names, 0, sizeof cfg->volume_names);
+        if (builtin_model(cfg, model) != 0) {
+            kd_problem("cannot build the built-in model \"%s\"", model);
+            return KD_CONFIG_ERROR;
+        }
+        robot_deg = 0;
+    }
+    if (apply_flags(cfg, &a, &fc) != 0)
+        return KD_CONFIG_ERROR;
+
+    /* The robot: scaled limits and the start joints; its drives. */
+    scale_limits(&cfg->chain, cfg->vel_scale, cfg->acc_scale);
+    if (place_home(cfg, &fc, robot_deg, a.config_path) != 0 ||
+        kd_can_cfg_check(&cfg->can, &cfg->chain, cfg->robot_name, a.config_path) != 0)
         return KD_CONFIG_ERROR;
 
     /* The controller's configuration, checked by the core itself. */
@@ -238,25 +268,12 @@ kd_config_result kd_config_load(kd_config *cfg, int argc, char **argv)
     cfg->ctrl.servo_timeout_ticks = (int64_t)ceil(cfg->servo_timeout_s / ((double)cfg->period_ns * 1e-9));
     if (cfg->ctrl.servo_timeout_ticks < 1)
         cfg->ctrl.servo_timeout_ticks = 1;
-    if (cfg->zones.n_zones > 0) {
-        /* Goals are checked tick by tick: no volume may travel the margin
-         * in one cycle (kinctl/zone.h). */
-        kc_real travel = kc_zone_tick_travel(&cfg->chain, cfg->ctrl.dt);
-        cfg->ctrl.zones = &cfg->zones;
-        if (cfg->chain.n_volumes == 0)
-            fprintf(stderr, "%s: warning: controller.zones is set but robot \"%s\" has no link volumes\n",
-                    config_path, cfg->robot_name);
-        else if (!(cfg->zones.margin > travel)) {
-            fprintf(stderr, "%s: controller.zones.margin = %g m is not above %g m, the farthest a link volume moves in "
-                            "one cycle at the joints' velocity limits (raise the margin, shorten period_us or lower "
-                            "vel_scale)\n", config_path, (double)cfg->zones.margin, (double)travel);
-            return KD_CONFIG_ERROR;
-        }
-    }
+    if (check_zones(cfg, a.config_path) != 0)
+        return KD_CONFIG_ERROR;
     if (kc_ctrl_cfg_check(&cfg->ctrl, &cfg->chain) != KC_OK) {
-        kd_problem("%s: the controller refuses this configuration with robot \"%s\" (%s; check the limits, period and "
-                "cartesian settings)",
-                config_path != NULL ? config_path : "built-in", cfg->robot_name, kc_status_str(KC_E_ARG));
+        kd_problem("%s: the controller refuses this configuration with robot \"%s\" (%s; check the limits, period "
+                   "and cartesian settings)",
+                   a.config_path != NULL ? a.config_path : "built-in", cfg->robot_name, kc_status_str(KC_E_ARG));
         return KD_CONFIG_ERROR;
     }
     if (a.check) {
