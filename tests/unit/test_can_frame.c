@@ -99,9 +99,9 @@ static void test_saturation(void **state)
     assert_int_equal(kd_can_pos_counts(&j, 1e6), INT32_MAX);
     assert_int_equal(kd_can_pos_counts(&j, -1e6), INT32_MIN);
     assert_int_equal(kd_can_vel_counts(&j, 1e300), INT32_MAX);
-    assert_int_equal(kd_can_pos_counts(&j, NAN), 0);
-    assert_int_equal(kd_can_vel_counts(&j, INFINITY), INT32_MAX);
-    assert_int_equal(kd_can_vel_counts(&j, -INFINITY), INT32_MIN);
+    assert_int_equal(kd_can_pos_counts(&j, (double)NAN), 0);
+    assert_int_equal(kd_can_vel_counts(&j, (double)INFINITY), INT32_MAX);
+    assert_int_equal(kd_can_vel_counts(&j, -(double)INFINITY), INT32_MIN);
     /* the offset can push a position over the edge */
     j = joint(3, 1.0, 1, 2147483000);
     assert_int_equal(kd_can_pos_counts(&j, 647.0), INT32_MAX);
