@@ -13,6 +13,8 @@
 #include "kinctl/cfgread.h"
 #include "kinctl/desc_tree.h"
 
+/* The controller section (config.h) into cfg; what waits for the command
+ * line or the robot (period, LCM URL, home) into fc. */
 static int read_controller(kc_cfg *r, const config_setting_t *c, kd_config *cfg, kd_file *fc)
 {
     static const char *const keys[] = {"period_us", "angles", "home", "vel_scale", "acc_scale", "prefix",
