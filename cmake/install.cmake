@@ -31,8 +31,11 @@ set_target_properties(kinctl_desc PROPERTIES EXPORT_NAME desc)
 install(TARGETS kinctl_core_${KINCTL_REAL} kinctl_desc EXPORT kinctlTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+# cfgread.h and desc_tree.h are the project's own: they expose libconfig,
+# which kinctl::desc links privately.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/core/include/kinctl ${PROJECT_SOURCE_DIR}/core/desc/include/kinctl
-        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h")
+        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h"
+        PATTERN "cfgread.h" EXCLUDE PATTERN "desc_tree.h" EXCLUDE)
 install(EXPORT kinctlTargets NAMESPACE kinctl:: DESTINATION ${KINCTL_CMAKE_DIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/kinctlConfig.cmake.in
   ${PROJECT_BINARY_DIR}/kinctlConfig.cmake INSTALL_DESTINATION ${KINCTL_CMAKE_DIR})

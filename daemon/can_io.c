@@ -1,6 +1,8 @@
 /* can_io.c - the CAN output (can_io.h). */
 #define _GNU_SOURCE /* sendmmsg */
 #include "can_io.h"
+#include "can_frame.h"
+#include "clock.h"
 
 #include <errno.h>
 #include <math.h>
@@ -9,61 +11,16 @@
 #include <string.h>
 #include <sys/ioctl.h>
 #include <sys/socket.h>
-#include <time.h>
 #include <unistd.h>
 
 #include <linux/can.h>
 #include <linux/can/error.h>
 #include <linux/can/raw.h>
 
-#define KD_NS 1000000000LL
 #define KD_CAN_PROBE_NS 100000000LL      /* a lost interface is probed every 100 ms */
 #define KD_CAN_RCVBUF (8 << 20)          /* feedback must wait in the socket, not be dropped */
 #define KD_CAN_RX_BURST 1024             /* frames read per call */
 #define KD_CAN_FRAMES_MAX (1 + KC_MAX_JOINTS)
-
-static int64_t now_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (int64_t)ts.tv_sec * KD_NS + ts.tv_nsec;
-}
-
-static int32_t saturate(double x)
-{
-    if (!(x == x))
-        return 0;
-    if (x >= 2147483647.0)
-        return INT32_MAX;
-    if (x <= -2147483648.0)
-        return INT32_MIN;
-    return (int32_t)llround(x);
-}
-
-int32_t kd_can_pos_counts(const kd_can_joint *j, double q)
-{
-    return saturate((double)j->sign * q * j->counts_per_unit + (double)j->offset_counts);
-}
-
-int32_t kd_can_vel_counts(const kd_can_joint *j, double qd)
-{
-    return saturate((double)j->sign * qd * j->counts_per_unit);
-}
-
-static void put_i32(uint8_t *p, int32_t v)
-{
-    uint32_t u = (uint32_t)v;
-    p[0] = (uint8_t)(u & 0xffu);
-    p[1] = (uint8_t)((u >> 8) & 0xffu);
-    p[2] = (uint8_t)((u >> 16) & 0xffu);
-    p[3] = (uint8_t)((u >> 24) & 0xffu);
-}
-
-static int32_t get_i32(const uint8_t *p)
-{
-    uint32_t u = (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
-    return (int32_t)u;
-}
 
 /* Opens, filters and binds the socket. Returns 0 or -errno with *what set. */
 static int open_socket(kd_can *c, const char **what)
@@ -232,24 +189,16 @@ void kd_can_send(kd_can *c, int64_t cycle, const kc_real *q, const kc_real *qd)
     int j, n = c->n;
     if (c->state == KD_CAN_OFF || cycle % c->cfg->sync_every != 0)
         return;
-    t0 = now_ns();
+    t0 = kd_now_ns();
     bus_cycle = cycle / c->cfg->sync_every;
-    memset(frames, 0, sizeof frames[0] * (size_t)(n + 1));
-    frames[0].can_id = KD_CAN_SYNC_ID;
-    frames[0].len = 1;
-    frames[0].data[0] = (uint8_t)(bus_cycle % KD_CAN_SYNC_COUNTER_MAX + 1);
+    kd_can_encode_sync(bus_cycle, &frames[0]);
     for (j = 0; j < n; j++) {
-        const kd_can_joint *jc = &c->cfg->joint[j];
-        struct can_frame *f = &frames[1 + j];
-        f->can_id = KD_CAN_RPDO_BASE + (canid_t)jc->node;
-        f->len = 8;
-        put_i32(&f->data[0], kd_can_pos_counts(jc, (double)q[j]));
-        put_i32(&f->data[4], kd_can_vel_counts(jc, (double)qd[j]));
+        kd_can_encode_rpdo(&c->cfg->joint[j], (double)q[j], (double)qd[j], &frames[1 + j]);
         c->target[c->syncs_out % KD_CAN_RING][j] = (double)q[j];
     }
     if (write_frames(c, frames, n + 1, t0) > 0)
         c->syncs_out++; /* the SYNC went out: the drives answer it */
-    kd_hist_add(&c->send_ns, now_ns() - t0);
+    kd_hist_add(&c->send_ns, kd_now_ns() - t0);
 }
 
 static void set_condition(kd_can *c, int kind, const char *text)
@@ -335,6 +284,8 @@ static void on_frame(kd_can *c, const struct can_frame *f, int64_t now)
 {
     canid_t id;
     int node, j;
+    double q = 0.0;
+    uint16_t statusword = 0;
     if (f->can_id & CAN_ERR_FLAG) {
         c->error_frames++;
         c->errors++;
@@ -352,14 +303,12 @@ static void on_frame(kd_can *c, const struct can_frame *f, int64_t now)
     if (j < 0)
         return;
     c->rx_frames++;
-    if ((id & ~0x7fu) == KD_CAN_TPDO_BASE && f->len >= 6) {
-        const kd_can_joint *jc = &c->cfg->joint[j];
-        double q = ((double)get_i32(&f->data[0]) - (double)jc->offset_counts) / ((double)jc->sign * jc->counts_per_unit);
+    if ((id & ~0x7fu) == KD_CAN_TPDO_BASE && kd_can_decode_tpdo(&c->cfg->joint[j], f, &q, &statusword) == 0) {
         if (c->have_fb[j])
             c->qd_fb[j] = (q - c->q_fb[j]) / ((double)c->period_ns * 1e-9 * (double)c->cfg->sync_every);
         c->q_fb[j] = q;
         following(c, j, q);
-        c->statusword[j] = (uint16_t)(f->data[4] | f->data[5] << 8);
+        c->statusword[j] = statusword;
         c->have_fb[j] = 1;
     } else if ((id & ~0x7fu) == KD_CAN_HEARTBEAT_BASE && f->len >= 1) {
         c->heartbeat_ns[j] = now;
@@ -411,10 +360,7 @@ void kd_can_timers(kd_can *c, int64_t now)
     }
     if (c->state == KD_CAN_OK && c->heartbeat_period_ns > 0 && now >= c->next_heartbeat_ns) {
         struct can_frame hb;
-        memset(&hb, 0, sizeof hb);
-        hb.can_id = KD_CAN_HEARTBEAT_BASE + (canid_t)c->cfg->master_id;
-        hb.len = 1;
-        hb.data[0] = KD_CAN_NMT_OPERATIONAL;
+        kd_can_encode_heartbeat(c->cfg->master_id, KD_CAN_NMT_OPERATIONAL, &hb);
         write_frames(c, &hb, 1, now);
         c->next_heartbeat_ns += c->heartbeat_period_ns;
         if (c->next_heartbeat_ns <= now)

@@ -1,26 +1,11 @@
 /* can_io.h - kinctld's optional CAN output, shaped after CiA 402 cyclic
  * synchronous position (mode 8), on a SocketCAN interface.
  *
- * Frames (all little-endian; docs/kinctl.dbc describes every one):
- *   0x080          SYNC, 1 byte: counter 1..240 (CiA 301 SYNC counter),
- *                  ((cycle / sync_every) mod 240) + 1, so a gap in the bus
- *                  cycles shows as a gap in the counter
- *   0x200 + node   RPDO1 to each joint's drive, 8 bytes: target position
- *                  (object 0x607A, int32 counts) then velocity offset
- *                  (0x60B1, int32 counts/s), after the SYNC of the same
- *                  bus cycle (a synchronous RPDO acts at the next SYNC)
- *   0x700 + master heartbeat of the master, 1 byte: 0x05 (operational),
- *                  every heartbeat_ms
- * read back when feedback is on (kernel filters pass nothing else):
- *   0x180 + node   TPDO1 from each drive, 6 bytes: position actual value
- *                  (0x6064, int32 counts), statusword (0x6041, uint16)
- *   0x700 + node   the drive's heartbeat, 1 byte: NMT state (0x05)
- * and error frames (CAN_ERR_FLAG) from the interface's controller.
- *
- * Scaling per joint: counts = round(sign * q * counts_per_unit) +
- * offset_counts, velocity counts/s = round(sign * qd * counts_per_unit),
- * saturated to int32 (the configuration is checked so that the joint's
- * limits never need saturating).
+ * Frames and their scaling: can_frame.h. Each bus cycle is a SYNC and one
+ * RPDO1 per joint; a master heartbeat goes out every heartbeat_ms. Read
+ * back when feedback is on (kernel filters pass nothing else): each
+ * drive's TPDO1 and heartbeat, and error frames (CAN_ERR_FLAG) from the
+ * interface's controller.
  *
  * Everything here runs on the I/O thread, never the cycle: the cycle hands
  * its ticks over as always, and the I/O thread encodes and writes a bus
@@ -69,6 +54,7 @@
 
 #include <stdint.h>
 
+#include "can_frame.h"
 #include "config.h"
 #include "hist.h"
 
@@ -76,12 +62,6 @@
 enum { KD_CAN_OFF = 0, KD_CAN_OK = 1, KD_CAN_LOST = 2 };
 
 #define KD_CAN_TEXT 200
-#define KD_CAN_SYNC_ID 0x080u
-#define KD_CAN_RPDO_BASE 0x200u
-#define KD_CAN_TPDO_BASE 0x180u
-#define KD_CAN_HEARTBEAT_BASE 0x700u
-#define KD_CAN_NMT_OPERATIONAL 0x05u
-#define KD_CAN_SYNC_COUNTER_MAX 240
 #define KD_CAN_RING 1024 /* bus cycles whose targets are kept */
 
 typedef struct kd_can {
@@ -147,10 +127,5 @@ void kd_can_timers(kd_can *c, int64_t now);
 
 /* The condition stopping the arm now (KD_CAN_COND_*), its text in c. */
 int kd_can_condition(const kd_can *c);
-
-/* Per-joint encoding (exposed for the benchmark and tests): counts of a
- * position and a velocity, saturated to int32. */
-int32_t kd_can_pos_counts(const kd_can_joint *j, double q);
-int32_t kd_can_vel_counts(const kd_can_joint *j, double qd);
 
 #endif

@@ -1,5 +1,7 @@
 /* config.h - kinctld's configuration: the robot, the controller section and
- * the command line.
+ * the command line (config.c puts them together: the file is read in
+ * config_file.c, the command line in args.c, controller.can in
+ * can_config.c).
  *
  * Sources, later ones winning: built-in defaults (the puma560 model at
  * 1 kHz), the file given with --config (a robot description of
@@ -46,18 +48,7 @@
  *       mlock = true;
  *     };
  *     plant = { lag_s = 0.0; }; # simulated arm: first-order lag (s)
- *     can = {                   # CAN output (CiA 402 CSP); absent: off
- *       interface = "can0";     # SocketCAN interface; "": off
- *       sync_every = 1;         # cycles per SYNC + RPDOs, 1 .. 1000
- *       master_id = 127;        # master heartbeat 0x700 + id, 1 .. 127
- *       heartbeat_ms = 100.0;   # master heartbeat period; 0: none
- *       on_error = "stop";      # bus-off, interface down: "stop" (fault
- *                               # and stop) or "lcm_only" (carry on)
- *       joints = ( { node = 1; counts_per_unit = 10000.0; sign = 1;
- *                    offset_counts = 0; }, ... );   # one per joint
- *       feedback = { enable = true; following_error = 0.05;
- *                    drive_timeout_ms = 500.0; };
- *     };
+ *     can = { ... };            # CAN output: daemon/can_config.h
  *     cartesian = {             # defaults for Cartesian goals
  *       speed = 0.25; accel = 1.0;     # m/s, m/s^2
  *       omega = 1.0; alpha = 4.0;      # rad/s, rad/s^2 of the tool
@@ -76,6 +67,7 @@
 
 #include <stdint.h>
 
+#include "can_config.h"
 #include "kinctl/chain.h"
 #include "kinctl/ctrl.h"
 
@@ -85,29 +77,6 @@
 #define KD_PATH_MAX 1024
 #define KD_DEFAULT_URL "udpm://239.255.76.67:7667?ttl=0"
 #define KD_DEFAULT_PREFIX "KINCTL_"
-
-/* The optional CAN output (controller.can; daemon/can_io.h). */
-#define KD_CAN_IFNAME_MAX 16 /* IFNAMSIZ */
-typedef struct kd_can_joint {
-    int node;               /* CANopen node id of the joint's drive, 1 .. 127 */
-    double counts_per_unit; /* drive counts per rad (revolute) or per m (prismatic), > 0 */
-    int sign;               /* +1 or -1: the drive's direction against the joint's */
-    int64_t offset_counts;  /* counts at joint position 0 */
-} kd_can_joint;
-
-typedef struct kd_can_cfg {
-    int enable;                          /* 1 when an interface is named */
-    char interface[KD_CAN_IFNAME_MAX];   /* "vcan0", "can0" */
-    int sync_every;                      /* cycles per bus cycle (SYNC and RPDOs), >= 1 */
-    int master_id;                       /* master heartbeat 0x700 + master_id */
-    double heartbeat_ms;                 /* master heartbeat period; 0: none */
-    int on_error_stop;                   /* bus lost: 1 fault and stop, 0 carry on with LCM only */
-    kd_can_joint joint[KC_MAX_JOINTS];
-    int n_joints;                        /* as configured (checked against the arm) */
-    int feedback;                        /* read TPDOs and drive heartbeats */
-    double following_error;              /* largest |actual - target| (rad or m); 0: unchecked */
-    double drive_timeout_ms;             /* longest silence of a drive's heartbeat; 0: unchecked */
-} kd_can_cfg;
 
 typedef struct kd_config {
     /* The arm, with its limits already scaled by vel_scale and acc_scale. */

@@ -10,16 +10,8 @@
 #include <time.h>
 #include <unistd.h>
 
-#define KD_NS 1000000000LL
 #define KD_CYCLE_STACK (8u << 20)    /* kc_ctrl_step plans paths on its stack */
 #define KD_PREFAULT_STACK (256u << 10) /* touched once so no tick page-faults */
-
-int64_t kd_now_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (int64_t)ts.tv_sec * KD_NS + ts.tv_nsec;
-}
 
 int kd_cycle_init(kd_cycle *c, const kd_config *cfg, kc_ctrl *ctrl, kc_goal *goal_storage, size_t goal_capacity,
                   kd_cmd *cmd_storage, kd_tick *tick_storage)

@@ -31,6 +31,7 @@
 #include <stdatomic.h>
 #include <stdint.h>
 
+#include "clock.h"
 #include "config.h"
 #include "hist.h"
 #include "kinctl/ctrl.h"
@@ -139,8 +140,5 @@ typedef struct kd_cycle_stats {
  * back later) and, once it has, reads and clears the retired pair (returns
  * 1 with *s filled). Never waits. */
 int kd_cycle_stats_take(kd_cycle *c, kd_cycle_stats *s);
-
-/* CLOCK_MONOTONIC in ns. */
-int64_t kd_now_ns(void);
 
 #endif

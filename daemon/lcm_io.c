@@ -15,7 +15,6 @@
 
 #include "kinctl/se3.h"
 
-#define KD_NS 1000000000LL
 #define KD_LCM_QUEUE 10000 /* datagrams LCM may hold per subscription before we read them */
 #define KD_LCM_RECV_BUF (4 << 20) /* socket receive buffer asked for on udpm (bytes) */
 #define KD_CHECK_PERIOD KC_R(0.004) /* tick of the goals' dry run (s) */

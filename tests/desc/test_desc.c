@@ -15,6 +15,7 @@
 
 #include "kinctl/desc.h"
 #include "kinctl/fk.h"
+#include "testutil.h"
 
 #ifdef KC_REAL_FLOAT
 #define TOL KC_R(2e-5)
@@ -24,40 +25,10 @@
 
 #define N_CONFIGS 500
 
-/* Deterministic uniform numbers in [0, 1): a 64-bit LCG's top bits. */
-static uint64_t rng_state = 20240601u;
-static double rng_uniform(void)
-{
-    rng_state = rng_state * 6364136223846793005u + 1442695040888963407u;
-    return (double)(rng_state >> 11) * (1.0 / 9007199254740992.0);
-}
-
 static const char *models_dir(void)
 {
     const char *d = getenv("KINCTL_MODELS");
     return d != NULL ? d : KINCTL_MODELS_DIR;
-}
-
-static void assert_pose_near(const kc_pose *a, const kc_pose *b)
-{
-    for (int i = 0; i < 3; i++) {
-        for (int j = 0; j < 3; j++)
-            assert_true(kc_fabs(a->R.m[i][j] - b->R.m[i][j]) <= TOL);
-        assert_true(kc_fabs(a->t.v[i] - b->t.v[i]) <= TOL);
-    }
-}
-
-/* A random q inside the limits, or in [-pi, pi] where a limit is infinite. */
-static void random_q(const kc_chain *c, kc_real *q)
-{
-    for (int j = 0; j < c->n_joints; j++) {
-        double lo = (double)c->joints[j].limits.q_min, hi = (double)c->joints[j].limits.q_max;
-        if (!kc_isfinite((kc_real)lo))
-            lo = -3.2;
-        if (!kc_isfinite((kc_real)hi))
-            hi = 3.2;
-        q[j] = (kc_real)(lo + (hi - lo) * rng_uniform());
-    }
 }
 
 static void check_model_file(kc_model model)
@@ -95,21 +66,22 @@ static void check_model_file(kc_model model)
         const kc_link_volume *a = &file.volumes[v], *b = &ref.volumes[v];
         assert_int_equal(a->frame, b->frame);
         assert_int_equal(a->shape.kind, b->shape.kind);
-        assert_pose_near(&a->shape.pose, &b->shape.pose);
+        kt_near_pose(&a->shape.pose, &b->shape.pose, TOL, "volume pose");
         for (int i = 0; i < KC_SHAPE_DIMS; i++)
             assert_true(kc_fabs(a->shape.dim[i] - b->shape.dim[i]) <= TOL);
         assert_true(info.volume_names[v][0] != '\0');
     }
+    kt_rng rng = kt_rng_make(20240601u + (uint64_t)model);
     for (int k = 0; k < N_CONFIGS; k++) {
         kc_real q[KC_MAX_JOINTS];
         kc_pose ta, tb, fa[KC_MAX_FRAMES], fb[KC_MAX_FRAMES];
         kc_jacobian ja, jb;
-        random_q(&ref, q);
+        kt_rand_q(&rng, &ref, q);
         assert_int_equal(kc_fk_frames(&file, q, fa, &ta), KC_OK);
         assert_int_equal(kc_fk_frames(&ref, q, fb, &tb), KC_OK);
-        assert_pose_near(&ta, &tb);
+        kt_near_pose(&ta, &tb, TOL, "tool pose");
         for (int f = 0; f < ref.n_frames; f++)
-            assert_pose_near(&fa[f], &fb[f]);
+            kt_near_pose(&fa[f], &fb[f], TOL, "frame");
         assert_int_equal(kc_fk_jacobian(&file, q, &ja, NULL), KC_OK);
         assert_int_equal(kc_fk_jacobian(&ref, q, &jb, NULL), KC_OK);
         for (int i = 0; i < 6; i++)
