@@ -421,7 +421,7 @@ static kc_status plan_path(kc_ctrl *c, const kc_goal *g)
     cfg.w_max = lim.w;
     cfg.alpha_max = lim.dw;
     cfg.dt = c->cfg.dt;
-    kc_status st = kc_path_plan_cart(&c->plan.path_cart, &cfg);
+    kc_status st = kc_path_cart_plan(&c->plan.path_cart, &cfg);
     if (st == KC_OK)
         c->path_length = c->plan.path_cart.length;
     return st;
@@ -631,7 +631,7 @@ static void seg_eval(const kc_ctrl *c, int64_t j, seg_point *o)
             o->done = c->drive == KC_DRIVE_PROFILE ? c->drive_prof.ticks <= j : end;
         } else {
             kc_path_pose s;
-            kc_status st = kc_path_eval_cart_time(&c->plan.path_cart, kc_max(u.p, KC_R(0.0)), &s);
+            kc_status st = kc_path_cart_eval_time(&c->plan.path_cart, kc_max(u.p, KC_R(0.0)), &s);
             cart_point(o, &s.p, &s.r, &s.v, &s.w, u.v);
             o->s = s.s;
             o->done = c->drive == KC_DRIVE_PROFILE ? c->drive_prof.ticks <= j : st == KC_DONE;
@@ -677,7 +677,7 @@ static kc_real path_ramp_load(const kc_ctrl *c, kc_real tau0, kc_real r0, kc_rea
                 worst = kc_max(worst, kc_fabs(d2[j] * r * r + d1[j] * a) / amax[j]);
         } else {
             kc_path_pose s;
-            kc_path_eval_cart_time(&c->plan.path_cart, at, &s);
+            kc_path_cart_eval_time(&c->plan.path_cart, at, &s);
             kc_vec3 acc;
             for (int k = 0; k < 3; k++)
                 acc.v[k] = s.a.v[k] * r * r + s.v.v[k] * a;
@@ -706,7 +706,7 @@ static kc_real path_stop_rate(const kc_ctrl *c, kc_real tau, kc_real rate)
                 dec = kc_min(dec, amax[j] / kc_fabs(d1[j]));
     } else {
         kc_path_pose s;
-        kc_path_eval_cart_time(&c->plan.path_cart, tau, &s);
+        kc_path_cart_eval_time(&c->plan.path_cart, tau, &s);
         kc_real speed = kc_vec3_norm(&s.v);
         if (speed > KC_R(0.0))
             dec = cart_limits(c, g).a / speed;
@@ -750,7 +750,7 @@ static int path_starts_at_rest(const kc_ctrl *c)
         return 1;
     }
     kc_path_pose s;
-    kc_path_eval_cart_time(&c->plan.path_cart, KC_R(0.0), &s);
+    kc_path_cart_eval_time(&c->plan.path_cart, KC_R(0.0), &s);
     return kc_vec3_norm(&s.v) == KC_R(0.0) && kc_vec3_norm(&s.w) == KC_R(0.0);
 }
 

@@ -14,6 +14,8 @@
 #include "kinctl/chain.h"
 #include "kinctl/fk.h"
 
+#include "vec3_internal.h"
+
 #define INF ((kc_real)INFINITY)
 
 /* ---- shapes ---- */
@@ -145,19 +147,6 @@ static kc_vec3 support(const kc_shape *s, const kc_vec3 *d)
 
 /* ---- GJK ---- */
 
-static kc_vec3 v_sub(kc_vec3 a, kc_vec3 b) { return kc_vec3_make(a.v[0] - b.v[0], a.v[1] - b.v[1], a.v[2] - b.v[2]); }
-static kc_vec3 v_add_scaled(kc_vec3 a, kc_vec3 b, kc_real k)
-{
-    return kc_vec3_make(a.v[0] + k * b.v[0], a.v[1] + k * b.v[1], a.v[2] + k * b.v[2]);
-}
-static kc_real v_dot(kc_vec3 a, kc_vec3 b) { return a.v[0] * b.v[0] + a.v[1] * b.v[1] + a.v[2] * b.v[2]; }
-static kc_vec3 v_neg(kc_vec3 a) { return kc_vec3_make(-a.v[0], -a.v[1], -a.v[2]); }
-static kc_vec3 v_cross(kc_vec3 a, kc_vec3 b)
-{
-    return kc_vec3_make(a.v[1] * b.v[2] - a.v[2] * b.v[1], a.v[2] * b.v[0] - a.v[0] * b.v[2],
-                        a.v[0] * b.v[1] - a.v[1] * b.v[0]);
-}
-
 /* A simplex of 1 to 4 points of A - B. */
 typedef struct simplex {
     int n;
@@ -167,8 +156,8 @@ typedef struct simplex {
 /* Closest point to the origin on segment ab; reduces s to the feature. */
 static kc_vec3 closest_segment(simplex *s)
 {
-    kc_vec3 a = s->p[0], b = s->p[1], ab = v_sub(b, a);
-    kc_real t = -v_dot(a, ab), len2 = v_dot(ab, ab);
+    kc_vec3 a = s->p[0], b = s->p[1], ab = kc_v3_sub(b, a);
+    kc_real t = -kc_v3_dot(a, ab), len2 = kc_v3_dot(ab, ab);
     if (t <= KC_R(0.0) || !(len2 > KC_R(0.0))) {
         s->n = 1;
         return a;
@@ -178,7 +167,7 @@ static kc_vec3 closest_segment(simplex *s)
         s->p[0] = b;
         return b;
     }
-    return v_add_scaled(a, ab, t / len2);
+    return kc_v3_add_scaled(a, ab, t / len2);
 }
 
 /* Closest point to the origin on triangle abc (Ericson, Real-Time Collision
@@ -186,13 +175,13 @@ static kc_vec3 closest_segment(simplex *s)
 static kc_vec3 closest_triangle(simplex *s)
 {
     kc_vec3 a = s->p[0], b = s->p[1], c = s->p[2];
-    kc_vec3 ab = v_sub(b, a), ac = v_sub(c, a);
-    kc_real d1 = -v_dot(ab, a), d2 = -v_dot(ac, a);
+    kc_vec3 ab = kc_v3_sub(b, a), ac = kc_v3_sub(c, a);
+    kc_real d1 = -kc_v3_dot(ab, a), d2 = -kc_v3_dot(ac, a);
     if (d1 <= KC_R(0.0) && d2 <= KC_R(0.0)) {
         s->n = 1;
         return a;
     }
-    kc_real d3 = -v_dot(ab, b), d4 = -v_dot(ac, b);
+    kc_real d3 = -kc_v3_dot(ab, b), d4 = -kc_v3_dot(ac, b);
     if (d3 >= KC_R(0.0) && d4 <= d3) {
         s->n = 1;
         s->p[0] = b;
@@ -201,9 +190,9 @@ static kc_vec3 closest_triangle(simplex *s)
     kc_real vc = d1 * d4 - d3 * d2;
     if (vc <= KC_R(0.0) && d1 >= KC_R(0.0) && d3 <= KC_R(0.0)) {
         s->n = 2;
-        return v_add_scaled(a, ab, d1 / (d1 - d3));
+        return kc_v3_add_scaled(a, ab, d1 / (d1 - d3));
     }
-    kc_real d5 = -v_dot(ab, c), d6 = -v_dot(ac, c);
+    kc_real d5 = -kc_v3_dot(ab, c), d6 = -kc_v3_dot(ac, c);
     if (d6 >= KC_R(0.0) && d5 <= d6) {
         s->n = 1;
         s->p[0] = c;
@@ -213,25 +202,25 @@ static kc_vec3 closest_triangle(simplex *s)
     if (vb <= KC_R(0.0) && d2 >= KC_R(0.0) && d6 <= KC_R(0.0)) {
         s->n = 2;
         s->p[1] = c;
-        return v_add_scaled(a, ac, d2 / (d2 - d6));
+        return kc_v3_add_scaled(a, ac, d2 / (d2 - d6));
     }
     kc_real va = d3 * d6 - d5 * d4;
     if (va <= KC_R(0.0) && d4 - d3 >= KC_R(0.0) && d5 - d6 >= KC_R(0.0)) {
         s->n = 2;
         s->p[0] = b;
         s->p[1] = c;
-        return v_add_scaled(b, v_sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)));
+        return kc_v3_add_scaled(b, kc_v3_sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)));
     }
     kc_real sum = va + vb + vc;
     if (!(sum > KC_R(0.0))) {
         /* Degenerate (collinear) triangle: its longest edge carries it. */
         s->n = 2;
-        if (v_dot(ac, ac) > v_dot(ab, ab))
+        if (kc_v3_dot(ac, ac) > kc_v3_dot(ab, ab))
             s->p[1] = c;
         return closest_segment(s);
     }
     kc_real denom = KC_R(1.0) / sum;
-    return v_add_scaled(v_add_scaled(a, ab, vb * denom), ac, vc * denom);
+    return kc_v3_add_scaled(kc_v3_add_scaled(a, ab, vb * denom), ac, vc * denom);
 }
 
 /* Closest point to the origin on tetrahedron abcd (Ericson 5.1.6): the
@@ -246,8 +235,8 @@ static kc_vec3 closest_tetra(simplex *s)
     int outside_any = 0;
     for (int f = 0; f < 4; f++) {
         kc_vec3 a = s->p[face[f][0]], b = s->p[face[f][1]], c = s->p[face[f][2]], d = s->p[face[f][3]];
-        kc_vec3 nrm = v_cross(v_sub(b, a), v_sub(c, a));
-        kc_real side_o = -v_dot(a, nrm), side_d = v_dot(v_sub(d, a), nrm);
+        kc_vec3 nrm = kc_v3_cross(kc_v3_sub(b, a), kc_v3_sub(c, a));
+        kc_real side_o = -kc_v3_dot(a, nrm), side_d = kc_v3_dot(kc_v3_sub(d, a), nrm);
         /* Outside this face (or a flat tetrahedron: try every face). */
         if (side_o * side_d < KC_R(0.0) || side_d == KC_R(0.0)) {
             simplex t;
@@ -256,7 +245,7 @@ static kc_vec3 closest_tetra(simplex *s)
             t.p[1] = b;
             t.p[2] = c;
             kc_vec3 q = closest_triangle(&t);
-            kc_real q2 = v_dot(q, q);
+            kc_real q2 = kc_v3_dot(q, q);
             outside_any = 1;
             if (q2 < best2) {
                 best2 = q2;
@@ -277,24 +266,24 @@ static kc_vec3 closest_tetra(simplex *s)
 static kc_real gjk(const kc_shape *a, const kc_shape *b, kc_real stop)
 {
     simplex s;
-    kc_vec3 d = v_sub(a->pose.t, b->pose.t);
-    if (!(v_dot(d, d) > KC_R(0.0)))
+    kc_vec3 d = kc_v3_sub(a->pose.t, b->pose.t);
+    if (!(kc_v3_dot(d, d) > KC_R(0.0)))
         d = kc_vec3_make(KC_R(1.0), KC_R(0.0), KC_R(0.0));
-    kc_vec3 nd = v_neg(d);
+    kc_vec3 nd = kc_v3_neg(d);
     s.n = 1;
-    s.p[0] = v_sub(support(a, &nd), support(b, &d));
+    s.p[0] = kc_v3_sub(support(a, &nd), support(b, &d));
     kc_vec3 v = s.p[0];
     kc_real lower = KC_R(0.0);
     /* Below this |v| the cores touch within the tolerance. */
     const kc_real tiny = KC_R(0.1) * KC_ZONE_TOL;
     for (int it = 0; it < KC_ZONE_GJK_ITERS; it++) {
-        kc_real vv = v_dot(v, v);
+        kc_real vv = kc_v3_dot(v, v);
         if (!(vv > tiny * tiny))
             return KC_R(0.0);
-        kc_vec3 nv = v_neg(v);
-        kc_vec3 w = v_sub(support(a, &nv), support(b, &v));
+        kc_vec3 nv = kc_v3_neg(v);
+        kc_vec3 w = kc_v3_sub(support(a, &nv), support(b, &v));
         kc_real norm = kc_sqrt(vv);
-        lower = kc_max(lower, v_dot(v, w) / norm);
+        lower = kc_max(lower, kc_v3_dot(v, w) / norm);
         if (norm - lower <= KC_ZONE_TOL || lower > stop)
             break;
         int dup = 0;
@@ -320,9 +309,9 @@ static kc_real gjk(const kc_shape *a, const kc_shape *b, kc_real stop)
 static kc_real halfspace_distance(const kc_shape *h, const kc_shape *s)
 {
     kc_vec3 n = kc_vec3_make(h->pose.R.m[0][2], h->pose.R.m[1][2], h->pose.R.m[2][2]);
-    kc_vec3 nn = v_neg(n);
+    kc_vec3 nn = kc_v3_neg(n);
     kc_vec3 p = support(s, &nn);
-    return kc_max(v_dot(n, v_sub(p, h->pose.t)) - core_radius(s), KC_R(0.0));
+    return kc_max(kc_v3_dot(n, kc_v3_sub(p, h->pose.t)) - core_radius(s), KC_R(0.0));
 }
 
 kc_status kc_shape_distance(const kc_shape *a, const kc_shape *b, kc_real *dist)
@@ -428,7 +417,7 @@ kc_status kc_zone_check(const kc_chain *chain, const kc_zone_set *set, const kc_
                     d = halfspace_distance(zn, &w);
                 } else {
                     /* The bounding spheres' gap bounds the distance below. */
-                    kc_vec3 dc = v_sub(w.pose.t, zn->pose.t);
+                    kc_vec3 dc = kc_v3_sub(w.pose.t, zn->pose.t);
                     kc_real gap = kc_vec3_norm(&dc) - rw - kc_shape_bound_radius(zn);
                     /* Only the closest pair needs its exact distance: GJK
                      * stops once a pair is known to be farther than the

@@ -94,7 +94,7 @@
 
 #include "kinctl/ik.h"
 #include "kinctl/interp.h"
-#include "kinctl/path.h"
+#include "kinctl/path_cart.h"
 #include "kinctl/profile.h"
 #include "kinctl/zone.h"
 

@@ -12,6 +12,7 @@
 #include "kinctl/profile.h"
 #include "kinctl/interp.h"
 #include "kinctl/path.h"
+#include "kinctl/path_cart.h"
 #include "kinctl/zone.h"
 #include "kinctl/ctrl.h"
 
