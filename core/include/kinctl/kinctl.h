@@ -13,6 +13,7 @@
 #include "kinctl/interp.h"
 #include "kinctl/path.h"
 #include "kinctl/path_cart.h"
+#include "kinctl/shape.h"
 #include "kinctl/zone.h"
 #include "kinctl/ctrl.h"
 
