@@ -112,7 +112,9 @@ kc_status kc_zone_check(const kc_chain *chain, const kc_zone_set *set, const kc_
                     if (gap > far)
                         d = gap;
                     else
-                        d = kc_max(kc_shape_gjk(&w, zn, best.distance + radii) - kc_shape_core_radius(&w) - kc_shape_core_radius(zn), KC_R(0.0));
+                        d = kc_max(kc_shape_gjk(&w, zn, best.distance + radii) - kc_shape_core_radius(&w) -
+                                       kc_shape_core_radius(zn),
+                                   KC_R(0.0));
                 }
                 if (d < best.distance) {
                     best.distance = d;
