@@ -78,6 +78,34 @@ kc_status kc_ctrl_init(kc_ctrl *c, const kc_chain *chain, const kc_ctrl_cfg *cfg
     return KC_OK;
 }
 
+void kc_ctrl_restart(kc_ctrl *c, const kc_real *q_at, const kc_real *q)
+{
+    int n = c->chain->n_joints;
+    c->state = KC_CTRL_IDLE;
+    c->cycle = 0;
+    memset(c->q, 0, sizeof c->q);
+    memset(c->qd, 0, sizeof c->qd);
+    memset(c->qdd, 0, sizeof c->qdd);
+    memcpy(c->q, q_at, sizeof(kc_real) * (size_t)n);
+    c->queue_head = 0;
+    c->queue_len = 0;
+    c->active = 0;
+    memset(&c->goal, 0, sizeof c->goal);
+    c->k0 = 0;
+    c->drive = KC_DRIVE_NOMINAL;
+    c->stop_intent = KC_CMD_NONE;
+    c->fault_reason = KC_REASON_NONE;
+    c->path_length = KC_R(0.0);
+    memset(&c->servo_target, 0, sizeof c->servo_target);
+    c->servo_last = 0;
+    c->settle = 0;
+    c->jstop = 0;
+    c->jstop_k0 = 0;
+    c->after_stop = KC_CTRL_IDLE;
+    kc_ctrl_zone_init(c);
+    memcpy(c->q, q, sizeof(kc_real) * (size_t)n);
+}
+
 static int at_rest(const kc_ctrl *c)
 {
     for (int j = 0; j < c->chain->n_joints; j++)

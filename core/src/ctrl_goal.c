@@ -1,5 +1,5 @@
-/* ctrl_goal.c - the cheap checks of a goal and the texts of the reasons
- * (kinctl/ctrl.h). */
+/* ctrl_goal.c - the cheap checks of a goal, as a verdict naming the field,
+ * knot and joint at fault, and the texts of the reasons (kinctl/ctrl.h). */
 #include "ctrl_internal.h"
 
 #include <string.h>
@@ -33,74 +33,122 @@ static int pose_ok(const kc_pose *p)
 
 static int scale_ok(kc_real s) { return kc_isfinite(s) && s > KC_R(0.0) && s <= KC_R(1.0); }
 
-kc_status kc_ctrl_refuse(kc_ctrl_reason *reason, kc_ctrl_reason why)
+void kc_ctrl_verdict_init(kc_verdict *v)
 {
-    if (reason != NULL)
-        *reason = why;
+    memset(v, 0, sizeof *v);
+    v->status = KC_OK;
+    v->reason = KC_REASON_NONE;
+    v->field = KC_FIELD_NONE;
+    v->joint = v->point = -1;
+    v->tick = -1;
+    v->zone = v->volume = -1;
+    v->distance = INF;
+}
+
+kc_status kc_ctrl_refuse(kc_verdict *v, kc_ctrl_reason why, kc_goal_field field, int point, int joint,
+                         kc_real value)
+{
+    if (v != NULL) {
+        v->status = KC_E_ARG;
+        v->reason = why;
+        v->field = field;
+        v->point = point;
+        v->joint = joint;
+        v->value = value;
+    }
     return KC_E_ARG;
 }
 
-kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *g, kc_ctrl_reason *reason)
+/* Refused for a field that is not finite or out of its domain. */
+static kc_status bad(kc_verdict *v)
 {
+    return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, -1, KC_R(0.0));
+}
+
+/* Joint targets q of knot point (-1: a joint move's target): inside the
+ * position limits, naming the first joint that is not. */
+static kc_status targets_ok(const kc_chain *chain, const kc_real *q, int point, kc_verdict *v)
+{
+    int j = -1;
+    kc_status st = kc_chain_check_q(chain, q, &j);
+    if (st == KC_OK)
+        return KC_OK;
+    kc_real value = j >= 0 && j < chain->n_joints ? q[j] : KC_R(0.0);
+    /* A knot that fails at all is out of its limits (its numbers were
+     * checked finite before). */
+    if (st == KC_E_LIMIT || point >= 0)
+        return kc_ctrl_refuse(v, KC_REASON_JOINT_LIMIT, KC_FIELD_TARGET, point, j, value);
+    return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_TARGET, point, j, value);
+}
+
+/* A path's knots: count, method, numbers, joint targets, then times. */
+static kc_status path_ok(const kc_chain *chain, const kc_goal *g, kc_verdict *v)
+{
+    int n = chain->n_joints, dim = g->kind == KC_GOAL_PATH ? n : 7;
+    if (g->dim != 0 && g->dim != dim)
+        return kc_ctrl_refuse(v, g->kind == KC_GOAL_PATH ? KC_REASON_JOINT_COUNT : KC_REASON_BAD_GOAL, KC_FIELD_DIM,
+                              -1, -1, (kc_real)g->dim);
+    if (g->n_points < 1 || g->n_points > KC_PATH_MAX_KNOTS - 1)
+        return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_N_POINTS, -1, -1, (kc_real)g->n_points);
+    if ((unsigned)g->method > (unsigned)KC_PATH_QUINTIC || (unsigned)g->blend > (unsigned)KC_PATH_BLEND_PARABOLIC ||
+        (unsigned)g->spline_end > (unsigned)KC_PATH_SPLINE_NATURAL || !kc_isfinite(g->blend_time) ||
+        g->blend_time < KC_R(0.0))
+        return bad(v);
+    for (int i = 0; i < g->n_points; i++) {
+        for (int j = 0; j < dim; j++)
+            if (!kc_isfinite(g->points[i][j]))
+                return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_TARGET, i, j, KC_R(0.0));
+        if (g->kind == KC_GOAL_PATH && targets_ok(chain, g->points[i], i, v) != KC_OK)
+            return KC_E_ARG;
+    }
+    for (int i = 0; i < g->n_points && g->has_times; i++)
+        if (!kc_isfinite(g->times[i]) || g->times[i] <= (i > 0 ? g->times[i - 1] : KC_R(0.0)))
+            return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_TIMES, i, -1, KC_R(0.0));
+    return KC_OK;
+}
+
+kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *g, kc_verdict *v)
+{
+    if (v != NULL)
+        kc_ctrl_verdict_init(v);
     if (chain == NULL || g == NULL)
-        return kc_ctrl_refuse(reason, KC_REASON_BAD_GOAL);
-    int n = chain->n_joints;
+        return bad(v);
     if ((unsigned)g->kind > (unsigned)KC_GOAL_SERVO || !scale_ok(g->vel_scale) || !scale_ok(g->acc_scale))
-        return kc_ctrl_refuse(reason, KC_REASON_BAD_GOAL);
+        return bad(v);
     if (!kc_isfinite(g->speed) || g->speed < KC_R(0.0) || !kc_isfinite(g->accel) || g->accel < KC_R(0.0) ||
         !kc_isfinite(g->omega) || g->omega < KC_R(0.0) || !kc_isfinite(g->alpha) || g->alpha < KC_R(0.0))
-        return kc_ctrl_refuse(reason, KC_REASON_BAD_GOAL);
+        return bad(v);
     switch (g->kind) {
-    case KC_GOAL_JOINT: {
-        int bad = 0;
-        kc_status st = kc_chain_check_q(chain, g->q, &bad);
-        if (st == KC_E_LIMIT)
-            return kc_ctrl_refuse(reason, KC_REASON_JOINT_LIMIT);
-        if (st != KC_OK)
-            return kc_ctrl_refuse(reason, KC_REASON_BAD_GOAL);
+    case KC_GOAL_JOINT:
+        if (g->dim != 0 && g->dim != chain->n_joints)
+            return kc_ctrl_refuse(v, KC_REASON_JOINT_COUNT, KC_FIELD_DIM, -1, -1, (kc_real)g->dim);
+        if (targets_ok(chain, g->q, -1, v) != KC_OK)
+            return KC_E_ARG;
         break;
-    }
     case KC_GOAL_LINE:
-        if (!pose_ok(&g->pose) || (g->orient != KC_INTERP_TWO_ROTATIONS && g->orient != KC_INTERP_SLERP))
-            return kc_ctrl_refuse(reason, KC_REASON_BAD_GOAL);
+        if (!pose_ok(&g->pose))
+            return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_ORIENTATION, -1, -1, (kc_real)NAN);
+        if (g->orient != KC_INTERP_TWO_ROTATIONS && g->orient != KC_INTERP_SLERP)
+            return bad(v);
         break;
     case KC_GOAL_ARC:
         if (!kc_vec3_isfinite(&g->pose.t) || !kc_vec3_isfinite(&g->via))
-            return kc_ctrl_refuse(reason, KC_REASON_BAD_GOAL);
+            return bad(v);
         break;
     case KC_GOAL_PATH:
-    case KC_GOAL_PATH_CART: {
-        int dim = g->kind == KC_GOAL_PATH ? n : 7;
-        if (g->n_points < 1 || g->n_points > KC_PATH_MAX_KNOTS - 1 ||
-            (unsigned)g->method > (unsigned)KC_PATH_QUINTIC || (unsigned)g->blend > (unsigned)KC_PATH_BLEND_PARABOLIC ||
-            (unsigned)g->spline_end > (unsigned)KC_PATH_SPLINE_NATURAL || !kc_isfinite(g->blend_time) ||
-            g->blend_time < KC_R(0.0))
-            return kc_ctrl_refuse(reason, KC_REASON_BAD_GOAL);
-        for (int i = 0; i < g->n_points; i++) {
-            for (int j = 0; j < dim; j++)
-                if (!kc_isfinite(g->points[i][j]))
-                    return kc_ctrl_refuse(reason, KC_REASON_BAD_GOAL);
-            if (g->kind == KC_GOAL_PATH) {
-                int bad = 0;
-                if (kc_chain_check_q(chain, g->points[i], &bad) != KC_OK)
-                    return kc_ctrl_refuse(reason, KC_REASON_JOINT_LIMIT);
-            }
-            if (g->has_times && (!kc_isfinite(g->times[i]) || g->times[i] <= (i > 0 ? g->times[i - 1] : KC_R(0.0))))
-                return kc_ctrl_refuse(reason, KC_REASON_BAD_GOAL);
-        }
+    case KC_GOAL_PATH_CART:
+        if (path_ok(chain, g, v) != KC_OK)
+            return KC_E_ARG;
         break;
-    }
     case KC_GOAL_SERVO:
         if (g->servo_twist) {
             for (int i = 0; i < 6; i++)
                 if (!kc_isfinite(g->twist[i]))
-                    return kc_ctrl_refuse(reason, KC_REASON_BAD_GOAL);
+                    return bad(v);
         } else if (!pose_ok(&g->pose)) {
-            return kc_ctrl_refuse(reason, KC_REASON_BAD_GOAL);
+            return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_ORIENTATION, -1, -1, (kc_real)NAN);
         }
         break;
     }
-    if (reason != NULL)
-        *reason = KC_REASON_NONE;
     return KC_OK;
 }

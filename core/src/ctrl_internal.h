@@ -1,9 +1,9 @@
 /* ctrl_internal.h - what the rooms of the controller share (kinctl/ctrl.h
  * is the behaviour): ctrl.c (configuration, init, commands, the step),
- * ctrl_goal.c (goal checks), ctrl_zone.c (forbidden zones), ctrl_queue.c
+ * ctrl_goal.c (goal checks and verdicts), ctrl_zone.c (forbidden zones), ctrl_queue.c
  * (events, the queue, goals taken), ctrl_seg.c (segments: planning and
  * evaluation), ctrl_stop.c (stops on the path, resume, faults) and
- * ctrl_check.c (the dry run). Private to the core. */
+ * check.c (the dry run, kinctl/check.h). Private to the core. */
 #ifndef KINCTL_CTRL_INTERNAL_H
 #define KINCTL_CTRL_INTERNAL_H
 
@@ -48,10 +48,23 @@ static inline int kc_ctrl_is_path(kc_goal_kind k) { return k == KC_GOAL_PATH || 
 /* A stop in joint space is under way. */
 static inline int kc_ctrl_joint_stopping(const kc_ctrl *c) { return c->jstop; }
 
+/* ---- ctrl.c ---- */
+
+/* Puts an initialised controller back at rest at q_at, idle, nothing
+ * queued or active, as kc_ctrl_init leaves it (the zone state judged at
+ * q_at), then its joints at q: the plan buffers are not cleared (each is
+ * written before it is read) and nothing is validated again. */
+void kc_ctrl_restart(kc_ctrl *c, const kc_real *q_at, const kc_real *q);
+
 /* ---- ctrl_goal.c: goal checks ---- */
 
-/* Sets *reason (if not NULL) to why; KC_E_ARG. */
-kc_status kc_ctrl_refuse(kc_ctrl_reason *reason, kc_ctrl_reason why);
+/* A verdict that takes the goal, naming nothing. */
+void kc_ctrl_verdict_init(kc_verdict *v);
+
+/* Fills *v (if not NULL): refused (KC_E_ARG) for why, naming the field,
+ * knot, joint and number at fault; returns KC_E_ARG. */
+kc_status kc_ctrl_refuse(kc_verdict *v, kc_ctrl_reason why, kc_goal_field field, int point, int joint,
+                         kc_real value);
 
 /* ---- ctrl_zone.c: forbidden zones ---- */
 

@@ -87,10 +87,10 @@ static void take_retarget(kc_ctrl *c, const kc_goal *g)
 
 void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
 {
-    kc_ctrl_reason why = KC_REASON_NONE;
+    kc_verdict v;
     /* A servo update for the active servo goal moves its target. */
     if (g->kind == KC_GOAL_SERVO && c->active && c->goal.kind == KC_GOAL_SERVO && g->id == c->goal.id &&
-        kc_ctrl_goal_check(c->chain, g, &why) == KC_OK) {
+        kc_ctrl_goal_check(c->chain, g, &v) == KC_OK) {
         c->goal.servo_twist = g->servo_twist;
         memcpy(c->goal.twist, g->twist, sizeof g->twist);
         if (!g->servo_twist)
@@ -101,7 +101,7 @@ void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     /* So does one for a servo goal still waiting in the queue (a replacing
      * servo goal waits while the motion before it stops on its path): the
      * stream's messages are one goal, answered once. */
-    if (g->kind == KC_GOAL_SERVO && kc_ctrl_goal_check(c->chain, g, &why) == KC_OK) {
+    if (g->kind == KC_GOAL_SERVO && kc_ctrl_goal_check(c->chain, g, &v) == KC_OK) {
         for (int i = 0; i < c->queue_len; i++) {
             kc_goal *w = &c->queue[(c->queue_head + i) % KC_CTRL_QUEUE_MAX];
             if (w->kind == KC_GOAL_SERVO && w->id == g->id) {
@@ -121,8 +121,8 @@ void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
         kc_ctrl_emit(out, KC_EVENT_REJECTED, g->id, KC_REASON_DUPLICATE_ID, 0);
         return;
     }
-    if (kc_ctrl_goal_check(c->chain, g, &why) != KC_OK) {
-        kc_ctrl_emit(out, KC_EVENT_REJECTED, g->id, why, 0);
+    if (kc_ctrl_goal_check(c->chain, g, &v) != KC_OK) {
+        kc_ctrl_emit(out, KC_EVENT_REJECTED, g->id, v.reason, 0);
         return;
     }
     if (g->replace) {

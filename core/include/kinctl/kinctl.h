@@ -16,5 +16,6 @@
 #include "kinctl/shape.h"
 #include "kinctl/zone.h"
 #include "kinctl/ctrl.h"
+#include "kinctl/check.h"
 
 #endif /* KINCTL_KINCTL_H */
