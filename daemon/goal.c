@@ -41,9 +41,24 @@ static void vec3_of(const double *v, kc_vec3 *dest)
     dest->v[2] = (kc_real)v[2];
 }
 
+/* A Cartesian motion's speed and acceleration bounds (0: the configured
+ * ones) and the fractions of the joints' limits. */
+static void cart_rates(kc_goal *g, double speed, double accel, double omega, double alpha, double vel_scale,
+                       double acc_scale)
+{
+    g->speed = (kc_real)speed;
+    g->accel = (kc_real)accel;
+    g->omega = (kc_real)omega;
+    g->alpha = (kc_real)alpha;
+    g->vel_scale = scale_of(vel_scale);
+    g->acc_scale = scale_of(acc_scale);
+}
+
 static void joint_goal(const kinctl_goal_joint_t *m, kc_goal *g)
 {
     int j;
+    g->id = m->goal_id;
+    g->replace = m->mode == KINCTL_GOAL_JOINT_T_REPLACE;
     g->kind = KC_GOAL_JOINT;
     g->dim = (int)m->n;
     for (j = 0; j < m->n && j < KC_MAX_JOINTS; j++)
@@ -54,33 +69,27 @@ static void joint_goal(const kinctl_goal_joint_t *m, kc_goal *g)
 
 static int line_goal(const kinctl_goal_line_t *m, kc_goal *g, kc_verdict *v)
 {
+    g->id = m->goal_id;
+    g->replace = m->mode == KINCTL_GOAL_LINE_T_REPLACE;
     g->kind = KC_GOAL_LINE;
     vec3_of(m->position, &g->pose.t);
     if (rotation_of(m->orientation, &g->pose.R, v) != 0)
         return -1;
-    g->speed = (kc_real)m->speed;
-    g->accel = (kc_real)m->accel;
-    g->omega = (kc_real)m->angular_speed;
-    g->alpha = (kc_real)m->angular_accel;
     g->orient = m->orientation_method == KINCTL_GOAL_LINE_T_SLERP ? KC_INTERP_SLERP : KC_INTERP_TWO_ROTATIONS;
-    g->vel_scale = scale_of(m->vel_scale);
-    g->acc_scale = scale_of(m->acc_scale);
+    cart_rates(g, m->speed, m->accel, m->angular_speed, m->angular_accel, m->vel_scale, m->acc_scale);
     return 0;
 }
 
 static int arc_goal(const kinctl_goal_arc_t *m, kc_goal *g, kc_verdict *v)
 {
+    g->id = m->goal_id;
+    g->replace = m->mode == KINCTL_GOAL_ARC_T_REPLACE;
     g->kind = KC_GOAL_ARC;
     vec3_of(m->position, &g->pose.t);
     vec3_of(m->via, &g->via);
     if (rotation_of(m->orientation, &g->pose.R, v) != 0)
         return -1;
-    g->speed = (kc_real)m->speed;
-    g->accel = (kc_real)m->accel;
-    g->omega = (kc_real)m->angular_speed;
-    g->alpha = (kc_real)m->angular_accel;
-    g->vel_scale = scale_of(m->vel_scale);
-    g->acc_scale = scale_of(m->acc_scale);
+    cart_rates(g, m->speed, m->accel, m->angular_speed, m->angular_accel, m->vel_scale, m->acc_scale);
     return 0;
 }
 
@@ -89,6 +98,8 @@ static int arc_goal(const kinctl_goal_arc_t *m, kc_goal *g, kc_verdict *v)
 static void path_goal(const kinctl_goal_path_t *m, kc_goal *g)
 {
     int i, j;
+    g->id = m->goal_id;
+    g->replace = m->mode == KINCTL_GOAL_PATH_T_REPLACE;
     g->kind = m->space == KINCTL_GOAL_PATH_T_JOINT ? KC_GOAL_PATH : KC_GOAL_PATH_CART;
     g->dim = (int)m->dim;
     switch (m->method) {
@@ -119,6 +130,8 @@ static int servo_goal(const kinctl_goal_servo_t *m, double timeout_max_s, kc_goa
 {
     int i;
     double t = (double)m->timeout_us * 1e3, t_max = timeout_max_s * 1e9;
+    g->id = m->goal_id;
+    g->replace = m->mode == KINCTL_GOAL_SERVO_T_REPLACE;
     g->kind = KC_GOAL_SERVO;
     g->vel_scale = 1;
     g->acc_scale = 1;
@@ -139,37 +152,24 @@ static int servo_goal(const kinctl_goal_servo_t *m, double timeout_max_s, kc_goa
 int kd_goal_from_msg(kd_msg_type type, const kd_msg_any *msg, double servo_timeout_max_s, kc_goal *goal,
                      int64_t *servo_timeout_ns, kc_verdict *verdict)
 {
-    int mode, st = 0;
+    int st = 0;
     memset(goal, 0, sizeof *goal);
-    memset(verdict, 0, sizeof *verdict);
-    verdict->status = KC_OK;
-    verdict->joint = verdict->point = verdict->zone = verdict->volume = -1;
-    verdict->tick = -1;
+    kc_ctrl_verdict_init(verdict);
     *servo_timeout_ns = 0;
     switch (type) {
     case KD_MSG_GOAL_JOINT:
-        goal->id = msg->goal_joint.goal_id;
-        mode = (int)msg->goal_joint.mode;
         joint_goal(&msg->goal_joint, goal);
         break;
     case KD_MSG_GOAL_LINE:
-        goal->id = msg->goal_line.goal_id;
-        mode = (int)msg->goal_line.mode;
         st = line_goal(&msg->goal_line, goal, verdict);
         break;
     case KD_MSG_GOAL_ARC:
-        goal->id = msg->goal_arc.goal_id;
-        mode = (int)msg->goal_arc.mode;
         st = arc_goal(&msg->goal_arc, goal, verdict);
         break;
     case KD_MSG_GOAL_PATH:
-        goal->id = msg->goal_path.goal_id;
-        mode = (int)msg->goal_path.mode;
         path_goal(&msg->goal_path, goal);
         break;
     case KD_MSG_GOAL_SERVO:
-        goal->id = msg->goal_servo.goal_id;
-        mode = (int)msg->goal_servo.mode;
         st = servo_goal(&msg->goal_servo, servo_timeout_max_s, goal, servo_timeout_ns, verdict);
         break;
     default:
@@ -177,8 +177,5 @@ int kd_goal_from_msg(kd_msg_type type, const kd_msg_any *msg, double servo_timeo
         verdict->reason = KC_REASON_BAD_GOAL;
         return -1;
     }
-    if (st != 0)
-        return -1;
-    goal->replace = mode == KINCTL_GOAL_JOINT_T_REPLACE;
-    return 0;
+    return st != 0 ? -1 : 0;
 }

@@ -58,9 +58,6 @@ void kc_ctrl_restart(kc_ctrl *c, const kc_real *q_at, const kc_real *q);
 
 /* ---- ctrl_goal.c: goal checks ---- */
 
-/* A verdict that takes the goal, naming nothing. */
-void kc_ctrl_verdict_init(kc_verdict *v);
-
 /* Fills *v (if not NULL): refused (KC_E_ARG) for why, naming the field,
  * knot, joint and number at fault; returns KC_E_ARG. */
 kc_status kc_ctrl_refuse(kc_verdict *v, kc_ctrl_reason why, kc_goal_field field, int point, int joint,

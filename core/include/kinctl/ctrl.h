@@ -359,6 +359,10 @@ kc_status kc_ctrl_init(kc_ctrl *ctrl, const kc_chain *chain, const kc_ctrl_cfg *
  * kc_zone_tick_travel(chain, dt) (when both zones and volumes exist). */
 kc_status kc_ctrl_cfg_check(const kc_ctrl_cfg *cfg, const kc_chain *chain);
 
+/* A verdict that takes the goal and names nothing: indices -1, no tick,
+ * infinite distance. */
+void kc_ctrl_verdict_init(kc_verdict *verdict);
+
 /* The cheap checks of a goal: finite fields, scales in (0, 1], joint
  * counts, joint targets inside the limits (naming the joint and knot),
  * knot counts and times. KC_OK or KC_E_ARG; *verdict (if not NULL) says
