@@ -432,11 +432,35 @@ static kc_status dry_run(const kc_path_knots *K, const kc_path_limits *L, int bo
     return KC_OK;
 }
 
+/* Segment times from the limits (path.h): seg[i] is the trapezoid time, the
+ * caller's rule; here the blend floor and the zero-motion check. */
+static kc_status computed_times(kc_path_knots *K, const kc_real *seg, kc_real t_acc_rule)
+{
+    if (K->method == KC_PATH_BLEND && K->t_acc == KC_R(0.0))
+        K->t_acc = t_acc_rule;
+    K->t0 = KC_R(0.0);
+    K->d[0] = KC_R(0.0);
+    for (int i = 0; i + 1 < K->n; i++) {
+        kc_real T = seg[i];
+        if (K->method == KC_PATH_BLEND)
+            T = kc_max(T, KC_R(2.0) * K->t_acc);
+        if (!(T > KC_R(0.0)) || !kc_isfinite(T))
+            return KC_E_ARG;
+        K->d[i + 1] = K->d[i] + T;
+    }
+    return KC_OK;
+}
+
 /* Validates times, t_acc and derived data, stretches if the limits ask for
  * it, and checks every piece. K holds knots, times (d), t_acc (0: from the
  * limits, computed times only) and the given velocities/accelerations. */
-kc_status kc_path_prepare(kc_path_knots *K, const kc_path_limits *L)
+kc_status kc_path_prepare(kc_path_knots *K, const kc_path_limits *L, const kc_real *seg, kc_real ratio)
 {
+    if (seg != NULL) {
+        kc_status st = computed_times(K, seg, (K->blend == KC_PATH_BLEND_PARABOLIC ? KC_R(1.0) : KC_R(1.5)) * ratio);
+        if (st != KC_OK)
+            return st;
+    }
     /* Times: strictly increasing after the shift to t_0. */
     for (int i = 0; i + 1 < K->n; i++)
         if (!(kc_path_seg_time(K, i) > KC_R(0.0)) || !kc_isfinite(K->d[i + 1]))
@@ -479,24 +503,6 @@ kc_status kc_path_prepare(kc_path_knots *K, const kc_path_limits *L)
     return KC_OK;
 }
 
-/* Segment times from the limits (path.h): seg[i] is the trapezoid time, the
- * caller's rule; here the blend floor and the zero-motion check. */
-kc_status kc_path_computed_times(kc_path_knots *K, const kc_real *seg, kc_real t_acc_rule)
-{
-    if (K->method == KC_PATH_BLEND && K->t_acc == KC_R(0.0))
-        K->t_acc = t_acc_rule;
-    K->t0 = KC_R(0.0);
-    K->d[0] = KC_R(0.0);
-    for (int i = 0; i + 1 < K->n; i++) {
-        kc_real T = seg[i];
-        if (K->method == KC_PATH_BLEND)
-            T = kc_max(T, KC_R(2.0) * K->t_acc);
-        if (!(T > KC_R(0.0)) || !kc_isfinite(T))
-            return KC_E_ARG;
-        K->d[i + 1] = K->d[i] + T;
-    }
-    return KC_OK;
-}
 
 static int64_t tick_count(kc_real duration, kc_real dt)
 {
@@ -625,16 +631,11 @@ kc_path_cfg kc_path_cfg_default(void)
 {
     kc_path_cfg c;
     memset(&c, 0, sizeof c);
-    c.method = KC_PATH_BLEND;
-    c.blend = KC_PATH_BLEND_QUARTIC;
-    c.spline_end = KC_PATH_SPLINE_CLAMPED;
-    c.n_knots = 0;
+    KC_PATH_KNOT_DEFAULTS(c);
     c.dim = 0;
-    c.q = c.t = c.qd = c.qdd = NULL;
-    c.t_acc = KC_R(0.0);
+    c.q = c.qd = c.qdd = NULL;
     for (int j = 0; j < KC_MAX_JOINTS; j++)
         c.vmax[j] = c.amax[j] = KC_R(1.0);
-    c.dt = KC_R(0.001);
     return c;
 }
 
@@ -667,11 +668,11 @@ kc_status kc_path_plan(kc_path *path, const kc_path_cfg *cfg)
     K.have_a = cfg->qdd != NULL;
     memset(&L, 0, sizeof L);
     L.computed = cfg->t == NULL;
+    kc_real seg[KC_PATH_MAX_KNOTS] = {KC_R(0.0)}; /* computed times: the loop below fills seg[0..n-1) */
+    kc_real ratio = KC_R(0.0);
     if (cfg->t != NULL) {
         kc_path_given_times(&K, cfg->t);
     } else {
-        kc_real seg[KC_PATH_MAX_KNOTS] = {KC_R(0.0)}; /* the loop below fills seg[0..n-1) */
-        kc_real ratio = KC_R(0.0);
         for (int j = 0; j < dim; j++) {
             if (!kc_path_finite_positive(cfg->vmax[j]) || !kc_path_finite_positive(cfg->amax[j]))
                 return KC_E_ARG;
@@ -684,12 +685,8 @@ kc_status kc_path_plan(kc_path *path, const kc_path_cfg *cfg)
             for (int j = 0; j < dim; j++)
                 seg[i] = kc_max(seg[i], kc_path_t_trap(kc_fabs(K.q[i + 1][j] - K.q[i][j]), L.vmax[j], L.amax[j]));
         }
-        kc_real rule = (cfg->blend == KC_PATH_BLEND_PARABOLIC ? KC_R(1.0) : KC_R(1.5)) * ratio;
-        st = kc_path_computed_times(&K, seg, rule);
-        if (st != KC_OK)
-            return st;
     }
-    st = kc_path_prepare(&K, &L);
+    st = kc_path_prepare(&K, &L, cfg->t == NULL ? seg : NULL, ratio);
     if (st != KC_OK)
         return st;
     kc_path_commit(path, &K);

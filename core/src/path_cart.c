@@ -271,19 +271,13 @@ kc_path_cart_cfg kc_path_cart_cfg_default(void)
 {
     kc_path_cart_cfg c;
     memset(&c, 0, sizeof c);
-    c.method = KC_PATH_BLEND;
-    c.blend = KC_PATH_BLEND_QUARTIC;
-    c.spline_end = KC_PATH_SPLINE_CLAMPED;
-    c.n_knots = 0;
+    KC_PATH_KNOT_DEFAULTS(c);
     c.p = NULL;
     c.r = NULL;
-    c.t = NULL;
     c.v = NULL;
     c.a = NULL;
-    c.t_acc = KC_R(0.0);
     c.v_max = c.a_max = KC_R(1.0);
     c.w_max = c.alpha_max = KC_R(0.0);
-    c.dt = KC_R(0.001);
     return c;
 }
 
@@ -344,6 +338,8 @@ kc_status kc_path_cart_plan(kc_path_cart *path, const kc_path_cart_cfg *cfg)
     if (!kc_isfinite(cfg->w_max) || !kc_isfinite(cfg->alpha_max) || cfg->w_max < KC_R(0.0) ||
         cfg->alpha_max < KC_R(0.0) || ((cfg->w_max > KC_R(0.0)) != (cfg->alpha_max > KC_R(0.0))))
         return KC_E_ARG;
+    kc_real seg[KC_PATH_MAX_KNOTS] = {KC_R(0.0)}; /* computed times: the loop below fills seg[0..n-1) */
+    kc_real ratio = KC_R(0.0);
     if (cfg->t != NULL) {
         kc_path_given_times(&K, cfg->t);
     } else {
@@ -352,22 +348,17 @@ kc_status kc_path_cart_plan(kc_path_cart *path, const kc_path_cart_cfg *cfg)
         L.vmax[0] = cfg->v_max;
         L.amax[0] = cfg->a_max;
         int angular = cfg->w_max > KC_R(0.0);
-        kc_real seg[KC_PATH_MAX_KNOTS] = {KC_R(0.0)}; /* the loop below fills seg[0..n-1) */
         for (int i = 0; i + 1 < n; i++) {
             kc_vec3 dp = kc_vec3_make(K.q[i + 1][0] - K.q[i][0], K.q[i + 1][1] - K.q[i][1], K.q[i + 1][2] - K.q[i][2]);
             seg[i] = kc_path_t_trap(kc_vec3_norm(&dp), cfg->v_max, cfg->a_max);
             if (angular)
                 seg[i] = kc_max(seg[i], kc_path_t_trap(angle[i], cfg->w_max, cfg->alpha_max));
         }
-        kc_real ratio = cfg->v_max / cfg->a_max;
+        ratio = cfg->v_max / cfg->a_max;
         if (angular)
             ratio = kc_max(ratio, cfg->w_max / cfg->alpha_max);
-        kc_real rule = (cfg->blend == KC_PATH_BLEND_PARABOLIC ? KC_R(1.0) : KC_R(1.5)) * ratio;
-        st = kc_path_computed_times(&K, seg, rule);
-        if (st != KC_OK)
-            return st;
     }
-    st = kc_path_prepare(&K, &L);
+    st = kc_path_prepare(&K, &L, cfg->t == NULL ? seg : NULL, ratio);
     if (st != KC_OK)
         return st;
     /* Orientation on the final times; dry run first. */

@@ -73,6 +73,20 @@ static inline int kc_path_find_piece(const kc_path *path, kc_real t)
     return lo;
 }
 
+/* The knot settings kc_path_cfg_default and kc_path_cart_cfg_default both
+ * start from (the same fields): quartic blends, clamped splines, no knots,
+ * t_acc 0 (the rule), dt 0.001 s. */
+#define KC_PATH_KNOT_DEFAULTS(c)                                                                                       \
+    do {                                                                                                               \
+        (c).method = KC_PATH_BLEND;                                                                                    \
+        (c).blend = KC_PATH_BLEND_QUARTIC;                                                                             \
+        (c).spline_end = KC_PATH_SPLINE_CLAMPED;                                                                       \
+        (c).n_knots = 0;                                                                                               \
+        (c).t = NULL;                                                                                                  \
+        (c).t_acc = KC_R(0.0);                                                                                         \
+        (c).dt = KC_R(0.001);                                                                                          \
+    } while (0)
+
 /* Blend around a knot: A at its start, B the knot, dC = C - B, T1 the next
  * segment's time; as polynomial coefficients in tau = 2 t_acc h, written
  * to c[0], c[stride], ... */
@@ -98,13 +112,12 @@ void kc_path_knots_init(kc_path_knots *K, kc_path_method m, kc_path_blend b, kc_
 /* The caller's knot times t[0..n). */
 void kc_path_given_times(kc_path_knots *K, const kc_real *t);
 
-/* Segment times from the limits: seg[i] is the trapezoid time, t_acc_rule
- * the blend rule; adds the blend floor and the zero-motion check. */
-kc_status kc_path_computed_times(kc_path_knots *K, const kc_real *seg, kc_real t_acc_rule);
-
-/* Validates times, t_acc and derived data, stretches if the limits ask for
- * it, and checks every piece. */
-kc_status kc_path_prepare(kc_path_knots *K, const kc_path_limits *L);
+/* Times from the limits when seg is not NULL (seg[i] the trapezoid time of
+ * segment i, ratio the largest v/a for the blend rule of kinctl/path.h),
+ * else the given ones already in K; then validates times, t_acc and
+ * derived data, stretches if the limits ask for it, and checks every
+ * piece. */
+kc_status kc_path_prepare(kc_path_knots *K, const kc_path_limits *L, const kc_real *seg, kc_real ratio);
 
 /* Writes the checked plan. */
 void kc_path_commit(kc_path *path, const kc_path_knots *K);
