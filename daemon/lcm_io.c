@@ -190,25 +190,6 @@ static void publish_event(kd_io *io, const kc_ctrl_event *e)
     }
 }
 
-static void track_shadow(kd_io *io, const kd_tick *t)
-{
-    const kc_ctrl_output *o = &t->out;
-    int i, n = io->cfg->chain.n_joints;
-    for (i = 0; i < o->n_events && i < KC_CTRL_EVENTS_MAX; i++) {
-        /* The controller refused the goal last checked: the next one starts
-         * where that one would have. */
-        if (o->events[i].kind == KC_EVENT_REJECTED && o->events[i].goal_id == io->last_goal_id &&
-            io->last_goal_id != 0) {
-            memcpy(io->shadow_q, io->last_start, sizeof(kc_real) * (size_t)n);
-            io->last_goal_id = 0;
-        }
-    }
-    /* At rest with nothing queued or in flight: the next goal starts here. */
-    if ((o->state == KC_CTRL_IDLE || o->state == KC_CTRL_FAULT || o->state == KC_CTRL_ESTOP) && o->goal_id == 0 &&
-        o->queue_length == 0 && t->goals_taken == io->goals_pushed)
-        memcpy(io->shadow_q, o->q, sizeof(kc_real) * (size_t)n);
-}
-
 static void drain_ticks(kd_io *io)
 {
     const kd_tick *t;
@@ -230,7 +211,8 @@ static void drain_ticks(kd_io *io)
             fprintf(stderr, "kinctld: %s\n", rej.text);
             publish_status(io, KINCTL_STATUS_T_NONE, t->out.goal_id, rej.code, rej.text);
         }
-        track_shadow(io, t);
+        /* The dry run learns where the queue ends. */
+        kc_check_tick(io->check, &t->out, t->goals_taken);
     }
     step_errors = atomic_load_explicit(&io->cycle->step_errors, memory_order_relaxed);
     if (step_errors != io->step_errors_seen) {
@@ -242,65 +224,18 @@ static void drain_ticks(kd_io *io)
 
 /* ---- messages in ------------------------------------------------------- */
 
-static const kc_real *latest_q(const kd_io *io)
-{
-    return io->have_last ? io->last.out.q : io->cfg->home;
-}
-
 static void handle_goal(kd_io *io, kd_msg_type type, int64_t received_ns)
 {
     kc_goal *g = &io->goal;
+    kc_verdict v;
     kd_reject rej;
     int64_t servo_timeout_ns = 0;
-    kc_real q_end[KC_MAX_JOINTS];
-    const kc_real *start;
-    kc_ctrl_reason reason = KC_REASON_NONE;
-    kc_status st;
-    int n = io->cfg->chain.n_joints;
 
-    if (kd_goal_from_msg(type, &io->msg, &io->cfg->chain, io->cfg->servo_timeout_s, g, &servo_timeout_ns, &rej) != 0) {
-        reject(io, g->id, &rej);
-        return;
-    }
-    /* The controller's queue as the last tick saw it, plus the goals on
-     * their way to it: when that is full the goal is refused at once, with
-     * no dry run, so a flood costs microseconds a goal and every goal is
-     * still answered. A servo update for the active servo is no new goal. */
-    if (!g->replace && g->kind != KC_GOAL_SERVO && io->have_last &&
-        io->last.out.queue_length + (io->goals_pushed - io->last.goals_taken) >= KC_CTRL_QUEUE_MAX) {
-        kd_reject_set(&rej, KC_REASON_QUEUE_FULL, "the controller's goal queue (%d goals) is full", KC_CTRL_QUEUE_MAX);
-        reject(io, g->id, &rej);
-        return;
-    }
-    start = g->replace ? latest_q(io) : io->shadow_q;
-    if (g->kind == KC_GOAL_SERVO) {
-        st = kc_ctrl_goal_check(&io->cfg->chain, g, &reason);
-        memcpy(q_end, latest_q(io), sizeof(kc_real) * (size_t)n);
-    } else {
-        kc_real where = 0;
-        st = kc_ctrl_check(io->scratch, &io->cfg->chain, &io->check_cfg, g, start, io->check_max_ticks, q_end,
-                           &reason, &where);
-        if (st != KC_OK) {
-            if (reason == KC_REASON_NONE)
-                reason = KC_REASON_PLAN;
-            if (reason == KC_REASON_ZONE) {
-                char pair[256];
-                kd_config_zone_pair(io->cfg, io->scratch->zone_hit.zone, io->scratch->zone_hit.volume, pair,
-                                    sizeof pair);
-                kd_reject_set(&rej, reason, "%s: %s (%.4g m, at %.6g)", kc_ctrl_reason_str(reason), pair,
-                              (double)io->scratch->zone_hit.distance, (double)where);
-            } else if (reason == KC_REASON_UNREACHABLE || reason == KC_REASON_TRACKING)
-                kd_reject_set(&rej, reason, "%s (%s at %.6g)", kc_ctrl_reason_str(reason), kc_status_str(st),
-                              (double)where);
-            else
-                kd_reject_set(&rej, reason, "%s (%s)", kc_ctrl_reason_str(reason), kc_status_str(st));
-            reject(io, g->id, &rej);
-            return;
-        }
-    }
-    if (st != KC_OK) {
-        kd_reject_set(&rej, reason != KC_REASON_NONE ? reason : KC_REASON_BAD_GOAL, "%s (%s)",
-                      kc_ctrl_reason_str(reason), kc_status_str(st));
+    /* Converted, then judged once, by the core: from where the goal will
+     * start, with the queue's room, tick by tick of its motion. */
+    if (kd_goal_from_msg(type, &io->msg, io->cfg->servo_timeout_s, g, &servo_timeout_ns, &v) != 0 ||
+        kc_check_goal(io->check, g, &v) != KC_OK) {
+        kd_reject_verdict(&rej, io->cfg, g, &v);
         reject(io, g->id, &rej);
         return;
     }
@@ -314,9 +249,7 @@ static void handle_goal(kd_io *io, kd_msg_type type, int64_t received_ns)
         return;
     }
     io->goals_pushed++;
-    io->last_goal_id = g->id;
-    memcpy(io->last_start, start, sizeof(kc_real) * (size_t)n);
-    memcpy(io->shadow_q, q_end, sizeof(kc_real) * (size_t)n);
+    kc_check_handed(io->check, g, &v);
 }
 
 static void push_command(kd_io *io, kc_ctrl_command command)
@@ -352,7 +285,7 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel, void *us
         /* Answer only when the datagram is a kinctl goal (whatever is wrong
          * with it): a goal_id read from garbage would be noise. */
         if (kd_msg_identify(rbuf->data, len, &named) == KD_MSG_OK && named <= KD_MSG_GOAL_SERVO)
-            id = kd_goal_id_peek(named, rbuf->data, len);
+            id = kd_msg_goal_id(named, rbuf->data, len);
         if (id != 0) {
             kd_reject rej;
             kd_reject_set(&rej, KC_REASON_BAD_GOAL, "%s on %s: %s", kd_msg_status_str(ms), io->channel[sub->type],
@@ -512,20 +445,18 @@ static void channel_regex(const char *channel, char *dest, size_t size)
     dest[o] = '\0';
 }
 
-int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_ctrl *scratch)
+int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_check *check)
 {
     struct timespec rt, mono;
     int t, n = cfg->chain.n_joints;
     memset(io, 0, sizeof *io);
     io->cfg = cfg;
     io->cycle = cycle;
-    io->scratch = scratch;
+    io->check = check;
     kd_msg_init();
     clock_gettime(CLOCK_REALTIME, &rt);
     clock_gettime(CLOCK_MONOTONIC, &mono);
     io->realtime_offset_ns = ((int64_t)rt.tv_sec - (int64_t)mono.tv_sec) * KD_NS + (rt.tv_nsec - mono.tv_nsec);
-    memcpy(io->shadow_q, cfg->home, sizeof(kc_real) * (size_t)n);
-    memcpy(io->last_start, cfg->home, sizeof(kc_real) * (size_t)n);
     /* The dry run steps the motion at KD_CHECK_PERIOD (or the cycle's period
      * if longer): at 0.25 m/s that samples the path every millimetre, dense
      * enough to catch a line leaving the workspace or meeting a singularity,
@@ -541,7 +472,12 @@ int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_ctrl *scratc
         if (io->check_cfg.dt > dt_max)
             io->check_cfg.dt = kc_max(dt_max, cfg->ctrl.dt);
     }
-    io->check_max_ticks = (int64_t)(cfg->check_max_s / (double)io->check_cfg.dt) + 1;
+    if (kc_check_init(check, &cfg->chain, &io->check_cfg, (int64_t)(cfg->check_max_s / (double)io->check_cfg.dt) + 1,
+                      cfg->home) != KC_OK) {
+        fprintf(stderr, "kinctld: the goals' dry run refuses the configuration (period %.6g s)\n",
+                (double)io->check_cfg.dt);
+        return -1;
+    }
     io->status_period_ns = (int64_t)(1e9 / cfg->status_hz);
     io->stats_period_ns = (int64_t)(1e9 / cfg->stats_hz);
     atomic_init(&io->run, 0);

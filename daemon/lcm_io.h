@@ -6,13 +6,13 @@
  * (prefix "KINCTL_" by default). Every datagram goes through kd_msg_decode
  * (daemon/msg.h); one that fails is counted by its reason and ignored, and
  * answered with a status REJECTED when it names a goal_id. A valid goal is
- * turned into a kc_goal (goal.h) and dry-run with kc_ctrl_check on a
- * scratch controller from where it will start: the end of the last goal
- * accepted for the queue (a shadow the I/O thread keeps, reset to the
- * arm's position whenever the controller is idle with nothing in flight),
- * or the latest setpoint for a replacing goal; servo messages get the cheap
- * kc_ctrl_goal_check only (they stream). Then it goes to the cycle through
- * the goal ring. Servo staleness is judged on CLOCK_MONOTONIC at receipt.
+ * turned into a kc_goal (goal.h) and judged by the core's dry run
+ * (kinctl/check.h kc_check_goal) from where it will start: the end of the
+ * queue, which the kc_check keeps from the goals handed on and the ticks it
+ * is fed, or the latest setpoint for a replacing goal; servo messages get
+ * the cheap checks only (they stream). A goal refused is answered with the
+ * text of its verdict (reject.h); one taken goes to the cycle through the
+ * goal ring. Servo staleness is judged on CLOCK_MONOTONIC at receipt.
  *
  * Out, each encoded into a preallocated buffer with kd_msg_encode:
  *   <prefix>SETPOINT  setpoint_t for every tick the cycle produced
@@ -46,7 +46,9 @@
 #include "config.h"
 #include "cycle.h"
 #include "goal.h"
+#include "kinctl/check.h"
 #include "msg.h"
+#include "reject.h"
 
 #define KD_CHANNEL_MAX (KD_PREFIX_MAX + 24)
 #define KD_INVALID_KINDS 16 /* indexed by -kd_msg_status */
@@ -62,7 +64,7 @@ typedef struct kd_io_sub {
 struct kd_io {
     const kd_config *cfg;
     kd_cycle *cycle;
-    kc_ctrl *scratch; /* kc_ctrl_check's, caller-owned (large) */
+    kc_check *check; /* the goals' dry run, caller-owned (large) */
     lcm_t *lcm;
     char channel[KD_MSG_TYPE_COUNT][KD_CHANNEL_MAX];
     kd_io_sub subs[KD_MSG_TYPE_COUNT];
@@ -71,11 +73,7 @@ struct kd_io {
     /* Receive side. */
     kd_msg_any msg;
     kc_goal goal;
-    kc_real shadow_q[KC_MAX_JOINTS];  /* where the next queued goal starts */
-    kc_real last_start[KC_MAX_JOINTS]; /* where the last forwarded goal was checked from */
-    int64_t last_goal_id;
     int64_t goals_pushed, cmds_pushed;
-    int64_t check_max_ticks;
     kc_ctrl_cfg check_cfg; /* the controller's configuration at the dry run's coarser period */
 
     /* The latest tick seen. */
@@ -114,10 +112,11 @@ struct kd_io {
     int thread_live;
 };
 
-/* Creates the LCM instance on cfg->lcm_url and subscribes. Returns 0, or -1
- * with a message on stderr (a bad URL, no network). Main thread, before
- * the threads start. */
-int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_ctrl *scratch);
+/* Starts the goals' dry run in check (caller-owned storage), creates the
+ * LCM instance on cfg->lcm_url and subscribes. Returns 0, or -1 with a
+ * message on stderr (a configuration the dry run refuses, a bad URL, no
+ * network). Main thread, before the threads start. */
+int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_check *check);
 
 /* Starts the I/O thread. Returns 0 or -1. */
 int kd_io_start(kd_io *io);

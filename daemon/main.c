@@ -24,7 +24,8 @@
 
 /* Large and long-lived: static, never on a stack. */
 static kd_config cfg;
-static kc_ctrl ctrl, scratch;
+static kc_ctrl ctrl;
+static kc_check check;
 static kd_cycle cycle;
 static kd_io io;
 static kd_tick ticks[KD_TICK_RING];
@@ -77,7 +78,7 @@ int main(int argc, char **argv)
         free(goals);
         return 1;
     }
-    if (kd_io_init(&io, &cfg, &cycle, &scratch) != 0) {
+    if (kd_io_init(&io, &cfg, &cycle, &check) != 0) {
         free(goals);
         return 1;
     }

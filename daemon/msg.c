@@ -157,6 +157,14 @@ static int64_t read_be64(const unsigned char *p)
     return s;
 }
 
+int64_t kd_msg_goal_id(kd_msg_type type, const void *buf, size_t len)
+{
+    /* Every goal type starts fingerprint (8 bytes), utime (8), goal_id (8). */
+    if (type > KD_MSG_GOAL_SERVO || buf == NULL || len < 24)
+        return 0;
+    return read_be64((const unsigned char *)buf + 16);
+}
+
 kd_msg_status kd_msg_identify(const void *buf, size_t len, kd_msg_type *type)
 {
     int t;

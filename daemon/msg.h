@@ -126,6 +126,11 @@ int64_t kd_msg_fingerprint(kd_msg_type type);
  * Looks at the first 8 bytes only: decode with kd_msg_decode() after. */
 kd_msg_status kd_msg_identify(const void *buf, size_t len, kd_msg_type *type);
 
+/* The goal_id of a raw datagram of a goal type (KD_MSG_GOAL_*: bytes
+ * 16..23, after the fingerprint and utime), whatever else is wrong with it;
+ * 0 when the type carries none or the datagram is too short. */
+int64_t kd_msg_goal_id(kd_msg_type type, const void *buf, size_t len);
+
 /* Decode and validate one datagram of the given client-sent type (or
  * setpoint_t / stats_t, which are fixed size too; tools and tests use that).
  *   buf, len     the datagram as received (len in bytes)

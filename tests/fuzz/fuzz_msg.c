@@ -1,11 +1,12 @@
 /* fuzz_msg.c - the daemon's decode-and-validate path for every type a client
  * sends: a raw datagram through kd_msg_decode, then kd_goal_from_msg and
- * kc_ctrl_goal_check for the goals, as lcm_io.c does. The first input byte
- * picks the type, the rest is the datagram.
+ * kc_ctrl_goal_check for the goals, as lcm_io.c does (its dry run starts
+ * with the same check), and the rejection text of the verdict. The first
+ * input byte picks the type, the rest is the datagram.
  * Invariants: no crash or sanitizer report; a decoded message re-encodes to
  * the same bytes (decoding lost or invented nothing); a refused datagram
- * leaves the output storage untouched; a goal that passes every check has
- * only finite numbers. */
+ * leaves the output storage untouched; a refused goal has a reason and a
+ * text; a goal that passes every check has only finite numbers. */
 #include <math.h>
 #include <string.h>
 
@@ -13,8 +14,9 @@
 #include "goal.h"
 #include "kinctl/chain.h"
 #include "msg.h"
+#include "reject.h"
 
-static kc_chain chain;
+static kd_config cfg; /* the arm only: what a goal's rejection text names */
 
 int LLVMFuzzerInitialize(int *argc, char ***argv);
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
@@ -24,7 +26,7 @@ int LLVMFuzzerInitialize(int *argc, char ***argv)
     (void)argc;
     (void)argv;
     kd_msg_init();
-    FUZZ_CHECK(kc_chain_init_model(&chain, KC_MODEL_PUMA560, NULL) == KC_OK, "puma560");
+    FUZZ_CHECK(kc_chain_init_model(&cfg.chain, KC_MODEL_PUMA560, NULL) == KC_OK, "puma560");
     return 0;
 }
 
@@ -84,22 +86,23 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         return 0;
 
     kc_goal goal;
+    kc_verdict v;
     kd_reject rej;
     int64_t timeout_ns = -1;
     memset(&rej, 0, sizeof rej);
-    if (kd_goal_from_msg(type, &msg, &chain, 1.0, &goal, &timeout_ns, &rej) != 0) {
+    if (kd_goal_from_msg(type, &msg, 1.0, &goal, &timeout_ns, &v) != 0 ||
+        kc_ctrl_goal_check(&cfg.chain, &goal, &v) != KC_OK) {
+        FUZZ_CHECK(v.status < 0 && v.reason != KC_REASON_NONE, "refused without a reason");
+        FUZZ_CHECK(v.joint < cfg.chain.n_joints && v.point < KC_PATH_MAX_KNOTS - 1, "a verdict naming joint %d, knot %d",
+                   v.joint, v.point);
+        kd_reject_verdict(&rej, &cfg, &goal, &v);
         FUZZ_CHECK(rej.code < 0 && rej.text[0] != '\0' && memchr(rej.text, '\0', sizeof rej.text) != NULL,
                    "a refusal without its reason");
         return 0;
     }
-    kc_ctrl_reason why = KC_REASON_NONE;
-    if (kc_ctrl_goal_check(&chain, &goal, &why) == KC_OK) {
-        FUZZ_CHECK(why == KC_REASON_NONE, "accepted with reason %d", (int)why);
-        FUZZ_CHECK(goal_finite(&goal), "an accepted goal with a non-finite field");
-        if (goal.kind == KC_GOAL_SERVO)
-            FUZZ_CHECK(timeout_ns > 0 && timeout_ns <= 1000000000, "servo timeout %lld ns", (long long)timeout_ns);
-    } else {
-        FUZZ_CHECK(why != KC_REASON_NONE, "refused without a reason");
-    }
+    FUZZ_CHECK(v.reason == KC_REASON_NONE, "accepted with reason %d", (int)v.reason);
+    FUZZ_CHECK(goal_finite(&goal), "an accepted goal with a non-finite field");
+    if (goal.kind == KC_GOAL_SERVO)
+        FUZZ_CHECK(timeout_ns > 0 && timeout_ns <= 1000000000, "servo timeout %lld ns", (long long)timeout_ns);
     return 0;
 }

@@ -32,7 +32,7 @@ typedef struct harness {
 } harness;
 
 static harness H; /* large (kc_ctrl holds a path plan): not on the stack */
-static kc_ctrl SCRATCH; /* the dry runs' */
+static kc_check CHECK; /* the dry runs' */
 
 static void setup(kc_model model, const kc_real *q0)
 {
@@ -469,11 +469,10 @@ static void test_outside_a_limit(void **state)
     H.last_cycle = H.out.cycle;
     kc_real back[6];
     memcpy(back, PUMA_Q0, sizeof back);
-    kc_real q_end[6];
-    kc_ctrl_reason why;
-    kc_real where;
+    kc_verdict v;
     kc_goal g = kt_joint_goal(51, back, 6);
-    assert_int_equal(kc_ctrl_check(&SCRATCH, &H.chain, &H.cfg, &g, H.ctrl.q, 100000, q_end, &why, &where), KC_OK);
+    assert_int_equal(kc_check_init(&CHECK, &H.chain, &H.cfg, 100000, PUMA_Q0), KC_OK);
+    assert_int_equal(kc_check_from(&CHECK, H.ctrl.q, &g, &v), KC_OK);
     /* tick() checks the limits: only once the joint is back inside. */
     kc_ctrl_input in = {&g, KC_CMD_NONE, 0, KC_REASON_NONE};
     int k = 0;
@@ -739,26 +738,29 @@ static void test_dry_run(void **state)
 {
     (void)state;
     setup(KC_MODEL_PUMA560, PUMA_Q0);
-    kc_real q_end[6];
-    kc_ctrl_reason why;
-    kc_real where;
+    kc_verdict v;
     kc_pose to = pose_of(PUMA_Q0);
     to.t.v[1] += KC_R(0.2);
     kc_goal g = line_goal(71, &to);
-    assert_int_equal(kc_ctrl_check(&SCRATCH, &H.chain, &H.cfg, &g, PUMA_Q0, 100000, q_end, &why, &where), KC_OK);
-    kc_pose end = pose_of(q_end);
+    assert_int_equal(kc_check_init(&CHECK, &H.chain, &H.cfg, 100000, PUMA_Q0), KC_OK);
+    assert_int_equal(kc_check_from(&CHECK, PUMA_Q0, &g, &v), KC_OK);
+    assert_int_equal(v.reason, KC_REASON_NONE);
+    kc_pose end = pose_of(v.q_end);
     assert_pose_near(&end, &to, TOL_POSE);
     /* A line out of the workspace: the arm cannot follow it to its end. */
     to.t.v[0] += KC_R(2.0);
     g = line_goal(72, &to);
-    kc_status st = kc_ctrl_check(&SCRATCH, &H.chain, &H.cfg, &g, PUMA_Q0, 100000, q_end, &why, &where);
+    kc_status st = kc_check_from(&CHECK, PUMA_Q0, &g, &v);
     assert_int_equal(st, KC_E_UNREACHABLE);
-    assert_int_equal(why, KC_REASON_UNREACHABLE);
-    assert_true((double)where > 0.0 && (double)where < 2.0);
+    assert_int_equal(v.status, KC_E_UNREACHABLE);
+    assert_int_equal(v.reason, KC_REASON_UNREACHABLE);
+    assert_true((double)v.where > 0.0 && (double)v.where < 2.0);
+    assert_true(v.tick > 0 && v.tick < 100000);
     /* A bad goal is refused without running. */
     g.pose.t.v[0] = (kc_real)NAN;
-    assert_int_equal(kc_ctrl_check(&SCRATCH, &H.chain, &H.cfg, &g, PUMA_Q0, 100000, q_end, &why, &where), KC_E_ARG);
-    assert_int_equal(why, KC_REASON_BAD_GOAL);
+    assert_int_equal(kc_check_from(&CHECK, PUMA_Q0, &g, &v), KC_E_ARG);
+    assert_int_equal(v.reason, KC_REASON_BAD_GOAL);
+    assert_int_equal(v.tick, -1);
 }
 
 /* FNV-1a over the bytes of every output's setpoint. */

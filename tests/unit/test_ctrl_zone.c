@@ -25,7 +25,7 @@ typedef struct harness {
 } harness;
 
 static harness H;
-static kc_ctrl SCRATCH;
+static kc_check CHECK; /* the dry runs' */
 
 static const kc_real PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
 
@@ -117,15 +117,15 @@ static void test_joint_goal_through_and_near(void **state)
     assert_true(clearance(qm) == 0.0);
 
     kc_goal g = kt_joint_goal(1, qb, 6);
-    kc_real q_end[KC_MAX_JOINTS], where = 0;
-    kc_ctrl_reason why = KC_REASON_NONE;
-    kc_status st = kc_ctrl_check(&SCRATCH, &H.chain, &H.cfg, &g, qa, 100000, q_end, &why, &where);
+    kc_verdict v;
+    assert_int_equal(kc_check_init(&CHECK, &H.chain, &H.cfg, 100000, qa), KC_OK);
+    kc_status st = kc_check_from(&CHECK, qa, &g, &v);
     assert_int_equal(st, KC_E_UNREACHABLE);
-    assert_int_equal(why, KC_REASON_ZONE);
-    assert_int_equal(SCRATCH.zone_hit.zone, 0);
-    assert_true(SCRATCH.zone_hit.volume >= 0 && SCRATCH.zone_hit.volume < H.chain.n_volumes);
-    assert_true(SCRATCH.zone_hit.distance < margin());
-    assert_true(where > KC_R(0.0) && where < KC_R(0.5)); /* on the way in, before the middle */
+    assert_int_equal(v.reason, KC_REASON_ZONE);
+    assert_int_equal(v.zone, 0);
+    assert_true(v.volume >= 0 && v.volume < H.chain.n_volumes);
+    assert_true(v.distance < margin());
+    assert_true(v.where > KC_R(0.0) && v.where < KC_R(0.5)); /* on the way in, before the middle */
 
     /* Outward (away from the waist axis) until the sweep's sampled
      * clearance is margin + 3..6 mm. */
@@ -146,9 +146,12 @@ static void test_joint_goal_through_and_near(void **state)
             chosen = lo;
     }
     assert_true(chosen > 0 && chosen < (double)margin() + 0.006);
-    st = kc_ctrl_check(&SCRATCH, &H.chain, &H.cfg, &g, qa, 100000, q_end, &why, &where);
+    st = kc_check_from(&CHECK, qa, &g, &v);
     assert_int_equal(st, KC_OK);
-    assert_int_equal(why, KC_REASON_NONE);
+    assert_int_equal(v.reason, KC_REASON_NONE);
+    assert_int_equal(v.zone, -1);
+    for (int j = 0; j < 6; j++)
+        assert_true(v.q_end[j] == qb[j]);
 
     /* Run it: completes, every setpoint keeps the margin, and between ticks
      * (joints interpolated linearly, 8 points a tick) nothing enters. */
@@ -268,17 +271,16 @@ static void test_line_through_box(void **state)
     g.vel_scale = g.acc_scale = KC_R(1.0);
     g.pose = b;
     g.orient = KC_INTERP_SLERP;
-    kc_real q_end[KC_MAX_JOINTS], where = 0;
-    kc_ctrl_reason why = KC_REASON_NONE;
-    assert_int_equal(kc_ctrl_check(&SCRATCH, &H.chain, &H.cfg, &g, PUMA_Q0, 100000, q_end, &why, &where),
-                     KC_E_UNREACHABLE);
-    assert_int_equal(why, KC_REASON_ZONE);
-    assert_int_equal(SCRATCH.zone_hit.zone, 0);
+    kc_verdict v;
+    assert_int_equal(kc_check_init(&CHECK, &H.chain, &H.cfg, 100000, PUMA_Q0), KC_OK);
+    assert_int_equal(kc_check_from(&CHECK, PUMA_Q0, &g, &v), KC_E_UNREACHABLE);
+    assert_int_equal(v.reason, KC_REASON_ZONE);
+    assert_int_equal(v.zone, 0);
     /* path length where it would enter: before the box's near face */
-    assert_true(where > KC_R(0.05) && where < KC_R(0.15));
+    assert_true(v.where > KC_R(0.05) && v.where < KC_R(0.15));
     /* moved 10 cm off the line, the same goal passes */
     H.zones.zones[0].pose.t.v[0] += KC_R(0.25);
-    assert_int_equal(kc_ctrl_check(&SCRATCH, &H.chain, &H.cfg, &g, PUMA_Q0, 100000, q_end, &why, &where), KC_OK);
+    assert_int_equal(kc_check_from(&CHECK, PUMA_Q0, &g, &v), KC_OK);
 }
 
 /* A servo twist drives the arm into a wall (a half-space 6 cm ahead):

@@ -680,8 +680,8 @@ static kc_vec3 fd_omega(double t, double h)
         kc_path_pose a, b;
         kc_quat ca, rel;
         kc_vec3 d, dw;
-        kc_path_eval_cart_time(&PC, (kc_real)(t - hh), &a);
-        kc_path_eval_cart_time(&PC, (kc_real)(t + hh), &b);
+        kc_path_cart_eval_time(&PC, (kc_real)(t - hh), &a);
+        kc_path_cart_eval_time(&PC, (kc_real)(t + hh), &b);
         kc_quat_conj(&a.r, &ca);
         kc_quat_mul(&ca, &b.r, &rel);
         kc_quat_log(&rel, &d);
@@ -696,7 +696,7 @@ static kc_vec3 fd_omega(double t, double h)
 static double speed_at_time(double t)
 {
     kc_path_pose e;
-    kc_path_eval_cart_time(&PC, (kc_real)t, &e);
+    kc_path_cart_eval_time(&PC, (kc_real)t, &e);
     return (double)e.sd;
 }
 
@@ -727,7 +727,7 @@ static void check_cart_case(int v, int given_t, int index)
     char what[160];
     int n = c->n_knots;
     snprintf(what, sizeof what, "cartesian %s case %d (n %d, %s)", variant_name[v], index, n, given_t ? "times" : "limits");
-    kc_status st = kc_path_plan_cart(&PC, c);
+    kc_status st = kc_path_cart_plan(&PC, c);
     if (st != KC_OK)
         fail_msg("%s: plan returned %s", what, kc_status_str(st));
     n_cart_cases++;
@@ -774,7 +774,7 @@ static void check_cart_case(int v, int given_t, int index)
     kc_path_pose s0, s1;
 
     /* Start: first knot exactly, its orientation (sign as given), s = 0. */
-    assert_int_equal(kc_path_eval_cart(&PC, 0, &s0), KC_OK);
+    assert_int_equal(kc_path_cart_eval(&PC, 0, &s0), KC_OK);
     for (int x = 0; x < 3; x++)
         if (s0.p.v[x] != c->p[0].v[x])
             fail_msg("%s: p(0) differs from the first knot", what);
@@ -784,7 +784,7 @@ static void check_cart_case(int v, int given_t, int index)
         NEAR(s0.sd, 0, 0, "start speed");
     /* End: last knot exactly, at rest in rotation, s = length. */
     for (int64_t k = pos->ticks; k <= pos->ticks + 2; k++) {
-        assert_int_equal(kc_path_eval_cart(&PC, k, &s1), KC_DONE);
+        assert_int_equal(kc_path_cart_eval(&PC, k, &s1), KC_DONE);
         for (int x = 0; x < 3; x++)
             if (s1.p.v[x] != c->p[n - 1].v[x])
                 fail_msg("%s: end p differs from the last knot", what);
@@ -796,7 +796,7 @@ static void check_cart_case(int v, int given_t, int index)
     if (variant_interpolates(v))
         for (int i = 0; i + 1 < n; i++) {
             kc_quat ri;
-            kc_path_eval_cart_time(&PC, pos->start[i], &s0);
+            kc_path_cart_eval_time(&PC, pos->start[i], &s0);
             for (int x = 0; x < 3; x++)
                 if (s0.p.v[x] != c->p[i].v[x])
                     fail_msg("%s: knot %d position missed", what, i);
@@ -807,8 +807,8 @@ static void check_cart_case(int v, int given_t, int index)
     for (int p = 0; p + 1 < pos->n_pieces; p++) {
         if (pos->len[p] <= KC_R(0.0))
             continue;
-        kc_path_eval_cart_piece(&PC, p, pos->len[p], &s0);
-        kc_path_eval_cart_piece(&PC, p + 1, KC_R(0.0), &s1);
+        kc_path_cart_eval_piece(&PC, p, pos->len[p], &s0);
+        kc_path_cart_eval_piece(&PC, p + 1, KC_R(0.0), &s1);
         snprintf(what, sizeof what, "cartesian %s case %d: pieces %d/%d", variant_name[v], index, p, p + 1);
         for (int x = 0; x < 3; x++) {
             NEAR(s0.p.v[x], s1.p.v[x], KT_PATH_REL * R[0][x], what);
@@ -822,10 +822,10 @@ static void check_cart_case(int v, int given_t, int index)
         if (!IS_FLOAT && v != V_PARABOLIC) {
             const double h = 1e-4;
             kc_path_pose l1, l2, r1, r2;
-            kc_path_eval_cart_piece(&PC, p, (kc_real)((double)pos->len[p] - h), &l1);
-            kc_path_eval_cart_piece(&PC, p, (kc_real)((double)pos->len[p] - 2 * h), &l2);
-            kc_path_eval_cart_piece(&PC, p + 1, (kc_real)h, &r1);
-            kc_path_eval_cart_piece(&PC, p + 1, (kc_real)(2 * h), &r2);
+            kc_path_cart_eval_piece(&PC, p, (kc_real)((double)pos->len[p] - h), &l1);
+            kc_path_cart_eval_piece(&PC, p, (kc_real)((double)pos->len[p] - 2 * h), &l2);
+            kc_path_cart_eval_piece(&PC, p + 1, (kc_real)h, &r1);
+            kc_path_cart_eval_piece(&PC, p + 1, (kc_real)(2 * h), &r2);
             for (int x = 0; x < 3; x++) {
                 double al = (3 * (double)s0.w.v[x] - 4 * (double)l1.w.v[x] + (double)l2.w.v[x]) / (2 * h);
                 double ar = (-3 * (double)s1.w.v[x] + 4 * (double)r1.w.v[x] - (double)r2.w.v[x]) / (2 * h);
@@ -844,7 +844,7 @@ static void check_cart_case(int v, int given_t, int index)
         double L = (double)pos->len[p], acc = 0;
         for (int i = 0; i <= m; i++) {
             kc_path_pose e;
-            kc_path_eval_cart_piece(&PC, p, (kc_real)(L * i / m), &e);
+            kc_path_cart_eval_piece(&PC, p, (kc_real)(L * i / m), &e);
             acc += (i == 0 || i == m ? 1 : i % 2 ? 4 : 2) * (double)e.sd;
         }
         ref_len += acc * L / (3 * m);
@@ -852,9 +852,9 @@ static void check_cart_case(int v, int given_t, int index)
     /* Every tick: unit quaternion, sign continuity, position steps within
      * their bound, s. */
     snprintf(what, sizeof what, "cartesian %s case %d", variant_name[v], index);
-    kc_path_eval_cart(&PC, 0, &s0);
+    kc_path_cart_eval(&PC, 0, &s0);
     for (int64_t k = 0; k < pos->ticks; k++) {
-        kc_path_eval_cart(&PC, k + 1, &s1);
+        kc_path_cart_eval(&PC, k + 1, &s1);
         n_cart_ticks++;
         double dt = (double)pos->dt;
         NEAR(kc_quat_norm(&s1.r), 1, 64 * U, "unit orientation");
@@ -889,7 +889,7 @@ static void check_cart_case(int v, int given_t, int index)
                 continue;
             double t = (double)pos->start[p] + kt_uniform(&rng, 2 * h, L - 2 * h);
             kc_path_pose e;
-            kc_path_eval_cart_time(&PC, (kc_real)t, &e);
+            kc_path_cart_eval_time(&PC, (kc_real)t, &e);
             kc_vec3 fd = fd_omega(t, h);
             double tol = 1e-6 * (1 + (double)kc_vec3_norm(&e.w));
             for (int x = 0; x < 3; x++) {
@@ -1039,9 +1039,9 @@ static void test_special_orientations(void **state)
     r[2] = r[0];
     for (int m = 0; m < 4; m++) {
         c.method = (kc_path_method)m;
-        assert_int_equal(kc_path_plan_cart(&PC, &c), KC_OK);
+        assert_int_equal(kc_path_cart_plan(&PC, &c), KC_OK);
         for (int64_t k = 0; k <= PC.pos.ticks; k += 7) {
-            kc_path_eval_cart(&PC, k, &e);
+            kc_path_cart_eval(&PC, k, &e);
             NEAR(fabs(quat_dot(&e.r, &r[0])), 1, 8 * U, "double cover: constant orientation");
             NEAR(kc_vec3_norm(&e.w), 0, 8 * U, "double cover: no angular velocity");
         }
@@ -1052,14 +1052,14 @@ static void test_special_orientations(void **state)
     r[2] = qmake(0, 1, 0, 0);
     for (int m = 0; m < 4; m++) {
         c.method = (kc_path_method)m;
-        assert_int_equal(kc_path_plan_cart(&PC, &c), KC_OK);
+        assert_int_equal(kc_path_cart_plan(&PC, &c), KC_OK);
         for (int64_t k = 0; k <= PC.pos.ticks; k++) {
-            kc_path_eval_cart(&PC, k, &e);
+            kc_path_cart_eval(&PC, k, &e);
             assert_true(kc_quat_norm(&e.r) > KC_R(0.999) && kc_vec3_isfinite(&e.w));
         }
         NEAR(fabs(quat_dot(&e.r, &r[2])), 1, 8 * U, "half turn reached");
         if (m != KC_PATH_BLEND) {
-            kc_path_eval_cart_time(&PC, PC.pos.start[1], &e);
+            kc_path_cart_eval_time(&PC, PC.pos.start[1], &e);
             NEAR(fabs(quat_dot(&e.r, &r[1])), 1, 64 * U, "half turn through the knot");
         }
     }
@@ -1070,18 +1070,18 @@ static void test_special_orientations(void **state)
     c.t = NULL;
     c.t_acc = 0;
     c.method = KC_PATH_QUINTIC;
-    assert_int_equal(kc_path_plan_cart(&PC, &c), KC_E_ARG);
+    assert_int_equal(kc_path_cart_plan(&PC, &c), KC_E_ARG);
     c.w_max = 1;
     c.alpha_max = 2;
-    assert_int_equal(kc_path_plan_cart(&PC, &c), KC_OK);
+    assert_int_equal(kc_path_cart_plan(&PC, &c), KC_OK);
     /* Half a turn at 1 rad/s, 2 rad/s^2: pi / 1 + 1 / 2. */
     NEAR(PC.pos.t_knot[1], KT_PI + 0.5, 8 * U * 4, "angular trapezoid rule");
-    kc_path_eval_cart(&PC, PC.pos.ticks / 3, &e);
+    kc_path_cart_eval(&PC, PC.pos.ticks / 3, &e);
     NEAR(e.s, 0, 0, "no path length when only turning");
     NEAR(e.sd, 0, 0, "no speed when only turning");
     c.method = KC_PATH_BLEND;
     c.w_max = c.alpha_max = 0;
-    assert_int_equal(kc_path_plan_cart(&PC, &c), KC_OK);
+    assert_int_equal(kc_path_cart_plan(&PC, &c), KC_OK);
 }
 
 /* ---- bad inputs ---- */
@@ -1098,7 +1098,7 @@ static kc_status plan_untouched(const kc_path_cfg *c)
 static kc_status plan_cart_untouched(const kc_path_cart_cfg *c)
 {
     memset(&PC, KT_SENTINEL, sizeof PC);
-    kc_status st = kc_path_plan_cart(&PC, c);
+    kc_status st = kc_path_cart_plan(&PC, c);
     if (st != KC_OK)
         assert_true(kt_is_sentinel(&PC, sizeof PC));
     return st;
@@ -1229,7 +1229,7 @@ static void test_bad_inputs(void **state)
     cg.p = p;
     cg.r = r;
     EXPECT(plan_cart_untouched(&cg), KC_OK);
-    EXPECT(kc_path_plan_cart(NULL, &cg), KC_E_ARG);
+    EXPECT(kc_path_cart_plan(NULL, &cg), KC_E_ARG);
     EXPECT(plan_cart_untouched(NULL), KC_E_ARG);
     cc = cg; cc.p = NULL; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
     cc = cg; cc.r = NULL; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
@@ -1257,15 +1257,15 @@ static void test_bad_inputs(void **state)
     cc = cg; cc.t = td; EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
     cc = cg; cc.t = t; cc.t_acc = KC_R(0.6); EXPECT(plan_cart_untouched(&cc), KC_E_ARG);
     cc = cg; cc.t_acc = KC_R(0.01); EXPECT(plan_cart_untouched(&cc), KC_E_LIMIT);
-    assert_int_equal(kc_path_plan_cart(&PC, &cg), KC_OK);
+    assert_int_equal(kc_path_cart_plan(&PC, &cg), KC_OK);
     kc_path_pose e;
     memset(&e, KT_SENTINEL, sizeof e);
-    EXPECT(kc_path_eval_cart(&PC, -1, &e), KC_E_ARG);
+    EXPECT(kc_path_cart_eval(&PC, -1, &e), KC_E_ARG);
     assert_true(kt_is_sentinel(&e, sizeof e));
-    EXPECT(kc_path_eval_cart(&PC, 0, NULL), KC_E_ARG);
-    EXPECT(kc_path_eval_cart(NULL, 0, &e), KC_E_ARG);
-    EXPECT(kc_path_eval_cart_time(&PC, nan, &e), KC_E_ARG);
-    EXPECT(kc_path_eval_cart_piece(&PC, PC.pos.n_pieces, 0, &e), KC_E_ARG);
+    EXPECT(kc_path_cart_eval(&PC, 0, NULL), KC_E_ARG);
+    EXPECT(kc_path_cart_eval(NULL, 0, &e), KC_E_ARG);
+    EXPECT(kc_path_cart_eval_time(&PC, nan, &e), KC_E_ARG);
+    EXPECT(kc_path_cart_eval_piece(&PC, PC.pos.n_pieces, 0, &e), KC_E_ARG);
     printf("bad inputs: %d calls with the expected status\n", n_bad);
 }
 

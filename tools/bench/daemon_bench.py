@@ -231,7 +231,7 @@ def main():
         "setpoints_received": counters["setpoints"],
         "setpoint_gaps": counters["gaps"],
         "moving_fraction": counters["moving"] / max(1, counters["setpoints"]),
-        # the motion a goal's dry run follows tick by tick (kc_ctrl_check)
+        # the motion a goal's dry run follows tick by tick (kc_check_goal)
         "mean_motion_s": counters["moving"] * a.period_us * 1e-6 / max(1, len(sent)),
         "stats_messages": len(stats),
         "whole_run": len(stats) == 1,

@@ -17,7 +17,7 @@
  *   arc              kc_interp_arc from a random pose through two random points;
  *   jpath-<method>   kc_path_plan, 6 joints, PATH_KNOTS knots uniform within
  *                    the puma560's limits, knot times from its rate limits;
- *   cpath-<method>   kc_path_plan_cart, PATH_KNOTS random poses, times from
+ *   cpath-<method>   kc_path_cart_plan, PATH_KNOTS random poses, times from
  *                    CART_V/CART_A/CART_W/CART_DW;
  * with <method> blend-quartic, blend-parabolic, lagrange, spline-given
  * (random knot velocities, zero at the ends), spline-c2 (computed, clamped)
@@ -267,7 +267,7 @@ static inline kc_status plan_cpath(const motion *m, int k, kc_path_cart *dest)
     cfg.p = set.cp[k];
     cfg.r = set.cr[k];
     cfg.v = m->given ? set.cv[k] : NULL;
-    return kc_path_plan_cart(dest, &cfg);
+    return kc_path_cart_plan(dest, &cfg);
 }
 
 static const kc_real dt = (kc_real)BENCH_INTERP_DT;
@@ -419,7 +419,7 @@ static int time_block(const motion *m, int tick, int n_batches)
         }
         case M_CPATH: {
             kc_path_pose s;
-            BENCH_TIME(timings_ns, n_batches, kc_path_eval_cart(&plans.cpath[k / per], tick_of[k], &s);
+            BENCH_TIME(timings_ns, n_batches, kc_path_cart_eval(&plans.cpath[k / per], tick_of[k], &s);
                        sum += (double)s.p.v[0]);
             break;
         }

@@ -334,7 +334,7 @@ static int cartesian_path(calc_ctx *ctx)
     cfg.w_max = R.omega;
     cfg.alpha_max = R.epsilon;
     cfg.dt = R.dt;
-    kc_status st = kc_path_plan_cart(&plan_cart, &cfg);
+    kc_status st = kc_path_cart_plan(&plan_cart, &cfg);
     if (st == KC_E_ARG && !R.have_t && !(R.omega > KC_R(0.0)))
         for (int i = 1; i < n; i++)
             if (p[i].v[0] == p[i - 1].v[0] && p[i].v[1] == p[i - 1].v[1] && p[i].v[2] == p[i - 1].v[2])
@@ -349,7 +349,7 @@ static int cartesian_path(calc_ctx *ctx)
     calc_rows_begin(ctx, 11, names);
     for (int64_t k = 0; k <= plan_cart.pos.ticks; k++) {
         kc_path_pose e;
-        kc_path_eval_cart(&plan_cart, k, &e);
+        kc_path_cart_eval(&plan_cart, k, &e);
         kc_real row[11] = {(kc_real)k * R.dt, e.p.v[0], e.p.v[1], e.p.v[2], e.r.w, e.r.x, e.r.y, e.r.z,
                            e.s,               e.sd,     e.sdd};
         calc_rows_add(ctx, 11, row);

@@ -9,9 +9,10 @@
  * that reached the cycle, at the cycle they reached it, after the daemon's
  * I/O thread had dry-run and perhaps rejected others. The goal itself is
  * the message in the log with that goal_id (the next one not used yet, in
- * log order), turned into a kc_goal by the daemon's own kd_goal_from_msg
- * (daemon/goal.c) with the daemon's own configuration reader (daemon/config.c,
- * the same options as kinctld), so the controller sees the same bits.
+ * log order) that the daemon took: turned into a kc_goal by the daemon's
+ * own kd_goal_from_msg (daemon/goal.c) and passing the core's goal check,
+ * with the daemon's own configuration reader (daemon/config.c, the same
+ * options as kinctld), so the controller sees the same bits.
  *
  * The replay starts at the log's first setpoint at rest (IDLE, no goal,
  * qd = qdd = 0): the controller is then fully described by its joints, and
@@ -135,7 +136,7 @@ static int read_log(const char *path, const char *prefix, recording *r)
             /* What kd_msg_decode refuses the daemon ignored too. */
             if (kd_msg_decode((kd_msg_type)t, ev->data, (size_t)ev->datalen, &g->msg, NULL, 0) == KD_MSG_OK) {
                 g->type = (kd_msg_type)t;
-                g->id = kd_goal_id_peek(g->type, ev->data, (size_t)ev->datalen);
+                g->id = kd_msg_goal_id(g->type, ev->data, (size_t)ev->datalen);
                 g->used = 0;
                 r->n_goals++;
             } else {
@@ -149,19 +150,21 @@ static int read_log(const char *path, const char *prefix, recording *r)
 }
 
 /* The goal the daemon's cycle took as id: the first message with that id
- * not used yet that the daemon's conversion accepts (one it refused never
- * reached the cycle). 0 with *goal set, or -1. */
+ * not used yet that the daemon's conversion and the core's goal check
+ * accept (one they refused never reached the cycle). 0 with *goal set, or
+ * -1. */
 static int find_goal(recording *r, const kd_config *cfg, int64_t id, kc_goal *goal)
 {
     size_t i;
     for (i = 0; i < r->n_goals; i++) {
         goal_msg *g = &r->goals[i];
         int64_t timeout_ns;
-        kd_reject rej;
+        kc_verdict v;
         if (g->used || g->id != id)
             continue;
         g->used = 1;
-        if (kd_goal_from_msg(g->type, &g->msg, &cfg->chain, cfg->servo_timeout_s, goal, &timeout_ns, &rej) == 0)
+        if (kd_goal_from_msg(g->type, &g->msg, cfg->servo_timeout_s, goal, &timeout_ns, &v) == 0 &&
+            kc_ctrl_goal_check(&cfg->chain, goal, &v) == KC_OK)
             return 0;
     }
     return -1;

@@ -25,7 +25,7 @@
 #include <stdint.h>
 
 #include "kinctl/se3.h"
-#include "kinctl/zone.h"
+#include "kinctl/shape.h"
 
 /* Compile-time capacities. */
 #define KC_MAX_JOINTS 16
@@ -79,7 +79,7 @@ typedef struct kc_element {
 
 /* A link volume (seed 003's volume primitive in frame O_k): a shape placed in
  * frame `frame` (0 .. n_frames-1, as kc_fk_frames numbers them), moving with
- * it. Shapes and distances: kinctl/zone.h. */
+ * it. Shapes and distances: kinctl/shape.h. */
 typedef struct kc_link_volume {
     int frame;
     kc_shape shape;

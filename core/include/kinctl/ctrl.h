@@ -68,8 +68,8 @@
  * acceleration limit, from the last good setpoint) and faults with
  * KC_REASON_ZONE, the event naming the zone and the volume. (A setpoint
  * inside the margin that does not come closer passes: an arm already there
- * may leave.) Goals are checked before they are accepted: kc_ctrl_check
- * steps every tick of every goal, joint moves included, through the same
+ * may leave.) Goals are checked before they are accepted: the dry run
+ * (kinctl/check.h) steps every tick of every goal, joint moves included, through the same
  * check, and kc_ctrl_cfg_check refuses a zone set whose margin is not above
  * kc_zone_tick_travel (the farthest any point of a volume moves in one tick
  * at the velocity limits), so a goal whose every tick keeps the margin
@@ -82,9 +82,9 @@
  * defence: an e-stop from speed travels its stopping distance, possibly
  * into the zone; keeping goals out is the dry run's job.
  *
- * Threads. kc_ctrl_step is for one thread (the cycle); kc_ctrl_check may run
- * on another thread with its own scratch kc_ctrl (it needs about
- * sizeof(kc_ctrl) of storage and runs the goal through the same step code:
+ * Threads. kc_ctrl_step is for one thread (the cycle); the dry run
+ * (kinctl/check.h) may run on another with its own kc_check (about
+ * sizeof(kc_ctrl) of storage; it runs the goal through the same step code:
  * one IK step per tick of a Cartesian motion).
  */
 #ifndef KINCTL_CTRL_H
@@ -94,7 +94,7 @@
 
 #include "kinctl/ik.h"
 #include "kinctl/interp.h"
-#include "kinctl/path.h"
+#include "kinctl/path_cart.h"
 #include "kinctl/profile.h"
 #include "kinctl/zone.h"
 
@@ -147,6 +147,10 @@ typedef struct kc_goal {
     kc_real speed, accel;
     kc_real omega, alpha;
     kc_interp_orient orient;             /* line */
+    /* Numbers per target or knot as the client gave them (joint move and
+     * joint path: its joint count; Cartesian path: 7); 0 takes what the
+     * kind and the chain need. A count that differs is refused. */
+    int dim;
     kc_real q[KC_MAX_JOINTS];            /* joint move: the target */
     kc_pose pose;                        /* line, arc: end pose; servo: target */
     kc_vec3 via;                         /* arc */
@@ -190,6 +194,39 @@ typedef enum kc_ctrl_reason {
 
 /* A readable text for a reason (never NULL). */
 const char *kc_ctrl_reason_str(kc_ctrl_reason reason);
+
+/* The part of a goal a verdict names. */
+typedef enum kc_goal_field {
+    KC_FIELD_NONE = 0,
+    KC_FIELD_DIM,         /* dim: value is the count given */
+    KC_FIELD_N_POINTS,    /* n_points: value is the count given */
+    KC_FIELD_TARGET,      /* q (joint move) or points[point] (joint path); value is the number at joint */
+    KC_FIELD_ORIENTATION, /* an orientation that is no rotation; value: its quaternion's norm, NaN if none */
+    KC_FIELD_TIMES        /* times[point] not after the one before */
+} kc_goal_field;
+
+/* A goal judged: whether it is taken, and if not, why and where. Filled by
+ * kc_ctrl_goal_check (the goal alone) and by the dry run (kinctl/check.h:
+ * the motion, tick by tick). Indices are 0-based; -1 where they do not
+ * apply. */
+typedef struct kc_verdict {
+    kc_status status;       /* KC_OK: taken; else KC_E_ARG, KC_E_UNREACHABLE, KC_E_CAPACITY */
+    kc_ctrl_reason reason;  /* KC_REASON_NONE when taken */
+    kc_goal_field field;    /* the field at fault, KC_FIELD_NONE when none is */
+    int joint;              /* the joint concerned */
+    int point;              /* the knot concerned (index into kc_goal.points) */
+    kc_real value;          /* the number at fault (see kc_goal_field), 0 when none */
+    /* Where along the motion it failed (dry run): tick of the run (its
+     * period, from 1) and path length (m) or fraction, as kc_ctrl_event.where. */
+    int64_t tick;
+    kc_real where;
+    /* KC_REASON_ZONE: the zone (index into cfg.zones), the link volume
+     * (index into chain->volumes) and their distance (m). */
+    int zone, volume;
+    kc_real distance;
+    /* Taken: the joints where the goal ends (its start for a servo goal). */
+    kc_real q_end[KC_MAX_JOINTS];
+} kc_verdict;
 
 typedef enum kc_ctrl_event_kind {
     KC_EVENT_ACCEPTED = 1,
@@ -322,24 +359,18 @@ kc_status kc_ctrl_init(kc_ctrl *ctrl, const kc_chain *chain, const kc_ctrl_cfg *
  * kc_zone_tick_travel(chain, dt) (when both zones and volumes exist). */
 kc_status kc_ctrl_cfg_check(const kc_ctrl_cfg *cfg, const kc_chain *chain);
 
+/* A verdict that takes the goal and names nothing: indices -1, no tick,
+ * infinite distance. */
+void kc_ctrl_verdict_init(kc_verdict *verdict);
+
 /* The cheap checks of a goal: finite fields, scales in (0, 1], joint
- * targets inside the limits, knot counts and times. KC_OK or KC_E_ARG with
- * *reason set. Cycle-safe. */
-kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *goal, kc_ctrl_reason *reason);
+ * counts, joint targets inside the limits (naming the joint and knot),
+ * knot counts and times. KC_OK or KC_E_ARG; *verdict (if not NULL) says
+ * which (no tick, zone or end joints: no motion is judged). Cycle-safe. */
+kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *goal, kc_verdict *verdict);
 
 /* One tick. Cycle-safe: bounded work (planning a segment when one starts:
  * see kinctl/path.h for the cost of long paths), no allocation. */
 kc_status kc_ctrl_step(kc_ctrl *ctrl, const kc_ctrl_input *in, kc_ctrl_output *out);
-
-/* Dry run: checks that goal, started at rest at q_start, runs to its end
- * without a fault, by stepping a scratch controller through it (at most
- * max_ticks ticks). KC_OK with *q_end the final joints, or KC_E_ARG /
- * KC_E_UNREACHABLE / KC_E_CAPACITY with *reason and *where (path length or
- * fraction) set. With zones, every tick is checked (joint moves too); a
- * goal that would enter a zone's margin gives KC_E_UNREACHABLE with
- * KC_REASON_ZONE, scratch->zone_hit naming the zone and volume. Not for the cycle: it costs one step per tick of motion. */
-kc_status kc_ctrl_check(kc_ctrl *scratch, const kc_chain *chain, const kc_ctrl_cfg *cfg, const kc_goal *goal,
-                        const kc_real *q_start, int64_t max_ticks, kc_real *q_end, kc_ctrl_reason *reason,
-                        kc_real *where);
 
 #endif /* KINCTL_CTRL_H */

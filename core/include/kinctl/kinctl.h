@@ -12,7 +12,10 @@
 #include "kinctl/profile.h"
 #include "kinctl/interp.h"
 #include "kinctl/path.h"
+#include "kinctl/path_cart.h"
+#include "kinctl/shape.h"
 #include "kinctl/zone.h"
 #include "kinctl/ctrl.h"
+#include "kinctl/check.h"
 
 #endif /* KINCTL_KINCTL_H */

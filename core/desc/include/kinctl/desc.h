@@ -90,6 +90,7 @@
 #define KINCTL_DESC_H
 
 #include "kinctl/chain.h"
+#include "kinctl/zone.h"
 
 #define KC_DESC_NAME_LEN 64
 #define KC_DESC_TEXT_LEN 512

@@ -1,0 +1,87 @@
+/*
+ * kinctl/check.h - the dry run: a goal judged before it is accepted, by
+ * stepping it through the controller's own step code from where it will
+ * start, every tick of its motion (kinctl/ctrl.h: zones, tracking, limits).
+ *
+ * A kc_check is an object of its own: its storage (a scratch controller,
+ * never the cycle's), the configuration it runs at (the controller's, at
+ * the dry run's tick period), and where the controller's queue ends. It is
+ * fed, in arrival order, the goals to judge (kc_check_goal), the goals
+ * handed on to the controller (kc_check_handed), and the controller's ticks
+ * (kc_check_tick); so each queued goal is checked from where the one before
+ * it ends, and a goal that replaces the others from the latest setpoint.
+ * It has no globals and takes no locks: one kc_check for one thread, which
+ * may be a thread of its own; the controller's ticks reach it as copies.
+ *
+ * A verdict (kinctl/ctrl.h kc_verdict) says what was found: KC_OK with the
+ * joints where the goal ends; or the status and reason with the joint, knot
+ * or field concerned, the tick and path length where the motion fails, and
+ * for a zone the pair and its distance.
+ *   KC_E_ARG          the goal's fields (kc_ctrl_goal_check), a plan the
+ *                     planner refuses (KC_REASON_PLAN), or one the
+ *                     controller would refuse when it arrives;
+ *   KC_E_UNREACHABLE  the motion faults on the way: KC_REASON_UNREACHABLE
+ *                     (the tool cannot follow), KC_REASON_ZONE, ...;
+ *   KC_E_CAPACITY     KC_REASON_QUEUE_FULL: the controller's queue (goals
+ *                     queued at the latest tick plus those handed on since)
+ *                     is full; or KC_REASON_PLAN: the motion does not end
+ *                     within max_ticks.
+ * Servo goals stream: they get kc_ctrl_goal_check alone, and end where the
+ * arm is.
+ *
+ * Not for the cycle: a dry run costs one controller step per tick of motion.
+ */
+#ifndef KINCTL_CHECK_H
+#define KINCTL_CHECK_H
+
+#include <stdint.h>
+
+#include "kinctl/ctrl.h"
+
+typedef struct kc_check {
+    const kc_chain *chain;
+    kc_ctrl_cfg cfg;   /* the controller's, at the dry run's period */
+    int64_t max_ticks; /* longest motion judged (ticks of cfg.dt) */
+    kc_ctrl scratch;   /* the dry run's own controller */
+    /* Where the controller's queue ends. */
+    kc_real q_now[KC_MAX_JOINTS];   /* the latest setpoint (start of a replacing goal) */
+    kc_real q_end[KC_MAX_JOINTS];   /* where the next queued goal starts */
+    kc_real q_from[KC_MAX_JOINTS];  /* where the goal last judged started */
+    kc_real q_start[KC_MAX_JOINTS]; /* where the last goal handed on started */
+    int64_t last_id;                /* its id while the controller may still refuse it, else 0 */
+    int64_t handed, taken;          /* goals handed on, and taken by the controller */
+    int queue_length;               /* the controller's queue at the latest tick */
+    int have_tick;
+} kc_check;
+
+/* Starts a dry run for chain and cfg (the controller's configuration; its
+ * dt the dry run's tick, at least the controller's) with the arm at rest at
+ * q0, nothing queued, judging motions of at most max_ticks ticks. chain
+ * must outlive check and stay unchanged. KC_E_ARG for NULL, max_ticks < 1,
+ * or what kc_ctrl_init refuses. Validates everything once: later goals
+ * reuse the storage without initialising it again. */
+kc_status kc_check_init(kc_check *check, const kc_chain *chain, const kc_ctrl_cfg *cfg, int64_t max_ticks,
+                        const kc_real *q0);
+
+/* Judges goal from where it will start: the latest setpoint for a goal
+ * that replaces, the end of the queue for one that waits (see above).
+ * Returns verdict->status. The queue's end moves only once the goal is
+ * handed on (kc_check_handed). */
+kc_status kc_check_goal(kc_check *check, const kc_goal *goal, kc_verdict *verdict);
+
+/* Judges goal started at rest at joints q_start (which may lie outside the
+ * position limits: an arm a stop carried past one is judged from there),
+ * as the controller would run it alone. Returns verdict->status. */
+kc_status kc_check_from(kc_check *check, const kc_real *q_start, const kc_goal *goal, kc_verdict *verdict);
+
+/* The goal last judged by kc_check_goal, taken (verdict KC_OK), was handed
+ * to the controller: the queue now ends where it ends. */
+void kc_check_handed(kc_check *check, const kc_goal *goal, const kc_verdict *verdict);
+
+/* A tick of the controller: its output, and goals_taken, how many goals
+ * handed on the controller has been given so far. A goal it refused gives
+ * the queue's end back; at rest with nothing queued or on its way, the
+ * queue ends where the arm is. */
+void kc_check_tick(kc_check *check, const kc_ctrl_output *out, int64_t goals_taken);
+
+#endif /* KINCTL_CHECK_H */

@@ -1,0 +1,180 @@
+/* check.c - the dry run of a goal and where the controller's queue ends
+ * (kinctl/check.h). The goal runs through kc_ctrl_step on the check's own
+ * controller, put back at rest at the start of each run (kc_ctrl_restart):
+ * the same code as the cycle's, at the check's period. */
+#include "kinctl/check.h"
+
+#include <string.h>
+
+#include "ctrl_internal.h"
+
+kc_status kc_check_init(kc_check *k, const kc_chain *chain, const kc_ctrl_cfg *cfg, int64_t max_ticks,
+                        const kc_real *q0)
+{
+    if (k == NULL || chain == NULL || cfg == NULL || q0 == NULL || max_ticks < 1)
+        return KC_E_ARG;
+    if (kc_ctrl_init(&k->scratch, chain, cfg, q0) != KC_OK)
+        return KC_E_ARG;
+    k->chain = chain;
+    k->cfg = *cfg;
+    k->max_ticks = max_ticks;
+    memset(k->q_now, 0, sizeof k->q_now);
+    memcpy(k->q_now, q0, sizeof(kc_real) * (size_t)chain->n_joints);
+    memcpy(k->q_end, k->q_now, sizeof k->q_end);
+    memcpy(k->q_from, k->q_now, sizeof k->q_from);
+    memcpy(k->q_start, k->q_now, sizeof k->q_start);
+    k->last_id = 0;
+    k->handed = 0;
+    k->taken = 0;
+    k->queue_length = 0;
+    k->have_tick = 0;
+    return KC_OK;
+}
+
+/* Accepted, ending at q. */
+static kc_status taken(kc_verdict *v, const kc_real *q, int n)
+{
+    memcpy(v->q_end, q, sizeof(kc_real) * (size_t)n);
+    v->status = KC_OK;
+    v->reason = KC_REASON_NONE;
+    return KC_OK;
+}
+
+/* The first event of the run that ends it: its verdict, or 0 when the run
+ * goes on. */
+static int judged(const kc_check *k, const kc_ctrl_event *ev, int64_t tick, kc_verdict *v)
+{
+    int n = k->chain->n_joints;
+    if (ev->kind == KC_EVENT_COMPLETED) {
+        taken(v, k->scratch.q, n);
+        v->tick = tick;
+        return 1;
+    }
+    if (ev->kind != KC_EVENT_REJECTED && ev->kind != KC_EVENT_ABORTED && ev->kind != KC_EVENT_FAULT)
+        return 0;
+    v->status = ev->reason == KC_REASON_PLAN || ev->kind == KC_EVENT_REJECTED ? KC_E_ARG : KC_E_UNREACHABLE;
+    /* The tool falling behind, in a dry run, is a motion the arm cannot
+     * follow; an end with no reason, one the planner gave up on. */
+    v->reason = ev->reason == KC_REASON_TRACKING ? KC_REASON_UNREACHABLE : ev->reason;
+    if (v->reason == KC_REASON_NONE)
+        v->reason = KC_REASON_PLAN;
+    v->tick = tick;
+    v->where = ev->where;
+    v->zone = ev->zone;
+    v->volume = ev->volume;
+    if (ev->reason == KC_REASON_ZONE)
+        v->distance = k->scratch.zone_hit.distance;
+    return 1;
+}
+
+kc_status kc_check_from(kc_check *k, const kc_real *q_start, const kc_goal *goal, kc_verdict *v)
+{
+    if (v == NULL)
+        return KC_E_ARG;
+    kc_ctrl_verdict_init(v);
+    if (k == NULL || k->chain == NULL || goal == NULL || q_start == NULL)
+        return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, -1, KC_R(0.0));
+    const kc_chain *chain = k->chain;
+    int n = chain->n_joints;
+    /* A start outside the position limits (an arm a stop carried past one)
+     * is judged from where it is: the scratch controller is put at rest
+     * inside, as far as its zone state goes, and then there. */
+    kc_real inside[KC_MAX_JOINTS];
+    for (int j = 0; j < n; j++) {
+        if (!kc_isfinite(q_start[j]))
+            return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, j, KC_R(0.0));
+        inside[j] = kc_clamp(q_start[j], chain->joints[j].limits.q_min, chain->joints[j].limits.q_max);
+    }
+    kc_ctrl *scratch = &k->scratch;
+    kc_ctrl_restart(scratch, inside, q_start);
+    if (kc_ctrl_goal_check(chain, goal, v) != KC_OK)
+        return KC_E_ARG;
+    if (goal->kind == KC_GOAL_SERVO) /* a servo target is judged tick by tick as it moves */
+        return taken(v, q_start, n);
+    if (goal->kind == KC_GOAL_JOINT && !kc_ctrl_zones_on(scratch)) {
+        /* A joint move is exactly its plan: the plan is the whole check
+         * (with zones, its ticks are stepped like any other goal's). */
+        kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS];
+        kc_ctrl_scaled_limits(scratch, goal, vmax, amax);
+        if (kc_interp_joint_plan(&scratch->plan.joint, n, q_start, goal->q, vmax, amax, KC_R(0.0), k->cfg.dt) !=
+            KC_OK)
+            return kc_ctrl_refuse(v, KC_REASON_PLAN, KC_FIELD_NONE, -1, -1, KC_R(0.0));
+        return taken(v, goal->q, n);
+    }
+    kc_goal g = *goal;
+    g.replace = 0;
+    kc_ctrl_input in = {&g, KC_CMD_NONE, 0, KC_REASON_NONE};
+    kc_ctrl_output out;
+    for (int64_t tick = 1; tick <= k->max_ticks; tick++) {
+        if (kc_ctrl_step(scratch, &in, &out) != KC_OK) /* not reached: the scratch controller is initialised */
+            return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, -1, KC_R(0.0));
+        in.goal = NULL;
+        for (int e = 0; e < out.n_events; e++)
+            if (judged(k, &out.events[e], tick, v))
+                return v->status;
+    }
+    v->status = KC_E_CAPACITY;
+    v->reason = KC_REASON_PLAN;
+    v->tick = k->max_ticks;
+    return KC_E_CAPACITY;
+}
+
+kc_status kc_check_goal(kc_check *k, const kc_goal *goal, kc_verdict *v)
+{
+    if (v == NULL)
+        return KC_E_ARG;
+    kc_ctrl_verdict_init(v);
+    if (k == NULL || k->chain == NULL || goal == NULL)
+        return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, -1, KC_R(0.0));
+    int n = k->chain->n_joints;
+    memcpy(k->q_from, goal->replace ? k->q_now : k->q_end, sizeof k->q_from);
+    if (kc_ctrl_goal_check(k->chain, goal, v) != KC_OK)
+        return KC_E_ARG;
+    /* The controller's queue as the latest tick saw it, plus the goals on
+     * their way to it: when that is full the goal is refused at once, with
+     * no dry run, so a flood costs little a goal and every goal is still
+     * answered. A servo message may update the active servo: no new goal. */
+    if (!goal->replace && goal->kind != KC_GOAL_SERVO && k->have_tick &&
+        (int64_t)k->queue_length + (k->handed - k->taken) >= KC_CTRL_QUEUE_MAX) {
+        v->status = KC_E_CAPACITY;
+        v->reason = KC_REASON_QUEUE_FULL;
+        v->value = (kc_real)KC_CTRL_QUEUE_MAX;
+        return KC_E_CAPACITY;
+    }
+    if (goal->kind == KC_GOAL_SERVO) /* it streams: the cheap checks only, and it ends where the arm is */
+        return taken(v, k->q_now, n);
+    return kc_check_from(k, k->q_from, goal, v);
+}
+
+void kc_check_handed(kc_check *k, const kc_goal *goal, const kc_verdict *v)
+{
+    if (k == NULL || goal == NULL || v == NULL)
+        return;
+    k->handed++;
+    k->last_id = goal->id;
+    memcpy(k->q_start, k->q_from, sizeof k->q_start);
+    memcpy(k->q_end, v->q_end, sizeof k->q_end);
+}
+
+void kc_check_tick(kc_check *k, const kc_ctrl_output *out, int64_t goals_taken)
+{
+    if (k == NULL || out == NULL || k->chain == NULL)
+        return;
+    int n = k->chain->n_joints;
+    /* The controller refused the goal last handed on: the next one starts
+     * where that one would have. */
+    for (int i = 0; i < out->n_events && i < KC_CTRL_EVENTS_MAX; i++) {
+        if (out->events[i].kind == KC_EVENT_REJECTED && out->events[i].goal_id == k->last_id && k->last_id != 0) {
+            memcpy(k->q_end, k->q_start, sizeof k->q_end);
+            k->last_id = 0;
+        }
+    }
+    k->have_tick = 1;
+    k->queue_length = out->queue_length;
+    k->taken = goals_taken;
+    memcpy(k->q_now, out->q, sizeof(kc_real) * (size_t)n);
+    /* At rest with nothing queued or on its way: the next goal starts here. */
+    if ((out->state == KC_CTRL_IDLE || out->state == KC_CTRL_FAULT || out->state == KC_CTRL_ESTOP) &&
+        out->goal_id == 0 && out->queue_length == 0 && goals_taken == k->handed)
+        memcpy(k->q_end, out->q, sizeof(kc_real) * (size_t)n);
+}

@@ -1,0 +1,153 @@
+/* ctrl_internal.h - what the rooms of the controller share (kinctl/ctrl.h
+ * is the behaviour): ctrl.c (configuration, init, commands, the step),
+ * ctrl_goal.c (goal checks and verdicts), ctrl_zone.c (forbidden zones), ctrl_queue.c
+ * (events, the queue, goals taken), ctrl_seg.c (segments: planning and
+ * evaluation), ctrl_stop.c (stops on the path, resume, faults) and
+ * check.c (the dry run, kinctl/check.h). Private to the core. */
+#ifndef KINCTL_CTRL_INTERNAL_H
+#define KINCTL_CTRL_INTERNAL_H
+
+#include "kinctl/ctrl.h"
+
+#define INF ((kc_real)INFINITY)
+
+/* Samples over a path stop when checking that a deceleration rate keeps
+ * every joint within its acceleration limit. */
+#define STOP_SAMPLES 16
+
+/* Ticks a Cartesian segment may take after its geometry ends for the tool
+ * to settle within the IK tolerances. */
+#define SETTLE_TICKS 1000
+
+/* A tracking error this many times cfg.track_tol during a stop on the path
+ * abandons the path for a stop in joint space. */
+#define TRACK_GIVE_UP 4
+
+/* Preemption marker for stop_intent. */
+#define INTENT_PREEMPT 100
+
+/* What the segment asks for at one tick: joints, or a Cartesian pose with
+ * its twist. */
+typedef struct kc_ctrl_seg_point {
+    int cart;
+    kc_real q[KC_MAX_JOINTS], qd[KC_MAX_JOINTS], qdd[KC_MAX_JOINTS];
+    kc_pose pose;
+    kc_real twist[6];
+    kc_real progress; /* 0..1 */
+    kc_real s;        /* path length so far (m), Cartesian segments */
+    int done;         /* the segment's own timing has ended (at rest) */
+} kc_ctrl_seg_point;
+
+static inline int kc_ctrl_zones_on(const kc_ctrl *c)
+{
+    return c->cfg.zones != NULL && c->cfg.zones->n_zones > 0 && c->chain->n_volumes > 0;
+}
+
+static inline int kc_ctrl_is_path(kc_goal_kind k) { return k == KC_GOAL_PATH || k == KC_GOAL_PATH_CART; }
+
+/* A stop in joint space is under way. */
+static inline int kc_ctrl_joint_stopping(const kc_ctrl *c) { return c->jstop; }
+
+/* ---- ctrl.c ---- */
+
+/* Puts an initialised controller back at rest at q_at, idle, nothing
+ * queued or active, as kc_ctrl_init leaves it (the zone state judged at
+ * q_at), then its joints at q: the plan buffers are not cleared (each is
+ * written before it is read) and nothing is validated again. */
+void kc_ctrl_restart(kc_ctrl *c, const kc_real *q_at, const kc_real *q);
+
+/* ---- ctrl_goal.c: goal checks ---- */
+
+/* Fills *v (if not NULL): refused (KC_E_ARG) for why, naming the field,
+ * knot, joint and number at fault; returns KC_E_ARG. */
+kc_status kc_ctrl_refuse(kc_verdict *v, kc_ctrl_reason why, kc_goal_field field, int point, int joint,
+                         kc_real value);
+
+/* ---- ctrl_zone.c: forbidden zones ---- */
+
+/* The zone state of a controller at rest at c->q: no hit yet, the levers,
+ * the servo's braking law. */
+void kc_ctrl_zone_init(kc_ctrl *c);
+
+/* A servo step toward a zone approaches it by at most dt sqrt(2 a e) and
+ * moves no volume point (by the lever bound) more than e / 2, e the
+ * clearance beyond the margin at the last setpoint: the arm brakes into the
+ * margin and never reaches it. The step is scaled as a whole (the tool
+ * keeps its direction), its velocity change kept within the acceleration
+ * limits. */
+void kc_ctrl_zone_servo_limit(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd);
+
+/* The final check against the zones: a setpoint that comes closer than
+ * the margin (and closer than the last one) is replaced by the first tick
+ * of an e-stop-like stop from the last good setpoint, and the controller
+ * faults naming the pair. */
+void kc_ctrl_zone_guard(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_output *out);
+
+/* ---- ctrl_queue.c: events, the queue, goals taken ---- */
+
+/* Appends an event to the tick's output (zone and volume -1). */
+void kc_ctrl_emit(kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id, kc_ctrl_reason reason, kc_real where);
+
+/* Drops every queued goal, each with PREEMPTED. */
+void kc_ctrl_queue_clear(kc_ctrl *c, kc_ctrl_output *out);
+
+/* A new goal or servo message of this tick: updates the active or queued
+ * servo goal of its id, or is refused, queued or preempts (kinctl/ctrl.h). */
+void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out);
+
+/* ---- ctrl_seg.c: segments: planning and evaluation ---- */
+
+/* The joints' velocity and acceleration limits times the goal's scales. */
+void kc_ctrl_scaled_limits(const kc_ctrl *c, const kc_goal *g, kc_real *vmax, kc_real *amax);
+
+/* The Cartesian limits of a goal: its own, or the configured defaults. */
+kc_interp_limits kc_ctrl_cart_limits(const kc_ctrl *c, const kc_goal *g);
+
+/* Plans the goal in c->goal from the current (resting) state. */
+kc_status kc_ctrl_plan_goal(kc_ctrl *c);
+
+/* Starts the next queued goal, if any; returns 1 when a segment is active. */
+int kc_ctrl_start_next(kc_ctrl *c, kc_ctrl_output *out);
+
+/* The u (or tau) state driving the segment at its tick j. */
+void kc_ctrl_drive_state(const kc_ctrl *c, int64_t j, kc_profile_state *u);
+
+/* Computes the next setpoint of the active segment into q, qd, qdd. Returns
+ * 1 when the segment has finished (at rest, at its end). */
+int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_output *out);
+
+/* ---- ctrl_stop.c: stops, resume, faults ---- */
+
+/* The rate C of a tau' ramp from rest at tau0 up to 1 that, with the same
+ * ramp down into the path's end, keeps every limit (a path that does not
+ * start or end at rest, Lagrange's, and every resume); 0 when none of the
+ * rates tried does. */
+kc_real kc_ctrl_path_ramp_rate(const kc_ctrl *c, kc_real tau0);
+
+/* Whether the planned path starts at rest (every knot method but Lagrange). */
+int kc_ctrl_path_starts_at_rest(const kc_ctrl *c);
+
+/* A stop of every joint in joint space: each at its own acceleration limit
+ * (hard, for e-stop) or all synchronised on the current direction of motion
+ * (sync). Ends in state `then`. */
+void kc_ctrl_joint_stop(kc_ctrl *c, int sync, kc_ctrl_state then);
+
+/* The joint-space stop at this tick (c->cycle) into q, qd, qdd; 1 when
+ * every joint has come to rest. */
+int kc_ctrl_joint_stop_eval(const kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd);
+
+/* Starts (or, for a path braking hard, arms) the stop on the path of the
+ * active segment, for the given intent. */
+void kc_ctrl_stop_on_path(kc_ctrl *c, int intent);
+
+/* Resumes a paused segment from where it rests. */
+void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out);
+
+/* Ends the active segment after its stop on the path came to rest. */
+void kc_ctrl_stop_finished(kc_ctrl *c, kc_ctrl_output *out);
+
+/* Puts the controller into a fault: the event, then a stop (on the path
+ * when the segment allows it, else in joint space). */
+void kc_ctrl_fault(kc_ctrl *c, kc_ctrl_reason why, kc_real where, int on_path, kc_ctrl_output *out);
+
+#endif /* KINCTL_CTRL_INTERNAL_H */

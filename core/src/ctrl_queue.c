@@ -1,0 +1,158 @@
+/* ctrl_queue.c - events, the goal queue, and a goal taken in a tick:
+ * servo updates, refusals, queueing, preemption and the retarget of a joint
+ * move (kinctl/ctrl.h). */
+#include "ctrl_internal.h"
+
+#include <string.h>
+
+void kc_ctrl_emit(kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id, kc_ctrl_reason reason, kc_real where)
+{
+    if (out->n_events >= KC_CTRL_EVENTS_MAX)
+        return; /* not reached: KC_CTRL_EVENTS_MAX bounds a tick's events (ctrl.h) */
+    kc_ctrl_event *e = &out->events[out->n_events++];
+    e->kind = kind;
+    e->goal_id = id;
+    e->reason = reason;
+    e->where = where;
+    e->zone = -1;
+    e->volume = -1;
+}
+
+void kc_ctrl_queue_clear(kc_ctrl *c, kc_ctrl_output *out)
+{
+    for (int i = 0; i < c->queue_len; i++)
+        kc_ctrl_emit(out, KC_EVENT_PREEMPTED, c->queue[(c->queue_head + i) % KC_CTRL_QUEUE_MAX].id, KC_REASON_NONE, 0);
+    c->queue_head = 0;
+    c->queue_len = 0;
+}
+
+static void queue_push(kc_ctrl *c, const kc_goal *g)
+{
+    c->queue[(c->queue_head + c->queue_len) % KC_CTRL_QUEUE_MAX] = *g;
+    c->queue_len++;
+}
+
+/* Whether a goal of this id is active or queued. */
+static int id_in_flight(const kc_ctrl *c, int64_t id)
+{
+    if (c->active && c->goal.id == id)
+        return 1;
+    for (int i = 0; i < c->queue_len; i++)
+        if (c->queue[(c->queue_head + i) % KC_CTRL_QUEUE_MAX].id == id)
+            return 1;
+    return 0;
+}
+
+/* Plans joint move g from the current, possibly moving, state into
+ * c->plan.retarget, one time-optimal profile a joint, when every profile
+ * stays inside its joint's position limits: a joint moving away from its
+ * target first brakes through zero at p0 + v0 |v0| / (2 |a1|) (the other
+ * phases run monotonically between the current q and the target). Returns 1
+ * when planned; on 0 the active segment is untouched and the preemption
+ * falls back to the stop on the path. */
+static int retarget(kc_ctrl *c, const kc_goal *g)
+{
+    kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS];
+    kc_profile prof[KC_MAX_JOINTS];
+    kc_ctrl_scaled_limits(c, g, vmax, amax);
+    for (int j = 0; j < c->chain->n_joints; j++) {
+        const kc_joint_limits *l = &c->chain->joints[j].limits;
+        kc_profile *p = &prof[j];
+        if (kc_profile_plan(p, c->q[j], c->qd[j], g->q[j], vmax[j], amax[j], c->cfg.dt) != KC_OK)
+            return 0;
+        if (p->v0 * p->vc < KC_R(0.0)) {
+            kc_real turn = p->p0 + p->v0 * kc_fabs(p->v0) / (KC_R(2.0) * kc_fabs(p->a1));
+            if (!(turn >= l->q_min && turn <= l->q_max))
+                return 0;
+        }
+    }
+    /* cppcheck-suppress uninitvar ; the loop above planned prof[0..n_joints) or returned */
+    memcpy(c->plan.retarget, prof, sizeof(kc_profile) * (size_t)c->chain->n_joints);
+    return 1;
+}
+
+/* Makes g, whose retarget is planned, the active segment from this tick. */
+static void take_retarget(kc_ctrl *c, const kc_goal *g)
+{
+    c->goal = *g;
+    c->drive = KC_DRIVE_RETARGET;
+    c->k0 = c->cycle - 1; /* tick 0 is the last setpoint, as for every segment */
+    c->stop_intent = KC_CMD_NONE;
+    c->settle = 0;
+    c->path_length = KC_R(0.0);
+    c->jstop = 0; /* a servo's stop in joint space gives way too */
+    c->active = 1;
+    c->state = KC_CTRL_MOVING;
+}
+
+void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
+{
+    kc_verdict v;
+    /* A servo update for the active servo goal moves its target. */
+    if (g->kind == KC_GOAL_SERVO && c->active && c->goal.kind == KC_GOAL_SERVO && g->id == c->goal.id &&
+        kc_ctrl_goal_check(c->chain, g, &v) == KC_OK) {
+        c->goal.servo_twist = g->servo_twist;
+        memcpy(c->goal.twist, g->twist, sizeof g->twist);
+        if (!g->servo_twist)
+            c->servo_target = g->pose;
+        c->servo_last = c->cycle;
+        return;
+    }
+    /* So does one for a servo goal still waiting in the queue (a replacing
+     * servo goal waits while the motion before it stops on its path): the
+     * stream's messages are one goal, answered once. */
+    if (g->kind == KC_GOAL_SERVO && kc_ctrl_goal_check(c->chain, g, &v) == KC_OK) {
+        for (int i = 0; i < c->queue_len; i++) {
+            kc_goal *w = &c->queue[(c->queue_head + i) % KC_CTRL_QUEUE_MAX];
+            if (w->kind == KC_GOAL_SERVO && w->id == g->id) {
+                w->servo_twist = g->servo_twist;
+                memcpy(w->twist, g->twist, sizeof g->twist);
+                w->pose = g->pose;
+                return;
+            }
+        }
+    }
+    if (c->state == KC_CTRL_FAULT || c->state == KC_CTRL_ESTOP || c->fault_reason != KC_REASON_NONE) {
+        kc_ctrl_emit(out, KC_EVENT_REJECTED, g->id, KC_REASON_STATE, 0);
+        return;
+    }
+    if (id_in_flight(c, g->id)) {
+        /* Its answers could not be told from the other goal's. */
+        kc_ctrl_emit(out, KC_EVENT_REJECTED, g->id, KC_REASON_DUPLICATE_ID, 0);
+        return;
+    }
+    if (kc_ctrl_goal_check(c->chain, g, &v) != KC_OK) {
+        kc_ctrl_emit(out, KC_EVENT_REJECTED, g->id, v.reason, 0);
+        return;
+    }
+    if (g->replace) {
+        kc_ctrl_queue_clear(c, out);
+        if (g->kind == KC_GOAL_JOINT && c->active &&
+            (c->state == KC_CTRL_MOVING || c->state == KC_CTRL_STOPPING) && retarget(c, g)) {
+            kc_ctrl_emit(out, KC_EVENT_ACCEPTED, g->id, KC_REASON_NONE, 0);
+            kc_ctrl_emit(out, KC_EVENT_PREEMPTED, c->goal.id, KC_REASON_NONE, 0);
+            take_retarget(c, g);
+            kc_ctrl_emit(out, KC_EVENT_STARTED, g->id, KC_REASON_NONE, 0);
+            return;
+        }
+        queue_push(c, g);
+        kc_ctrl_emit(out, KC_EVENT_ACCEPTED, g->id, KC_REASON_NONE, 0);
+        if (c->active && c->state == KC_CTRL_MOVING) {
+            kc_ctrl_stop_on_path(c, INTENT_PREEMPT);
+        } else if (c->active && c->state == KC_CTRL_STOPPING) {
+            c->stop_intent = INTENT_PREEMPT;
+        } else if (c->active && c->state == KC_CTRL_PAUSED) {
+            /* Already at rest: the paused goal gives way at once. */
+            kc_ctrl_emit(out, KC_EVENT_PREEMPTED, c->goal.id, KC_REASON_NONE, 0);
+            c->active = 0;
+            c->state = KC_CTRL_IDLE;
+        }
+        return;
+    }
+    if (c->queue_len >= KC_CTRL_QUEUE_MAX) {
+        kc_ctrl_emit(out, KC_EVENT_REJECTED, g->id, KC_REASON_QUEUE_FULL, 0);
+        return;
+    }
+    queue_push(c, g);
+    kc_ctrl_emit(out, KC_EVENT_ACCEPTED, g->id, KC_REASON_NONE, 0);
+}

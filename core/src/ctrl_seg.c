@@ -1,0 +1,371 @@
+/* ctrl_seg.c - segments: a goal planned when it starts (joint move, line,
+ * arc, path, servo), the motion it asks for at each tick, and the setpoint
+ * that follows it (Cartesian: one IK step) (kinctl/ctrl.h). */
+#include "ctrl_internal.h"
+
+#include <string.h>
+
+void kc_ctrl_scaled_limits(const kc_ctrl *c, const kc_goal *g, kc_real *vmax, kc_real *amax)
+{
+    for (int j = 0; j < c->chain->n_joints; j++) {
+        vmax[j] = c->chain->joints[j].limits.qd_max * g->vel_scale;
+        amax[j] = c->chain->joints[j].limits.qdd_max * g->acc_scale;
+    }
+}
+
+kc_interp_limits kc_ctrl_cart_limits(const kc_ctrl *c, const kc_goal *g)
+{
+    kc_interp_limits l = kc_interp_limits_default();
+    l.v = g->speed > KC_R(0.0) ? g->speed : c->cfg.cart_speed;
+    l.a = g->accel > KC_R(0.0) ? g->accel : c->cfg.cart_accel;
+    l.w = g->omega > KC_R(0.0) ? g->omega : c->cfg.cart_omega;
+    l.dw = g->alpha > KC_R(0.0) ? g->alpha : c->cfg.cart_alpha;
+    return l;
+}
+
+/* The knot settings of path goal g, the same fields in kc_path_cfg and
+ * kc_path_cart_cfg: m knots (the current state first) at times (t_0 = 0)
+ * when the goal gives them, tick period dt. */
+#define PATH_CFG_OF_GOAL(cfg, g, m, times, dt_)                                                                       \
+    do {                                                                                                               \
+        (cfg).method = (g)->method;                                                                                    \
+        (cfg).blend = (g)->blend;                                                                                      \
+        (cfg).spline_end = (g)->spline_end;                                                                            \
+        (cfg).n_knots = (m);                                                                                           \
+        (cfg).t = (g)->has_times ? (times) : NULL;                                                                     \
+        (cfg).t_acc = (g)->blend_time;                                                                                 \
+        (cfg).dt = (dt_);                                                                                              \
+    } while (0)
+
+/* Plans path goal g through the current state and its points. */
+static kc_status plan_path(kc_ctrl *c, const kc_goal *g)
+{
+    int n = c->chain->n_joints, m = g->n_points + 1;
+    kc_real times[KC_PATH_MAX_KNOTS];
+    times[0] = KC_R(0.0);
+    for (int i = 1; i < m; i++)
+        times[i] = g->times[i - 1];
+    if (g->kind == KC_GOAL_PATH) {
+        kc_real knots[KC_PATH_MAX_KNOTS * KC_MAX_JOINTS];
+        kc_path_cfg cfg = kc_path_cfg_default();
+        for (int j = 0; j < n; j++)
+            knots[j] = c->q[j];
+        for (int i = 1; i < m; i++)
+            for (int j = 0; j < n; j++)
+                knots[i * n + j] = g->points[i - 1][j];
+        PATH_CFG_OF_GOAL(cfg, g, m, times, c->cfg.dt);
+        cfg.dim = n;
+        cfg.q = knots;
+        kc_ctrl_scaled_limits(c, g, cfg.vmax, cfg.amax);
+        return kc_path_plan(&c->plan.path, &cfg);
+    }
+    kc_vec3 p[KC_PATH_MAX_KNOTS];
+    kc_quat r[KC_PATH_MAX_KNOTS];
+    kc_pose start;
+    kc_fk_eval(c->chain, c->q, &start);
+    p[0] = start.t;
+    kc_quat_from_mat3(&start.R, &r[0]);
+    for (int i = 1; i < m; i++) {
+        const kc_real *v = g->points[i - 1];
+        p[i] = kc_vec3_make(v[0], v[1], v[2]);
+        r[i].w = v[3];
+        r[i].x = v[4];
+        r[i].y = v[5];
+        r[i].z = v[6];
+    }
+    kc_interp_limits lim = kc_ctrl_cart_limits(c, g);
+    kc_path_cart_cfg cfg = kc_path_cart_cfg_default();
+    PATH_CFG_OF_GOAL(cfg, g, m, times, c->cfg.dt);
+    cfg.p = p;
+    cfg.r = r;
+    cfg.v_max = lim.v;
+    cfg.a_max = lim.a;
+    cfg.w_max = lim.w;
+    cfg.alpha_max = lim.dw;
+    kc_status st = kc_path_cart_plan(&c->plan.path_cart, &cfg);
+    if (st == KC_OK)
+        c->path_length = c->plan.path_cart.length;
+    return st;
+}
+
+kc_status kc_ctrl_plan_goal(kc_ctrl *c)
+{
+    const kc_goal *g = &c->goal;
+    kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS];
+    kc_pose from;
+    kc_interp_limits lim = kc_ctrl_cart_limits(c, g);
+    kc_fk_eval(c->chain, c->q, &from);
+    c->path_length = KC_R(0.0);
+    switch (g->kind) {
+    case KC_GOAL_JOINT:
+        kc_ctrl_scaled_limits(c, g, vmax, amax);
+        return kc_interp_joint_plan(&c->plan.joint, c->chain->n_joints, c->q, g->q, vmax, amax, KC_R(0.0), c->cfg.dt);
+    case KC_GOAL_LINE: {
+        kc_status st = kc_interp_line_plan(&c->plan.line, &from, &g->pose, &lim, g->orient, c->cfg.dt);
+        c->path_length = c->plan.line.length;
+        return st;
+    }
+    case KC_GOAL_ARC: {
+        kc_status st = kc_interp_arc_plan(&c->plan.arc, &from, &g->via, &g->pose.t, &lim, c->cfg.dt);
+        c->path_length = c->plan.arc.length;
+        return st;
+    }
+    case KC_GOAL_PATH:
+    case KC_GOAL_PATH_CART:
+        return plan_path(c, g);
+    case KC_GOAL_SERVO:
+        c->servo_target = g->servo_twist ? from : g->pose;
+        c->servo_last = c->cycle;
+        return KC_OK;
+    }
+    return KC_E_ARG;
+}
+
+int kc_ctrl_start_next(kc_ctrl *c, kc_ctrl_output *out)
+{
+    while (c->queue_len > 0) {
+        c->goal = c->queue[c->queue_head];
+        c->queue_head = (c->queue_head + 1) % KC_CTRL_QUEUE_MAX;
+        c->queue_len--;
+        /* Tick 0 of the segment is the last setpoint: the first output is
+         * its tick 1. */
+        c->k0 = c->cycle - 1;
+        c->drive = KC_DRIVE_NOMINAL;
+        c->stop_intent = KC_CMD_NONE;
+        c->settle = 0;
+        if (kc_ctrl_plan_goal(c) != KC_OK) {
+            kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
+            continue;
+        }
+        if (kc_ctrl_is_path(c->goal.kind) && !kc_ctrl_path_starts_at_rest(c)) {
+            /* Lagrange's polynomial moves at its first and last knot: run
+             * it on a tau' that ramps up from rest and down into the end. */
+            kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
+            kc_real C = kc_ctrl_path_ramp_rate(c, KC_R(0.0));
+            if (!(C > KC_R(0.0)) ||
+                kc_profile_plan(&c->drive_prof, KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, c->cfg.dt) != KC_OK) {
+                kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
+                continue;
+            }
+            c->drive = KC_DRIVE_PROFILE;
+        }
+        c->active = 1;
+        c->state = KC_CTRL_MOVING;
+        kc_ctrl_emit(out, KC_EVENT_STARTED, c->goal.id, KC_REASON_NONE, 0);
+        return 1;
+    }
+    c->active = 0;
+    return 0;
+}
+
+static void cart_point(kc_ctrl_seg_point *o, const kc_vec3 *p, const kc_quat *r, const kc_vec3 *v,
+                       const kc_vec3 *w, kc_real rate)
+{
+    o->cart = 1;
+    o->pose.t = *p;
+    kc_quat_to_mat3(r, &o->pose.R);
+    for (int i = 0; i < 3; i++) {
+        o->twist[i] = v->v[i] * rate;
+        o->twist[3 + i] = w->v[i] * rate;
+    }
+}
+
+void kc_ctrl_drive_state(const kc_ctrl *c, int64_t j, kc_profile_state *u)
+{
+    if (c->drive == KC_DRIVE_PROFILE) {
+        kc_profile_eval(&c->drive_prof, j, u);
+        return;
+    }
+    if (kc_ctrl_is_path(c->goal.kind)) {
+        u->p = (kc_real)j * c->cfg.dt;
+        u->v = KC_R(1.0);
+        u->a = KC_R(0.0);
+        u->phase = 2;
+        return;
+    }
+    const kc_profile *prof = c->goal.kind == KC_GOAL_JOINT ? &c->plan.joint.prof
+                             : c->goal.kind == KC_GOAL_LINE ? &c->plan.line.prof
+                                                            : &c->plan.arc.prof;
+    kc_profile_eval(prof, j, u);
+}
+
+/* Joint path at plan time tau with rate tau' and tau'': chain rule. */
+static int path_joint_at(const kc_path *path, kc_real tau, kc_real rate, kc_real rate_dot, int n,
+                         kc_ctrl_seg_point *o)
+{
+    kc_real d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
+    kc_status st = kc_path_eval_time(path, kc_max(tau, KC_R(0.0)), o->q, d1, d2);
+    for (int j = 0; j < n; j++) {
+        o->qd[j] = d1[j] * rate;
+        o->qdd[j] = d2[j] * rate * rate + d1[j] * rate_dot;
+    }
+    return st == KC_DONE;
+}
+
+/* A retarget (or its stop) at its tick j: every joint on its own profile;
+ * done when the last one has ended. */
+static void retarget_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
+{
+    int64_t ticks = 0;
+    o->done = 1;
+    for (int i = 0; i < c->chain->n_joints; i++) {
+        kc_profile_state s;
+        if (kc_profile_eval(&c->plan.retarget[i], j, &s) != KC_DONE)
+            o->done = 0;
+        o->q[i] = s.p;
+        o->qd[i] = s.v;
+        o->qdd[i] = s.a;
+        if (c->plan.retarget[i].ticks > ticks)
+            ticks = c->plan.retarget[i].ticks;
+    }
+    o->progress = ticks > 0 ? kc_min((kc_real)j / (kc_real)ticks, KC_R(1.0)) : KC_R(1.0);
+}
+
+/* The segment's point at its tick j (j >= 0). */
+static void seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
+{
+    const kc_goal *g = &c->goal;
+    int n = c->chain->n_joints;
+    o->cart = 0;
+    o->s = KC_R(0.0);
+    o->done = 0;
+    if (j < 0)
+        j = 0;
+    switch (g->kind) {
+    case KC_GOAL_JOINT: {
+        if (c->drive == KC_DRIVE_RETARGET) {
+            retarget_eval(c, j, o);
+            return;
+        }
+        kc_interp_joint_state s;
+        kc_status st = c->drive == KC_DRIVE_PROFILE ? kc_interp_joint_eval_profile(&c->plan.joint, &c->drive_prof, j, &s)
+                                                    : kc_interp_joint_eval(&c->plan.joint, j, &s);
+        memcpy(o->q, s.q, sizeof(kc_real) * (size_t)n);
+        memcpy(o->qd, s.qd, sizeof(kc_real) * (size_t)n);
+        memcpy(o->qdd, s.qdd, sizeof(kc_real) * (size_t)n);
+        o->progress = s.u;
+        o->done = st == KC_DONE;
+        return;
+    }
+    case KC_GOAL_LINE:
+    case KC_GOAL_ARC: {
+        kc_interp_cart_state s;
+        kc_status st;
+        if (g->kind == KC_GOAL_LINE)
+            st = c->drive == KC_DRIVE_PROFILE ? kc_interp_line_eval_profile(&c->plan.line, &c->drive_prof, j, &s)
+                                              : kc_interp_line_eval(&c->plan.line, j, &s);
+        else
+            st = c->drive == KC_DRIVE_PROFILE ? kc_interp_arc_eval_profile(&c->plan.arc, &c->drive_prof, j, &s)
+                                              : kc_interp_arc_eval(&c->plan.arc, j, &s);
+        cart_point(o, &s.p, &s.q, &s.v, &s.w, KC_R(1.0));
+        o->progress = s.u;
+        o->s = s.s;
+        o->done = st == KC_DONE;
+        return;
+    }
+    case KC_GOAL_PATH:
+    case KC_GOAL_PATH_CART: {
+        kc_profile_state u;
+        kc_ctrl_drive_state(c, j, &u);
+        kc_real T = g->kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
+        o->progress = T > KC_R(0.0) ? kc_min(u.p / T, KC_R(1.0)) : KC_R(1.0);
+        if (g->kind == KC_GOAL_PATH) {
+            int end = path_joint_at(&c->plan.path, u.p, u.v, u.a, n, o);
+            o->done = c->drive == KC_DRIVE_PROFILE ? c->drive_prof.ticks <= j : end;
+        } else {
+            kc_path_pose s;
+            kc_status st = kc_path_cart_eval_time(&c->plan.path_cart, kc_max(u.p, KC_R(0.0)), &s);
+            cart_point(o, &s.p, &s.r, &s.v, &s.w, u.v);
+            o->s = s.s;
+            o->done = c->drive == KC_DRIVE_PROFILE ? c->drive_prof.ticks <= j : st == KC_DONE;
+        }
+        return;
+    }
+    case KC_GOAL_SERVO: {
+        kc_vec3 zero = kc_vec3_make(KC_R(0.0), KC_R(0.0), KC_R(0.0));
+        kc_quat r;
+        kc_quat_from_mat3(&c->servo_target.R, &r);
+        cart_point(o, &c->servo_target.t, &r, &zero, &zero, KC_R(0.0));
+        if (g->servo_twist)
+            for (int i = 0; i < 6; i++)
+                o->twist[i] = g->twist[i];
+        o->progress = KC_R(0.0);
+        return;
+    }
+    }
+}
+
+int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_output *out)
+{
+    int n = c->chain->n_joints;
+    int64_t j = c->cycle - c->k0;
+    kc_ctrl_seg_point now;
+    if (c->drive == KC_DRIVE_STOPPING_WAIT) {
+        /* Try to start the pending path stop from the last setpoint. */
+        int intent = c->stop_intent;
+        c->drive = KC_DRIVE_NOMINAL;
+        kc_ctrl_stop_on_path(c, intent);
+        j = c->cycle - c->k0;
+    }
+    seg_eval(c, j, &now);
+    out->progress = now.progress;
+    if (!now.cart) {
+        memcpy(q, now.q, sizeof(kc_real) * (size_t)n);
+        memcpy(qd, now.qd, sizeof(kc_real) * (size_t)n);
+        memcpy(qdd, now.qdd, sizeof(kc_real) * (size_t)n);
+        return now.done;
+    }
+    /* Cartesian: the target where the segment is at the last setpoint's
+     * instant, its twist fed forward; the step heads for tick j. */
+    kc_ctrl_seg_point before;
+    seg_eval(c, j - 1, &before);
+    if (c->goal.kind == KC_GOAL_SERVO && c->goal.servo_twist) {
+        /* Move the servo target by the twist over one tick. */
+        kc_vec3 w = kc_vec3_make(c->goal.twist[3] * c->cfg.dt, c->goal.twist[4] * c->cfg.dt, c->goal.twist[5] * c->cfg.dt);
+        kc_quat dr, r, r2;
+        kc_quat_exp(&w, &dr);
+        kc_quat_from_mat3(&c->servo_target.R, &r);
+        kc_quat_mul(&dr, &r, &r2);
+        kc_quat_to_mat3(&r2, &c->servo_target.R);
+        for (int i = 0; i < 3; i++)
+            c->servo_target.t.v[i] += c->goal.twist[i] * c->cfg.dt;
+    }
+    kc_ik_result res;
+    kc_status st = kc_ik_step(c->chain, &c->cfg.ik, &before.pose, before.twist, c->cfg.dt, c->q, c->qd, q, qd, &res);
+    for (int i = 0; i < n; i++)
+        qdd[i] = (qd[i] - c->qd[i]) / c->cfg.dt;
+    /* A servo target may jump: the arm goes there within its limits, and
+     * only a joint limit in the way is a fault. */
+    kc_real limit = c->goal.kind == KC_GOAL_SERVO    ? INF
+                    : c->state == KC_CTRL_STOPPING ? TRACK_GIVE_UP * c->cfg.track_tol
+                                                   : c->cfg.track_tol;
+    if (st == KC_E_ARG || res.pos_err > limit || st == KC_E_LIMIT) {
+        kc_real where = c->path_length > KC_R(0.0) ? before.s : before.progress;
+        if (c->state == KC_CTRL_STOPPING || st == KC_E_LIMIT || st == KC_E_ARG) {
+            /* Even the stop on the path cannot be followed: stop in joint
+             * space from the last setpoint. */
+            int was_fault = c->fault_reason != KC_REASON_NONE;
+            if (!was_fault) {
+                c->fault_reason = KC_REASON_TRACKING;
+                kc_ctrl_emit(out, KC_EVENT_FAULT, c->goal.id, KC_REASON_TRACKING, where);
+                kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_TRACKING, where);
+                kc_ctrl_queue_clear(c, out);
+            }
+            kc_ctrl_joint_stop(c, 1, KC_CTRL_FAULT);
+            c->state = KC_CTRL_STOPPING;
+            return -1;
+        }
+        kc_ctrl_fault(c, KC_REASON_TRACKING, where, 1, out);
+        return -1;
+    }
+    if (now.done && c->goal.kind != KC_GOAL_SERVO) {
+        /* The geometry has ended: finished once the tool has settled. */
+        if (st == KC_DONE)
+            return 1;
+        if (++c->settle > SETTLE_TICKS) {
+            kc_ctrl_fault(c, KC_REASON_TRACKING, c->path_length, 0, out);
+            return -1;
+        }
+    }
+    return 0;
+}

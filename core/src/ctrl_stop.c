@@ -1,0 +1,272 @@
+/* ctrl_stop.c - stopping: on the path (interpolated segments by their
+ * path parameter, paths by their plan time), in joint space, resuming, and
+ * faults (kinctl/ctrl.h). */
+#include "ctrl_internal.h"
+
+#include <string.h>
+
+/* Largest |q'' tau'^2 + q' tau''| / qdd_max (Cartesian: the tool point's
+ * acceleration over its limit) on sampled instants of a change of tau' at
+ * the constant rate a for the time D, from plan time tau0 at rate r0: at
+ * most 1 when it keeps every limit. A stop is (tau, rate, -C, rate / C), a
+ * start from rest (tau, 0, C, 1 / C), the ramp into the end (T - 1/(2C),
+ * 1, -C, 1 / C). */
+static kc_real path_ramp_load(const kc_ctrl *c, kc_real tau0, kc_real r0, kc_real a, kc_real D)
+{
+    const kc_goal *g = &c->goal;
+    int n = c->chain->n_joints;
+    kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS], worst = KC_R(0.0);
+    kc_ctrl_scaled_limits(c, g, vmax, amax);
+    kc_real a_cart = kc_ctrl_cart_limits(c, g).a;
+    for (int i = 0; i <= STOP_SAMPLES; i++) {
+        kc_real t = D * (kc_real)i / (kc_real)STOP_SAMPLES;
+        kc_real r = r0 + a * t, at = kc_max(tau0 + r0 * t + KC_R(0.5) * a * t * t, KC_R(0.0));
+        if (g->kind == KC_GOAL_PATH) {
+            kc_real q[KC_MAX_JOINTS], d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
+            kc_path_eval_time(&c->plan.path, at, q, d1, d2);
+            for (int j = 0; j < n; j++)
+                worst = kc_max(worst, kc_fabs(d2[j] * r * r + d1[j] * a) / amax[j]);
+        } else {
+            kc_path_pose s;
+            kc_path_cart_eval_time(&c->plan.path_cart, at, &s);
+            kc_vec3 acc;
+            for (int k = 0; k < 3; k++)
+                acc.v[k] = s.a.v[k] * r * r + s.v.v[k] * a;
+            worst = kc_max(worst, kc_vec3_norm(&acc) / a_cart);
+        }
+    }
+    return worst;
+}
+
+/* The deceleration of tau' a path stop may use from (tau, rate), or 0 when
+ * no rate tried keeps the limits now (the path is braking hard itself: try
+ * again next tick). */
+static kc_real path_stop_rate(const kc_ctrl *c, kc_real tau, kc_real rate)
+{
+    const kc_goal *g = &c->goal;
+    int n = c->chain->n_joints;
+    kc_real q[KC_MAX_JOINTS], d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
+    kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS];
+    kc_ctrl_scaled_limits(c, g, vmax, amax);
+    /* Start from what the speed alone allows, then halve. */
+    kc_real dec = INF;
+    if (g->kind == KC_GOAL_PATH) {
+        kc_path_eval_time(&c->plan.path, tau, q, d1, d2);
+        for (int j = 0; j < n; j++)
+            if (kc_fabs(d1[j]) > KC_R(0.0))
+                dec = kc_min(dec, amax[j] / kc_fabs(d1[j]));
+    } else {
+        kc_path_pose s;
+        kc_path_cart_eval_time(&c->plan.path_cart, tau, &s);
+        kc_real speed = kc_vec3_norm(&s.v);
+        if (speed > KC_R(0.0))
+            dec = kc_ctrl_cart_limits(c, g).a / speed;
+    }
+    if (!kc_isfinite(dec))
+        dec = KC_R(1.0) / c->cfg.dt; /* standing still: stop within a tick */
+    for (int tries = 0; tries < 6; tries++) {
+        if (path_ramp_load(c, tau, rate, -dec, rate / dec) <= KC_R(1.0))
+            return dec;
+        dec *= KC_R(0.5);
+    }
+    return KC_R(0.0);
+}
+
+kc_real kc_ctrl_path_ramp_rate(const kc_ctrl *c, kc_real tau0)
+{
+    kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
+    kc_real C = KC_R(1.0) / (KC_R(10.0) * c->cfg.dt); /* a ramp of at least ten ticks */
+    for (int tries = 0; tries < 16; tries++) {
+        if (path_ramp_load(c, tau0, KC_R(0.0), C, KC_R(1.0) / C) <= KC_R(1.0) &&
+            path_ramp_load(c, T - KC_R(0.5) / C, KC_R(1.0), -C, KC_R(1.0) / C) <= KC_R(1.0))
+            return C;
+        C *= KC_R(0.5);
+    }
+    return KC_R(0.0);
+}
+
+int kc_ctrl_path_starts_at_rest(const kc_ctrl *c)
+{
+    if (c->goal.kind == KC_GOAL_PATH) {
+        kc_real q[KC_MAX_JOINTS], d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
+        kc_path_eval_time(&c->plan.path, KC_R(0.0), q, d1, d2);
+        for (int j = 0; j < c->chain->n_joints; j++)
+            if (d1[j] != KC_R(0.0))
+                return 0;
+        return 1;
+    }
+    kc_path_pose s;
+    kc_path_cart_eval_time(&c->plan.path_cart, KC_R(0.0), &s);
+    return kc_vec3_norm(&s.v) == KC_R(0.0) && kc_vec3_norm(&s.w) == KC_R(0.0);
+}
+
+void kc_ctrl_joint_stop(kc_ctrl *c, int sync, kc_ctrl_state then)
+{
+    int n = c->chain->n_joints;
+    kc_real T = KC_R(0.0);
+    for (int j = 0; j < n; j++)
+        T = kc_max(T, kc_fabs(c->qd[j]) / c->chain->joints[j].limits.qdd_max);
+    for (int j = 0; j < n; j++) {
+        kc_real a = c->chain->joints[j].limits.qdd_max;
+        if (sync && T > KC_R(0.0) && c->qd[j] != KC_R(0.0))
+            a = kc_fabs(c->qd[j]) / T;
+        if (kc_profile_plan_stop(&c->jstop_prof[j], c->q[j], c->qd[j], a, c->cfg.dt) != KC_OK)
+            kc_profile_plan_stop(&c->jstop_prof[j], c->q[j], KC_R(0.0), KC_R(1.0), c->cfg.dt);
+    }
+    c->jstop_k0 = c->cycle - 1;
+    c->jstop = 1;
+    c->after_stop = then;
+    c->active = 0;
+}
+
+int kc_ctrl_joint_stop_eval(const kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
+{
+    int done = 1;
+    for (int j = 0; j < c->chain->n_joints; j++) {
+        kc_profile_state s;
+        if (kc_profile_eval(&c->jstop_prof[j], c->cycle - c->jstop_k0, &s) != KC_DONE)
+            done = 0;
+        q[j] = s.p;
+        qd[j] = s.v;
+        qdd[j] = s.a;
+    }
+    return done;
+}
+
+void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
+{
+    c->stop_intent = intent;
+    c->state = KC_CTRL_STOPPING;
+    int64_t j = (c->cycle - 1) - c->k0; /* the last setpoint's tick */
+    kc_profile_state u;
+    if (c->goal.kind == KC_GOAL_SERVO) {
+        kc_ctrl_joint_stop(c, 1, intent == KC_CMD_PAUSE ? KC_CTRL_PAUSED : KC_CTRL_IDLE);
+        c->active = 1; /* the servo goal stays active through its stop */
+        return;
+    }
+    if (c->drive == KC_DRIVE_RETARGET) {
+        /* Each joint brakes at the goal's own acceleration limit: it comes
+         * to rest no further than its profile would have turned, so inside
+         * the position limits the retarget was checked against. */
+        kc_real vmax[KC_MAX_JOINTS] = {KC_R(0.0)}, amax[KC_MAX_JOINTS] = {KC_R(0.0)};
+        kc_ctrl_scaled_limits(c, &c->goal, vmax, amax);
+        for (int i = 0; i < c->chain->n_joints; i++)
+            kc_profile_plan_stop(&c->plan.retarget[i], c->q[i], c->qd[i], amax[i], c->cfg.dt);
+        c->k0 = c->cycle - 1;
+        return;
+    }
+    kc_ctrl_drive_state(c, j, &u);
+    if (kc_ctrl_is_path(c->goal.kind)) {
+        kc_real dec = path_stop_rate(c, u.p, u.v);
+        if (!(dec > KC_R(0.0))) {
+            c->drive = c->drive == KC_DRIVE_PROFILE ? KC_DRIVE_PROFILE : KC_DRIVE_STOPPING_WAIT;
+            return;
+        }
+        kc_profile_plan_stop(&c->drive_prof, u.p, u.v, dec, c->cfg.dt);
+    } else {
+        kc_real amax = c->goal.kind == KC_GOAL_JOINT ? c->plan.joint.u_amax
+                       : c->goal.kind == KC_GOAL_LINE ? c->plan.line.u_amax
+                                                      : c->plan.arc.u_amax;
+        if (!kc_isfinite(amax))
+            amax = KC_R(1.0); /* a zero motion: nothing to stop */
+        kc_profile_plan_stop(&c->drive_prof, u.p, u.v, amax, c->cfg.dt);
+    }
+    c->drive = KC_DRIVE_PROFILE;
+    c->k0 = c->cycle - 1;
+}
+
+void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
+{
+    int64_t j = (c->cycle - 1) - c->k0;
+    kc_profile_state u;
+    c->state = KC_CTRL_MOVING;
+    c->stop_intent = KC_CMD_NONE;
+    if (c->goal.kind == KC_GOAL_SERVO) {
+        c->servo_last = c->cycle;
+        return;
+    }
+    if (c->drive == KC_DRIVE_RETARGET) {
+        /* At rest a retarget is an ordinary joint move from here. */
+        c->drive = KC_DRIVE_NOMINAL;
+        c->k0 = c->cycle - 1;
+        if (kc_ctrl_plan_goal(c) != KC_OK) {
+            kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
+            c->active = 0;
+            c->state = KC_CTRL_IDLE;
+        }
+        return;
+    }
+    kc_ctrl_drive_state(c, j, &u);
+    if (kc_ctrl_is_path(c->goal.kind)) {
+        kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
+        kc_real C = kc_ctrl_path_ramp_rate(c, u.p);
+        if (!(C > KC_R(0.0)))
+            C = KC_R(1.0); /* the rates tried all fail: the gentlest ramp there is */
+        kc_profile_plan(&c->drive_prof, u.p, KC_R(0.0), T, KC_R(1.0), C, c->cfg.dt);
+    } else {
+        const kc_interp_joint *pj = &c->plan.joint;
+        kc_real vmax = c->goal.kind == KC_GOAL_JOINT ? pj->u_vmax
+                       : c->goal.kind == KC_GOAL_LINE ? c->plan.line.u_vmax
+                                                      : c->plan.arc.u_vmax;
+        kc_real amax = c->goal.kind == KC_GOAL_JOINT ? pj->u_amax
+                       : c->goal.kind == KC_GOAL_LINE ? c->plan.line.u_amax
+                                                      : c->plan.arc.u_amax;
+        if (!kc_isfinite(amax))
+            amax = KC_R(1.0);
+        kc_profile_plan(&c->drive_prof, u.p, KC_R(0.0), KC_R(1.0), vmax, amax, c->cfg.dt);
+    }
+    c->drive = KC_DRIVE_PROFILE;
+    c->k0 = c->cycle - 1;
+}
+
+void kc_ctrl_stop_finished(kc_ctrl *c, kc_ctrl_output *out)
+{
+    int intent = c->stop_intent;
+    c->stop_intent = KC_CMD_NONE;
+    if (intent == KC_CMD_PAUSE) {
+        c->state = KC_CTRL_PAUSED;
+        return;
+    }
+    if (intent == KC_CMD_RESUME) {
+        kc_ctrl_resume(c, out);
+        return;
+    }
+    c->active = 0;
+    if (intent == INTENT_PREEMPT) {
+        kc_ctrl_emit(out, KC_EVENT_PREEMPTED, c->goal.id, KC_REASON_NONE, 0);
+        c->state = KC_CTRL_IDLE;
+        return;
+    }
+    if (c->fault_reason != KC_REASON_NONE) {
+        c->state = KC_CTRL_FAULT;
+        return;
+    }
+    kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, c->goal.kind == KC_GOAL_SERVO && intent == KC_CMD_NONE
+                                                  ? KC_REASON_SERVO_TIMEOUT
+                                                  : KC_REASON_NONE,
+         0);
+    c->state = KC_CTRL_IDLE;
+}
+
+void kc_ctrl_fault(kc_ctrl *c, kc_ctrl_reason why, kc_real where, int on_path, kc_ctrl_output *out)
+{
+    if (c->fault_reason != KC_REASON_NONE) {
+        /* Already in a fault, whose events went out with it (the goal
+         * aborted once): a stop on the path that fails too gives way to
+         * one in joint space. */
+        kc_ctrl_joint_stop(c, 1, KC_CTRL_FAULT);
+        c->state = KC_CTRL_STOPPING;
+        return;
+    }
+    c->fault_reason = why;
+    kc_ctrl_emit(out, KC_EVENT_FAULT, c->active ? c->goal.id : 0, why, where);
+    if (c->active)
+        kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, why, where);
+    kc_ctrl_queue_clear(c, out);
+    if (on_path && c->active && c->goal.kind != KC_GOAL_SERVO) {
+        kc_ctrl_stop_on_path(c, KC_CMD_STOP);
+        return;
+    }
+    kc_ctrl_joint_stop(c, 1, KC_CTRL_FAULT);
+    c->state = KC_CTRL_STOPPING;
+}

@@ -1,0 +1,95 @@
+/* ctrl_zone.c - forbidden zones in the controller: the servo's braking
+ * toward a zone and the final check of every setpoint (kinctl/ctrl.h,
+ * kinctl/zone.h). */
+#include "ctrl_internal.h"
+
+#include <string.h>
+
+void kc_ctrl_zone_init(kc_ctrl *c)
+{
+    kc_zone_hit none = {-1, -1, INF};
+    c->zone_now = none;
+    c->zone_hit = none;
+    kc_zone_levers(c->chain, c->zone_lever);
+    /* The servo's braking law: a point's braking a makes joint j brake at
+     * most a / lever_j, so a = min qdd_max_j lever_j keeps every joint
+     * within its limit; half of it leaves room for the IK's own changes. */
+    c->zone_brake = INF;
+    for (int j = 0; j < c->chain->n_joints; j++)
+        if (c->zone_lever[j] > KC_R(0.0))
+            c->zone_brake = kc_min(c->zone_brake, KC_R(0.5) * c->chain->joints[j].limits.qdd_max * c->zone_lever[j]);
+    if (kc_ctrl_zones_on(c))
+        kc_zone_check(c->chain, c->cfg.zones, c->q, NULL, &c->zone_now);
+}
+
+void kc_ctrl_zone_servo_limit(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
+{
+    int n = c->chain->n_joints;
+    kc_real travel = KC_R(0.0), dt = c->cfg.dt;
+    for (int j = 0; j < n; j++)
+        travel += kc_fabs(q[j] - c->q[j]) * c->zone_lever[j];
+    if (!(travel > KC_R(0.0)))
+        return;
+    kc_zone_hit hit;
+    kc_status st = kc_zone_check(c->chain, c->cfg.zones, q, NULL, &hit);
+    if ((st != KC_OK && st != KC_E_LIMIT) || hit.distance >= c->zone_now.distance)
+        return; /* not finite (the final check refuses it) or not approaching */
+    kc_real e = kc_max(c->zone_now.distance - c->cfg.zones->margin, KC_R(0.0));
+    /* The braking law on the measured approach; the bound on the travel
+     * of any point keeps the step short of the margin whatever it is. */
+    kc_real approach = c->zone_now.distance - hit.distance, s = KC_R(1.0), a = KC_R(1.0);
+    kc_real brake = dt * kc_sqrt(KC_R(2.0) * c->zone_brake * e);
+    if (approach > brake)
+        s = brake / approach;
+    if (travel * s > KC_R(0.5) * e)
+        s = KC_R(0.5) * e / travel;
+    if (s >= KC_R(1.0))
+        return;
+    for (int j = 0; j < n; j++) {
+        kc_real dv = kc_fabs(s * qd[j] - c->qd[j]), lim = c->chain->joints[j].limits.qdd_max * dt;
+        if (dv * a > lim)
+            a = lim / dv;
+    }
+    for (int j = 0; j < n; j++) {
+        qd[j] = c->qd[j] + a * (s * qd[j] - c->qd[j]);
+        q[j] = c->q[j] + qd[j] * dt;
+        qdd[j] = (qd[j] - c->qd[j]) / dt;
+    }
+    /* A twist stream's target stays with the restrained arm instead of
+     * running on into the zone, so a reversed twist moves it away at once. */
+    if (c->goal.servo_twist)
+        kc_fk_eval(c->chain, q, &c->servo_target);
+}
+
+static void emit_zone(kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id, kc_real where, const kc_zone_hit *hit)
+{
+    int before = out->n_events;
+    kc_ctrl_emit(out, kind, id, KC_REASON_ZONE, where);
+    if (out->n_events > before) {
+        out->events[before].zone = hit->zone;
+        out->events[before].volume = hit->volume;
+    }
+}
+
+void kc_ctrl_zone_guard(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_output *out)
+{
+    kc_zone_hit hit;
+    if (kc_zone_check(c->chain, c->cfg.zones, q, NULL, &hit) == KC_E_ARG)
+        return; /* not finite: never the case after setpoint_ok */
+    if (c->fault_reason == KC_REASON_ZONE || !(hit.distance < c->cfg.zones->margin) ||
+        !(hit.distance < c->zone_now.distance)) {
+        c->zone_now = hit;
+        return;
+    }
+    kc_real where = c->active && c->path_length > KC_R(0.0) ? out->progress * c->path_length : out->progress;
+    c->zone_hit = hit;
+    c->fault_reason = KC_REASON_ZONE;
+    emit_zone(out, KC_EVENT_FAULT, c->active ? c->goal.id : 0, where, &hit);
+    if (c->active)
+        emit_zone(out, KC_EVENT_ABORTED, c->goal.id, where, &hit);
+    kc_ctrl_queue_clear(c, out);
+    kc_ctrl_joint_stop(c, 0, KC_CTRL_FAULT);
+    c->state = KC_CTRL_STOPPING;
+    kc_ctrl_joint_stop_eval(c, q, qd, qdd);
+    kc_zone_check(c->chain, c->cfg.zones, q, NULL, &c->zone_now);
+}
