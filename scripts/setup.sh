@@ -17,8 +17,10 @@ apt_packages=(
     # dpkg-shlibdeps the .deb needs, and binutils' readelf for the install test)
     build-essential cmake ninja-build pkg-config python3 python3-venv
     # build: clang for the ASan + UBSan and UBSan builds (scripts/test.sh) and
-    # the fuzzers; its sanitizer and libFuzzer runtimes are a package of their own
-    clang libclang-rt-14-dev
+    # the fuzzers; its sanitizer and libFuzzer runtimes are a package of their
+    # own; llvm's llvm-symbolizer names the functions in sanitizer reports, which
+    # LeakSanitizer's suppressions (tests/fuzz/lsan.supp) match by name
+    clang libclang-rt-14-dev llvm
     # build: libconfig (description and configuration files), jansson (JSON in
     # kinctl-calc), cmocka (the C unit tests)
     libconfig-dev libjansson-dev libcmocka-dev
