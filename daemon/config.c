@@ -3,6 +3,7 @@
  * checks that need them all (the robot, the home joints, CAN, zones, the
  * controller's own). */
 #include "config_internal.h"
+#include "lcm_rx.h"
 
 #include <math.h>
 #include <stdarg.h>
@@ -43,9 +44,12 @@ const char *kd_url_problem(const char *u)
 {
     if (strlen(u) >= KD_URL_MAX)
         return "is longer than 255 characters";
+    static char why[192];
     if (strstr(u, "://") == NULL)
         return "is not an LCM URL (provider://address?options, e.g. " KD_DEFAULT_URL ")";
-    return NULL;
+    /* The receiver's grammar (lcm_rx.h) is the one judge of what kinctld
+     * can listen on. */
+    return kd_rx_url_check(u, why, sizeof why) == 0 ? NULL : why;
 }
 
 /* Says why the value of a flag (or of the environment's what) is

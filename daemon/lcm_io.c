@@ -15,8 +15,6 @@
 
 #include "kinctl/se3.h"
 
-#define KD_LCM_QUEUE 10000 /* datagrams LCM may hold per subscription before we read them */
-#define KD_LCM_RECV_BUF (4 << 20) /* socket receive buffer asked for on udpm (bytes) */
 #define KD_CHECK_PERIOD KC_R(0.004) /* tick of the goals' dry run (s) */
 #define KD_HANDLE_BURST 64 /* datagrams per wake-up before the tick ring is drained again */
 
@@ -264,18 +262,15 @@ static void push_command(kd_io *io, kc_ctrl_command command)
     io->cmds_pushed++;
 }
 
-static void on_message(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
+/* One client datagram's payload on the channel of type. */
+static void on_message(kd_io *io, kd_msg_type type, const void *data, size_t len)
 {
-    const kd_io_sub *sub = user;
-    kd_io *io = sub->io;
     int64_t received_ns = kd_now_ns();
     char why[KD_MSG_REASON_SIZE];
     kd_msg_status ms;
-    size_t len = rbuf->data_size;
 
-    (void)channel;
     io->msgs_in++;
-    ms = kd_msg_decode(sub->type, rbuf->data, len, &io->msg, why, sizeof why);
+    ms = kd_msg_decode(type, data, len, &io->msg, why, sizeof why);
     if (ms != KD_MSG_OK) {
         kd_msg_type named;
         int64_t id = 0;
@@ -284,20 +279,19 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel, void *us
             io->invalid_by[-(int)ms]++;
         /* Answer only when the datagram is a kinctl goal (whatever is wrong
          * with it): a goal_id read from garbage would be noise. */
-        if (kd_msg_identify(rbuf->data, len, &named) == KD_MSG_OK && named <= KD_MSG_GOAL_SERVO)
-            id = kd_msg_goal_id(named, rbuf->data, len);
+        if (kd_msg_identify(data, len, &named) == KD_MSG_OK && named <= KD_MSG_GOAL_SERVO)
+            id = kd_msg_goal_id(named, data, len);
         if (id != 0) {
             kd_reject rej;
-            kd_reject_set(&rej, KC_REASON_BAD_GOAL, "%s on %s: %s", kd_msg_status_str(ms), io->channel[sub->type],
-                          why);
+            kd_reject_set(&rej, KC_REASON_BAD_GOAL, "%s on %s: %s", kd_msg_status_str(ms), io->channel[type], why);
             reject(io, id, &rej);
         }
         return;
     }
-    if (sub->type == KD_MSG_COMMAND)
+    if (type == KD_MSG_COMMAND)
         push_command(io, (kc_ctrl_command)io->msg.command.command);
     else
-        handle_goal(io, sub->type, received_ns);
+        handle_goal(io, type, received_ns);
 }
 
 /* ---- CAN --------------------------------------------------------------- */
@@ -388,6 +382,31 @@ static void timers(kd_io *io)
     }
 }
 
+/* Reads one datagram and handles it when it is on a client channel of
+ * ours. Returns 0 when none was waiting (or the one read was refused: the
+ * next poll finds the rest). Everything else on the group (our
+ * own setpoints, status and stats looped back, other arms' channels) is
+ * passed over uncounted. */
+static int receive_one(kd_io *io)
+{
+    const char *channel;
+    const void *payload;
+    size_t len;
+    int t, r = kd_rx_read(&io->rx, &channel, &payload, &len);
+    if (r < 0) {
+        io->rx_errors++;
+        return 0;
+    }
+    if (r == 0)
+        return 0;
+    for (t = 0; t < KD_MSG_TYPE_COUNT; t++)
+        if (kd_msg_type_info((kd_msg_type)t)->from_client && strcmp(channel, io->channel[t]) == 0) {
+            on_message(io, (kd_msg_type)t, payload, len);
+            break;
+        }
+    return 1;
+}
+
 static void *io_main(void *arg)
 {
     kd_io *io = arg;
@@ -397,7 +416,7 @@ static void *io_main(void *arg)
     kd_cycle_stats cs;
 
     prctl(PR_SET_NAME, "kinctld-io");
-    pfd.fd = lcm_get_fileno(io->lcm);
+    pfd.fd = kd_rx_fd(&io->rx);
     pfd.events = POLLIN;
     wait.tv_sec = (time_t)(io->cfg->period_ns / KD_NS);
     wait.tv_nsec = (long)(io->cfg->period_ns % KD_NS);
@@ -413,7 +432,7 @@ static void *io_main(void *arg)
         if (ppoll(&pfd, 1, &wait, NULL) <= 0)
             continue;
         for (burst = 0; burst < KD_HANDLE_BURST; burst++) {
-            if (lcm_handle_timeout(io->lcm, 0) <= 0)
+            if (!receive_one(io))
                 break;
             drain_ticks(io);
         }
@@ -433,17 +452,6 @@ static void *io_main(void *arg)
     return NULL;
 }
 
-/* Escapes the prefix for LCM's channel regular expression. */
-static void channel_regex(const char *channel, char *dest, size_t size)
-{
-    size_t o = 0;
-    for (; *channel != '\0' && o + 3 < size; channel++) {
-        if (*channel == '.')
-            dest[o++] = '\\';
-        dest[o++] = *channel;
-    }
-    dest[o] = '\0';
-}
 
 int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_check *check)
 {
@@ -484,43 +492,34 @@ int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_check *check
     atomic_init(&io->stop_request, 0);
     atomic_init(&io->stop_done, 0);
 
-    /* A burst of goals must wait in the socket, not be dropped by the
-     * kernel: ask for a 4 MiB receive buffer on multicast unless the URL
-     * says otherwise (the kernel caps it at net.core.rmem_max). */
-    char url[KD_URL_MAX + 64];
-    if (strncmp(cfg->lcm_url, "udpm://", 7) == 0 && strstr(cfg->lcm_url, "recv_buf_size") == NULL)
-        snprintf(url, sizeof url, "%s%crecv_buf_size=%d", cfg->lcm_url, strchr(cfg->lcm_url, '?') ? '&' : '?',
-                 KD_LCM_RECV_BUF);
-    else
-        snprintf(url, sizeof url, "%s", cfg->lcm_url);
+    /* Clients' messages come in through kd_rx (lcm_rx.h: never LCM's
+     * receive path, whose fragment buffers take any size a datagram
+     * claims), no longer than the largest type a client sends. */
+    size_t client_max = 0;
+    char why[256];
+    for (t = 0; t < KD_MSG_TYPE_COUNT; t++) {
+        const kd_msg_info *info = kd_msg_type_info((kd_msg_type)t);
+        snprintf(io->channel[t], sizeof io->channel[t], "%s%s", cfg->prefix, info->channel);
+        if (info->from_client && info->size > client_max)
+            client_max = info->size;
+    }
+    io->rx.fd = -1;
     if (kd_can_open(&io->can, &cfg->can, n, cfg->period_ns, kd_now_ns()) != 0)
         return -1;
-    io->lcm = lcm_create(url);
+    if (kd_rx_open(&io->rx, cfg->lcm_url, client_max, why, sizeof why) != 0) {
+        kd_can_close(&io->can);
+        fprintf(stderr, "kinctld: LCM URL \"%s\" (%s): %s\n", cfg->lcm_url, cfg->lcm_url_source, why);
+        return -1;
+    }
+    /* LCM publishes only: no subscription, so it never opens a receive
+     * socket of its own. */
+    io->lcm = lcm_create(cfg->lcm_url);
     if (io->lcm == NULL) {
+        kd_rx_close(&io->rx);
         kd_can_close(&io->can);
         fprintf(stderr, "kinctld: cannot open LCM on \"%s\" (%s): check the URL and the network (multicast route)\n",
                 cfg->lcm_url, cfg->lcm_url_source);
         return -1;
-    }
-    for (t = 0; t < KD_MSG_TYPE_COUNT; t++) {
-        const kd_msg_info *info = kd_msg_type_info((kd_msg_type)t);
-        snprintf(io->channel[t], sizeof io->channel[t], "%s%s", cfg->prefix, info->channel);
-        io->subs[t].io = io;
-        io->subs[t].type = (kd_msg_type)t;
-        if (info->from_client) {
-            char re[2 * KD_CHANNEL_MAX];
-            lcm_subscription_t *s;
-            channel_regex(io->channel[t], re, sizeof re);
-            s = lcm_subscribe(io->lcm, re, on_message, &io->subs[t]);
-            if (s == NULL) {
-                fprintf(stderr, "kinctld: cannot subscribe to %s\n", io->channel[t]);
-                kd_can_close(&io->can);
-                lcm_destroy(io->lcm);
-                io->lcm = NULL;
-                return -1;
-            }
-            lcm_subscription_set_queue_capacity(s, KD_LCM_QUEUE);
-        }
     }
     return 0;
 }
@@ -565,6 +564,7 @@ void kd_io_stop(kd_io *io)
 void kd_io_destroy(kd_io *io)
 {
     kd_can_close(&io->can);
+    kd_rx_close(&io->rx);
     if (io->lcm != NULL)
         lcm_destroy(io->lcm);
     io->lcm = NULL;
@@ -582,6 +582,9 @@ void kd_io_summary(const kd_io *io, char *buf, int size)
                              atomic_load(&io->cycle->events_dropped)),
                  (long long)atomic_load(&io->cycle->ticks_dropped), (long long)atomic_load(&io->cycle->events_dropped),
                  (long long)io->rejections, (long long)io->msgs_invalid);
+    if (o > 0 && o < size && (io->rx.refused > 0 || io->rx_errors > 0))
+        o += snprintf(buf + o, (size_t)(size - o), ", datagrams refused by the receiver %lld, receive errors %lld",
+                      (long long)io->rx.refused, (long long)io->rx_errors);
     for (k = 0; k < KD_INVALID_KINDS && o > 0 && o < size; k++)
         if (io->invalid_by[k] > 0)
             o += snprintf(buf + o, (size_t)(size - o), ", %s %lld", kd_msg_status_str((kd_msg_status)(-k)),

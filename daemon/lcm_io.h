@@ -1,11 +1,13 @@
 /* lcm_io.h - kinctld's I/O thread: everything LCM, on one thread.
  *
- * In: raw subscriptions (lcm_subscribe with one generic handler, never the
- * generated *_subscribe stubs, which decode with allocation) on
+ * In: the client channels
  *   <prefix>GOAL_JOINT  GOAL_LINE  GOAL_ARC  GOAL_PATH  GOAL_SERVO  COMMAND
- * (prefix "KINCTL_" by default). Every datagram goes through kd_msg_decode
- * (daemon/msg.h); one that fails is counted by its reason and ignored, and
- * answered with a status REJECTED when it names a goal_id. A valid goal is
+ * (prefix "KINCTL_" by default), read off LCM's multicast group by kd_rx
+ * (lcm_rx.h: kinctld's own socket behind a kernel filter, never LCM's
+ * receive path, whose fragment buffers take any size a datagram claims).
+ * Every datagram goes through kd_msg_decode (daemon/msg.h); one that fails
+ * is counted by its reason and ignored, and answered with a status REJECTED
+ * when it names a goal_id. A valid goal is
  * turned into a kc_goal (goal.h) and judged by the core's dry run
  * (kinctl/check.h kc_check_goal) from where it will start: the end of the
  * queue, which the kc_check keeps from the goals handed on and the ticks it
@@ -30,8 +32,8 @@
  * FAULT's reason ("drive: ...", "can: ..."). With feedback on, status_t's
  * measured joints are the drives'.
  *
- * The loop: drain the tick ring and publish, then wait on LCM's file
- * descriptor for at most one period and dispatch with lcm_handle_timeout.
+ * The loop: drain the tick ring and publish, then wait on the receive
+ * socket for at most one period and handle what it holds, a burst at a time.
  */
 #ifndef KINCTL_DAEMON_LCM_IO_H
 #define KINCTL_DAEMON_LCM_IO_H
@@ -46,6 +48,7 @@
 #include "config.h"
 #include "cycle.h"
 #include "goal.h"
+#include "lcm_rx.h"
 #include "kinctl/check.h"
 #include "msg.h"
 #include "reject.h"
@@ -55,19 +58,14 @@
 
 typedef struct kd_io kd_io;
 
-/* What a subscription's handler needs to know. */
-typedef struct kd_io_sub {
-    kd_io *io;
-    kd_msg_type type;
-} kd_io_sub;
-
 struct kd_io {
     const kd_config *cfg;
     kd_cycle *cycle;
     kc_check *check; /* the goals' dry run, caller-owned (large) */
-    lcm_t *lcm;
+    lcm_t *lcm;  /* publishing only */
+    kd_rx rx;    /* receiving */
+    int64_t rx_errors;
     char channel[KD_MSG_TYPE_COUNT][KD_CHANNEL_MAX];
-    kd_io_sub subs[KD_MSG_TYPE_COUNT];
     int64_t realtime_offset_ns; /* CLOCK_REALTIME - CLOCK_MONOTONIC, for utime */
 
     /* Receive side. */
@@ -112,10 +110,11 @@ struct kd_io {
     int thread_live;
 };
 
-/* Starts the goals' dry run in check (caller-owned storage), creates the
- * LCM instance on cfg->lcm_url and subscribes. Returns 0, or -1 with a
- * message on stderr (a configuration the dry run refuses, a bad URL, no
- * network). Main thread, before the threads start. */
+/* Starts the goals' dry run in check (caller-owned storage), opens the
+ * receive socket (kd_rx) and the LCM instance that publishes, both on
+ * cfg->lcm_url. Returns 0, or -1 with a message on stderr (a configuration
+ * the dry run refuses, a URL that is not UDP multicast or is malformed, no
+ * network or multicast route). Main thread, before the threads start. */
 int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_check *check);
 
 /* Starts the I/O thread. Returns 0 or -1. */

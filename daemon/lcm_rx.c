@@ -36,13 +36,12 @@ static int parse_url(const char *url, rx_url *u, char *why, size_t why_size)
     const char *opts, *colon;
     size_t n;
     if (strncmp(url, scheme, sizeof scheme - 1) != 0)
-        return fail(why, why_size,
-                    "kinctld receives over LCM's UDP multicast only (udpm://GROUP:PORT), not \"%s\"", url);
+        return fail(why, why_size, "%s", "is not LCM's UDP multicast (udpm://GROUP:PORT), the one kinctld listens on");
     url += sizeof scheme - 1;
     opts = strchr(url, '?');
     n = opts != NULL ? (size_t)(opts - url) : strlen(url);
     if (n >= sizeof net)
-        return fail(why, why_size, "the LCM URL's address is too long: \"%s\"", url);
+        return fail(why, why_size, "%s", "has an address that is too long");
     memcpy(net, url, n);
     net[n] = '\0';
     u->port = KD_RX_DEFAULT_PORT;
@@ -53,12 +52,12 @@ static int parse_url(const char *url, rx_url *u, char *why, size_t why_size)
         char *end;
         long port = strtol(colon + 1, &end, 10);
         if (*end != '\0' || end == colon + 1 || port < 1 || port > 65535)
-            return fail(why, why_size, "the LCM URL's port is not 1..65535: \"%s\"", net);
+            return fail(why, why_size, "has a port \"%s\" that is not 1..65535", colon + 1);
         u->port = (uint16_t)port;
         host[colon - net] = '\0';
     }
     if (inet_pton(AF_INET, host, &u->group) != 1 || !IN_MULTICAST(ntohl(u->group.s_addr)))
-        return fail(why, why_size, "the LCM URL's group is not an IPv4 multicast address: \"%s\"", host);
+        return fail(why, why_size, "has a group \"%s\" that is not an IPv4 multicast address (224.0.0.0/4)", host);
     while (opts != NULL) {
         static const char key[] = "recv_buf_size=";
         opts++;
@@ -66,7 +65,7 @@ static int parse_url(const char *url, rx_url *u, char *why, size_t why_size)
             char *end;
             long v = strtol(opts + sizeof key - 1, &end, 10);
             if ((*end != '\0' && *end != '&') || v <= 0 || v > (1L << 30))
-                return fail(why, why_size, "the LCM URL's recv_buf_size is not a size in bytes: \"%s\"", opts);
+                return fail(why, why_size, "%s", "has a recv_buf_size that is not a size in bytes (1 to 2^30)");
             u->recv_buf = (int)v;
         }
         opts = strchr(opts, '&');
@@ -145,6 +144,12 @@ fail:
     close(rx->fd);
     rx->fd = -1;
     return -1;
+}
+
+int kd_rx_url_check(const char *url, char *why, size_t why_size)
+{
+    rx_url u;
+    return parse_url(url, &u, why, why_size);
 }
 
 int kd_rx_read(kd_rx *rx, const char **channel, const void **payload, size_t *len)

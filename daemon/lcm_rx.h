@@ -80,6 +80,10 @@ typedef struct kd_rx {
  * another provider or malformed, a socket error with its errno text). */
 int kd_rx_open(kd_rx *rx, const char *url, size_t payload_max, char *why, size_t why_size);
 
+/* 0 when url is one kd_rx_open takes (its grammar above), else -1 with the
+ * reason in why. Opens nothing. */
+int kd_rx_url_check(const char *url, char *why, size_t why_size);
+
 /* Reads one datagram without waiting. Returns 1 with *channel (NUL-
  * terminated, in rx's buffer) and the payload (valid until the next call);
  * 0 when none is waiting or the one read was refused (counted); -1 on a
