@@ -27,6 +27,8 @@ import os
 import sys
 import time
 
+from kinctl.argtypes import add_command, nonneg, positive, say
+
 SAVE_FORMATS = (".png", ".gif", ".mp4")
 PANELS = ("frontal_dimetric", "horizontal_isometric", "orthographic", "3d")
 AXIS_COLORS = ("#d62728", "#2ca02c", "#1f77b4")  # x red, y green, z blue
@@ -37,12 +39,11 @@ EXAMPLE = ("kinctl view                                  # live window (needs a 
            "  kinctl view --model puma560 --zones-file kinctld.cfg --zone sphere:0.5,0.3,0.4,0.1 --save cell.png")
 
 
-def add_view_parser(sub, make_sub, parents):
-    """The `view` subcommand's options (called by kinctl.cli.build_parser)."""
-    from kinctl.cli import nonneg, positive
-    v = make_sub(sub, "view", "draw the arm (skeleton and every link frame) from its setpoints: frontal "
-                              "dimetric, horizontal isometric, orthographic and 3-D views, live or saved",
-                 EXAMPLE, parents)
+def register(sub, parents):
+    """The `view` subcommand on the CLI's subparsers."""
+    v = add_command(sub, "view", "draw the arm (skeleton and every link frame) from its setpoints: frontal "
+                                 "dimetric, horizontal isometric, orthographic and 3-D views, live or saved",
+                    EXAMPLE, parents)
     m = v.add_mutually_exclusive_group()
     m.add_argument("--model", default=None, metavar="NAME",
                    help="the daemon's built-in arm (default puma560, kinctld's default): puma560, panda, rrr3, "
@@ -62,7 +63,7 @@ def add_view_parser(sub, make_sub, parents):
     v.add_argument("--dpi", type=positive, default=80.0, help="resolution of saved files (default 80)")
     from kinctl.zonedraw import add_options
     add_options(v)
-    return v
+    v.set_defaults(run=cmd_view)
 
 
 def check_save(path):
@@ -451,10 +452,6 @@ def write_frames(path, ext, fps, count, image, advance):
 
 # -- the command -------------------------------------------------------------
 
-def _say(*a):
-    print(*a, flush=True)
-
-
 def _warn_mismatch(m, fk):
     """A warning when the drawn tool is m (m) from where the daemon says it is."""
     if m > 1e-6:
@@ -542,11 +539,11 @@ def cmd_view(args):
                       progress=True, zones=zones, volumes=volumes)
         _warn_mismatch(info["fk_mismatch_m"], fk)
         if info["frames"] == 1:
-            _say(f"view: {args.save} (1 frame, {info['size'][0]}x{info['size'][1]}, the setpoint of cycle "
-                 f"{samples[-1].cycle})")
+            say(f"view: {args.save} (1 frame, {info['size'][0]}x{info['size'][1]}, the setpoint of cycle "
+                f"{samples[-1].cycle})")
         else:
-            _say(f"view: {args.save} ({info['frames']} frames, {info['size'][0]}x{info['size'][1]}, "
-                 f"{samples[-1].t - samples[0].t:.2f} s of setpoints)")
+            say(f"view: {args.save} ({info['frames']} frames, {info['size'][0]}x{info['size'][1]}, "
+                f"{samples[-1].t - samples[0].t:.2f} s of setpoints)")
     return 0
 
 
@@ -611,6 +608,6 @@ def live(args, fk):
             timer.add_callback(close)
             timer.start()
         plt.show()
-    _say(f"view: window closed after {len(history) and history[-1].t:.2f} s of setpoints, "
-         f"{state['drawn']} frames drawn")
+    say(f"view: window closed after {len(history) and history[-1].t:.2f} s of setpoints, "
+        f"{state['drawn']} frames drawn")
     return 0
