@@ -19,7 +19,8 @@ import sys
 import time
 
 from kinctl import logcsv
-from kinctl.local import MULTICAST_HELP, SOURCE_DIR, Kinctld, ensure_multicast, unique_url
+from kinctl.local import MULTICAST_HELP, Kinctld, ensure_multicast, unique_url
+from kinctl.programs import SOURCE_DIR
 
 # The sequence: (goal id or None, label for the plot, kinctl arguments, seconds to sleep after).
 QN_DEG = "0,45,-180,0,45,0"  # puma560's nominal pose: elbow up, wrist not singular

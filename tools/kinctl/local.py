@@ -7,16 +7,15 @@ the machine and concurrent runs never hear each other.
 """
 import itertools
 import os
-import shutil
 import signal
 import subprocess
 import time
 
 import lcm
 
+from kinctl import programs
+
 _counter = itertools.count()
-HERE = os.path.dirname(os.path.abspath(__file__))
-SOURCE_DIR = os.path.dirname(os.path.dirname(HERE))  # tools/kinctl -> the checkout
 
 
 def unique_url(subnet=78, port_base=30000):
@@ -61,20 +60,11 @@ def ensure_multicast():
     return False
 
 
-def find_kinctld():
-    """$KINCTLD, else build/daemon/kinctld of this checkout, else kinctld on PATH."""
-    for cand in (os.environ.get("KINCTLD"), os.path.join(SOURCE_DIR, "build", "daemon", "kinctld"),
-                 shutil.which("kinctld")):
-        if cand and os.access(cand, os.X_OK):
-            return cand
-    raise FileNotFoundError("kinctld not found: build it (scripts/setup.sh) or set KINCTLD")
-
-
 class Kinctld:
     """kinctld as a subprocess on its own URL (--no-rt): start() ... stop()."""
 
     def __init__(self, *args, binary=None, url=None, prefix="KINCTL_", rt=False, stderr=None):
-        self.binary = binary or find_kinctld()
+        self.binary = binary or programs.find("kinctld")
         self.url = url or unique_url()
         self.prefix = prefix
         self.argv = [self.binary] + list(args) + ["--lcm-url", self.url, "--prefix", prefix,
