@@ -45,14 +45,19 @@ SLOW = float(os.environ.get("KINCTLD_TEST_SLOWDOWN", "1"))
 MEMCHECK_DIR = os.environ.get("KINCTLD_MEMCHECK", "")
 
 
-def daemon_argv(args):
-    """kinctld's command line, under valgrind memcheck when KINCTLD_MEMCHECK is set."""
+def memcheck_wrapper():
+    """The command kinctld runs under: valgrind memcheck when KINCTLD_MEMCHECK is set, else none."""
     if not MEMCHECK_DIR:
-        return [KINCTLD] + list(args)
+        return []
     os.makedirs(MEMCHECK_DIR, exist_ok=True)
     return ["valgrind", "--tool=memcheck", "--leak-check=full", "--errors-for-leak-kinds=definite,indirect",
             "--show-leak-kinds=definite,indirect", "--error-exitcode=99",
-            f"--log-file={MEMCHECK_DIR}/kinctld.%p.log", KINCTLD] + list(args)
+            f"--log-file={MEMCHECK_DIR}/kinctld.%p.log"]
+
+
+def daemon_argv(args):
+    """kinctld's command line, under valgrind memcheck when KINCTLD_MEMCHECK is set."""
+    return memcheck_wrapper() + [KINCTLD] + list(args)
 
 
 def memcheck_errors(pid):
@@ -69,8 +74,6 @@ def memcheck_errors(pid):
     if (summary and summary.group(1) != "0") or blocks:
         return text
     return ""
-
-SANITIZER_REPORT = re.compile(r"runtime error:|ERROR: (?:Address|Leak|UndefinedBehavior)Sanitizer")
 
 EVENTS = {"NONE": 0, "ACCEPTED": 1, "REJECTED": 2, "COMPLETED": 3, "PREEMPTED": 4, "ABORTED": 5, "FAULT": 6, "STARTED": 7}
 EVENT_NAMES = {v: k for k, v in EVENTS.items()}
@@ -211,49 +214,35 @@ class Bus:
         self.send("COMMAND", c)
 
 
-class Daemon:
-    def __init__(self, args, url, prefix, env):
-        self.url, self.prefix = url, prefix
+class Daemon(local.Kinctld):
+    """kinctld under test (kinctl.local.Kinctld: memcheck, KINCTLD_EXTRA_ARGS
+    and the slowdown of this build) with a Bus recording what it sends."""
+
+    def __init__(self, args, url, prefix, rt, url_flag, env):
         self.bus = Bus(url, prefix)
-        self.proc = subprocess.Popen(daemon_argv(args), stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
-                                     env=env)
-        self.stdout = self.stderr = None
+        super().__init__(*args, binary=KINCTLD, url=url, prefix=prefix, rt=rt, url_flag=url_flag, env=env,
+                         extra_args=shlex.split(os.environ.get("KINCTLD_EXTRA_ARGS", "")),
+                         wrapper=memcheck_wrapper(), slowdown=SLOW)
 
     def stop(self, sig=signal.SIGTERM, timeout=15.0):
         """Signals the daemon, waits for it and returns its exit code."""
-        if self.proc.poll() is None:
-            self.proc.send_signal(sig)
-        try:
-            self.stdout, self.stderr = self.proc.communicate(timeout=timeout * SLOW)
-        except subprocess.TimeoutExpired:
-            self.proc.kill()
-            self.stdout, self.stderr = self.proc.communicate()
+        rc = super().stop(sig, timeout)
+        if self.hung:
             raise AssertionError("kinctld did not exit after " + signal.Signals(sig).name)
         # Give the last datagrams a moment to arrive.
         time.sleep(0.1)
-        return self.proc.returncode
+        return rc
 
     def close(self):
-        if self.proc.poll() is None and MEMCHECK_DIR:
-            # SIGTERM, so that valgrind gets to check for leaks at the exit.
-            self.proc.send_signal(signal.SIGTERM)
-            try:
-                self.stdout, self.stderr = self.proc.communicate(timeout=15.0 * SLOW)
-            except subprocess.TimeoutExpired:
-                pass
-        if self.proc.poll() is None:
-            self.proc.kill()
-        if self.stderr is None:
-            self.stdout, self.stderr = self.proc.communicate()
-        self.bus.close()
-        errors = memcheck_errors(self.proc.pid)
-        assert not errors, f"valgrind memcheck found errors in kinctld:\n{errors}"
-        # A sanitizer build's daemon that died of a finding mid-test may have
-        # failed nothing the test asserts: its report fails the test here.
-        report = SANITIZER_REPORT.search(self.stderr or "")
-        if report:
-            line_start = self.stderr.rfind("\n", 0, report.start()) + 1
-            raise AssertionError(f"kinctld's sanitizer report:\n{self.stderr[line_start:]}")
+        try:
+            # SIGTERM under memcheck, so that valgrind gets to check for leaks at the exit.
+            super().close(signal.SIGTERM if MEMCHECK_DIR else signal.SIGKILL, 15.0)
+        except RuntimeError as e:
+            raise AssertionError(str(e)) from None
+        finally:
+            self.bus.close()
+            errors = memcheck_errors(self.proc.pid)
+            assert not errors, f"valgrind memcheck found errors in kinctld:\n{errors}"
 
 
 @pytest.fixture
@@ -265,25 +254,14 @@ def kinctld(multicast):
     started = []
 
     def start(*args, prefix="KINCTL_", rt=False, url=None, env=None, url_flag=True, wait=True):
-        url = url or unique_url()
-        argv = list(args)
-        if url_flag:
-            argv += ["--lcm-url", url]
-        if prefix != "KINCTL_":
-            argv += ["--prefix", prefix]
-        argv.append("--rt" if rt else "--no-rt")
-        argv += shlex.split(os.environ.get("KINCTLD_EXTRA_ARGS", ""))
-        e = dict(os.environ)
-        e.pop("LCM_DEFAULT_URL", None)
-        e.update(env or {})
-        d = Daemon(argv, url, prefix, e)
+        d = Daemon(args, url or unique_url(), prefix, rt, url_flag, env)
         started.append(d)
         if wait:
             try:
                 d.bus.wait_setpoints(20, timeout=10.0)
             except AssertionError:
                 d.close()
-                raise AssertionError(f"kinctld {' '.join(argv)} sent no setpoints; stderr: {d.proc.stderr.read()}")
+                raise AssertionError(f"{' '.join(d.argv)} sent no setpoints; stderr: {d.stderr}")
         return d
 
     yield start

@@ -38,15 +38,15 @@ def daemon(multicast):
     started = []
 
     def start(*args):
-        d = Kinctld(*args, binary=KINCTLD)
+        d = Kinctld(*args, binary=KINCTLD, slowdown=SLOW)
         started.append(d)
-        d.wait_ready(10.0 * SLOW)
+        d.wait_ready(10.0)
         return d
     yield start
     # Every daemon a test left running stops cleanly; one that exited on its
     # own (a sanitizer build's finding, say) fails the test with what it said.
     for d in started:
-        assert d.stop(signal.SIGTERM, 20.0 * SLOW) == 0, d.stderr_text
+        assert d.stop(signal.SIGTERM, 20.0) == 0, d.stderr
 
 
 def run_kinctl(d, *args, timeout=60.0):

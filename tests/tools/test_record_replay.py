@@ -64,10 +64,10 @@ def session(tmp_path_factory):
     if not os.environ.get("KINCTLD"):
         pytest.skip("KINCTLD is not set (run through ctest)")
     path = str(tmp_path_factory.mktemp("rec") / "run.lcmlog")
-    d = Kinctld(binary=os.environ["KINCTLD"])
+    d = Kinctld(binary=os.environ["KINCTLD"], slowdown=SLOW)
     logger = None
     try:
-        d.wait_ready(10.0 * SLOW)
+        d.wait_ready(10.0)
         # LCM's own lcm-logger beside kinctl record: the two logs must agree
         logger = subprocess.Popen([os.path.join(os.path.dirname(sys.executable), "lcm-logger"),
                                    "--lcm-url=" + d.url, "-c", "KINCTL_.*", "-f", path + ".lcm-logger"],
@@ -90,7 +90,7 @@ def session(tmp_path_factory):
         if logger is not None:
             logger.send_signal(signal.SIGINT)
             logger.communicate(timeout=30)
-        assert d.stop() == 0, d.stderr_text
+        assert d.stop() == 0, d.stderr
     return path, out
 
 
@@ -273,15 +273,15 @@ def test_replay_takes_the_daemons_configuration(multicast, tmp_path):
     if not os.environ.get("KINCTLD"):
         pytest.skip("KINCTLD is not set (run through ctest)")
     path = str(tmp_path / "panda.lcmlog")
-    d = Kinctld("--model", "panda", "--period-us", "500", binary=os.environ["KINCTLD"])
+    d = Kinctld("--model", "panda", "--period-us", "500", binary=os.environ["KINCTLD"], slowdown=SLOW)
     try:
-        d.wait_ready(10.0 * SLOW)
+        d.wait_ready(10.0)
         rec = start_record(d, path)
         ok(run_kinctl(d, "goal", "joint", "--q", "0.3,-0.5,0.2,-2.0,0.1,1.8,0.5", "--id", "8001", "--wait"))
         ok(run_kinctl(d, "status"))
         stop_record(rec)
     finally:
-        assert d.stop() == 0, d.stderr_text
+        assert d.stop() == 0, d.stderr
     r = run_kinctl(None, "replay", path, "--model", "panda", "--period-us", "500")
     assert r.returncode == 0 and "BIT-EXACT" in r.stdout, r.stdout + r.stderr
     took = [setpoint_t.decode(dt).cycle for _, ch, dt in events(path)

@@ -93,14 +93,14 @@ def daemon(multicast):
     """A kinctld (puma560, 1 kHz, --no-rt) for the session, at QN."""
     if not KINCTLD:
         pytest.skip("KINCTLD is not set (run through ctest)")
-    d = Kinctld(binary=KINCTLD, url=unique_url(subnet=79, port_base=40000))
+    d = Kinctld(binary=KINCTLD, url=unique_url(subnet=79, port_base=40000), slowdown=SLOW)
     try:
-        d.wait_ready(10.0 * SLOW)
+        d.wait_ready(10.0)
         r = run_kinctl(d.url, "goal", "joint", "--q", csv_of(QN), "--wait")
         assert r.returncode == 0, r.stdout + r.stderr
         yield d
     finally:
-        assert d.stop(signal.SIGTERM, 20.0 * SLOW) == 0, d.stderr_text
+        assert d.stop(signal.SIGTERM, 20.0) == 0, d.stderr
 
 
 @pytest.fixture(scope="session")

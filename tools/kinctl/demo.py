@@ -107,7 +107,7 @@ def run_demo(out_dir="out", kinctld=None, echo=True, small_png=None, slow=1.0):
         say("\n\033[1m$ kill -TERM kinctld\033[0m", flush=True)
     finally:
         rc_daemon = d.stop()
-    say(d.stderr_text.strip())
+    say(d.stderr.strip())
 
     labels = {gid: f"{gid}: {label}" for gid, label, _, _ in results if gid}
     info = plot_run(csv_path, png_path, events=ev_path, labels=labels, model="puma560",
