@@ -51,7 +51,7 @@ MULTICAST_HELP = ("LCM multicast does not loop back on this machine; as root: "
 
 def ensure_multicast():
     """True when multicast works, after routing 224.0.0.0/4 on lo when it does
-    not and we are root (as tests/daemon/conftest.py does); else False."""
+    not and we are root; else False."""
     if multicast_works():
         return True
     if os.geteuid() == 0:
