@@ -3,7 +3,7 @@
 interface that cannot be opened is a run-time failure, exit 1."""
 import pytest
 
-from conftest import run_kinctld
+from kinctl_testing import run_kinctld
 
 J6 = ", ".join(f"{{ node = {n}; counts_per_unit = 100000.0; }}" for n in range(1, 7))
 

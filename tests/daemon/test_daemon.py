@@ -1,5 +1,5 @@
 """kinctld against real LCM: setpoints, a goal's life, rejections, hostile
-datagrams, shutdown, configuration. Fixtures and helpers: conftest.py."""
+datagrams, shutdown, configuration. Fixtures and helpers: tests/pylib/kinctl_testing.py."""
 import math
 import os
 import random
@@ -9,8 +9,8 @@ import time
 
 import pytest
 
-from conftest import (EVENTS, MODELS, STATES, command_t, goal_joint_t, goal_line_t, quat_norm, run_kinctld,
-                      setpoint_t, unique_url)
+from kinctl_testing import (EVENTS, MODELS, STATES, command_t, goal_joint_t, goal_line_t, quat_norm, run_kinctld,
+                            setpoint_t, unique_url)
 
 PUMA_N = 6
 TARGET = [0.3, -0.2, 0.4, 0.1, 0.2, -0.3]
@@ -366,7 +366,7 @@ def test_bad_config_exit_2(tmp_path, text, args, expect):
 def test_bad_config_moves_nothing(kinctld, tmp_path):
     """A bad file: exit 2 before any setpoint goes out."""
     url = unique_url()
-    from conftest import Bus
+    from kinctl_testing import Bus
     bus = Bus(url)
     try:
         r = run_kinctld("--config", write(tmp_path, "controller = { period_us = 1; };\n"), "--lcm-url", url,

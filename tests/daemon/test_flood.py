@@ -4,8 +4,7 @@ the limits) and every goal is answered exactly once, accepted or rejected."""
 import collections
 import time
 
-from conftest import EVENTS
-from test_goals import QN, assert_smooth, go_nominal, setpoints_since
+from kinctl_testing import EVENTS, QN, assert_smooth, go_nominal, setpoints_since
 
 N_GOALS = 10000
 

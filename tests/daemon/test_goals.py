@@ -9,53 +9,9 @@ import time
 
 import pytest
 
-from conftest import EVENTS, EVENT_NAMES, STATES, goal_arc_t, goal_line_t, goal_path_t, goal_servo_t
-
-N = 6
-QN = [0.0, 0.7854, -3.1416, 0.0, 0.7854, 0.0]
-# puma560's limits as built in (models/puma560.cfg).
-QD_MAX = [2.0, 2.0, 2.0, 4.0, 4.0, 4.0]
-QDD_MAX = [5.0, 5.0, 5.0, 10.0, 10.0, 10.0]
-DT = 1e-3
-# The tool pose at QN (puma560's forward kinematics).
-QN_POSITION = [0.5963008264104923, -0.15005, 0.6574746899005355]
-QN_ORIENTATION = [0.7071054825112363, 0.0, 0.7071080798594737, 0.0]
-END = ("COMPLETED", "REJECTED", "ABORTED", "FAULT")
-
-
-def go_nominal(d, goal_id=1):
-    d.bus.send_goal_joint(goal_id, QN)
-    st = d.bus.wait_event(goal_id, END)
-    assert st.event == EVENTS["COMPLETED"], st.reason
-    s = d.bus.wait_idle()
-    assert close(s.position, QN_POSITION, 1e-9)
-    return s
-
-
-def finished(d, goal_id, timeout=20.0):
-    st = d.bus.wait_event(goal_id, END, timeout)
-    assert st.event == EVENTS["COMPLETED"], f"{EVENT_NAMES[st.event]}: {st.reason}"
-    return d.bus.wait_idle()
-
-
-def setpoints_since(d, cycle):
-    with d.bus.lock:
-        return [s for s in d.bus.setpoints if s.cycle >= cycle]
-
-
-def assert_smooth(sps, slack=1e-6):
-    """Consecutive cycles; |qd| within the limits; the velocity change per
-    tick within qdd_max dt; the position change within qd_max dt."""
-    for a, b in zip(sps, sps[1:]):
-        assert b.cycle == a.cycle + 1, (a.cycle, b.cycle)
-        for j in range(N):
-            assert abs(b.qd[j]) <= QD_MAX[j] * (1 + slack), (b.cycle, j, b.qd[j])
-            assert abs(b.qd[j] - a.qd[j]) <= QDD_MAX[j] * DT * (1 + slack) + 1e-12, (b.cycle, j)
-            assert abs(b.q[j] - a.q[j]) <= QD_MAX[j] * DT * (1 + slack) + 1e-12, (b.cycle, j)
-
-
-def close(a, b, tol):
-    return all(abs(x - y) <= tol for x, y in zip(a, b))
+from kinctl_testing import (END, EVENTS, N, QN, QN_ORIENTATION, QN_POSITION, STATES, assert_smooth, close,
+                            finished, go_nominal, goal_arc_t, goal_line_t, goal_path_t, goal_servo_t,
+                            setpoints_since)
 
 
 def same_rotation(qa, qb, tol):

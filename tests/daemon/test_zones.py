@@ -11,7 +11,7 @@ import os
 import re
 import time
 
-from conftest import EVENTS, EVENT_NAMES, MODELS, SLOW, goal_servo_t, run_kinctld
+from kinctl_testing import EVENTS, EVENT_NAMES, MODELS, SLOW, goal_servo_t, run_kinctld
 
 QN = [0.0, 0.7854, -3.1416, 0.0, 0.7854, 0.0]
 QN_POSITION = [0.5963008264104923, -0.15005, 0.6574746899005355]

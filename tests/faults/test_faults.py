@@ -12,9 +12,8 @@ import time
 
 import pytest
 
-from conftest import EVENTS, SLOW, STATES, goal_servo_t, motion, unique_url
-
-QN, N, END = motion.QN, motion.N, motion.END
+from kinctl_testing import (END, EVENTS, N, QN, SLOW, STATES, assert_smooth, finished, go_nominal, goal_servo_t,
+                            setpoints_since, unique_url)
 FAR = [1.0, 0.5, -2.5, 0.5, 0.5, 0.5]
 
 
@@ -48,7 +47,7 @@ def test_kill9_restart_comes_back_idle_and_still(kinctld):
     rest, moves nothing without a new goal and replays no old one."""
     url = unique_url()
     d = kinctld(url=url)
-    motion.go_nominal(d)
+    go_nominal(d)
     d.bus.send_goal_joint(10, FAR, vel_scale=0.3)
     d.bus.send_goal_joint(11, QN)
     moving(d, 10)
@@ -68,7 +67,7 @@ def test_kill9_restart_comes_back_idle_and_still(kinctld):
     assert not [s for s in statuses if s.event != EVENTS["NONE"]], "an event without a goal"
     # It takes new goals as usual.
     d2.bus.send_goal_joint(12, QN)
-    motion.finished(d2, 12)
+    finished(d2, 12)
     assert d2.stop() == 0
 
 
@@ -82,7 +81,7 @@ def test_sigstop_50ms_policy_and_no_burst(kinctld, tmp_path):
     cfg.write_text('controller = { overrun = { missed_cycles = 40; action = "estop"; };\n'
                    '  rt = { mlock = false; }; };\n')
     d = kinctld("--config", str(cfg), rt=True)
-    s0 = motion.go_nominal(d)
+    s0 = go_nominal(d)
     d.bus.send_goal_joint(20, FAR, vel_scale=0.5)
     moving(d, 20)
     os.kill(d.proc.pid, signal.SIGSTOP)
@@ -95,8 +94,8 @@ def test_sigstop_50ms_policy_and_no_burst(kinctld, tmp_path):
     d.bus.wait(lambda: [s for s in d.bus.setpoints[-5:] if s.state == STATES["ESTOP"]
                         and all(v == 0.0 for v in s.qd[:N])], 5.0, "e-stopped at rest")
     d.bus.wait_stats(lambda s: s.overruns >= 40)
-    sps = motion.setpoints_since(d, s0.cycle)
-    motion.assert_smooth(sps)
+    sps = setpoints_since(d, s0.cycle)
+    assert_smooth(sps)
     gaps = [(a, b) for a, b in zip(sps, sps[1:]) if b.utime - a.utime >= 40_000]
     assert gaps, "no stall seen in the setpoints' deadlines"
     for a, b in gaps:
@@ -114,7 +113,7 @@ def test_io_thread_blocked_cycle_goes_on(kinctld):
     libc.ptrace.argtypes = [ctypes.c_long, ctypes.c_long, ctypes.c_void_p, ctypes.c_void_p]
     PTRACE_SEIZE, PTRACE_INTERRUPT, PTRACE_DETACH, WALL = 0x4206, 0x4207, 17, 0x40000000
     d = kinctld()
-    s0 = motion.go_nominal(d)
+    s0 = go_nominal(d)
     d.bus.send_goal_joint(30, FAR, vel_scale=0.15)
     moving(d, 30)
     stats0 = d.bus.wait_stats()
@@ -133,14 +132,14 @@ def test_io_thread_blocked_cycle_goes_on(kinctld):
     assert done.event == EVENTS["COMPLETED"], done.reason
     end = d.bus.wait_idle()
     stats = d.bus.wait_stats(lambda s: s.cycles > end.cycle)
-    sps = motion.setpoints_since(d, s0.cycle)
+    sps = setpoints_since(d, s0.cycle)
     parts = runs(sps)
     holes = sum(b[0].cycle - a[-1].cycle - 1 for a, b in zip(parts, parts[1:]))
     assert holes > 0 and stats.msgs_dropped - stats0.msgs_dropped == holes
     # The goal completed while the I/O thread was stopped: its tick was kept.
     assert done.cycle < parts[-1][0].cycle or len(parts) > 2
     for p in parts:
-        motion.assert_smooth(p)
+        assert_smooth(p)
     # The cycle ran on at its period: across each hole the deadlines are at
     # least as far apart as the cycles it holds (more by the cycles the
     # machine made it miss, which are skipped and counted) ...
@@ -171,7 +170,7 @@ def test_wall_clock_jumps_change_nothing(kinctld, tmp_path):
     if os.environ.get("KINCTLD_SANITIZED"):
         env["ASAN_OPTIONS"] = os.environ.get("ASAN_OPTIONS", "") + ":verify_asan_link_order=0"
     d = kinctld(env=env)
-    s0 = motion.go_nominal(d)
+    s0 = go_nominal(d)
     # The daemon stamps setpoints with the wall clock it read at start: a day
     # ahead here, which shows the shift reaches it.
     assert abs(s0.utime - time.time() * 1e6 - day / 1000) < 60e6
@@ -193,16 +192,16 @@ def test_wall_clock_jumps_change_nothing(kinctld, tmp_path):
     st = d.bus.wait_event(40, END)
     assert st.event == EVENTS["ABORTED"] and st.reason.startswith("servo_timeout: ")
     # It went stale only after the stream ended: 150 messages, about 1.5 s.
-    sps = motion.setpoints_since(d, s0.cycle)
+    sps = setpoints_since(d, s0.cycle)
     moved = [s for s in sps if s.goal_id == 40]
     assert len(moved) >= 1300, len(moved)
-    motion.assert_smooth(sps)
+    assert_smooth(sps)
     # Stamped on one time base throughout: neither jump shows.
     for a, b in zip(sps, sps[1:]):
         assert 1000 <= b.utime - a.utime < 1_000_000, (a.cycle, b.utime - a.utime)
 
     d.bus.send_goal_joint(41, QN)
-    motion.finished(d, 41)
+    finished(d, 41)
     assert d.stop() == 0
 
 
@@ -210,7 +209,7 @@ def test_servo_publisher_killed_mid_stream(kinctld):
     """A real client streaming servo twists is killed: the arm decelerates to
     rest once the stream's timeout has passed on the daemon's clock."""
     d = kinctld()
-    s0 = motion.go_nominal(d)
+    s0 = go_nominal(d)
     cli = [sys.executable, "-m", "kinctl", "--lcm-url", d.url, "goal", "servo", "--twist", "0,0.04,0,0,0,0",
            "--rate", "100", "--duration", "30", "--stale-ms", "80", "--id", "50"]
     client = subprocess.Popen(cli, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
@@ -228,8 +227,8 @@ def test_servo_publisher_killed_mid_stream(kinctld):
     assert st.event == EVENTS["ABORTED"] and st.reason.startswith("servo_timeout: "), st.reason
     s = d.bus.wait_idle()
     assert all(v == 0.0 for v in s.qd[:N])
-    sps = motion.setpoints_since(d, s0.cycle)
-    motion.assert_smooth(sps)
+    sps = setpoints_since(d, s0.cycle)
+    assert_smooth(sps)
     with d.bus.lock:
         after_kill = d.bus.setpoints[before:]
     stopping = next(i for i, p in enumerate(after_kill) if p.state == STATES["STOPPING"])
@@ -245,7 +244,7 @@ def test_both_cpus_loaded(kinctld):
     if subprocess.run(["which", "stress-ng"], capture_output=True).returncode != 0:
         pytest.skip("stress-ng is not installed (scripts/setup.sh installs it)")
     d = kinctld()
-    s0 = motion.go_nominal(d)
+    s0 = go_nominal(d)
     load = subprocess.Popen(["stress-ng", "--cpu", str(os.cpu_count() or 2), "--timeout", "20s", "--quiet"])
     try:
         time.sleep(0.5)
@@ -256,5 +255,5 @@ def test_both_cpus_loaded(kinctld):
     finally:
         load.terminate()
         load.wait()
-    motion.assert_smooth(motion.setpoints_since(d, s0.cycle))
+    assert_smooth(setpoints_since(d, s0.cycle))
     assert d.stop() == 0

@@ -5,15 +5,14 @@ day ahead is judged on receipt like any other), and a replayed datagram of
 an active goal is refused, not run twice."""
 import time
 
-from conftest import EVENTS, goal_joint_t, motion
+from kinctl_testing import EVENTS, N, QN, finished, go_nominal, goal_joint_t
 
-QN, N = motion.QN, motion.N
 FAR = [1.0, 0.5, -2.5, 0.5, 0.5, 0.5]
 
 
 def test_duplicate_and_replayed_ids(kinctld):
     d = kinctld()
-    motion.go_nominal(d)
+    go_nominal(d)
     g = d.bus.send_goal_joint(70, FAR, vel_scale=0.3)
     d.bus.wait_event(70, ("ACCEPTED",))
     # The same datagram again (a replay) and a different goal under the same id.
@@ -35,7 +34,7 @@ def test_duplicate_and_replayed_ids(kinctld):
 
 def test_sender_utime_is_not_trusted(kinctld):
     d = kinctld()
-    motion.go_nominal(d)
+    go_nominal(d)
     for gid, utime in ((80, int((time.time() - 86400) * 1e6)), (81, int((time.time() + 86400) * 1e6)), (82, -1)):
         g = goal_joint_t()
         g.goal_id, g.mode, g.n = gid, goal_joint_t.QUEUE, N
@@ -43,5 +42,5 @@ def test_sender_utime_is_not_trusted(kinctld):
         g.utime = utime
         d.bus.send_raw("GOAL_JOINT", g.encode())
     for gid in (80, 81, 82):
-        motion.finished(d, gid)
+        finished(d, gid)
     assert d.stop() == 0

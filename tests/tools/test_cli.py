@@ -7,9 +7,9 @@ import time
 
 import pytest
 
-from conftest import SLOW, run_kinctl, status
+from conftest import status
+from kinctl_testing import QN, SLOW, run_kinctl
 
-QN = [0.0, 0.7854, -3.1416, 0.0, 0.7854, 0.0]
 QN_DEG = "0,45,-180,0,45,0"
 DOWN = [0.7071068, 0.0, 0.7071068, 0.0]  # the tool's orientation at QN
 

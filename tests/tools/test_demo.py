@@ -1,7 +1,7 @@
 """The demo (what scripts/demo.sh runs) to its end: summary, CSV and plot."""
 import os
 
-from conftest import KINCTLD, SLOW
+from kinctl_testing import KINCTLD, SLOW
 
 import pytest
 

@@ -13,7 +13,7 @@ import numpy as np
 import pybullet_data  # the URDFs: pybullet's wheel ships them (tools/requirements.txt)
 import pytest
 
-from conftest import run_kinctl
+from kinctl_testing import run_kinctl
 from kinctl import urdf
 DATA = pybullet_data.getDataPath()
 CALC = os.environ.get("KINCTL_CALC", "")

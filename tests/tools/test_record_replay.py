@@ -8,8 +8,8 @@ import time
 import lcm
 import pytest
 
-from conftest import SLOW, run_kinctl
 from kinctl.local import unique_url
+from kinctl_testing import SLOW, run_kinctl, start_kinctld
 from kinctl_msgs import goal_joint_t, goal_path_t, setpoint_t
 
 QN = "0,45,-180,0,45,0"
@@ -55,19 +55,13 @@ def ok(r):
 
 
 @pytest.fixture(scope="module")
-def session(tmp_path_factory):
+def session(multicast, tmp_path_factory):
     """One recorded run of every goal kind, a stop and a servo stream (the
     daemon's setpoints and its inputs): the log and the daemon's URL."""
-    from kinctl.local import Kinctld, ensure_multicast, MULTICAST_HELP
-    if not ensure_multicast():
-        pytest.skip(MULTICAST_HELP)
-    if not os.environ.get("KINCTLD"):
-        pytest.skip("KINCTLD is not set (run through ctest)")
     path = str(tmp_path_factory.mktemp("rec") / "run.lcmlog")
-    d = Kinctld(binary=os.environ["KINCTLD"])
+    d = start_kinctld()
     logger = None
     try:
-        d.wait_ready(10.0 * SLOW)
         # LCM's own lcm-logger beside kinctl record: the two logs must agree
         logger = subprocess.Popen([os.path.join(os.path.dirname(sys.executable), "lcm-logger"),
                                    "--lcm-url=" + d.url, "-c", "KINCTL_.*", "-f", path + ".lcm-logger"],
@@ -90,7 +84,7 @@ def session(tmp_path_factory):
         if logger is not None:
             logger.send_signal(signal.SIGINT)
             logger.communicate(timeout=30)
-        assert d.stop() == 0, d.stderr_text
+        assert d.stop() == 0, d.stderr
     return path, out
 
 
@@ -269,19 +263,15 @@ def test_record_refuses_to_overwrite(kinctl, tmp_path):
 def test_replay_takes_the_daemons_configuration(multicast, tmp_path):
     """A panda at 2 kHz replays bit for bit with the daemon's --model and
     --period-us; with another period it differs from the first goal's cycle."""
-    from kinctl.local import Kinctld
-    if not os.environ.get("KINCTLD"):
-        pytest.skip("KINCTLD is not set (run through ctest)")
     path = str(tmp_path / "panda.lcmlog")
-    d = Kinctld("--model", "panda", "--period-us", "500", binary=os.environ["KINCTLD"])
+    d = start_kinctld("--model", "panda", "--period-us", "500")
     try:
-        d.wait_ready(10.0 * SLOW)
         rec = start_record(d, path)
         ok(run_kinctl(d, "goal", "joint", "--q", "0.3,-0.5,0.2,-2.0,0.1,1.8,0.5", "--id", "8001", "--wait"))
         ok(run_kinctl(d, "status"))
         stop_record(rec)
     finally:
-        assert d.stop() == 0, d.stderr_text
+        assert d.stop() == 0, d.stderr
     r = run_kinctl(None, "replay", path, "--model", "panda", "--period-us", "500")
     assert r.returncode == 0 and "BIT-EXACT" in r.stdout, r.stdout + r.stderr
     took = [setpoint_t.decode(dt).cycle for _, ch, dt in events(path)

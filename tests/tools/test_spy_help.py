@@ -5,7 +5,6 @@ import subprocess
 
 import pytest
 
-from conftest import run_kinctl
 from kinctl import spy
 
 LCM_DIR = os.environ.get("KINCTL_LCM_DIR", os.path.join(os.path.dirname(__file__), "..", "..", "lcmtypes"))

@@ -3,12 +3,12 @@ simulated drives (kinctl drivesim) attached, and a recorder of every frame
 on the bus. Run by tests/vcan/uml_run.sh: on this host's vcan0, or inside
 User Mode Linux where the host has no SocketCAN.
 
-The daemon fixture is tests/daemon's (kinctld, multicast, Bus): the same
-private LCM URL per test. Frames are read by kinctl.canraw's recorder: a
+The daemon fixture is tests/daemon's (kinctld, multicast, Bus, from the
+suites' shared module tests/pylib/kinctl_testing.py): the same private LCM
+URL per test. Frames are read by kinctl.canraw's recorder: a
 raw CAN socket with an 8 MiB receive buffer, so the reader does not lose
 frames at its own queue, and the kernel's timestamps.
 """
-import importlib.util
 import math
 import os
 import struct
@@ -18,15 +18,7 @@ import sys
 import pytest
 
 from kinctl import canraw
-
-HERE = os.path.dirname(os.path.abspath(__file__))
-_spec = importlib.util.spec_from_file_location("kinctl_daemon_fixtures", os.path.join(HERE, "..", "daemon",
-                                                                                     "conftest.py"))
-dfx = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(dfx)
-kinctld = dfx.kinctld
-multicast = dfx.multicast
-EVENTS, STATES, SLOW = dfx.EVENTS, dfx.STATES, dfx.SLOW
+from kinctl_testing import EVENTS, SLOW, STATES, kinctld, multicast  # noqa: F401 (fixtures)
 
 IFACE = os.environ.get("KINCTL_VCAN", "vcan0")
 IN_UML = os.environ.get("KINCTL_IN_UML") == "1"

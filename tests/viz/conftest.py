@@ -1,8 +1,8 @@
 """Fixtures for kinctl plot and kinctl view: one real run, recorded once.
 
-`recorded` starts a kinctld of its own (kinctl.local, on a private LCM URL),
-records it with `kinctl log` (CSV and events) and lcm-logger (an LCM event
-log) at the same time, and drives it with the kinctl CLI through three goals
+`recorded` starts a kinctld of its own (kinctl.local.Kinctld, on a private
+LCM URL), records it with `kinctl log` (CSV and events) and lcm-logger (an
+LCM event log) at the same time, and drives it with the kinctl CLI through three goals
 whose shape is known in advance:
 
     11  joint move in which joint 2 travels farthest (1.0 rad; others 0.1 or less)
@@ -11,8 +11,9 @@ whose shape is known in advance:
     14  joint move in which joint 6 travels farthest (1.3 rad) but joint 1 (1.2 rad, half
         joint 6's rate limits) leads: alone it would take 1 s, joint 6 0.72 s
 
-Environment (tests/viz/CMakeLists.txt): KINCTLD, KINCTL_CALC, PYTHONPATH
-with this build's kinctl_msgs and tools/, KINCTLD_TEST_SLOWDOWN.
+Environment (tests/CMakeLists.txt, tests/viz/CMakeLists.txt): KINCTLD,
+KINCTL_CALC, PYTHONPATH with this build's kinctl_msgs, tools/ and
+tests/pylib, KINCTLD_TEST_SLOWDOWN.
 """
 import os
 import signal
@@ -22,11 +23,9 @@ import time
 
 import pytest
 
-from kinctl.local import MULTICAST_HELP, Kinctld, ensure_multicast, unique_url
+from kinctl.local import unique_url
+from kinctl_testing import QN, SLOW, multicast, run_kinctl, start_kinctld  # noqa: F401 (fixtures)
 
-KINCTLD = os.environ.get("KINCTLD", "")
-SLOW = float(os.environ.get("KINCTLD_TEST_SLOWDOWN", "1"))
-QN = [0.0, 0.7854, -3.1416, 0.0, 0.7854, 0.0]
 DOWN = [0.7071068, 0.0, 0.7071068, 0.0]  # puma560's tool orientation at QN
 Q11 = [0.1, -0.2146, -3.0416, 0.05, 0.7854, 0.0]   # joint 2: -1.0 rad, the rest <= 0.1
 Q13 = [0.9, -0.1146, -3.1416, 0.05, 0.8854, 0.1]   # from Q11, joint 1 +0.8 rad, the rest <= 0.1
@@ -36,14 +35,6 @@ LINE_SPEED = 0.2
 
 def csv_of(v):
     return ",".join(repr(float(x)) for x in v)
-
-
-def run_kinctl(url, *args, timeout=60.0):
-    env = dict(os.environ)
-    env.pop("LCM_DEFAULT_URL", None)
-    url_args = ["--lcm-url", url] if url else []
-    return subprocess.run([sys.executable, "-m", "kinctl"] + url_args + [str(a) for a in args],
-                          capture_output=True, text=True, timeout=timeout * SLOW, env=env)
 
 
 def goal_columns(recorded, goal_id):
@@ -83,24 +74,15 @@ def live_view_while_moving(url, *view_args):
 
 
 @pytest.fixture(scope="session")
-def multicast():
-    if not ensure_multicast():
-        pytest.skip(MULTICAST_HELP)
-
-
-@pytest.fixture(scope="session")
 def daemon(multicast):
     """A kinctld (puma560, 1 kHz, --no-rt) for the session, at QN."""
-    if not KINCTLD:
-        pytest.skip("KINCTLD is not set (run through ctest)")
-    d = Kinctld(binary=KINCTLD, url=unique_url(subnet=79, port_base=40000))
+    d = start_kinctld(url=unique_url(subnet=79, port_base=40000))
     try:
-        d.wait_ready(10.0 * SLOW)
         r = run_kinctl(d.url, "goal", "joint", "--q", csv_of(QN), "--wait")
         assert r.returncode == 0, r.stdout + r.stderr
         yield d
     finally:
-        assert d.stop(signal.SIGTERM, 20.0 * SLOW) == 0, d.stderr_text
+        assert d.stop(signal.SIGTERM, 20.0) == 0, d.stderr
 
 
 @pytest.fixture(scope="session")

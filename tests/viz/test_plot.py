@@ -5,11 +5,12 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pytest
 
-from conftest import LINE_SPEED, run_kinctl
+from conftest import LINE_SPEED
 
 from kinctl import logcsv
 from kinctl.plot import plot_run
 from kinctl.runlog import read_run
+from kinctl_testing import run_kinctl
 
 GOALS = [11, 20, 12, 21, 13, 14]
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"

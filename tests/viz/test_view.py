@@ -9,12 +9,13 @@ import sys
 import numpy as np
 import pytest
 
-from conftest import Q11, QN, SLOW, csv_of, goal_columns, live_view_while_moving, run_kinctl
+from conftest import Q11, csv_of, goal_columns, live_view_while_moving
 
 from kinctl import logcsv
 from kinctl import projection as pj
 from kinctl.kinematics import ArmFK
 from kinctl.view import render, samples_from_columns
+from kinctl_testing import QN, SLOW, run_kinctl
 
 W, H = 960, 760  # 12 x 9.5 in at the default 80 dpi
 

@@ -6,7 +6,7 @@ own placement of the volumes (kinctl-calc zones --geometry)."""
 import numpy as np
 import pytest
 
-from conftest import QN, csv_of, goal_columns, live_view_while_moving, run_kinctl
+from conftest import csv_of, goal_columns, live_view_while_moving
 
 from kinctl import logcsv
 from kinctl import projection as pj
@@ -14,6 +14,7 @@ from kinctl import zonedraw as zd
 from kinctl.kinematics import ArmFK
 from kinctl.plot import plot_run
 from kinctl.view import render, samples_from_columns
+from kinctl_testing import QN, run_kinctl
 
 SPHERE_C, SPHERE_R = np.array([0.55, 0.35, 0.35]), 0.12
 BOX_C, BOX_H = np.array([0.1, -0.75, 0.3]), np.array([0.6, 0.05, 0.5])

@@ -53,6 +53,12 @@
 #include "bench_common.h"
 #include "bench_models.hpp"
 
+// The double build of the core, for its tick count alone: the timed kinctl
+// calls run in the helpers (one per precision).
+extern "C" {
+#include "kinctl/profile.h"
+}
+
 namespace {
 
 using namespace kcb;
@@ -162,15 +168,15 @@ inline double kdl_plan(KdlMove &m, const double *q0, const double *q1)
     return T;
 }
 
-// First tick k with k dt >= T, as kinctl counts them.
+// First tick k with k dt >= T, counted by the core itself (kinctl/profile.h:
+// kc_profile.ticks): the ticks of a rest-to-rest profile of no distance that
+// lasts exactly T. -1 when the core cannot count them (T over its capacity).
 inline long long ticks_of(double T)
 {
-    long long k = (long long)std::ceil(T / DT);
-    while (k > 0 && (double)(k - 1) * DT >= T)
-        k--;
-    while ((double)k * DT < T)
-        k++;
-    return k;
+    kc_profile hold;
+    if (kc_profile_plan_duration(&hold, 0.0, 0.0, 1.0, 1.0, T, DT) != KC_OK)
+        return -1;
+    return (long long)hold.ticks;
 }
 
 // The move set and, per tick sample, its plan and time.

@@ -1,4 +1,23 @@
-"""kinctl: the client of kinctld (command line `kinctl`, Python API `kinctl.Client`)."""
+"""kinctl: the client of kinctld (command line `kinctl`, Python API `kinctl.Client`).
+
+The modules (no import circle among them; none but __main__ imports cli:
+tests/tools/test_imports.py):
+
+- the command line: cli (the entry point: the top-level parser and the
+  dispatch), built from the command modules, each of which registers its own
+  subcommands: goalcmds (goal), livecmds (stop ... reset, status, log),
+  plotcmd (plot), viewcmd (view), datacmds (record, play, replay, spy,
+  import-urdf), cancmds (drivesim, candecode); what they share: argtypes
+  (argument types and messages, a leaf) and connection (the connection
+  options and the client a live command opens);
+- talking to kinctld: client, msgs (the generated messages), eventlog,
+  logcsv, runlog (logs), replay (kinctl-replay);
+- drawing: plot, view (the arm), projection, shapes, zonedraw, kinematics
+  (the core's forward kinematics through kinctl-calc), progress;
+- CAN: canraw, dbc, candecode, drivesim;
+- the machine: programs (where the built programs are), local (a kinctld of
+  one's own: the launcher of the demo and the tests), demo, urdf.
+"""
 __version__ = "0.1.0"
 
 

@@ -1,29 +1,31 @@
 """The data commands of the kinctl CLI: record, play, replay, spy, import-urdf.
 
-cli.py registers them (add_parsers) and hands them their parsed arguments
-(run). Bad input raises cli.UsageError or ValueError (exit 2).
+register() adds them to the CLI. Bad input raises UsageError or ValueError
+(exit 2).
 """
 import os
 import signal
 import threading
 
-NAMES = ("record", "play", "replay", "spy", "import-urdf")
+from kinctl.argtypes import UsageError, add_command, positive, say
 
 
-def add_parsers(sub, sub_parser, parents, positive):
-    rec = sub_parser(sub, "record", "record every kinctl channel to an LCM event log (lcm-logger format)",
-                     "kinctl record run.lcmlog --duration 10\n"
-                     "  kinctl --prefix ARM2_ record arm2.lcmlog          (until Ctrl-C)", parents)
+def register(sub, parents):
+    rec = add_command(sub, "record", "record every kinctl channel to an LCM event log (lcm-logger format)",
+                      "kinctl record run.lcmlog --duration 10\n"
+                      "  kinctl --prefix ARM2_ record arm2.lcmlog          (until Ctrl-C)", parents)
     rec.add_argument("log", metavar="LOG", help="the event log to write")
     rec.add_argument("--duration", type=positive, default=None, metavar="S",
                      help="stop after S seconds (default: at Ctrl-C or SIGTERM)")
     rec.add_argument("--inputs-only", action="store_true",
                      help="only the goal and command channels (default: every <prefix>* channel)")
     rec.add_argument("--force", action="store_true", help="overwrite LOG if it exists")
+    rec.set_defaults(run=cmd_record)
 
-    pl = sub_parser(sub, "play", "publish a recorded LCM event log with its original timing",
-                    "kinctl play run.lcmlog --speed 2\n"
-                    "  kinctl play run.lcmlog --inputs-only      (its goals and commands, to a live daemon)", parents)
+    pl = add_command(sub, "play", "publish a recorded LCM event log with its original timing",
+                     "kinctl play run.lcmlog --speed 2\n"
+                     "  kinctl play run.lcmlog --inputs-only      (its goals and commands, to a live daemon)",
+                     parents)
     pl.add_argument("log", metavar="LOG", help="an event log (kinctl record, lcm-logger)")
     pl.add_argument("--speed", type=positive, default=1.0, metavar="F",
                     help="play F times faster than recorded (default 1)")
@@ -31,26 +33,29 @@ def add_parsers(sub, sub_parser, parents, positive):
                     help="only the goal and command channels under --prefix (drive a live daemon with them)")
     pl.add_argument("--channels", default=None, metavar="REGEX",
                     help="only channels matching REGEX (a full match; default: every channel)")
+    pl.set_defaults(run=cmd_play)
 
-    rp = sub_parser(sub, "replay", "run a recorded log's goals and commands through the controller offline "
-                                   "and check that every setpoint reproduces bit for bit",
-                    "kinctl replay run.lcmlog\n"
-                    "  kinctl replay run.lcmlog --model panda --period-us 500", parents)
+    rp = add_command(sub, "replay", "run a recorded log's goals and commands through the controller offline "
+                                    "and check that every setpoint reproduces bit for bit",
+                     "kinctl replay run.lcmlog\n"
+                     "  kinctl replay run.lcmlog --model panda --period-us 500", parents)
     rp.add_argument("log", metavar="LOG", help="an event log recorded from kinctld (kinctl record)")
     rp.add_argument("--config", metavar="FILE", default=None, help="the daemon's --config")
     rp.add_argument("--model", metavar="NAME", default=None, help="the daemon's --model")
     rp.add_argument("--period-us", metavar="US", default=None, help="the daemon's --period-us")
+    rp.set_defaults(run=cmd_replay)
 
-    sp = sub_parser(sub, "spy", "start lcm-spy with kinctl's message types, so every channel decodes field "
-                                "by field", "kinctl spy\n  kinctl --lcm-url 'udpm://239.255.76.67:7667?ttl=0' spy",
-                    parents)
+    sp = add_command(sub, "spy", "start lcm-spy with kinctl's message types, so every channel decodes field "
+                                 "by field", "kinctl spy\n  kinctl --lcm-url 'udpm://239.255.76.67:7667?ttl=0' spy",
+                     parents)
     sp.add_argument("--jar", metavar="JAR", default=None,
                     help="the message jar (default: build/lcmtypes/kinctl_lcmtypes.jar, $KINCTL_JAR)")
     sp.add_argument("--print", action="store_true", help="print the command instead of running it")
+    sp.set_defaults(run=cmd_spy)
 
-    iu = sub_parser(sub, "import-urdf", "write a robot description file (models/README.md) from a URDF",
-                    "kinctl import-urdf panda.urdf -o panda.cfg --tip panda_link8\n"
-                    "  kinctl-calc fk --robot panda.cfg --q 0,0,0,-1.57,0,1.57,0.78", parents)
+    iu = add_command(sub, "import-urdf", "write a robot description file (models/README.md) from a URDF",
+                     "kinctl import-urdf panda.urdf -o panda.cfg --tip panda_link8\n"
+                     "  kinctl-calc fk --robot panda.cfg --q 0,0,0,-1.57,0,1.57,0.78", parents)
     iu.add_argument("urdf", metavar="FILE.urdf", help="the URDF")
     iu.add_argument("-o", "--output", metavar="FILE", default=None,
                     help="the description file to write (default: FILE with .cfg; '-' for stdout)")
@@ -63,15 +68,11 @@ def add_parsers(sub, sub_parser, parents, positive):
     iu.add_argument("--acc", type=positive, default=None, metavar="A",
                     help="acceleration limit for every joint (URDF has none; default: 5 x the velocity limit)")
     iu.add_argument("--force", action="store_true", help="overwrite the output if it exists")
-
-
-def _say(*a):
-    print(*a, flush=True)
+    iu.set_defaults(run=cmd_import_urdf)
 
 
 def cmd_record(args):
     from kinctl.eventlog import channel_regex, record_until
-    from kinctl.cli import UsageError
     if os.path.exists(args.log) and not args.force:
         raise UsageError(f"{args.log} exists (give --force to overwrite)")
     where = os.path.dirname(os.path.abspath(args.log))
@@ -82,7 +83,7 @@ def cmd_record(args):
     regex = channel_regex(args.prefix, args.inputs_only)
 
     def ready(rec):
-        _say(f"recording {regex} to {args.log}" + (f" for {args.duration:g} s" if args.duration else
+        say(f"recording {regex} to {args.log}" + (f" for {args.duration:g} s" if args.duration else
                                                     " until Ctrl-C"))
     try:
         rec = record_until(args.log, args.lcm_url, regex, args.prefix + "SETPOINT", args.duration, stop,
@@ -92,7 +93,7 @@ def cmd_record(args):
     finally:
         signal.signal(signal.SIGTERM, old)
     if rec is not None:
-        _say("record: " + rec.report())
+        say("record: " + rec.report())
     return 0
 
 
@@ -113,7 +114,7 @@ def cmd_play(args):
         sent, took = play(args.log, args.lcm_url, args.speed, regex, stop=stop)
     finally:
         signal.signal(signal.SIGTERM, old)
-    _say(f"play: {sent} events in {took:.2f} s")
+    say(f"play: {sent} events in {took:.2f} s")
     return 0
 
 
@@ -133,7 +134,7 @@ def cmd_spy(args):
     from kinctl import spy
     argv, env = spy.command(args.lcm_url, args.jar)
     if args.print:
-        _say(f"CLASSPATH={env['CLASSPATH']} " + " ".join(argv))
+        say(f"CLASSPATH={env['CLASSPATH']} " + " ".join(argv))
         return 0
     import subprocess
     return subprocess.call(argv, env=env)
@@ -141,7 +142,6 @@ def cmd_spy(args):
 
 def cmd_import_urdf(args):
     from kinctl import urdf
-    from kinctl.cli import UsageError
     out = args.output or os.path.splitext(args.urdf)[0] + ".cfg"
     if out != "-" and os.path.exists(out) and not args.force:
         raise UsageError(f"{out} exists (give --force to overwrite)")
@@ -151,10 +151,6 @@ def cmd_import_urdf(args):
     else:
         with open(out, "w") as f:
             f.write(text)
-        _say(f"import-urdf: {out}: {info}")
+        say(f"import-urdf: {out}: {info}")
     return 0
 
-
-def run(args):
-    return {"record": cmd_record, "play": cmd_play, "replay": cmd_replay, "spy": cmd_spy,
-            "import-urdf": cmd_import_urdf}[args.command](args)

@@ -19,7 +19,8 @@ import sys
 import time
 
 from kinctl import logcsv
-from kinctl.local import MULTICAST_HELP, SOURCE_DIR, Kinctld, ensure_multicast, unique_url
+from kinctl.local import MULTICAST_HELP, Kinctld, ensure_multicast, unique_url
+from kinctl.programs import SOURCE_DIR
 
 # The sequence: (goal id or None, label for the plot, kinctl arguments, seconds to sleep after).
 QN_DEG = "0,45,-180,0,45,0"  # puma560's nominal pose: elbow up, wrist not singular
@@ -106,7 +107,7 @@ def run_demo(out_dir="out", kinctld=None, echo=True, small_png=None, slow=1.0):
         say("\n\033[1m$ kill -TERM kinctld\033[0m", flush=True)
     finally:
         rc_daemon = d.stop()
-    say(d.stderr_text.strip())
+    say(d.stderr.strip())
 
     labels = {gid: f"{gid}: {label}" for gid, label, _, _ in results if gid}
     info = plot_run(csv_path, png_path, events=ev_path, labels=labels, model="puma560",

@@ -10,26 +10,17 @@ the planner's leading joint of joint moves (`kinctl-calc interp joint`).
     leads = planned_leads([(q0, q1), ...], model="puma560")   # 1-based, 0: nothing moves
 
 Poses are 4 x 4 numpy arrays in the world frame (m). The calculator is
-$KINCTL_CALC, else build/tools/kinctl-calc of this checkout, else
-kinctl-calc on PATH.
+kinctl.programs.find("kinctl-calc"): $KINCTL_CALC, else
+build/tools/kinctl-calc of this checkout, else kinctl-calc on PATH.
 """
 import json
 import os
-import shutil
 import subprocess
 import threading
 
 import numpy as np
 
-from kinctl.local import SOURCE_DIR
-
-
-def find_calc():
-    for cand in (os.environ.get("KINCTL_CALC"), os.path.join(SOURCE_DIR, "build", "tools", "kinctl-calc"),
-                 shutil.which("kinctl-calc")):
-        if cand and os.access(cand, os.X_OK):
-            return cand
-    raise FileNotFoundError("kinctl-calc not found: build it (scripts/setup.sh) or set KINCTL_CALC")
+from kinctl import programs
 
 
 class ArmFK:
@@ -41,7 +32,7 @@ class ArmFK:
         self.model, self.model_file = (model or ("puma560" if not model_file else None)), model_file
         if model_file and not os.path.exists(model_file):
             raise ValueError(f"--model-file {model_file}: no such file (models/*.cfg are examples)")
-        self.calc = calc or find_calc()
+        self.calc = calc or programs.find("kinctl-calc")
         self._proc = None
         self.n_joints = None
         # Probe once: the model exists, and how many joints it has.
@@ -163,7 +154,8 @@ def planned_leads(moves, model=None, model_file=None, calc=None):
     # dt far beyond any move: two rows (start and end) per answer.
     text = "".join(json.dumps(dict(op="interp", kind="joint", q0=[float(v) for v in q0], q1=[float(v) for v in q1],
                                    dt=1e6, **where)) + "\n" for q0, q1 in moves)
-    r = subprocess.run([calc or find_calc(), "batch"], input=text, capture_output=True, text=True, timeout=60)
+    r = subprocess.run([calc or programs.find("kinctl-calc"), "batch"], input=text, capture_output=True, text=True,
+                       timeout=60)
     answers = [json.loads(line) for line in r.stdout.splitlines() if line.strip()]
     if len(answers) != len(moves):
         raise RuntimeError(f"kinctl-calc batch answered {len(answers)} of {len(moves)} requests: {r.stderr}")

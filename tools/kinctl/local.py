@@ -1,22 +1,22 @@
 """A kinctld of one's own on this machine: a private LCM URL, start, stop.
 
-Used by the demo (kinctl.demo) and the tests in tests/tools: the one place
-for these helpers on the client side. Like tests/daemon/conftest.py, every
-URL is a multicast group and port of its own with ttl=0, so nothing leaves
-the machine and concurrent runs never hear each other.
+The one daemon launcher: the demo (kinctl.demo), the benchmarks and every
+Python test suite start kinctld through Kinctld. Every URL is a multicast
+group and port of its own with ttl=0, so nothing leaves the machine and
+concurrent runs never hear each other.
 """
 import itertools
 import os
-import shutil
+import re
 import signal
 import subprocess
 import time
 
 import lcm
 
+from kinctl import programs
+
 _counter = itertools.count()
-HERE = os.path.dirname(os.path.abspath(__file__))
-SOURCE_DIR = os.path.dirname(os.path.dirname(HERE))  # tools/kinctl -> the checkout
 
 
 def unique_url(subnet=78, port_base=30000):
@@ -51,7 +51,7 @@ MULTICAST_HELP = ("LCM multicast does not loop back on this machine; as root: "
 
 def ensure_multicast():
     """True when multicast works, after routing 224.0.0.0/4 on lo when it does
-    not and we are root (as tests/daemon/conftest.py does); else False."""
+    not and we are root; else False."""
     if multicast_works():
         return True
     if os.geteuid() == 0:
@@ -61,37 +61,52 @@ def ensure_multicast():
     return False
 
 
-def find_kinctld():
-    """$KINCTLD, else build/daemon/kinctld of this checkout, else kinctld on PATH."""
-    for cand in (os.environ.get("KINCTLD"), os.path.join(SOURCE_DIR, "build", "daemon", "kinctld"),
-                 shutil.which("kinctld")):
-        if cand and os.access(cand, os.X_OK):
-            return cand
-    raise FileNotFoundError("kinctld not found: build it (scripts/setup.sh) or set KINCTLD")
+# What a sanitizer build's runtime writes when it finds something.
+SANITIZER_REPORT = re.compile(r"runtime error:|ERROR: (?:Address|Leak|UndefinedBehavior)Sanitizer")
+DEFAULT_PREFIX = "KINCTL_"
 
 
 class Kinctld:
-    """kinctld as a subprocess on its own URL (--no-rt): start() ... stop()."""
+    """kinctld as a subprocess on an LCM URL of its own: Kinctld(...),
+    wait_ready(), stop() (or close(), which also fails on a sanitizer's
+    report). After either: proc.returncode, stderr (the text it wrote).
 
-    def __init__(self, *args, binary=None, url=None, prefix="KINCTL_", rt=False, stderr=None):
-        self.binary = binary or find_kinctld()
+    args are kinctld's own; --lcm-url (unless url_flag is False: the URL
+    then reaches it otherwise, e.g. env LCM_DEFAULT_URL), --prefix (unless
+    the default), --rt or --no-rt and extra_args follow them. wrapper: a
+    command line the daemon runs under (valgrind ...). env: added to this
+    process's environment, which loses LCM_DEFAULT_URL. stderr: a file for
+    the daemon's stderr (default: captured in memory). slowdown: every
+    timeout is multiplied by it (sanitizer builds run several times slower).
+    """
+
+    def __init__(self, *args, binary=None, url=None, prefix=DEFAULT_PREFIX, rt=False, stderr=None, env=None,
+                 url_flag=True, extra_args=(), wrapper=(), slowdown=1.0):
+        self.binary = binary or programs.find("kinctld")
         self.url = url or unique_url()
         self.prefix = prefix
-        self.argv = [self.binary] + list(args) + ["--lcm-url", self.url, "--prefix", prefix,
-                                                  "--rt" if rt else "--no-rt"]
-        env = dict(os.environ)
-        env.pop("LCM_DEFAULT_URL", None)
+        self.slowdown = slowdown
+        argv = [self.binary] + list(args)
+        if url_flag:
+            argv += ["--lcm-url", self.url]
+        if prefix != DEFAULT_PREFIX:
+            argv += ["--prefix", prefix]
+        self.argv = list(wrapper) + argv + ["--rt" if rt else "--no-rt"] + list(extra_args)
+        e = dict(os.environ)
+        e.pop("LCM_DEFAULT_URL", None)
+        e.update(env or {})
         self._stderr_path = stderr
         self._stderr = open(stderr, "w") if stderr else subprocess.PIPE
-        self.proc = subprocess.Popen(self.argv, stdout=subprocess.DEVNULL, stderr=self._stderr, text=True, env=env)
-        self.stderr_text = ""
+        self.proc = subprocess.Popen(self.argv, stdout=subprocess.DEVNULL, stderr=self._stderr, text=True, env=e)
+        self.stderr = ""
         self.stopped = False
+        self.hung = False
 
     def wait_ready(self, timeout=10.0):
         """Waits for the first setpoint; raises RuntimeError with stderr when none comes."""
         from kinctl.client import Client, DaemonNotFound
         with Client(self.url, self.prefix) as c:
-            deadline = time.monotonic() + timeout
+            deadline = time.monotonic() + timeout * self.slowdown
             while time.monotonic() < deadline:
                 if self.proc.poll() is not None:
                     break
@@ -99,29 +114,49 @@ class Kinctld:
                     return c.wait_daemon(0.2)
                 except DaemonNotFound:
                     pass
-        self.stop(signal.SIGKILL)
+        self._end(signal.SIGKILL, 20.0)
         raise RuntimeError(f"{' '.join(self.argv)} sent no setpoint (exit {self.proc.returncode}): "
-                           f"{self.stderr_text.strip()}")
+                           f"{self.stderr.strip()}")
 
     def stop(self, sig=signal.SIGTERM, timeout=20.0):
         """Signals the daemon (SIGTERM: controlled stop), waits, returns its exit code
-        (at once when stopped before; also when it had exited on its own)."""
+        (at once when stopped before; also when it had exited on its own). One
+        that does not exit within timeout is killed, and hung set."""
+        return self._end(sig, timeout)
+
+    def close(self, sig=signal.SIGKILL, timeout=20.0):
+        """The end of the daemon: stopped by sig when it still runs; then
+        RuntimeError when its stderr holds a sanitizer's report (a sanitizer
+        build's daemon that died of a finding may have failed nothing else)."""
+        self._end(sig, timeout)
+        report = self.sanitizer_report()
+        if report:
+            raise RuntimeError(f"kinctld's sanitizer report:\n{report}")
+
+    def sanitizer_report(self):
+        """The sanitizer's report in the daemon's stderr, from its first line
+        on ('' when there is none)."""
+        m = SANITIZER_REPORT.search(self.stderr)
+        return self.stderr[self.stderr.rfind("\n", 0, m.start()) + 1:] if m else ""
+
+    def _end(self, sig, timeout):
         if self.stopped:
             return self.proc.returncode
         self.stopped = True
         if self.proc.poll() is None:
             self.proc.send_signal(sig)
         try:
-            _, err = self.proc.communicate(timeout=timeout)
+            _, err = self.proc.communicate(timeout=timeout * self.slowdown)
         except subprocess.TimeoutExpired:
+            self.hung = True
             self.proc.kill()
             _, err = self.proc.communicate()
-        if err:
-            self.stderr_text = err
-        elif self._stderr_path:
+        if self._stderr_path:
             self._stderr.close()
             with open(self._stderr_path) as f:
-                self.stderr_text = f.read()
+                self.stderr = f.read()
+        else:
+            self.stderr = err or ""
         return self.proc.returncode
 
     def __enter__(self):

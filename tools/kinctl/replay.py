@@ -5,27 +5,16 @@ with the daemon's own configuration reader and goal conversion, and
 compares every setpoint bit for bit; this wrapper finds it, shows its
 progress and passes its verdict and exit status through.
 """
-import os
-import shutil
 import subprocess
 import sys
 
-from kinctl.local import SOURCE_DIR
-
-
-def find_replay():
-    """$KINCTL_REPLAY, else build/tools/kinctl-replay of this checkout, else kinctl-replay on PATH."""
-    for cand in (os.environ.get("KINCTL_REPLAY"), os.path.join(SOURCE_DIR, "build", "tools", "kinctl-replay"),
-                 shutil.which("kinctl-replay")):
-        if cand and os.access(cand, os.X_OK):
-            return cand
-    raise FileNotFoundError("kinctl-replay not found: build it (scripts/setup.sh) or set KINCTL_REPLAY")
+from kinctl import programs
 
 
 def run(log, daemon_args, progress=True, out=sys.stdout):
     """Runs the replay; returns (exit status, its stdout text)."""
     from tqdm import tqdm
-    argv = [find_replay(), "--progress", log] + list(daemon_args)
+    argv = [programs.find("kinctl-replay"), "--progress", log] + list(daemon_args)
     proc = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     bar = None
     errors = []

@@ -10,7 +10,7 @@ import subprocess
 import sys
 import zipfile
 
-from kinctl.local import SOURCE_DIR
+from kinctl.programs import SOURCE_DIR
 
 JAR_NAME = "kinctl_lcmtypes.jar"
 

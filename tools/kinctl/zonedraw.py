@@ -44,13 +44,13 @@ def add_options(parser, volumes=True):
 def geometry(model=None, model_file=None, q=None, zones_file=None, zones=(), calc=None):
     """{"volumes": [...], "zones": [...]} at joints q, from kinctl-calc's zones op.
     ValueError (the calculator's message) for a bad zone, file or model."""
-    from kinctl.kinematics import find_calc
+    from kinctl import programs
     where = {"model_file": model_file} if model_file else {"model": model or "puma560"}
     req = dict(op="zones", q=[float(v) for v in q], geometry=True, zone=list(zones), **where)
     if zones_file:
         req["zones_file"] = zones_file
-    r = subprocess.run([calc or find_calc(), "batch"], input=json.dumps(req) + "\n", capture_output=True,
-                       text=True, timeout=60)
+    r = subprocess.run([calc or programs.find("kinctl-calc"), "batch"], input=json.dumps(req) + "\n",
+                       capture_output=True, text=True, timeout=60)
     lines = [ln for ln in r.stdout.splitlines() if ln.strip()]
     if not lines:
         raise RuntimeError(f"kinctl-calc batch gave no answer: {r.stderr.strip()}")
