@@ -15,9 +15,8 @@ import socket
 import struct
 import threading
 
-from conftest import EVENTS, STATES, command_t, motion
+from kinctl_testing import EVENTS, QN, STATES, command_t, go_nominal
 
-QN = motion.QN
 N_FORGED = 3000
 MIB = 1 << 20
 
@@ -58,7 +57,7 @@ def flood(url, prefix, count, done):
 def test_fragment_flood_leaves_memory_flat_and_commands_heard(kinctld):
     rt = os.geteuid() == 0 and not os.environ.get("KINCTLD_SANITIZED")
     d = kinctld(rt=rt)
-    motion.go_nominal(d)
+    go_nominal(d)
     pid = d.proc.pid
     if rt:
         assert locked_kib(pid) > 0, "kinctld --rt locked no memory"
