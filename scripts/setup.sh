@@ -43,6 +43,9 @@ apt_packages=(
     can-utils user-mode-linux kmod iproute2 procps
     # analysis: tests/analysis
     cppcheck clang-tidy valgrind
+    # systemd.unit: a Debian 12 root (mmdebstrap) booted by systemd-nspawn
+    # (systemd-container) runs the shipped unit under systemd (tests/systemd)
+    mmdebstrap systemd-container
 )
 missing=()
 for p in "${apt_packages[@]}"; do
