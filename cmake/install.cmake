@@ -9,6 +9,8 @@
 #   share/kinctl/lcmtypes/*.lcm           the message definitions, for other bindings
 #   share/kinctl/java/kinctl_lcmtypes.jar the message classes, for lcm-spy's CLASSPATH
 #   share/kinctl/python/kinctl_msgs/      the Python message package (PYTHONPATH)
+#   share/kinctl/python/kinctl-*.whl      the kinctl CLI and Python API with kinctl_msgs,
+#                                         to pip install on a controller PC (wheel.cmake)
 #   lib/systemd/system/kinctld.service    daemon/CMakeLists.txt
 #   share/doc/kinctl/                     README.md and the daemon's and models' READMEs,
 #                                         LICENSE, copyright (Debian's machine-readable
@@ -54,6 +56,7 @@ if(KINCTL_LCMTYPES_JAR)
 endif()
 install(DIRECTORY ${KINCTL_LCMTYPES_PYTHONPATH}/kinctl_msgs DESTINATION ${KINCTL_SHARE_DIR}/python
         PATTERN "__pycache__" EXCLUDE)
+install(FILES ${KINCTL_WHEEL} DESTINATION ${KINCTL_SHARE_DIR}/python)
 
 install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(FILES ${PROJECT_SOURCE_DIR}/daemon/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR} RENAME README.kinctld.md)
