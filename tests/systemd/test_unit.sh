@@ -1,22 +1,31 @@
 #!/usr/bin/env bash
-# systemd.unit: the shipped kinctld.service started by a real systemd, from
-# the .deb, and what it gives kinctld checked from the process itself.
+# systemd.unit: the deployment path of docs/deploy.md on a fresh Debian 12
+# root, with the shipped kinctld.service started by a real systemd, and what
+# it gives kinctld checked from the process itself.
 #
-# How: a Debian 12 root (mmdebstrap minbase + systemd and the .deb's run-time
-# dependencies, made once and kept in the build directory), a copy of it with
-# this build's .deb installed by dpkg, booted with `systemd-nspawn --boot`:
-# systemd 252 as the container's PID 1 starts the unit as the package installs
-# it, with a drop-in that only gives it a configuration (rt.priority 71,
-# rt.cpu 0, so neither is the default). A probe service in the container
-# reads /proc for kinctld's threads, stops the unit and powers the container
-# off; this script judges what it wrote:
+# How: a Debian 12 root (mmdebstrap minbase + systemd, the .deb's run-time
+# dependencies and scripts/setup.sh --runtime-packages, made once and kept in
+# the build directory), a copy of it with this build's .deb installed by dpkg,
+# booted with `systemd-nspawn --boot`: systemd 252 is the container's PID 1.
+# A probe service in the container (probe.sh) installs the kinctl wheel the
+# .deb carries into a fresh venv, imports a URDF (pybullet's KUKA iiwa) into
+# the description file that the configuration includes (rt.priority 71,
+# rt.cpu 0, so neither is the default), runs kinctld --check, starts the
+# unit as the package installs it with a drop-in that only gives it that
+# configuration, reads /proc for kinctld's threads, drives it with the
+# installed kinctl (status, a joint goal, a log, spy's jar lookup), stops the
+# unit and powers the container off; this script judges what it wrote:
+#   - every step exits 0; the service runs the imported arm (7 joints);
+#     kinctl and kinctl_msgs come from the venv, the jar from
+#     /usr/share/kinctl/java; the log holds about a second of setpoints;
 #   - the unit active, no restart, no warning from kinctld (a refused
 #     SCHED_FIFO, affinity or mlockall is one);
 #   - exactly one thread SCHED_FIFO, at rt.priority, allowed only rt.cpu;
 #     the I/O thread SCHED_OTHER and kept off that CPU (kinctld pins both;
 #     the unit sets no CPUAffinity);
 #   - VmLck (/proc/PID/status) at least VmRSS: mlockall locked every page;
-#   - `systemctl stop`: SIGTERM, a controlled stop, exit 0, Result=success.
+#   - `systemctl stop`: SIGTERM, a controlled stop, exit 0 (systemd's own
+#     record at debug level), Result=success.
 # Why nspawn: it runs the real systemd on the real kernel, so SCHED_FIFO,
 # affinity, capabilities, the seccomp filter and mlockall are the kernel's
 # own (User Mode Linux has one CPU and its own scheduler). nspawn needs a
@@ -32,10 +41,15 @@
 # and CAP_SYS_NICE alone carry mlockall and SCHED_FIFO: the diagnostics
 # printed below show which).
 #
-#   test_unit.sh BUILD_DIR       exit 77 (skipped) when not root or without
-#                                systemd-nspawn (systemd-container) or mmdebstrap
+# The wheel's dependencies (lcm, tqdm, yourdfpy) are the build venv's,
+# bound read-only into the container and named by a .pth file: the test
+# needs no network once the root is made.
+#
+#   test_unit.sh BUILD_DIR PYTHON    exit 77 (skipped) when not root or without
+#                                    systemd-nspawn (systemd-container) or mmdebstrap
 set -euo pipefail
 build=$(cd "$1" && pwd)
+python=$2
 here=$(cd "$(dirname "$0")" && pwd)
 
 skip() { echo "SKIP: $*"; exit 77; }
@@ -52,10 +66,12 @@ cpack -G DEB --config "$build/CPackConfig.cmake" -B "$tmp/deb" >"$tmp/cpack.log"
     { cat "$tmp/cpack.log" >&2; fail "cpack -G DEB"; }
 deb=$(ls "$tmp"/deb/kinctl_*.deb)
 
-# The base root: systemd and the package's Depends (names only), made once
-# per set of packages. Apt's sources: the host's, else Debian's default mirror.
+# The base root: systemd, the package's Depends (names only) and the
+# run-time packages of a controller PC, made once per set of packages. Apt's
+# sources: the host's, else Debian's default mirror.
 depends=$(dpkg-deb -f "$deb" Depends | sed -E 's/\([^)]*\)//g; s/ //g')
-include="systemd,$depends"
+runtime=$("$here/../../scripts/setup.sh" --runtime-packages | tr ' ' ,)
+include="systemd,$depends,$runtime"
 base=$build/tests/systemd/root-base
 if [ "$(cat "$base.include" 2>/dev/null)" != "$include" ] || [ ! -x "$base/lib/systemd/systemd" ]; then
     rm -rf "$base" "$base.include"
@@ -75,12 +91,18 @@ chroot "$root" dpkg -i "/tmp/$(basename "$deb")" >"$tmp/dpkg.log" 2>&1 || { cat 
 cmp "$root/usr/lib/systemd/system/kinctld.service" "$here/../../daemon/kinctld.service" ||
     fail "the installed unit is not daemon/kinctld.service"
 
-# The configuration and the drop-in a deployment writes (docs/deploy.md).
+# The configuration and the drop-in a deployment writes (docs/deploy.md);
+# the robot is the one import-urdf writes in the container.
 ncpu=$(nproc)
 prio=71 cpu=0
 port=$((7700 + RANDOM % 200))
 mkdir -p "$root/etc/kinctl" "$root/etc/systemd/system/kinctld.service.d" "$tmp/out"
+cp "$("$python" -c 'import os, pybullet_data; print(os.path.join(pybullet_data.getDataPath(), "kuka_iiwa", "model.urdf"))')" \
+    "$root/root/arm.urdf"
+echo 0.3,0.4,-0.3,-0.8,0.2,0.5,0.1 >"$root/root/goal_q"
+deps=$("$python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')
 cat >"$root/etc/kinctl/kinctld.cfg" <<EOF
+@include "arm.cfg"
 controller = {
   lcm_url = "udpm://239.255.76.67:$port?ttl=0";
   rt = { enable = true; priority = $prio; cpu = $cpu; mlock = true; };
@@ -94,15 +116,15 @@ EOF
 install -m 755 "$here/probe.sh" "$root/usr/local/sbin/kinctl-probe"
 cat >"$root/etc/systemd/system/kinctl-probe.service" <<'EOF'
 [Unit]
-Description=reads kinctld's threads, stops it, powers off
-After=kinctld.service
+Description=the deployment path, kinctld's threads, stop, power off
+After=multi-user.target
 [Service]
 Type=oneshot
-ExecStart=/usr/local/sbin/kinctl-probe /probe
+ExecStart=/usr/local/sbin/kinctl-probe /probe /opt/build-deps
 ExecStopPost=/usr/bin/systemctl poweroff --no-block
 EOF
-chroot "$root" systemctl enable kinctld.service >/dev/null 2>&1
-ln -s /etc/systemd/system/kinctl-probe.service "$root/etc/systemd/system/multi-user.target.wants/"
+mkdir -p "$root/etc/systemd/system/default.target.wants"
+ln -s /etc/systemd/system/kinctl-probe.service "$root/etc/systemd/system/default.target.wants/"
 # No getty on the container's console, no waiting for a network.
 chroot "$root" systemctl mask console-getty.service systemd-networkd-wait-online.service >/dev/null 2>&1
 
@@ -112,11 +134,14 @@ timeout 150 unshare --mount --propagation private sh -c '
     umount -R /sys/fs/cgroup 2>/dev/null || true
     mount -t cgroup2 cgroup2 /sys/fs/cgroup
     exec systemd-nspawn --quiet --register=no --keep-unit --boot -D "$1" --bind="$2:/probe" --console=pipe \
+        --bind-ro="$3:/opt/build-deps" \
         --capability=CAP_IPC_LOCK,CAP_SYS_RESOURCE' \
-    sh "$root" "$tmp/out" </dev/null >"$tmp/nspawn.log" 2>&1 || true
+    sh "$root" "$tmp/out" "$deps" </dev/null >"$tmp/nspawn.log" 2>&1 || true
 echo "container ran $(($(date +%s) - start)) s"
 [ -f "$tmp/out/done" ] || { tail -30 "$tmp/nspawn.log" >&2; cat "$tmp/out/"* >&2 2>/dev/null; fail "the probe did not finish"; }
 
+echo "--- deployment steps"
+cat "$tmp/out/steps.log"
 echo "--- kinctld's journal"
 cat "$tmp/out/journal"
 echo "--- probe"
@@ -125,9 +150,33 @@ echo "--- kinctld's limits, capabilities, seccomp"
 cat "$tmp/out/diag"
 get() { sed -n "s/^$1=//p" "$tmp/out/probe" | head -1; }
 
+bad=$(grep '^step .* rc=[1-9]' "$tmp/out/probe" || true)
+[ -z "$bad" ] || fail "deployment steps failed: $bad (above)"
+[ "$(grep -c '^step .* rc=0$' "$tmp/out/probe")" = 10 ] || fail "not every deployment step ran"
+grep -q 'robot lbr_iiwa (7 joints' "$tmp/out/journal" || fail "the service does not run the imported arm"
+read -r kfile mfile <"$tmp/out/where"
+[[ $kfile == /opt/kinctl/* && $mfile == /opt/kinctl/* ]] || fail "kinctl, kinctl_msgs not from the wheel: $kfile $mfile"
+if grep -q '^KINCTL_LCM_JAVA:BOOL=ON' "$build/CMakeCache.txt"; then
+    [ "$(cat "$tmp/out/jar")" = /usr/share/kinctl/java/kinctl_lcmtypes.jar ] ||
+        fail "kinctl spy's jar lookup: $(cat "$tmp/out/jar")"
+fi
+"$python" - "$tmp/out/status.json" "$tmp/out/run.csv" "$(cat "$root/root/goal_q")" <<'EOF' ||
+import csv, json, sys
+st = json.load(open(sys.argv[1]))
+rows = list(csv.DictReader(open(sys.argv[2])))
+goal = [float(v) for v in sys.argv[3].split(",")]
+print(f"kinctl status: {st.get('state')}, {len(st.get('q', []))} joints; kinctl log: {len(rows)} setpoints in 1 s")
+assert len(st["q"]) == 7, st
+assert 500 <= len(rows) <= 1500, len(rows)
+# logged after the goal completed: the arm at rest at the goal
+err = max(abs(float(rows[-1][f"q{i + 1}"]) - g) for i, g in enumerate(goal))
+assert err < 1e-9, f"the arm is {err} rad from the goal"
+print(f"kinctl goal joint: the logged arm within {err:.1e} rad of the goal")
+EOF
+    fail "kinctl status, goal or log (above)"
 [ "$(get active)" = active ] || fail "kinctld.service was not active: $(get active)"
 [ "$(get restarts)" = 0 ] || fail "kinctld.service restarted $(get restarts) times"
-grep -q 'warning' "$tmp/out/journal" && fail "kinctld warned (above)"
+grep -q '^kinctld: warning' "$tmp/out/journal" && fail "kinctld warned (above)"
 
 fifo=$(grep -c '^task .* policy=1 ' "$tmp/out/probe" || true)
 [ "$fifo" = 1 ] || fail "$fifo threads are SCHED_FIFO, expected the cycle thread alone"
@@ -158,8 +207,9 @@ vmlck=$(get VmLck) vmrss=$(get VmRSS)
 [ "${vmlck:-0}" -gt 0 ] && [ "$vmlck" -ge "$vmrss" ] || fail "memory not locked: VmLck $vmlck kB, VmRSS $vmrss kB"
 
 [ "$(get stop_result)" = success ] || fail "systemctl stop: Result=$(get stop_result)"
-[ "$(get stop_code)" = 1 ] && [ "$(get stop_status)" = 0 ] ||
-    fail "kinctld did not exit 0 on SIGTERM: $(get stop_code) $(get stop_status)"
+grep -q '^kinctld.service: Main process exited, code=exited, status=0/SUCCESS' "$tmp/out/journal" ||
+    fail "kinctld did not exit 0 on SIGTERM"
 grep -q 'kinctld: Terminated: stopping the arm' "$tmp/out/journal" || fail "no controlled stop (SIGTERM) in the journal"
+grep -qE '^kinctld: [0-9]+ cycles, [0-9]+ overruns' "$tmp/out/journal" || fail "no exit summary in the journal"
 grep -q 'kinctld: running (cycle SCHED_FIFO, pinned)' "$tmp/out/journal" || fail "kinctld did not say it runs SCHED_FIFO, pinned"
 echo "PASS: kinctld.service under systemd: SCHED_FIFO $prio on CPU $cpu of $ncpu, VmLck $vmlck kB >= VmRSS $vmrss kB, stopped with exit 0"
