@@ -29,11 +29,14 @@
 # Why nspawn: it runs the real systemd on the real kernel, so SCHED_FIFO,
 # affinity, capabilities, the seccomp filter and mlockall are the kernel's
 # own (User Mode Linux has one CPU and its own scheduler). nspawn needs a
-# cgroup file system: it runs in a mount namespace of its own with a fresh
+# cgroup file system and "/" to be a mount point: it runs in a mount
+# namespace of its own, in a bind mount of the whole tree, with a fresh
 # cgroup2 at /sys/fs/cgroup, so it works the same on a host with systemd, on
 # one without (this machine, a cgroup v1 layout), and in a chroot whose /sys
 # was bind-mounted without its submounts (CI). --register=no --keep-unit:
-# no systemd-machined or D-Bus on the host is needed. --capability: a
+# no systemd-machined or D-Bus on the host is needed; --uuid and
+# --link-journal=no: neither needs the host's /etc/machine-id (a fresh root
+# has an empty one). --capability: a
 # machine's PID 1 holds every capability, nspawn's container by default not
 # CAP_IPC_LOCK or CAP_SYS_RESOURCE, which the unit grants or uses (where the
 # host's root lacks CAP_SYS_RESOURCE, as on these build machines, the unit's
@@ -60,7 +63,10 @@ for tool in systemd-nspawn mmdebstrap dpkg-deb unshare; do
 done
 
 tmp=$(mktemp -d "${TMPDIR:-/var/tmp}/kinctl-systemd.XXXXXX")
-trap 'rm -rf "$tmp"' EXIT
+mnt=""
+# $mnt is only ever removed with rmdir: it held a bind mount of / inside the
+# namespace, and must never be recursed into.
+trap 'rm -rf "$tmp"; [ -z "$mnt" ] || rmdir "$mnt"' EXIT
 
 cpack -G DEB --config "$build/CPackConfig.cmake" -B "$tmp/deb" >"$tmp/cpack.log" 2>&1 ||
     { cat "$tmp/cpack.log" >&2; fail "cpack -G DEB"; }
@@ -130,13 +136,25 @@ chroot "$root" systemctl mask console-getty.service systemd-networkd-wait-online
 
 echo "booting the root with systemd-nspawn (systemd $(chroot "$root" /lib/systemd/systemd --version | head -1 | cut -d' ' -f2))"
 start=$(date +%s)
-timeout 150 unshare --mount --propagation private sh -c '
-    umount -R /sys/fs/cgroup 2>/dev/null || true
-    mount -t cgroup2 cgroup2 /sys/fs/cgroup
-    exec systemd-nspawn --quiet --register=no --keep-unit --boot -D "$1" --bind="$2:/probe" --console=pipe \
-        --bind-ro="$3:/opt/build-deps" \
-        --capability=CAP_IPC_LOCK,CAP_SYS_RESOURCE' \
-    sh "$root" "$tmp/out" "$deps" </dev/null >"$tmp/nspawn.log" 2>&1 || true
+# In a mount namespace of its own: "/" made private where it is a mount
+# point, then the whole tree bound onto $mnt and entered, so that "/" is a
+# mount point there even when this runs in a chroot (nspawn needs one);
+# there a fresh cgroup2 and a tmpfs /run for nspawn's own state.
+mnt=$(mktemp -d "${TMPDIR:-/var/tmp}/kinctl-nspawn.XXXXXX")
+timeout 150 unshare --mount --propagation unchanged sh -c '
+    set -e
+    if mountpoint -q /; then mount --make-rprivate /; fi
+    mount --rbind / "$1"
+    mount --make-rprivate "$1"
+    exec chroot "$1" sh -c "
+        umount -R /sys/fs/cgroup 2>/dev/null || true
+        mount -t cgroup2 cgroup2 /sys/fs/cgroup
+        mount -t tmpfs tmpfs /run
+        exec systemd-nspawn --quiet --register=no --keep-unit --boot -D \"\$0\" --bind=\"\$1:/probe\" \
+            --bind-ro=\"\$2:/opt/build-deps\" --console=pipe --link-journal=no \
+            --uuid=\$(cat /proc/sys/kernel/random/uuid) --capability=CAP_IPC_LOCK,CAP_SYS_RESOURCE
+    " "$2" "$3" "$4"' \
+    sh "$mnt" "$root" "$tmp/out" "$deps" </dev/null >"$tmp/nspawn.log" 2>&1 || true
 echo "container ran $(($(date +%s) - start)) s"
 [ -f "$tmp/out/done" ] || { tail -30 "$tmp/nspawn.log" >&2; cat "$tmp/out/"* >&2 2>/dev/null; fail "the probe did not finish"; }
 
