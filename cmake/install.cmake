@@ -9,8 +9,12 @@
 #   share/kinctl/lcmtypes/*.lcm           the message definitions, for other bindings
 #   share/kinctl/java/kinctl_lcmtypes.jar the message classes, for lcm-spy's CLASSPATH
 #   share/kinctl/python/kinctl_msgs/      the Python message package (PYTHONPATH)
+#   share/kinctl/python/kinctl-*.whl      the kinctl CLI and Python API with kinctl_msgs,
+#                                         to pip install on a controller PC (wheel.cmake)
 #   lib/systemd/system/kinctld.service    daemon/CMakeLists.txt
-#   share/doc/kinctl/                     README.md and the daemon's and models' READMEs
+#   share/doc/kinctl/                     README.md and the daemon's and models' READMEs,
+#                                         LICENSE, copyright (Debian's machine-readable
+#                                         format) and LCM's LGPL-2.1 text (LCM-COPYING)
 #
 # The core is a static library (PIC): a controller PC links it into one
 # binary, and a microcontroller build takes the sources anyway. The Java jar
@@ -55,7 +59,19 @@ if(KINCTL_LCMTYPES_JAR)
 endif()
 install(DIRECTORY ${KINCTL_LCMTYPES_PYTHONPATH}/kinctl_msgs DESTINATION ${KINCTL_SHARE_DIR}/python
         PATTERN "__pycache__" EXCLUDE)
+install(FILES ${KINCTL_WHEEL} DESTINATION ${KINCTL_SHARE_DIR}/python)
 
 install(FILES ${PROJECT_SOURCE_DIR}/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR})
 install(FILES ${PROJECT_SOURCE_DIR}/daemon/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR} RENAME README.kinctld.md)
 install(FILES ${PROJECT_SOURCE_DIR}/models/README.md DESTINATION ${CMAKE_INSTALL_DOCDIR} RENAME README.models.md)
+
+# The license, and LCM's: kinctld and kinctl-replay link the lcm wheel's
+# static liblcm, which is LGPL-2.1, so its text travels with the binaries
+# (README.md, "License", says what that asks of whoever redistributes them).
+install(FILES ${PROJECT_SOURCE_DIR}/LICENSE ${PROJECT_SOURCE_DIR}/cmake/copyright DESTINATION ${CMAKE_INSTALL_DOCDIR})
+file(GLOB KINCTL_LCM_COPYING "${lcm_DIR}/../../../lcm-*.dist-info/licenses/COPYING")
+if(NOT KINCTL_LCM_COPYING)
+  message(FATAL_ERROR "kinctl: LCM's license text (lcm-*.dist-info/licenses/COPYING) is not beside ${lcm_DIR}")
+endif()
+list(GET KINCTL_LCM_COPYING 0 KINCTL_LCM_COPYING)
+install(FILES ${KINCTL_LCM_COPYING} DESTINATION ${CMAKE_INSTALL_DOCDIR} RENAME LCM-COPYING)

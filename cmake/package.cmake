@@ -9,6 +9,10 @@
 # linked liblcm's own dependency). find_package(kinctl) users who take
 # kinctl::desc also need libconfig-dev, hence the Suggests.
 set(CPACK_PACKAGE_NAME kinctl)
+# License: BSD-3-Clause (LICENSE). A .deb states it in the machine-readable
+# /usr/share/doc/kinctl/copyright (cmake/copyright, installed by
+# install.cmake), with LCM's LGPL-2.1 for the statically linked liblcm.
+set(CPACK_RESOURCE_FILE_LICENSE ${PROJECT_SOURCE_DIR}/LICENSE)
 set(CPACK_PACKAGE_VENDOR "kinctl")
 set(CPACK_PACKAGE_CONTACT "kinctl maintainers <maintainers@users.noreply.h-seed-34e0dc3b.example>")
 set(CPACK_PACKAGE_DESCRIPTION_SUMMARY "real-time motion controller for serial robot arms")

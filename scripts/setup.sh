@@ -2,6 +2,7 @@
 # Installs what kinctl needs on a Debian 12 machine and builds it. Idempotent:
 # a second run installs nothing and rebuilds only what changed.
 #   scripts/setup.sh [BUILD_DIR [extra cmake args...]]
+#   scripts/setup.sh --runtime-packages   the Debian packages a controller PC needs
 # KINCTL_BUILD_TARGETS="t1 t2" builds only those targets (default: all).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,10 +13,27 @@ say() { printf '\033[1m[setup]\033[0m %s\n' "$*"; }
 
 # Debian packages, each with the step that needs it. A fresh Debian 12 root
 # (minbase, as the debian:12 image) has none of them.
+#
+# Run time: what a controller PC needs beside the installed .deb (whose
+# Depends bring libconfig9, libjansson4 and libglib2.0-0) and wheel
+# (docs/deploy.md); `scripts/setup.sh --runtime-packages` prints the list.
+runtime_packages=(
+    # the kinctl wheel: a venv to pip install it into
+    python3 python3-venv
+    # CAN output: ip (bitrate, restart-ms, up), candump for a first look
+    iproute2 can-utils
+)
+if [ "$build_dir" = --runtime-packages ]; then
+    echo "${runtime_packages[*]}"
+    exit 0
+fi
+# Development: building and every test (scripts/test.sh) and the demo; a
+# controller PC needs none of these.
 apt_packages=(
+    "${runtime_packages[@]}"
     # build: compilers and build tools (build-essential brings dpkg-dev, whose
     # dpkg-shlibdeps the .deb needs, and binutils' readelf for the install test)
-    build-essential cmake ninja-build pkg-config python3 python3-venv
+    build-essential cmake ninja-build pkg-config
     # build: clang for the ASan + UBSan and UBSan builds (scripts/test.sh) and
     # the fuzzers; its sanitizer and libFuzzer runtimes are a package of their
     # own; llvm's llvm-symbolizer names the functions in sanitizer reports, which
@@ -38,13 +56,16 @@ apt_packages=(
     # window (`kinctl view` without --save), xvfb and xauth (xvfb-run) give it a
     # display
     ffmpeg python3-tk xvfb xauth
-    # vcan: candump and cangen; User Mode Linux with kmod (insmod) for a kernel
-    # with vcan where the host's has none (tests/vcan/uml_run.sh), iproute2 (ip:
-    # vcan0, the multicast route) and procps (sysctl: socket buffer limits)
-    # inside it and on a host with vcan
-    can-utils user-mode-linux kmod iproute2 procps
+    # vcan: candump and cangen (can-utils, above); User Mode Linux with kmod
+    # (insmod) for a kernel with vcan where the host's has none
+    # (tests/vcan/uml_run.sh), iproute2 (above; ip: vcan0, the multicast route)
+    # and procps (sysctl: socket buffer limits) inside it and on a host with vcan
+    user-mode-linux kmod procps
     # analysis: tests/analysis
     cppcheck clang-tidy valgrind
+    # systemd.unit: a Debian 12 root (mmdebstrap) booted by systemd-nspawn
+    # (systemd-container) runs the shipped unit under systemd (tests/systemd)
+    mmdebstrap systemd-container
 )
 missing=()
 for p in "${apt_packages[@]}"; do

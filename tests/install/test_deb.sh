@@ -32,6 +32,8 @@ expected=(
     /usr/share/kinctl/lcmtypes/setpoint_t.lcm
     /usr/share/kinctl/python/kinctl_msgs/__init__.py /usr/share/kinctl/python/kinctl_msgs/setpoint_t.py
     /usr/share/doc/kinctl/README.md
+    /usr/share/doc/kinctl/LICENSE /usr/share/doc/kinctl/copyright /usr/share/doc/kinctl/LCM-COPYING
+    "/usr/share/kinctl/python/kinctl-$(dpkg-deb -f "$deb" Version)-py3-none-any.whl"
 )
 for f in "${expected[@]}"; do
     grep -qxF "$f" "$tmp/contents" || fail "$f is not in the package"
@@ -48,6 +50,16 @@ if grep -E 'liblcm|__pycache__|\.pyc$' "$tmp/contents"; then
     fail "unexpected files in the package"
 fi
 echo "contents: $(grep -vc '/$' "$tmp/contents") files, every expected one present"
+
+# The license: BSD-3-Clause in Debian's copyright format, LCM's LGPL-2.1
+# text for the statically linked liblcm.
+dpkg-deb --fsys-tarfile "$deb" | tar -xO ./usr/share/doc/kinctl/copyright >"$tmp/copyright"
+grep -qx 'License: BSD-3-Clause' "$tmp/copyright" || fail "copyright: no License: BSD-3-Clause"
+grep -qx 'License: BSD-3-Clause and LGPL-2.1' "$tmp/copyright" || fail "copyright: kinctld's LGPL-2.1 part"
+dpkg-deb --fsys-tarfile "$deb" | tar -xO ./usr/share/doc/kinctl/LCM-COPYING >"$tmp/LCM-COPYING"
+grep -q 'GNU LESSER GENERAL PUBLIC LICENSE' "$tmp/LCM-COPYING" && grep -q 'Version 2.1' "$tmp/LCM-COPYING" ||
+    fail "LCM-COPYING is not LCM's LGPL-2.1 text"
+echo "license: BSD-3-Clause (copyright), LCM's LGPL-2.1 in LCM-COPYING"
 
 depends=$(dpkg-deb -f "$deb" Depends)
 echo "Depends: $depends"

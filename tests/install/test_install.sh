@@ -8,7 +8,12 @@
 #   - the installed kinctl-calc computes the same pose; kinctld --help runs and
 #     kinctld --check accepts the installed example configuration;
 #   - neither binary carries an RPATH/RUNPATH, and every library they load
-#     resolves outside the build tree and the venv (liblcm is linked in).
+#     resolves outside the build tree and the venv (liblcm is linked in);
+#   - the installed wheel (share/kinctl/python) in a fresh venv: `kinctl`
+#     and `kinctl_msgs` import from it, `kinctl --help` runs, and `kinctl spy`
+#     finds the installed jar beside the kinctld on PATH. The wheel's own
+#     dependencies (lcm, tqdm) are the build venv's, named by a .pth file, so
+#     the test needs no network.
 #
 #   test_install.sh BUILD_DIR VECTORS_DIR PYTHON C_COMPILER REAL SANITIZERS
 #   (SANITIZERS: the build's -fsanitize= list, or empty)
@@ -26,8 +31,8 @@ cmake --install "$build" --prefix "$prefix" >"$tmp/install.log" 2>&1 || { cat "$
 for f in bin/kinctld bin/kinctl-calc include/kinctl/kinctl.h include/kinctl/desc.h \
          lib/libkinctl_core_$real.a lib/libkinctl_desc.a lib/cmake/kinctl/kinctlConfig.cmake \
          share/kinctl/models/puma560.cfg lib/systemd/system/kinctld.service \
-         share/kinctl/python/kinctl_msgs/setpoint_t.py; do
-    [[ -e $prefix/$f ]] || fail "$f not installed"
+         share/kinctl/python/kinctl_msgs/setpoint_t.py share/kinctl/python/kinctl-*-py3-none-any.whl; do
+    compgen -G "$prefix/$f" >/dev/null || fail "$f not installed"
 done
 echo "installed into $prefix: $(cd "$prefix" && find . -type f | wc -l) files"
 
@@ -90,3 +95,26 @@ for b in kinctld kinctl-calc; do
     fi
 done
 echo "installed kinctld and kinctl-calc run from $prefix with no rpath"
+
+# The Python tools from the installed wheel, in a fresh venv.
+wheel=$(ls "$prefix"/share/kinctl/python/kinctl-*-py3-none-any.whl)
+"$python" -m venv "$tmp/venv"
+"$python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])' \
+    >"$("$tmp/venv/bin/python" -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/build-venv-deps.pth"
+"$tmp/venv/bin/python" -m pip install -q --no-deps --no-index "$wheel" >"$tmp/pip.log" 2>&1 ||
+    { cat "$tmp/pip.log" >&2; fail "pip install $(basename "$wheel")"; }
+"$tmp/venv/bin/python" - "$tmp/venv" <<'PY' || fail "kinctl or kinctl_msgs does not come from the wheel"
+import sys, kinctl, kinctl_msgs
+for m in (kinctl, kinctl_msgs):
+    assert m.__file__.startswith(sys.argv[1] + "/"), f"{m.__name__} from {m.__file__}"
+    print(f"{m.__name__}: {m.__file__}")
+PY
+"$tmp/venv/bin/kinctl" --help >"$tmp/kinctl-help.txt" || fail "kinctl --help from the wheel"
+head -1 "$tmp/kinctl-help.txt"
+spy=$(env -u KINCTL_JAR PATH="$prefix/bin:$(dirname "$python"):$PATH" "$tmp/venv/bin/kinctl" spy --print) ||
+    fail "kinctl spy --print from the wheel"
+if grep -q '^KINCTL_LCM_JAVA:BOOL=ON' "$build/CMakeCache.txt"; then
+    grep -q "^CLASSPATH=$prefix/share/kinctl/java/kinctl_lcmtypes.jar" <<<"$spy" ||
+        fail "kinctl spy does not find the installed jar: $spy"
+    echo "kinctl spy: $(head -1 <<<"$spy")"
+fi

@@ -8,6 +8,7 @@ import math
 import os
 import random
 import subprocess
+import sys
 
 import numpy as np
 import pybullet_data  # the URDFs: pybullet's wheel ships them (tools/requirements.txt)
@@ -193,3 +194,134 @@ def test_refuses_to_overwrite(tmp_path):
     r = run_kinctl(None, "import-urdf", os.path.join(DATA, "kuka_iiwa/model.urdf"), "-o", str(out))
     assert r.returncode == 2 and "--force" in r.stderr
     assert out.read_text() == "keep"
+
+
+# Collision geometry on the chain's links: every converted shape, a second
+# shape on one link, a mesh, a link with none, shapes behind a fixed joint
+# and before the first joint (the base never moves: no volume).
+COLLIDING = SYNTHETIC.replace('<link name="base"/><link name="l1"/><link name="l2"/><link name="l3"/><link name="l4"/>',
+                              "").replace('<link name="l5"/><link name="flange"/><link name="tcp"/><link name="side"/>', """
+  <link name="base"><collision><origin xyz="0 0 0.05"/><geometry><box size="0.3 0.3 0.1"/></geometry></collision></link>
+  <link name="l1"><collision><origin xyz="0.01 0.02 0.1" rpy="0.3 -0.2 0.5"/>
+    <geometry><cylinder radius="0.06" length="0.2"/></geometry></collision></link>
+  <link name="l2"><collision><origin xyz="0.15 0 0" rpy="0 1.5707963267948966 0"/>
+    <geometry><capsule radius="0.05" length="0.3"/></geometry></collision>
+    <collision><origin xyz="0 0.03 0"/><geometry><sphere radius="0.07"/></geometry></collision></link>
+  <link name="l3"><collision><geometry><mesh filename="l3.stl"/></geometry></collision></link>
+  <link name="l4"><collision><origin xyz="0.02 -0.01 0.04" rpy="0.7 0.1 -1.2"/>
+    <geometry><box size="0.08 0.12 0.05"/></geometry></collision></link>
+  <link name="l5"/>
+  <link name="flange"><collision><origin xyz="0 0 0.03"/><geometry><sphere radius="0.04"/></geometry></collision></link>
+  <link name="tcp"><collision><origin xyz="0 0 -0.02" rpy="0 0 0.4"/>
+    <geometry><cylinder radius="0.02" length="0.06"/></geometry></collision></link>
+  <link name="side"><collision><geometry><sphere radius="0.5"/></geometry></collision></link>""")
+
+
+def _urdf_origin(col):
+    """<origin xyz rpy> of an XML element: Trans(xyz) Rz Ry Rx, as URDF defines it."""
+    o = col.find("origin")
+    xyz = [float(v) for v in (o.get("xyz", "0 0 0") if o is not None else "0 0 0").split()]
+    r, p, y = [float(v) for v in (o.get("rpy", "0 0 0") if o is not None else "0 0 0").split()]
+    cr, sr, cp, sp, cy, sy = math.cos(r), math.sin(r), math.cos(p), math.sin(p), math.cos(y), math.sin(y)
+    T = np.eye(4)
+    T[:3, :3] = np.array([[cy, -sy, 0], [sy, cy, 0], [0, 0, 1]]) @ np.array([[cp, 0, sp], [0, 1, 0], [-sp, 0, cp]]) \
+        @ np.array([[1, 0, 0], [0, cr, -sr], [0, sr, cr]])
+    T[:3, 3] = xyz
+    return T
+
+
+def test_link_volumes_from_collision_geometry(tmp_path):
+    """The volumes kinctl-calc places from the imported file (zones --geometry)
+    against the URDF's own link poses (yourdfpy) times each collision origin,
+    at random configurations; the mesh link and the link without geometry
+    are named in a warning; the base link's box and the off-chain link's
+    sphere give no volume."""
+    import xml.etree.ElementTree as ET
+    if not CALC:
+        pytest.skip("KINCTL_CALC is not set (run through ctest)")
+    path = tmp_path / "colliding.urdf"
+    path.write_text(COLLIDING)
+    cfg = tmp_path / "colliding.cfg"
+    r = run_kinctl(None, "import-urdf", str(path), "-o", str(cfg), "--tip", "tcp")
+    assert r.returncode == 0, r.stderr
+    assert "6 link volumes" in r.stdout
+    assert "warning: no link volume for base, l3, l5 (their collision geometry is a mesh" in r.stderr, r.stderr
+    # the reference: link -> [(kind, dims, pose in the link frame)] from the XML
+    expect = []
+    for link in ET.fromstring(COLLIDING).findall("link"):
+        if link.get("name") in ("base", "side"):
+            continue
+        for col in link.findall("collision"):
+            g = next(iter(col.find("geometry")))
+            if g.tag != "mesh":
+                expect.append((link.get("name"), g.tag, g.attrib, _urdf_origin(col)))
+    robot = urdf.load(str(path))
+    _, _, joints = urdf.chain_joints(robot, None, "tcp")
+    moving = [j for j in joints if j.type != "fixed"]
+    rng = random.Random(7)
+    worst = 0.0
+    for _ in range(20):
+        q = random_q(moving, rng)
+        r = subprocess.run([CALC, "zones", "--model-file", str(cfg), "--q", ",".join(repr(v) for v in q),
+                            "--geometry"], capture_output=True, text=True, timeout=60)
+        assert r.returncode == 0, r.stderr
+        got = json.loads(r.stdout)["geometry"]["volumes"]
+        assert [v["kind"] for v in got] == [k for _, k, _, _ in expect]
+        robot.update_cfg({j.name: np.float64(v) for j, v in zip(moving, q)})
+        for v, (link, kind, attrs, T_col) in zip(got, expect):
+            ref = robot.get_transform(frame_to=link, frame_from="base") @ T_col
+            pose = np.array(v["pose"])
+            worst = max(worst, float(np.max(np.abs(pose[:3, 3] - ref[:3, 3]))))
+            if kind in ("cylinder", "capsule"):
+                # axis along the collision frame's z (either way), radius, half length
+                worst = max(worst, 1.0 - abs(float(pose[:3, 2] @ ref[:3, 2])))
+                assert v["dim"][:2] == pytest.approx([float(attrs["radius"]), float(attrs["length"]) / 2], abs=1e-12)
+            elif kind == "box":
+                worst = max(worst, float(np.max(np.abs(pose[:3, :3] - ref[:3, :3]))))
+                assert v["dim"][:3] == pytest.approx([float(s) / 2 for s in attrs["size"].split()], abs=1e-12)
+            else:
+                assert v["dim"][0] == pytest.approx(float(attrs["radius"]), abs=1e-12)
+    assert worst <= 1e-12, f"largest difference from the URDF's collision poses: {worst:.3g}"
+
+
+def test_acceleration_limits_and_kinctld_accepts(tmp_path):
+    """qdd = 5 x qd per joint (the help's default), or --acc for every joint;
+    kinctld --check accepts the file either way."""
+    kinctld = os.environ.get("KINCTLD")
+    if not kinctld:
+        pytest.skip("KINCTLD is not set (run through ctest)")
+    src = os.path.join(DATA, "kuka_iiwa/model.urdf")
+    robot = urdf.load(src)
+    _, _, joints = urdf.chain_joints(robot)
+    moving = [j for j in joints if j.type != "fixed"]
+    for extra, qdd_of in (([], lambda j: 5.0 * float(j.limit.velocity)), (["--acc", "7.5"], lambda j: 7.5)):
+        cfg = tmp_path / f"iiwa{len(extra)}.cfg"
+        r = run_kinctl(None, "import-urdf", src, "-o", str(cfg), *extra)
+        assert r.returncode == 0, r.stderr
+        text = cfg.read_text()
+        for j in moving:
+            row = next(line for line in text.splitlines() if f'name = "{j.name}"' in line)
+            assert f"qdd = {qdd_of(j)!r};" in row, row
+        c = subprocess.run([kinctld, "--config", str(cfg), "--check"], capture_output=True, text=True, timeout=60)
+        assert c.returncode == 0, c.stderr
+        assert "robot lbr_iiwa (7 joints" in c.stdout + c.stderr
+
+
+def test_help_examples_run(tmp_path):
+    """Every line of import-urdf's --help example, run as written (panda.urdf
+    is pybullet's Panda), with this build's kinctl-calc and kinctld."""
+    kinctld = os.environ.get("KINCTLD")
+    if not (CALC and kinctld):
+        pytest.skip("KINCTL_CALC and KINCTLD are not set (run through ctest)")
+    r = run_kinctl(None, "import-urdf", "--help")
+    assert r.returncode == 0
+    lines = [line.strip() for line in r.stdout.split("example:\n", 1)[1].splitlines() if line.strip()]
+    assert len(lines) == 3, lines
+    import shutil
+    shutil.copy(os.path.join(DATA, "franka_panda/panda.urdf"), tmp_path / "panda.urdf")
+    programs = {"kinctl": [sys.executable, "-m", "kinctl"], "kinctl-calc": [CALC], "kinctld": [kinctld]}
+    for line in lines:
+        argv = line.split()
+        assert argv[0] in programs, line
+        p = subprocess.run(programs[argv[0]] + argv[1:], cwd=tmp_path, capture_output=True, text=True, timeout=60)
+        assert p.returncode == 0, f"{line}: {p.stderr}"

@@ -54,8 +54,11 @@ def register(sub, parents):
     sp.set_defaults(run=cmd_spy)
 
     iu = add_command(sub, "import-urdf", "write a robot description file (models/README.md) from a URDF",
-                     "kinctl import-urdf panda.urdf -o panda.cfg --tip panda_link8\n"
-                     "  kinctl-calc fk --robot panda.cfg --q 0,0,0,-1.57,0,1.57,0.78", parents)
+                     "kinctl import-urdf panda.urdf -o panda.cfg --tip panda_link8
+"
+                     "  kinctl-calc fk --model-file panda.cfg --q 0,0,0,-1.57,0,1.57,0.78
+"
+                     "  kinctld --config panda.cfg --check", parents)
     iu.add_argument("urdf", metavar="FILE.urdf", help="the URDF")
     iu.add_argument("-o", "--output", metavar="FILE", default=None,
                     help="the description file to write (default: FILE with .cfg; '-' for stdout)")
@@ -66,7 +69,8 @@ def register(sub, parents):
     iu.add_argument("--vel", type=positive, default=None, metavar="V",
                     help="velocity limit for joints whose URDF gives none (rad/s or m/s)")
     iu.add_argument("--acc", type=positive, default=None, metavar="A",
-                    help="acceleration limit for every joint (URDF has none; default: 5 x the velocity limit)")
+                    help="acceleration limit for every joint (URDF has none; default: 5 x each joint's velocity "
+                         "limit, in 1/s)")
     iu.add_argument("--force", action="store_true", help="overwrite the output if it exists")
     iu.set_defaults(run=cmd_import_urdf)
 

@@ -17,14 +17,21 @@ JAR_NAME = "kinctl_lcmtypes.jar"
 
 def find_jar():
     """$KINCTL_JAR, else build/lcmtypes/kinctl_lcmtypes.jar of this checkout,
-    else the installed share/kinctl/kinctl_lcmtypes.jar."""
+    else the installed share/kinctl/java/kinctl_lcmtypes.jar (cmake/install.cmake)
+    below this Python's prefix, the prefix of the kinctld on PATH, /usr/local
+    or /usr."""
     cands = [os.environ.get("KINCTL_JAR"), os.path.join(SOURCE_DIR, "build", "lcmtypes", JAR_NAME)]
-    for prefix in (sys.prefix, "/usr/local", "/usr"):
-        cands.append(os.path.join(prefix, "share", "kinctl", JAR_NAME))
+    prefixes = [sys.prefix]
+    daemon = shutil.which("kinctld")
+    if daemon:
+        prefixes.append(os.path.dirname(os.path.dirname(os.path.realpath(daemon))))
+    for prefix in prefixes + ["/usr/local", "/usr"]:
+        cands.append(os.path.join(prefix, "share", "kinctl", "java", JAR_NAME))
     for cand in cands:
         if cand and os.path.isfile(cand):
             return cand
-    raise FileNotFoundError(f"{JAR_NAME} not found: build the tree (scripts/setup.sh) or set KINCTL_JAR")
+    raise FileNotFoundError(f"{JAR_NAME} not found: build the tree (scripts/setup.sh), install kinctl (its .deb "
+                            "or cmake --install) or set KINCTL_JAR")
 
 
 def jar_types(jar):
