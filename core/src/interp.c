@@ -87,8 +87,120 @@ kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, 
     kc_status st = plan_u(&r.prof, V, A, duration, dt);
     if (st != KC_OK)
         return st;
+    r.kind = KC_PROFILE_TRAPEZOID;
+    r.T = r.prof.T;
+    r.ticks = r.prof.ticks;
     *plan = r;
     return KC_OK;
+}
+
+kc_interp_joint_cfg kc_interp_joint_cfg_default(void)
+{
+    kc_interp_joint_cfg c;
+    memset(&c, 0, sizeof c);
+    for (int i = 0; i < KC_MAX_JOINTS; i++)
+        c.qd_max[i] = INF;
+    c.profile = KC_PROFILE_TRAPEZOID;
+    return c;
+}
+
+/* The jerk-limited move (kinctl/interp.h, kc_interp_joint_plan_cfg). */
+static kc_status plan_jerk(kc_interp_joint *plan, const kc_interp_joint_cfg *c)
+{
+    kc_interp_joint r;
+    kc_real V = INF, A = INF, J = INF, T = KC_R(0.0);
+    kc_status st;
+    /* The limits, the start and the leading joints as the trapezoid has
+     * them (u_vmax, u_amax, lead_vel, lead_acc). */
+    st = kc_interp_joint_plan(&r, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
+    if (st != KC_OK)
+        return st;
+    memset(&r.prof, 0, sizeof r.prof);
+    r.kind = KC_PROFILE_JERK;
+    r.lead = -1;
+    for (int i = 0; i < c->n; i++) {
+        kc_real D = kc_fabs(r.dq[i]);
+        if (D == KC_R(0.0))
+            continue;
+        if (!(c->qddd_max[i] > KC_R(0.0)) || !kc_isfinite(c->qddd_max[i]))
+            return KC_E_ARG;
+        st = kc_scurve_plan(&r.sj[i], r.q0[i], KC_R(0.0), KC_R(0.0), r.q1[i], c->qd_max[i], c->qdd_max[i],
+                            c->qddd_max[i], c->dt);
+        if (st != KC_OK)
+            return st;
+        /* Strict comparison: ties go to the lowest index, as in (4.2). */
+        if (r.sj[i].T > T) {
+            T = r.sj[i].T;
+            r.lead = i;
+        }
+        V = kc_min(V, c->qd_max[i] / D);
+        A = kc_min(A, c->qdd_max[i] / D);
+        J = kc_min(J, c->qddd_max[i] / D);
+    }
+    if (c->duration > KC_R(0.0)) {
+        if (c->duration < T * (KC_R(1.0) - KC_R(8.0) * KC_REAL_EPS))
+            return KC_E_LIMIT;
+        T = kc_max(T, c->duration);
+    }
+    r.u_vmax = V;
+    r.u_amax = A;
+    r.u_jmax = J;
+    r.T = T;
+    r.sync = KC_INTERP_SYNC_PHASE;
+    if (r.lead < 0 || !kc_isfinite(J)) {
+        /* Nothing moves (by a representable amount): u stays at 1. */
+        st = kc_scurve_plan_duration(&r.su, KC_R(1.0), KC_R(1.0), INF, KC_R(1.0), KC_R(1.0), T, c->dt);
+        if (st != KC_OK)
+            return st;
+        r.ticks = r.su.ticks;
+        *plan = r;
+        return KC_OK;
+    }
+    /* Phase: the straight line, if it is as fast. */
+    st = kc_scurve_plan(&r.su, KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(1.0), V, A, J, c->dt);
+    if (st != KC_OK)
+        return st;
+    if (r.su.T <= T * (KC_R(1.0) + KC_R(8.0) * KC_REAL_EPS)) {
+        if (T > r.su.T) {
+            st = kc_scurve_plan_duration(&r.su, KC_R(0.0), KC_R(1.0), V, A, J, T, c->dt);
+            if (st != KC_OK)
+                return st;
+        }
+        r.T = r.su.T;
+        r.ticks = r.su.ticks;
+        *plan = r;
+        return KC_OK;
+    }
+    /* Time: every moving joint stretched to T. */
+    r.sync = KC_INTERP_SYNC_TIME;
+    memset(&r.su, 0, sizeof r.su);
+    for (int i = 0; i < c->n; i++) {
+        if (r.dq[i] == KC_R(0.0))
+            continue;
+        st = kc_scurve_plan_duration(&r.sj[i], r.q0[i], r.q1[i], c->qd_max[i], c->qdd_max[i], c->qddd_max[i], T,
+                                     c->dt);
+        if (st != KC_OK)
+            return st;
+    }
+    r.ticks = r.sj[r.lead].ticks;
+    *plan = r;
+    return KC_OK;
+}
+
+kc_status kc_interp_joint_plan_cfg(kc_interp_joint *plan, const kc_interp_joint_cfg *cfg)
+{
+    if (plan == NULL || cfg == NULL)
+        return KC_E_ARG;
+    if (cfg->n > KC_MAX_JOINTS)
+        return KC_E_CAPACITY;
+    if (cfg->profile == KC_PROFILE_TRAPEZOID)
+        return kc_interp_joint_plan(plan, cfg->n, cfg->q0, cfg->q1, cfg->qd_max, cfg->qdd_max, cfg->duration,
+                                    cfg->dt);
+    if (cfg->profile != KC_PROFILE_JERK)
+        return KC_E_ARG;
+    if (!kc_isfinite(cfg->duration) || cfg->duration < KC_R(0.0))
+        return KC_E_ARG;
+    return plan_jerk(plan, cfg);
 }
 
 /* The joint move's state for one state of its u profile (st: KC_OK or
@@ -102,6 +214,7 @@ static kc_status joint_at(const kc_interp_joint *plan, kc_status st, const kc_pr
             out->q[i] = plan->q1[i];
             out->qd[i] = KC_R(0.0);
             out->qdd[i] = KC_R(0.0);
+            out->qddd[i] = KC_R(0.0);
         }
     } else {
         for (int i = 0; i < n; i++) {
@@ -109,6 +222,7 @@ static kc_status joint_at(const kc_interp_joint *plan, kc_status st, const kc_pr
             out->q[i] = plan->q0[i] + d * u->p;
             out->qd[i] = d * u->v;
             out->qdd[i] = d * u->a;
+            out->qddd[i] = KC_R(0.0);
         }
     }
     out->u = u->p;
@@ -128,9 +242,65 @@ static kc_status u_state(const kc_profile *prof, int64_t k, kc_profile_state *u,
     return st;
 }
 
+/* A jerk-limited move at tick k >= 0. */
+static kc_status joint_jerk_at(const kc_interp_joint *plan, int64_t k, kc_interp_joint_state *out)
+{
+    int n = plan->n;
+    kc_scurve_state u;
+    if (k >= plan->ticks) {
+        for (int i = 0; i < n; i++) {
+            out->q[i] = plan->q1[i];
+            out->qd[i] = out->qdd[i] = out->qddd[i] = KC_R(0.0);
+        }
+        out->u = KC_R(1.0);
+        out->ud = out->udd = KC_R(0.0);
+        out->phase = 4;
+        return KC_DONE;
+    }
+    if (plan->sync == KC_INTERP_SYNC_PHASE) {
+        kc_scurve_eval(&plan->su, k, &u);
+        for (int i = 0; i < n; i++) {
+            kc_real d = plan->dq[i];
+            out->q[i] = plan->q0[i] + d * u.p;
+            out->qd[i] = d * u.v;
+            out->qdd[i] = d * u.a;
+            out->qddd[i] = d * u.j;
+        }
+        out->u = u.p;
+        out->ud = u.v;
+        out->udd = u.a;
+        out->phase = u.phase;
+        return KC_OK;
+    }
+    for (int i = 0; i < n; i++) {
+        if (plan->dq[i] == KC_R(0.0)) {
+            out->q[i] = plan->q0[i];
+            out->qd[i] = out->qdd[i] = out->qddd[i] = KC_R(0.0);
+            continue;
+        }
+        kc_scurve_eval(&plan->sj[i], k, &u);
+        out->q[i] = u.p;
+        out->qd[i] = u.v;
+        out->qdd[i] = u.a;
+        out->qddd[i] = u.j;
+        if (i == plan->lead) {
+            kc_real d = plan->dq[i];
+            out->u = (u.p - plan->q0[i]) / d;
+            out->ud = u.v / d;
+            out->udd = u.a / d;
+            out->phase = u.phase;
+        }
+    }
+    return KC_OK;
+}
+
 kc_status kc_interp_joint_eval(const kc_interp_joint *plan, int64_t k, kc_interp_joint_state *out)
 {
-    return plan == NULL ? KC_E_ARG : kc_interp_joint_eval_profile(plan, &plan->prof, k, out);
+    if (plan == NULL || out == NULL || k < 0)
+        return KC_E_ARG;
+    if (plan->kind == KC_PROFILE_JERK)
+        return joint_jerk_at(plan, k, out);
+    return kc_interp_joint_eval_profile(plan, &plan->prof, k, out);
 }
 
 kc_status kc_interp_joint_eval_profile(const kc_interp_joint *plan, const kc_profile *prof, int64_t k,

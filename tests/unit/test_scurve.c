@@ -17,6 +17,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "kinctl/interp.h"
 #include "kinctl/scurve.h"
 
 #ifdef KC_REAL_FLOAT
@@ -337,6 +338,123 @@ static void test_moving_agrees_with_rest(void **state)
     }
 }
 
+/* ---- the synchronised joint move (kinctl/interp.h) ---- */
+
+/* Random joint moves of 1..7 joints, equal limits in a third of them:
+ * every joint starts on tick 0 and is exactly on its target from the
+ * move's last tick, each within its own limits (jerk per tick as in
+ * walk), the duration the longest of the joints' independent optima, a
+ * straight line whenever the phase synchronisation is taken (always with
+ * equal limits). */
+static void test_joint_move(void **state)
+{
+    (void)state;
+    kt_rng r = kt_rng_make(0x5C0FE005);
+    int phase = 0, timed = 0;
+    for (int c = 0; c < N_RANDOM / 4; c++) {
+        kc_interp_joint_cfg cfg = kc_interp_joint_cfg_default();
+        int equal = c % 3 == 0;
+        cfg.n = 1 + (int)(kt_rng_next(&r) % 7);
+        cfg.dt = (kc_real)rand_dt(&r);
+        cfg.profile = KC_PROFILE_JERK;
+        double T_opt = 0.0;
+        for (int i = 0; i < cfg.n; i++) {
+            cfg.q0[i] = (kc_real)kt_uniform(&r, -3.0, 3.0);
+            cfg.q1[i] = i == 2 && c % 5 == 0 ? cfg.q0[i] : (kc_real)kt_uniform(&r, -3.0, 3.0);
+            cfg.qd_max[i] = equal && i > 0 ? cfg.qd_max[0] : (kc_real)kt_uniform(&r, 0.3, 4.0);
+            cfg.qdd_max[i] = equal && i > 0 ? cfg.qdd_max[0] : (kc_real)kt_uniform(&r, 1.0, 40.0);
+            cfg.qddd_max[i] = equal && i > 0 ? cfg.qddd_max[0] : (kc_real)kt_uniform(&r, 5.0, 800.0);
+            double Ti = optimum_time(fabs((double)(cfg.q1[i] - cfg.q0[i])), (double)cfg.qd_max[i],
+                                     (double)cfg.qdd_max[i], (double)cfg.qddd_max[i]);
+            if (Ti > T_opt)
+                T_opt = Ti;
+        }
+        if (c % 4 == 1)
+            cfg.duration = (kc_real)(T_opt * kt_uniform(&r, 1.01, 2.0));
+        kc_interp_joint plan;
+        assert_int_equal(kc_interp_joint_plan_cfg(&plan, &cfg), KC_OK);
+        double T = cfg.duration > KC_R(0.0) ? (double)cfg.duration : T_opt;
+        kt_near((double)plan.T, T, 1e-9 * (T + 1.0) + (FLOAT_BUILD ? 64.0 * EPS * (T + 1.0) : 0.0), "joint move T");
+        assert_true((kc_real)plan.ticks * cfg.dt >= plan.T);
+        if (equal)
+            assert_int_equal(plan.sync, KC_INTERP_SYNC_PHASE);
+        phase += plan.sync == KC_INTERP_SYNC_PHASE;
+        timed += plan.sync == KC_INTERP_SYNC_TIME;
+        kc_interp_joint_state prev, st;
+        assert_int_equal(kc_interp_joint_eval(&plan, 0, &prev), plan.ticks > 0 ? KC_OK : KC_DONE);
+        for (int i = 0; i < cfg.n; i++)
+            assert_true(prev.q[i] == cfg.q0[i] && prev.qd[i] == KC_R(0.0) && prev.qdd[i] == KC_R(0.0));
+        double dt = (double)cfg.dt;
+        for (int64_t k = 1; k <= plan.ticks; k++) {
+            kc_status s = kc_interp_joint_eval(&plan, k, &st);
+            assert_int_equal(s, k < plan.ticks ? KC_OK : KC_DONE);
+            for (int i = 0; i < cfg.n; i++) {
+                double V = (double)cfg.qd_max[i], A = (double)cfg.qdd_max[i], J = (double)cfg.qddd_max[i];
+                double jerk_slack = 8.0 * EPS * (A + J * T) + LIMIT_SLACK * J * dt;
+                if (!(fabs((double)st.qd[i]) <= V * (1.0 + LIMIT_SLACK) + 4.0 * EPS * A * T &&
+                      fabs((double)st.qdd[i]) <= A * (1.0 + LIMIT_SLACK) + 4.0 * EPS * J * T &&
+                      fabs((double)(st.qdd[i] - prev.qdd[i])) <= J * dt + jerk_slack &&
+                      fabs((double)st.qddd[i]) <= J * (1.0 + LIMIT_SLACK))) {
+                    print_error("move %d joint %d tick %lld: qd %.9g (%.9g) qdd %.9g (%.9g) jerk %.9g (%.9g)\n", c,
+                                i, (long long)k, (double)st.qd[i], V, (double)st.qdd[i], A,
+                                (double)(st.qdd[i] - prev.qdd[i]) / dt, J);
+                    fail();
+                }
+                /* A straight line: every joint at the same fraction. */
+                if (plan.sync == KC_INTERP_SYNC_PHASE && cfg.q1[i] != cfg.q0[i])
+                    kt_near((double)((st.q[i] - cfg.q0[i]) / (cfg.q1[i] - cfg.q0[i])), (double)st.u,
+                            16.0 * EPS * (fabs((double)cfg.q0[i]) + fabs((double)cfg.q1[i]) + 1.0) /
+                                fabs((double)(cfg.q1[i] - cfg.q0[i])),
+                            "straight line");
+            }
+            prev = st;
+        }
+        /* Every joint on its target, at rest, on the same last tick. */
+        for (int i = 0; i < cfg.n; i++)
+            assert_true(st.q[i] == cfg.q1[i] && st.qd[i] == KC_R(0.0) && st.qdd[i] == KC_R(0.0));
+        /* The trapezoid through the request is kc_interp_joint_plan (the
+         * fastest: its straight line may be slower than the jerk-limited
+         * move synchronised by time). */
+        kc_interp_joint trap, trap_cfg;
+        cfg.profile = KC_PROFILE_TRAPEZOID;
+        cfg.duration = KC_R(0.0);
+        assert_int_equal(kc_interp_joint_plan_cfg(&trap_cfg, &cfg), KC_OK);
+        assert_int_equal(kc_interp_joint_plan(&trap, cfg.n, cfg.q0, cfg.q1, cfg.qd_max, cfg.qdd_max, cfg.duration,
+                                              cfg.dt),
+                         KC_OK);
+        assert_true(trap.prof.T == trap_cfg.prof.T && trap.ticks == trap_cfg.ticks && trap.ticks == trap.prof.ticks);
+    }
+    assert_true(phase > N_RANDOM / 20 && timed > N_RANDOM / 20);
+}
+
+static void test_joint_move_bad(void **state)
+{
+    (void)state;
+    kc_interp_joint plan;
+    kc_interp_joint_cfg cfg = kc_interp_joint_cfg_default();
+    cfg.n = 2;
+    cfg.q1[0] = KC_R(1.0);
+    cfg.qdd_max[0] = cfg.qdd_max[1] = KC_R(1.0);
+    cfg.qddd_max[0] = KC_R(1.0);
+    cfg.dt = KC_R(0.001);
+    cfg.profile = KC_PROFILE_JERK;
+    memset(&plan, KT_SENTINEL, sizeof plan);
+    /* Joint 2 does not move: its jerk limit 0 is not needed. */
+    assert_int_equal(kc_interp_joint_plan_cfg(&plan, &cfg), KC_OK);
+    cfg.q1[1] = KC_R(1.0);
+    memset(&plan, KT_SENTINEL, sizeof plan);
+    assert_int_equal(kc_interp_joint_plan_cfg(&plan, &cfg), KC_E_ARG);
+    assert_true(kt_is_sentinel(&plan, sizeof plan));
+    cfg.qddd_max[1] = KC_R(1.0);
+    cfg.duration = KC_R(0.5);
+    assert_int_equal(kc_interp_joint_plan_cfg(&plan, &cfg), KC_E_LIMIT);
+    cfg.duration = KC_R(0.0);
+    cfg.profile = (kc_profile_kind)7;
+    assert_int_equal(kc_interp_joint_plan_cfg(&plan, &cfg), KC_E_ARG);
+    assert_int_equal(kc_interp_joint_plan_cfg(NULL, &cfg), KC_E_ARG);
+    assert_int_equal(kc_interp_joint_plan_cfg(&plan, NULL), KC_E_ARG);
+}
+
 static void test_bad_inputs(void **state)
 {
     (void)state;
@@ -383,7 +501,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_textbook),     cmocka_unit_test(test_rest_to_rest),
         cmocka_unit_test(test_stretched),    cmocka_unit_test(test_moving_start),
-        cmocka_unit_test(test_moving_agrees_with_rest), cmocka_unit_test(test_bad_inputs),
+        cmocka_unit_test(test_moving_agrees_with_rest), cmocka_unit_test(test_joint_move),
+        cmocka_unit_test(test_joint_move_bad), cmocka_unit_test(test_bad_inputs),
     };
     int failed = cmocka_run_group_tests_name("scurve (" KC_REAL_NAME ")", tests, NULL, NULL);
     kt_report("scurve");
