@@ -385,6 +385,7 @@ static void test_joint_move(void **state)
         for (int i = 0; i < cfg.n; i++)
             assert_true(prev.q[i] == cfg.q0[i] && prev.qd[i] == KC_R(0.0) && prev.qdd[i] == KC_R(0.0));
         double dt = (double)cfg.dt;
+        st = prev;
         for (int64_t k = 1; k <= plan.ticks; k++) {
             kc_status s = kc_interp_joint_eval(&plan, k, &st);
             assert_int_equal(s, k < plan.ticks ? KC_OK : KC_DONE);
