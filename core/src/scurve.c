@@ -100,7 +100,7 @@ static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, k
     return tc + ts;
 }
 
-/* What a bisection solves: d(x) = d for the plain family (x = vp) or the
+/* What a root search solves: d(x) = d for the plain family (x = vp) or the
  * gap family (x = s, the fraction of a0 ramped away, kinctl/scurve.h). */
 typedef struct dfun {
     int gap;
@@ -136,29 +136,44 @@ static kc_real dfun_eval(const dfun *f, kc_real x)
     return f->gap ? gap_dist(x, f->v0, f->a0, f->A, f->J, NULL, NULL, NULL) : dist_of(x, f->v0, f->a0, f->A, f->J);
 }
 
-/* Bisection for f(x) = d on [lo, hi] with f - d of opposite signs (or
- * zero) at the ends: at most KC_SCURVE_MAX_ITER halvings, fewer when the
- * bracket reaches adjacent numbers. Returns the end nearer the root. */
+/* Root of f(x) = d on [lo, hi], with f - d of opposite signs (or zero) at
+ * the ends, by the Illinois variant of regula falsi: the secant through
+ * the bracket's ends, the weight of an end that stays twice in a row
+ * halved (superlinear, about ten steps), a halving whenever the secant
+ * falls outside the bracket. At most KC_SCURVE_MAX_ITER steps; stops when
+ * f - d is within rounding of the distances involved (4 units of roundoff
+ * of their sum) or the bracket reaches adjacent numbers. Returns the point
+ * nearest the root. */
 static kc_real root(const dfun *f, kc_real lo, kc_real hi, kc_real flo, kc_real fhi, kc_real d)
 {
     if (flo == KC_R(0.0))
         return lo;
     if (fhi == KC_R(0.0))
         return hi;
-    kc_real sg = flo < KC_R(0.0) ? KC_R(1.0) : KC_R(-1.0); /* increasing: flo < 0 */
+    kc_real tol = KC_R(4.0) * KC_REAL_EPS * (kc_fabs(d) + kc_fabs(flo + d) + kc_fabs(fhi + d));
+    kc_real wlo = flo, whi = fhi; /* the weighted end values */
+    int side = 0;
     for (int i = 0; i < KC_SCURVE_MAX_ITER; i++) {
-        kc_real mid = KC_R(0.5) * (lo + hi);
-        if (!(mid > lo && mid < hi))
+        kc_real x = (lo * whi - hi * wlo) / (whi - wlo);
+        if (!(x > lo && x < hi))
+            x = KC_R(0.5) * (lo + hi);
+        if (!(x > lo && x < hi))
             break; /* adjacent: the bracket cannot shrink */
-        kc_real fm = dfun_eval(f, mid) - d;
-        if (fm == KC_R(0.0))
-            return mid;
-        if (sg * fm < KC_R(0.0)) {
-            lo = mid;
-            flo = fm;
+        kc_real fx = dfun_eval(f, x) - d;
+        if (kc_fabs(fx) <= tol)
+            return x;
+        if ((fx < KC_R(0.0)) == (flo < KC_R(0.0))) {
+            lo = x;
+            flo = wlo = fx;
+            if (side == -1)
+                whi *= KC_R(0.5);
+            side = -1;
         } else {
-            hi = mid;
-            fhi = fm;
+            hi = x;
+            fhi = whi = fx;
+            if (side == 1)
+                wlo *= KC_R(0.5);
+            side = 1;
         }
     }
     return kc_fabs(flo) <= kc_fabs(fhi) ? lo : hi;

@@ -60,14 +60,15 @@
  * With vn = v0 + a0 |a0| / (2J), the plain branches are vp <= min(vn, 0)
  * and vp >= max(vn, 0): there the change ends on the other side of zero
  * acceleration than the stop begins, so vp is a true extremum, and d
- * increases along each branch; each root is found by bisection (at most
- * KC_SCURVE_MAX_ITER halvings, stopping when the bracket can no longer
- * shrink: about 60 in double, 30 in float). A vp of the other sign than
+ * increases along each branch; each root is found in its bracket by
+ * regula falsi (Illinois variant, falling back to halving; at most
+ * KC_SCURVE_MAX_ITER steps, about ten in practice, stopping at the
+ * rounding of the distances). A vp of the other sign than
  * d is a start that must overshoot and come back.
  * The gap family covers the distances between the branches' ends d(0)
  * and d(vn): a0 is ramped towards zero by a fraction s in [0, 1] at jerk
  * J, then the fastest change to rest follows (s = 0: stop at once; s = 1:
- * a0 ramped out, then the stop from vn), s again by bisection. Of the
+ * a0 ramped out, then the stop from vn), s found the same way. Of the
  * roots found the fastest is the plan.
  * A start with |v0| > V is slowed to |vp| <= V by the first change (the
  * speed exceeds V only there); a start with |a0| > A is first ramped back
@@ -108,8 +109,8 @@
  * across the end too. Sampling a piecewise-linear acceleration whose slope
  * is at most J never shows a change of more than J dt per tick.
  *
- * Planning is bounded (closed forms, and at most three bisections of at
- * most KC_SCURVE_MAX_ITER steps for moving starts) and allocation-free;
+ * Planning is bounded (closed forms, and at most three root searches of
+ * at most KC_SCURVE_MAX_ITER steps for moving starts) and allocation-free;
  * evaluation is O(1) (a scan of at most seven phase ends and a cubic).
  * Every function is pure and safe to call in the control cycle.
  */
@@ -124,7 +125,7 @@
 /* Most phases: velocity change (3), cruise (1), stop (3). */
 #define KC_SCURVE_MAX_PHASES 7
 
-/* Most bisection steps of a moving-start plan. */
+/* Most root-finding steps of one branch of a moving-start plan. */
 #define KC_SCURVE_MAX_ITER 200
 
 /* A planned profile. Plain data: copy it freely; set it only through the
