@@ -3,7 +3,8 @@
 // with kinctl's model limits (qd_max, qdd_max, qddd_max), BENCH_JERK_CASES
 // random moves each (start and goal uniform within the position limits),
 // rest to rest and from random moving states (|v0| <= 0.8 vmax,
-// |a0| <= 0.8 amax, with the velocity that a0 alone reaches within vmax).
+// |a0| <= 0.8 amax, with the velocity that a0 alone reaches within vmax),
+// and joint by joint from starts outside the limits (up to 1.5 times).
 //
 // Measured, kinctl in double (the core linked in; the float build's
 // figures come from unit.scurve.float, not timed here):
@@ -64,6 +65,8 @@ struct Limits {
 
 struct Case {
     double q0[BENCH_MAX_JOINTS], q1[BENCH_MAX_JOINTS], v0[BENCH_MAX_JOINTS], a0[BENCH_MAX_JOINTS];
+    // A start outside the limits: |v| and |a| up to 1.5 times them.
+    double v0x[BENCH_MAX_JOINTS], a0x[BENCH_MAX_JOINTS];
     double frac[BENCH_BATCH];
 };
 
@@ -81,6 +84,7 @@ struct Walk {
     long long bad = 0;
     void step(long long k, double v, double a, double V, double A, double J, double T)
     {
+        // V and A: the bounds the start allows (speed_bound, max(A, |a0|)).
         // Rounding of t = k dt and of the sums (tests/unit/test_scurve.c).
         double slack = 64.0 * 2.2e-16;
         if (std::fabs(v) > V * (1.0 + 1e-9) + slack * (V + A * T) ||
@@ -157,6 +161,8 @@ template <size_t N> struct ModelBench {
                     c.a0[j] = lim.A[j] * 0.8 * (2.0 * bench_uniform01(&state) - 1.0);
                     c.v0[j] = lim.V[j] * 0.8 * (2.0 * bench_uniform01(&state) - 1.0);
                 } while (speed_bound(c.v0[j], c.a0[j], lim.V[j], lim.J[j]) > lim.V[j]);
+                c.v0x[j] = lim.V[j] * 1.5 * (2.0 * bench_uniform01(&state) - 1.0);
+                c.a0x[j] = lim.A[j] * 1.5 * (2.0 * bench_uniform01(&state) - 1.0);
             }
             for (double &f : c.frac)
                 f = bench_uniform01(&state);
@@ -345,6 +351,64 @@ template <size_t N> struct ModelBench {
             std::printf(" ");
     }
 
+    // Starts outside the limits, joint by joint against Ruckig<1>: the
+    // duration ratio (the bound kinctl/scurve.h states for such starts is
+    // measured here) and every tick within what the start allows.
+    void outside()
+    {
+        ruckig::Ruckig<1> one{DT};
+        ruckig::Trajectory<1> t1d;
+        kc_scurve prof;
+        std::vector<double> ratio;
+        long long bad = 0, failed = 0, gap = 0;
+        for (int k = 0; k < CASES; k++) {
+            const Case &c = cases[(size_t)k];
+            for (size_t j = 0; j < N; j++) {
+                if (kc_scurve_plan(&prof, c.q0[j], c.v0x[j], c.a0x[j], c.q1[j], lim.V[j], lim.A[j], lim.J[j], DT) !=
+                    KC_OK) {
+                    failed++;
+                    continue;
+                }
+                gap += prof.gap;
+                ruckig::InputParameter<1> in1;
+                in1.current_position[0] = c.q0[j];
+                in1.current_velocity[0] = c.v0x[j];
+                in1.current_acceleration[0] = c.a0x[j];
+                in1.target_position[0] = c.q1[j];
+                in1.max_velocity[0] = lim.V[j];
+                in1.max_acceleration[0] = lim.A[j];
+                in1.max_jerk[0] = lim.J[j];
+                if (one.calculate(in1, t1d) == ruckig::Result::Working)
+                    ratio.push_back((double)prof.T / t1d.get_duration());
+                Walk w;
+                kc_scurve_state s;
+                double vb = speed_bound(c.v0x[j], c.a0x[j], lim.V[j], lim.J[j]);
+                double ab = std::max(lim.A[j], std::fabs(c.a0x[j]));
+                for (long long t = 0; t <= prof.ticks; t++) {
+                    kc_scurve_eval(&prof, t, &s);
+                    w.step(t, s.v, s.a, vb, ab, lim.J[j], (double)prof.T);
+                }
+                bad += w.bad;
+            }
+        }
+        std::sort(ratio.begin(), ratio.end());
+        if (ratio.empty()) {
+            std::printf("  starts outside the limits: Ruckig<1> planned none of them\n");
+            ok = false;
+            return;
+        }
+        size_t n = ratio.size(), above = (size_t)std::count_if(ratio.begin(), ratio.end(),
+                                                                  [](double r) { return r > 1.0 + 1e-6; });
+        std::printf("  starts outside the limits (|v0| <= 1.5 vmax, |a0| <= 1.5 amax), %zu joints against Ruckig<1>: "
+                    "duration ratio median %.6f, p99 %.6f, max %.4f, min %.4f; %zu (%.2f %%) longer by more than "
+                    "1e-6; %lld planned by the gap family\n",
+                    n, ratio[n / 2], ratio[(99 * n) / 100], ratio[n - 1], ratio[0], above,
+                    100.0 * (double)above / (double)n, gap);
+        line("    limits (speed: max(vmax, |v0|, |vn|); acceleration: max(amax, |a0|)): %.0f ticks over (%.0f plans "
+             "failed)  %s\n",
+             (double)bad, (double)failed, bad == 0 && failed == 0);
+    }
+
     bool run()
     {
         kc_chain chain;
@@ -370,6 +434,7 @@ template <size_t N> struct ModelBench {
         make_cases();
         rest_to_rest();
         moving();
+        outside();
         std::printf("  %-26s %9s %9s %9s\n", "ns per call", "median", "p99", "max");
         for (const Row &r : rows)
             std::printf("  %-26s %9.1f %9.1f %9.1f\n", r.what.c_str(), r.st.s.median_ns, r.st.s.p99_ns, r.st.s.max_ns);

@@ -77,10 +77,14 @@
  * V, so the plan is time-optimal for a start at rest and within these two
  * families otherwise. The time-optimal profile can have a valley of
  * acceleration that neither family holds (jerk +, -, +, - without a
- * return to zero acceleration, Ruckig's UDUD): tests/unit/test_scurve.c
- * measures the shortfall by replanning from the middle of random plans
- * (8 in 4000 random moving starts end up to 11 % later than they could),
- * and tools/bench/run_interp_bench.sh against Ruckig.
+ * return to zero acceleration, Ruckig's UDUD). Measured against Ruckig's
+ * one-dimensional optimum by tools/bench/run_interp_bench.sh (puma560 and
+ * panda limits): starts within the limits (|v0| <= 0.8 vmax,
+ * |a0| <= 0.8 amax), 130,000 joints, none longer by more than 1e-6;
+ * starts up to 1.5 times outside them, 0.6 % (puma560) and 0.03 % (panda)
+ * of the joints longer, by at most 14 % (and some shorter than Ruckig's,
+ * which first brakes into the limits). tests/unit/test_scurve.c bounds the
+ * shortfall by replanning from the middle of random plans.
  *
  * Stretched to a duration T >= T_opt (synchronisation; rest to rest):
  * amax and jmax are kept and the cruise speed lowered to v (the standard
