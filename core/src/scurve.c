@@ -141,16 +141,15 @@ static kc_real dfun_eval(const dfun *f, kc_real x)
  * the bracket's ends, the weight of an end that stays twice in a row
  * halved (superlinear, about ten steps), a halving whenever the secant
  * falls outside the bracket. At most KC_SCURVE_MAX_ITER steps; stops when
- * f - d is within rounding of the distances involved (4 units of roundoff
- * of their sum) or the bracket reaches adjacent numbers. Returns the point
- * nearest the root. */
+ * f - d is within 4 units of roundoff of d or the bracket reaches adjacent
+ * numbers. Returns the point nearest the root. */
 static kc_real root(const dfun *f, kc_real lo, kc_real hi, kc_real flo, kc_real fhi, kc_real d)
 {
     if (flo == KC_R(0.0))
         return lo;
     if (fhi == KC_R(0.0))
         return hi;
-    kc_real tol = KC_R(4.0) * KC_REAL_EPS * (kc_fabs(d) + kc_fabs(flo + d) + kc_fabs(fhi + d));
+    kc_real tol = KC_R(4.0) * KC_REAL_EPS * kc_fabs(d);
     kc_real wlo = flo, whi = fhi; /* the weighted end values */
     int side = 0;
     for (int i = 0; i < KC_SCURVE_MAX_ITER; i++) {

@@ -338,6 +338,57 @@ static void test_moving_agrees_with_rest(void **state)
     }
 }
 
+/* Scales far apart: distances from 1e-9 to 1e3, limits over many decades
+ * (log-uniform), starts within and outside the limits, and stretched
+ * moves; every plan either succeeds and walks clean or, when it would
+ * last more than KC_PROFILE_MAX_TICKS ticks, says KC_E_CAPACITY. */
+static double log_uniform(kt_rng *r, double lo, double hi)
+{
+    return exp(kt_uniform(r, log(lo), log(hi)));
+}
+
+static void test_extreme_scales(void **state)
+{
+    (void)state;
+    kt_rng r = kt_rng_make(0x5C0FE006);
+    int walked = 0;
+    for (int n = 0; n < N_RANDOM / 2; n++) {
+        double D = log_uniform(&r, 1e-9, 1e3) * (kt_uniform(&r, 0.0, 1.0) < 0.5 ? -1.0 : 1.0);
+        double V = log_uniform(&r, 1e-3, 1e3), A = log_uniform(&r, 1e-2, 1e4), J = log_uniform(&r, 1e-1, 1e6);
+        double dt = rand_dt(&r), p0 = kt_uniform(&r, -10.0, 10.0);
+        double v0 = 0.0, a0 = 0.0;
+        if (n % 2 == 1) {
+            v0 = kt_uniform(&r, -1.5, 1.5) * V;
+            a0 = kt_uniform(&r, -1.5, 1.5) * A;
+        }
+        kc_scurve pr;
+        kc_status st = kc_scurve_plan(&pr, (kc_real)p0, (kc_real)v0, (kc_real)a0, (kc_real)(p0 + D), (kc_real)V,
+                                      (kc_real)A, (kc_real)J, (kc_real)dt);
+        if (st == KC_E_CAPACITY)
+            continue;
+        assert_int_equal(st, KC_OK);
+        assert_true(kc_isfinite(pr.T) && pr.T >= KC_R(0.0));
+        if (pr.ticks > 200000)
+            continue;
+        walked++;
+        double p1r = (double)(kc_real)(p0 + D);
+        walk(&pr, (double)(kc_real)p0, (double)(kc_real)v0, (double)(kc_real)a0, p1r, (double)(kc_real)V,
+             (double)(kc_real)A, (double)(kc_real)J, "extreme scales");
+        if (n % 2 == 0) {
+            kc_scurve ps;
+            kc_real T = pr.T * (kc_real)kt_uniform(&r, 1.0, 3.0);
+            st = kc_scurve_plan_duration(&ps, (kc_real)p0, (kc_real)(p0 + D), (kc_real)V, (kc_real)A, (kc_real)J, T,
+                                         (kc_real)dt);
+            if (st == KC_E_CAPACITY || T / (kc_real)dt > KC_R(200000.0))
+                continue;
+            assert_int_equal(st, KC_OK);
+            walk(&ps, (double)(kc_real)p0, 0, 0, p1r, (double)(kc_real)V, (double)(kc_real)A, (double)(kc_real)J,
+                 "extreme scales, stretched");
+        }
+    }
+    assert_true(walked > N_RANDOM / 4);
+}
+
 /* ---- the synchronised joint move (kinctl/interp.h) ---- */
 
 /* Random joint moves of 1..7 joints, equal limits in a third of them:
@@ -502,7 +553,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_textbook),     cmocka_unit_test(test_rest_to_rest),
         cmocka_unit_test(test_stretched),    cmocka_unit_test(test_moving_start),
-        cmocka_unit_test(test_moving_agrees_with_rest), cmocka_unit_test(test_joint_move),
+        cmocka_unit_test(test_moving_agrees_with_rest), cmocka_unit_test(test_extreme_scales),
+        cmocka_unit_test(test_joint_move),
         cmocka_unit_test(test_joint_move_bad), cmocka_unit_test(test_bad_inputs),
     };
     int failed = cmocka_run_group_tests_name("scurve (" KC_REAL_NAME ")", tests, NULL, NULL);
