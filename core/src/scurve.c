@@ -358,7 +358,9 @@ kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc
     }
     kc_real g0 = gap_dist(KC_R(0.0), v0, a0, A, J, NULL, NULL, NULL) - d;
     kc_real g1 = gap_dist(KC_R(1.0), v0, a0, A, J, NULL, NULL, NULL) - d;
-    if (a0 != KC_R(0.0) && g0 * g1 <= KC_R(0.0)) {
+    /* Signs compared, not multiplied: a product of small distances may
+     * underflow to zero in float. */
+    if (a0 != KC_R(0.0) && ((g0 <= KC_R(0.0) && g1 >= KC_R(0.0)) || (g0 >= KC_R(0.0) && g1 <= KC_R(0.0)))) {
         kc_real s = root(&g, KC_R(0.0), KC_R(1.0), g0, g1, d), ts;
         gap_dist(s, v0, a0, A, J, NULL, NULL, &ts);
         if (best < KC_R(0.0) || ts < best) {
