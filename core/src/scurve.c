@@ -101,10 +101,12 @@ static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, k
 }
 
 /* What a root search solves: d(x) = d for the plain family (x = vp) or the
- * gap family (x = s, the fraction of a0 ramped away, kinctl/scurve.h). */
+ * gap family (x = s, the fraction of a0 ramped away, kinctl/scurve.h), or
+ * T(vp) = T for a stretched plan. */
 typedef struct dfun {
-    int gap;
+    int gap; /* 0: plain d(vp); 1: gap d(s); 2: the duration with a cruise to d */
     kc_real v0, a0, A, J;
+    kc_real d; /* kind 2: the distance to cover */
 } dfun;
 
 /* The gap family: ramp a0 towards zero by the fraction s at jerk J, then
@@ -131,8 +133,17 @@ static kc_real gap_dist(kc_real s, kc_real v0, kc_real a0, kc_real A, kc_real J,
     return p;
 }
 
+/* The duration of the plain plan through vp with the cruise that covers d
+ * (kinctl/scurve.h, "from a moving start"). */
+static kc_real cruise_time_of(kc_real vp, kc_real d, kc_real v0, kc_real a0, kc_real A, kc_real J)
+{
+    return change_stop_time(vp, v0, a0, A, J) + (d - dist_of(vp, v0, a0, A, J)) / vp;
+}
+
 static kc_real dfun_eval(const dfun *f, kc_real x)
 {
+    if (f->gap == 2)
+        return cruise_time_of(x, f->d, f->v0, f->a0, f->A, f->J);
     return f->gap ? gap_dist(x, f->v0, f->a0, f->A, f->J, NULL, NULL, NULL) : dist_of(x, f->v0, f->a0, f->A, f->J);
 }
 
@@ -343,7 +354,7 @@ kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc
     kc_real m1 = kc_min(vn, KC_R(0.0)), m2 = kc_max(vn, KC_R(0.0));
     kc_real d1 = dist_of(m1, v0, a0, A, J), d2 = dist_of(m2, v0, a0, A, J);
     kc_real vp = KC_R(0.0), best = KC_R(-1.0), s_gap = KC_R(-1.0);
-    dfun f = {0, v0, a0, A, J}, g = {1, v0, a0, A, J};
+    dfun f = {0, v0, a0, A, J, KC_R(0.0)}, g = {1, v0, a0, A, J, KC_R(0.0)};
     if (d <= d1) {
         vp = root(&f, -V, m1, dl - d, d1 - d, d);
         best = change_stop_time(vp, v0, a0, A, J);
@@ -432,6 +443,61 @@ kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_re
         return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, KC_R(0.0), duration, amax, jmax, duration, dt);
     kc_real v = kc_min(stretch_speed(D, amax, jmax, duration), fast.vp < KC_R(0.0) ? -fast.vp : fast.vp);
     return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, p1 > p0 ? v : -v, KC_R(0.0), amax, jmax, duration, dt);
+}
+
+kc_status kc_scurve_plan_duration_from(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
+                                       kc_real amax, kc_real jmax, kc_real duration, kc_real dt)
+{
+    kc_scurve fast;
+    if (prof == NULL || !kc_isfinite(duration) || duration < KC_R(0.0))
+        return KC_E_ARG;
+    if (v0 == KC_R(0.0) && a0 == KC_R(0.0))
+        return kc_scurve_plan_duration(prof, p0, p1, vmax, amax, jmax, duration, dt);
+    kc_status st = kc_scurve_plan(&fast, p0, v0, a0, p1, vmax, amax, jmax, dt);
+    if (st != KC_OK)
+        return st;
+    if (duration <= fast.T) {
+        if (duration < fast.T * (KC_R(1.0) - KC_R(8.0) * KC_REAL_EPS))
+            return KC_E_LIMIT;
+        *prof = fast;
+        return KC_OK;
+    }
+    kc_real A = amax, J = jmax, d = p1 - p0;
+    /* e: how far the target lies beyond where stopping at once ends; the
+     * cruise runs towards it (sign s). */
+    kc_real e = d - dist_of(KC_R(0.0), v0, a0, A, J);
+    if (e == KC_R(0.0)) /* stop at once, then wait */
+        return build_vp(prof, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, J, duration, dt);
+    kc_real s = e > KC_R(0.0) ? KC_R(1.0) : KC_R(-1.0);
+    kc_real V = kc_isfinite(vmax) ? vmax : kc_max(kc_fabs(fast.vp), kc_fabs(v0)) + A * A / J;
+    /* vp_hi: the fastest cruise on that side, V or where the cruise
+     * vanishes (the root of d(vp) = d between 0 and s V). */
+    kc_real vh = s * V, dv = dist_of(vh, v0, a0, A, J);
+    dfun f = {0, v0, a0, A, J, KC_R(0.0)};
+    if (s * (d - dv) < KC_R(0.0)) {
+        kc_real f0 = -e;
+        vh = s > KC_R(0.0) ? root(&f, KC_R(0.0), vh, f0, dv - d, d) : root(&f, vh, KC_R(0.0), dv - d, f0, d);
+        if (vh == KC_R(0.0))
+            return KC_E_LIMIT;
+    }
+    dfun t = {2, v0, a0, A, J, d};
+    kc_real th = dfun_eval(&t, vh) - duration;
+    if (!(th <= KC_R(0.0)))
+        return KC_E_LIMIT; /* between the optimum and the slowest cruise this side allows */
+    /* vp_lo: halved until the plan lasts at least the duration (the cruise
+     * grows as 1 / vp: a few halvings). */
+    kc_real vl = vh, tl = th;
+    for (int i = 0; i < KC_SCURVE_MAX_ITER && tl < KC_R(0.0); i++) {
+        vl *= KC_R(0.5);
+        tl = dfun_eval(&t, vl) - duration;
+    }
+    if (!(tl >= KC_R(0.0)) || !kc_isfinite(tl))
+        return KC_E_CAPACITY;
+    kc_real vp = s > KC_R(0.0) ? root(&t, vl, vh, tl, th, duration) : root(&t, vh, vl, th, tl, duration);
+    kc_real tc = (d - dist_of(vp, v0, a0, A, J)) / vp;
+    if (!(tc >= KC_R(0.0)))
+        return KC_E_LIMIT;
+    return build_vp(prof, p0, v0, a0, p1, vp, tc, A, J, duration, dt);
 }
 
 /* The state at t in [0, T). */

@@ -322,6 +322,53 @@ static void test_moving_start(void **state)
     assert_true(slower <= N_RANDOM / 200 && worst < 0.15);
 }
 
+/* Moving starts stretched to a longer duration: the plan lasts exactly
+ * that long and walks clean, or the duration lies in a blocked interval
+ * (KC_E_LIMIT: longer than the optimum, shorter than the slowest plan of
+ * the stretchable branch), counted; twice the optimum is never blocked
+ * more than rarely. */
+static void test_moving_stretched(void **state)
+{
+    (void)state;
+    kt_rng r = kt_rng_make(0x5C0FE007);
+    int blocked = 0, done = 0;
+    for (int n = 0; n < N_RANDOM; n++) {
+        double p0 = kt_uniform(&r, -2.0, 2.0), p1 = kt_uniform(&r, -2.0, 2.0);
+        double V = kt_uniform(&r, 0.1, 3.0), A = kt_uniform(&r, 0.5, 30.0), J = kt_uniform(&r, 2.0, 600.0);
+        double dt = rand_dt(&r), lim = n % 2 == 0 ? 0.8 : 1.5;
+        double v0 = kt_uniform(&r, -lim * V, lim * V), a0 = kt_uniform(&r, -lim * A, lim * A);
+        kc_scurve fast, pr;
+        plan_ok(&fast, p0, v0, a0, p1, V, A, J, dt);
+        double f = n % 7 == 0 ? 1.0 : kt_uniform(&r, 1.0, 3.0);
+        kc_real T = (kc_real)((double)fast.T * f);
+        kc_status st = kc_scurve_plan_duration_from(&pr, (kc_real)p0, (kc_real)v0, (kc_real)a0, (kc_real)p1,
+                                                    (kc_real)V, (kc_real)A, (kc_real)J, T, (kc_real)dt);
+        if (st == KC_E_LIMIT) {
+            assert_true(f > 1.0);
+            blocked++;
+            continue;
+        }
+        assert_int_equal(st, KC_OK);
+        done++;
+        assert_true(pr.T == (f == 1.0 ? fast.T : T));
+        walk(&pr, (double)(kc_real)p0, (double)(kc_real)v0, (double)(kc_real)a0, (double)(kc_real)p1,
+             (double)(kc_real)V, (double)(kc_real)A, (double)(kc_real)J, "moving, stretched");
+    }
+    print_message("moving starts stretched: %d planned, %d in a blocked interval\n", done, blocked);
+    assert_true(blocked < N_RANDOM / 20);
+    /* From rest it is kc_scurve_plan_duration. */
+    kc_scurve a, b;
+    assert_int_equal(kc_scurve_plan_duration_from(&a, 0, 0, 0, KC_R(1.0), KC_R(1.0), KC_R(2.0), KC_R(10.0), KC_R(4.0),
+                                                  KC_R(0.001)),
+                     KC_OK);
+    assert_int_equal(kc_scurve_plan_duration(&b, 0, KC_R(1.0), KC_R(1.0), KC_R(2.0), KC_R(10.0), KC_R(4.0), KC_R(0.001)),
+                     KC_OK);
+    assert_true(memcmp(&a, &b, sizeof a) == 0);
+    assert_int_equal(kc_scurve_plan_duration_from(&a, 0, KC_R(0.5), 0, KC_R(1.0), KC_R(1.0), KC_R(2.0), KC_R(10.0),
+                                                  KC_R(0.1), KC_R(0.001)),
+                     KC_E_LIMIT);
+}
+
 /* A start at rest through the moving-start search (a speck of velocity)
  * takes the rest-to-rest time: the two methods agree. */
 static void test_moving_agrees_with_rest(void **state)
@@ -553,7 +600,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_textbook),     cmocka_unit_test(test_rest_to_rest),
         cmocka_unit_test(test_stretched),    cmocka_unit_test(test_moving_start),
-        cmocka_unit_test(test_moving_agrees_with_rest), cmocka_unit_test(test_extreme_scales),
+        cmocka_unit_test(test_moving_stretched),    cmocka_unit_test(test_moving_agrees_with_rest),
+        cmocka_unit_test(test_extreme_scales),
         cmocka_unit_test(test_joint_move),
         cmocka_unit_test(test_joint_move_bad), cmocka_unit_test(test_bad_inputs),
     };

@@ -181,6 +181,26 @@ kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc
 kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_real vmax, kc_real amax,
                                   kc_real jmax, kc_real duration, kc_real dt);
 
+/* Profile from the moving start (p0, v0, a0) to rest at p1 lasting exactly
+ * `duration` (s), for synchronising moving axes: amax and jmax kept, the
+ * cruise slowed. With e the distance from where stopping at once ends to
+ * the target, the plan is the plain one (change to vp, cruise, stop) with
+ * vp on the side of e, the cruise covering the rest, and |vp| between 0
+ * and the fastest cruise that side allows (vmax, or where the cruise
+ * vanishes): its duration
+ *     T(vp) = t_change(vp) + t_stop(vp) + (d - d(vp)) / vp
+ * grows without bound as vp -> 0, and T(vp) = duration is solved by the
+ * same root search (vp halved first until T(vp) >= duration). e = 0 is
+ * the stop followed by a wait. A start at rest is
+ * kc_scurve_plan_duration. Returns KC_E_LIMIT for a duration shorter than
+ * the optimum (beyond 8 units of roundoff) and for one in a blocked
+ * interval: longer than the optimum but shorter than the fastest cruise on
+ * the side of e lasts (when the optimum lies on the other branch or in
+ * the gap family); other errors as kc_scurve_plan. prof is untouched on
+ * error. */
+kc_status kc_scurve_plan_duration_from(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
+                                       kc_real amax, kc_real jmax, kc_real duration, kc_real dt);
+
 /* State at tick k >= 0 (t = k dt): KC_OK while moving (k < ticks), KC_DONE
  * from tick `ticks` on (exactly p1, 0, 0, jerk 0, phase 4), KC_E_ARG for
  * NULL arguments or k < 0 (out untouched). */
