@@ -175,10 +175,9 @@ static kc_status plan_jerk(kc_interp_joint *plan, const kc_interp_joint_cfg *c)
     r.sync = KC_INTERP_SYNC_TIME;
     memset(&r.su, 0, sizeof r.su);
     for (int i = 0; i < c->n; i++) {
-        if (r.dq[i] == KC_R(0.0))
-            continue;
-        st = kc_scurve_plan_duration(&r.sj[i], r.q0[i], r.q1[i], c->qd_max[i], c->qdd_max[i], c->qddd_max[i], T,
-                                     c->dt);
+        /* A joint that does not move waits at q0 (its jerk limit unused). */
+        kc_real jl = r.dq[i] == KC_R(0.0) ? KC_R(1.0) : c->qddd_max[i];
+        st = kc_scurve_plan_duration(&r.sj[i], r.q0[i], r.q1[i], c->qd_max[i], c->qdd_max[i], jl, T, c->dt);
         if (st != KC_OK)
             return st;
     }
@@ -187,20 +186,89 @@ static kc_status plan_jerk(kc_interp_joint *plan, const kc_interp_joint_cfg *c)
     return KC_OK;
 }
 
+/* The jerk-limited move from a moving start: time synchronisation
+ * (kinctl/interp.h). */
+static kc_status plan_jerk_moving(kc_interp_joint *plan, const kc_interp_joint_cfg *c)
+{
+    kc_interp_joint r;
+    kc_real T = KC_R(0.0);
+    kc_status st = kc_interp_joint_plan(&r, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
+    if (st != KC_OK)
+        return st;
+    memset(&r.prof, 0, sizeof r.prof);
+    memset(&r.su, 0, sizeof r.su);
+    r.kind = KC_PROFILE_JERK;
+    r.sync = KC_INTERP_SYNC_TIME;
+    r.lead = -1;
+    r.u_jmax = INF;
+    for (int i = 0; i < c->n; i++) {
+        if (r.dq[i] == KC_R(0.0) && c->qd0[i] == KC_R(0.0) && c->qdd0[i] == KC_R(0.0))
+            continue;
+        if (!(c->qddd_max[i] > KC_R(0.0)) || !kc_isfinite(c->qddd_max[i]))
+            return KC_E_ARG;
+        st = kc_scurve_plan(&r.sj[i], r.q0[i], c->qd0[i], c->qdd0[i], r.q1[i], c->qd_max[i], c->qdd_max[i],
+                            c->qddd_max[i], c->dt);
+        if (st != KC_OK)
+            return st;
+        if (r.sj[i].T > T) {
+            T = r.sj[i].T;
+            r.lead = i;
+        }
+        if (r.dq[i] != KC_R(0.0))
+            r.u_jmax = kc_min(r.u_jmax, c->qddd_max[i] / kc_fabs(r.dq[i]));
+    }
+    if (c->duration > KC_R(0.0)) {
+        if (c->duration < T * (KC_R(1.0) - KC_R(8.0) * KC_REAL_EPS))
+            return KC_E_LIMIT;
+        T = kc_max(T, c->duration);
+    }
+    /* Every joint stretched to T; T grown past a blocked interval. */
+    kc_real grow = KC_R(1.0) / KC_R(1024.0);
+    for (int m = 0; m < 16; m++, grow *= KC_R(2.0)) {
+        int blocked = 0;
+        for (int i = 0; i < c->n && !blocked; i++) {
+            st = kc_scurve_plan_duration_from(&r.sj[i], r.q0[i], c->qd0[i], c->qdd0[i], r.q1[i], c->qd_max[i],
+                                              c->qdd_max[i], kc_isfinite(c->qddd_max[i]) && c->qddd_max[i] > KC_R(0.0)
+                                                                 ? c->qddd_max[i]
+                                                                 : KC_R(1.0),
+                                              T, c->dt);
+            if (st == KC_E_LIMIT)
+                blocked = 1;
+            else if (st != KC_OK)
+                return st;
+        }
+        if (!blocked) {
+            r.T = r.sj[r.lead].T;
+            r.ticks = r.sj[r.lead].ticks;
+            *plan = r;
+            return KC_OK;
+        }
+        T += T * grow;
+    }
+    return KC_E_LIMIT;
+}
+
 kc_status kc_interp_joint_plan_cfg(kc_interp_joint *plan, const kc_interp_joint_cfg *cfg)
 {
     if (plan == NULL || cfg == NULL)
         return KC_E_ARG;
     if (cfg->n > KC_MAX_JOINTS)
         return KC_E_CAPACITY;
+    int moving = 0;
+    for (int i = 0; i < cfg->n; i++) {
+        if (!kc_isfinite(cfg->qd0[i]) || !kc_isfinite(cfg->qdd0[i]))
+            return KC_E_ARG;
+        moving |= cfg->qd0[i] != KC_R(0.0) || cfg->qdd0[i] != KC_R(0.0);
+    }
     if (cfg->profile == KC_PROFILE_TRAPEZOID)
-        return kc_interp_joint_plan(plan, cfg->n, cfg->q0, cfg->q1, cfg->qd_max, cfg->qdd_max, cfg->duration,
-                                    cfg->dt);
+        return moving ? KC_E_ARG
+                      : kc_interp_joint_plan(plan, cfg->n, cfg->q0, cfg->q1, cfg->qd_max, cfg->qdd_max, cfg->duration,
+                                             cfg->dt);
     if (cfg->profile != KC_PROFILE_JERK)
         return KC_E_ARG;
     if (!kc_isfinite(cfg->duration) || cfg->duration < KC_R(0.0))
         return KC_E_ARG;
-    return plan_jerk(plan, cfg);
+    return moving ? plan_jerk_moving(plan, cfg) : plan_jerk(plan, cfg);
 }
 
 /* The joint move's state for one state of its u profile (st: KC_OK or
@@ -273,21 +341,19 @@ static kc_status joint_jerk_at(const kc_interp_joint *plan, int64_t k, kc_interp
         return KC_OK;
     }
     for (int i = 0; i < n; i++) {
-        if (plan->dq[i] == KC_R(0.0)) {
-            out->q[i] = plan->q0[i];
-            out->qd[i] = out->qdd[i] = out->qddd[i] = KC_R(0.0);
-            continue;
-        }
         kc_scurve_eval(&plan->sj[i], k, &u);
         out->q[i] = u.p;
         out->qd[i] = u.v;
         out->qdd[i] = u.a;
         out->qddd[i] = u.j;
         if (i == plan->lead) {
+            /* The leading joint's fraction; time itself when it returns
+             * to where it started. */
             kc_real d = plan->dq[i];
-            out->u = (u.p - plan->q0[i]) / d;
-            out->ud = u.v / d;
-            out->udd = u.a / d;
+            int back = d == KC_R(0.0);
+            out->u = back ? (kc_real)k * plan->sj[i].dt / plan->T : (u.p - plan->q0[i]) / d;
+            out->ud = back ? KC_R(0.0) : u.v / d;
+            out->udd = back ? KC_R(0.0) : u.a / d;
             out->phase = u.phase;
         }
     }

@@ -526,6 +526,75 @@ static void test_joint_move(void **state)
     assert_true(phase > N_RANDOM / 20 && timed > N_RANDOM / 20);
 }
 
+/* Joint moves from moving starts (time synchronisation): the start state
+ * exact on tick 0, every joint within what its start allows, all exactly
+ * on target on one tick, the duration the slowest joint's own optimum (or
+ * a little more past a blocked interval). */
+static void test_joint_move_moving(void **state)
+{
+    (void)state;
+    kt_rng r = kt_rng_make(0x5C0FE008);
+    int longer = 0;
+    for (int c = 0; c < N_RANDOM / 8; c++) {
+        kc_interp_joint_cfg cfg = kc_interp_joint_cfg_default();
+        cfg.n = 1 + (int)(kt_rng_next(&r) % 7);
+        cfg.dt = (kc_real)rand_dt(&r);
+        cfg.profile = KC_PROFILE_JERK;
+        double lim = c % 2 == 0 ? 0.8 : 1.5, T_opt = 0.0;
+        for (int i = 0; i < cfg.n; i++) {
+            cfg.q0[i] = (kc_real)kt_uniform(&r, -3.0, 3.0);
+            cfg.q1[i] = i == 1 ? cfg.q0[i] : (kc_real)kt_uniform(&r, -3.0, 3.0);
+            cfg.qd_max[i] = (kc_real)kt_uniform(&r, 0.3, 4.0);
+            cfg.qdd_max[i] = (kc_real)kt_uniform(&r, 1.0, 40.0);
+            cfg.qddd_max[i] = (kc_real)kt_uniform(&r, 5.0, 800.0);
+            cfg.qd0[i] = (kc_real)(lim * kt_uniform(&r, -1.0, 1.0) * (double)cfg.qd_max[i]);
+            cfg.qdd0[i] = (kc_real)(lim * kt_uniform(&r, -1.0, 1.0) * (double)cfg.qdd_max[i]);
+            kc_scurve one;
+            assert_int_equal(kc_scurve_plan(&one, cfg.q0[i], cfg.qd0[i], cfg.qdd0[i], cfg.q1[i], cfg.qd_max[i],
+                                            cfg.qdd_max[i], cfg.qddd_max[i], cfg.dt),
+                             KC_OK);
+            if ((double)one.T > T_opt)
+                T_opt = (double)one.T;
+        }
+        kc_interp_joint plan;
+        assert_int_equal(kc_interp_joint_plan_cfg(&plan, &cfg), KC_OK);
+        assert_int_equal(plan.sync, KC_INTERP_SYNC_TIME);
+        /* Past a blocked interval T grows by at most 2^16 / 1024 - 1 of
+         * itself; counted, and rare. */
+        assert_true((double)plan.T >= T_opt * (1.0 - 8.0 * EPS));
+        longer += (double)plan.T > T_opt * (1.0 + 8.0 * EPS);
+        kc_interp_joint_state prev, st;
+        kc_interp_joint_eval(&plan, 0, &prev);
+        for (int i = 0; i < cfg.n; i++)
+            assert_true(prev.q[i] == cfg.q0[i] && prev.qd[i] == cfg.qd0[i] && prev.qdd[i] == cfg.qdd0[i]);
+        double dt = (double)cfg.dt, T = (double)plan.T;
+        st = prev;
+        for (int64_t k = 1; k <= plan.ticks; k++) {
+            assert_int_equal(kc_interp_joint_eval(&plan, k, &st), k < plan.ticks ? KC_OK : KC_DONE);
+            for (int i = 0; i < cfg.n; i++) {
+                double J = (double)cfg.qddd_max[i];
+                double V = speed_bound((double)cfg.qd0[i], (double)cfg.qdd0[i], (double)cfg.qd_max[i], J);
+                double A = fabs((double)cfg.qdd0[i]) > (double)cfg.qdd_max[i] ? fabs((double)cfg.qdd0[i])
+                                                                                : (double)cfg.qdd_max[i];
+                double jerk_slack = 8.0 * EPS * (A + J * T) + LIMIT_SLACK * J * dt;
+                if (!(fabs((double)st.qd[i]) <= V * (1.0 + LIMIT_SLACK) + 4.0 * EPS * A * T &&
+                      fabs((double)st.qdd[i]) <= A * (1.0 + LIMIT_SLACK) + 4.0 * EPS * J * T &&
+                      fabs((double)(st.qdd[i] - prev.qdd[i])) <= J * dt + jerk_slack)) {
+                    print_error("moving move %d joint %d tick %lld: qd %.9g (%.9g) qdd %.9g (%.9g) jerk %.9g (%.9g)\n",
+                                c, i, (long long)k, (double)st.qd[i], V, (double)st.qdd[i], A,
+                                (double)(st.qdd[i] - prev.qdd[i]) / dt, J);
+                    fail();
+                }
+            }
+            prev = st;
+        }
+        for (int i = 0; i < cfg.n; i++)
+            assert_true(st.q[i] == cfg.q1[i] && st.qd[i] == KC_R(0.0) && st.qdd[i] == KC_R(0.0));
+    }
+    print_message("moving joint moves: %d of %d longer than the slowest joint's optimum\n", longer, N_RANDOM / 8);
+    assert_true(longer < N_RANDOM / 80);
+}
+
 static void test_joint_move_bad(void **state)
 {
     (void)state;
@@ -549,6 +618,14 @@ static void test_joint_move_bad(void **state)
     assert_int_equal(kc_interp_joint_plan_cfg(&plan, &cfg), KC_E_LIMIT);
     cfg.duration = KC_R(0.0);
     cfg.profile = (kc_profile_kind)7;
+    assert_int_equal(kc_interp_joint_plan_cfg(&plan, &cfg), KC_E_ARG);
+    /* A moving start is the jerk-limited kind's alone; finite. */
+    cfg.profile = KC_PROFILE_TRAPEZOID;
+    cfg.qd0[0] = KC_R(0.1);
+    assert_int_equal(kc_interp_joint_plan_cfg(&plan, &cfg), KC_E_ARG);
+    cfg.profile = KC_PROFILE_JERK;
+    assert_int_equal(kc_interp_joint_plan_cfg(&plan, &cfg), KC_OK);
+    cfg.qdd0[1] = (kc_real)NAN;
     assert_int_equal(kc_interp_joint_plan_cfg(&plan, &cfg), KC_E_ARG);
     assert_int_equal(kc_interp_joint_plan_cfg(NULL, &cfg), KC_E_ARG);
     assert_int_equal(kc_interp_joint_plan_cfg(&plan, NULL), KC_E_ARG);
@@ -602,7 +679,7 @@ int main(void)
         cmocka_unit_test(test_stretched),    cmocka_unit_test(test_moving_start),
         cmocka_unit_test(test_moving_stretched),    cmocka_unit_test(test_moving_agrees_with_rest),
         cmocka_unit_test(test_extreme_scales),
-        cmocka_unit_test(test_joint_move),
+        cmocka_unit_test(test_joint_move),          cmocka_unit_test(test_joint_move_moving),
         cmocka_unit_test(test_joint_move_bad), cmocka_unit_test(test_bad_inputs),
     };
     int failed = cmocka_run_group_tests_name("scurve (" KC_REAL_NAME ")", tests, NULL, NULL);

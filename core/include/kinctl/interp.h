@@ -118,6 +118,9 @@ typedef struct kc_interp_joint_cfg {
     /* Limits per joint, > 0; qd_max may be +infinity; qddd_max is used by
      * the jerk-limited kind only (finite there). */
     kc_real qd_max[KC_MAX_JOINTS], qdd_max[KC_MAX_JOINTS], qddd_max[KC_MAX_JOINTS];
+    /* Start velocity and acceleration (jerk-limited kind only; zero, the
+     * default, for a start at rest). */
+    kc_real qd0[KC_MAX_JOINTS], qdd0[KC_MAX_JOINTS];
     kc_real duration;        /* 0: as fast as the limits allow; or a longer time (s) */
     kc_real dt;              /* tick period (s), > 0 */
     kc_profile_kind profile; /* KC_PROFILE_TRAPEZOID by default */
@@ -158,9 +161,17 @@ kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, 
  *     cruise lowered): not a straight line, but each joint moves
  *     monotonically from q0_i to q1_i, so a box of position limits that
  *     holds both ends holds the move.
+ * From a moving start (qd0, qdd0 not all zero): time synchronisation,
+ * every joint's own profile from its start state (kinctl/scurve.h) to
+ * rest at q1_i, stretched to T, the longest optimum, by
+ * kc_scurve_plan_duration_from; where a joint's stretch falls into a
+ * blocked interval, T grows by 2^m / 1024 of itself, m = 0..15, until
+ * every joint plans (KC_E_LIMIT if none does). Each joint stays within its
+ * limits as far as its start allows (kinctl/scurve.h).
  * Returns as kc_interp_joint_plan; KC_E_ARG also for a NULL cfg, an
- * unknown kind, or (jerk) a qddd_max of a moving joint that is not > 0
- * and finite. plan is untouched on error. */
+ * unknown kind, a non-finite start velocity or acceleration, a moving
+ * start with the trapezoid, or (jerk) a qddd_max of a joint that moves and
+ * is not > 0 and finite. plan is untouched on error. */
 kc_status kc_interp_joint_plan_cfg(kc_interp_joint *plan, const kc_interp_joint_cfg *cfg);
 
 /* Setpoint at tick k >= 0: KC_OK while moving, KC_DONE from plan->ticks
@@ -297,9 +308,17 @@ kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const k
  *     cruise lowered): not a straight line, but each joint moves
  *     monotonically from q0_i to q1_i, so a box of position limits that
  *     holds both ends holds the move.
+ * From a moving start (qd0, qdd0 not all zero): time synchronisation,
+ * every joint's own profile from its start state (kinctl/scurve.h) to
+ * rest at q1_i, stretched to T, the longest optimum, by
+ * kc_scurve_plan_duration_from; where a joint's stretch falls into a
+ * blocked interval, T grows by 2^m / 1024 of itself, m = 0..15, until
+ * every joint plans (KC_E_LIMIT if none does). Each joint stays within its
+ * limits as far as its start allows (kinctl/scurve.h).
  * Returns as kc_interp_joint_plan; KC_E_ARG also for a NULL cfg, an
- * unknown kind, or (jerk) a qddd_max of a moving joint that is not > 0
- * and finite. plan is untouched on error. */
+ * unknown kind, a non-finite start velocity or acceleration, a moving
+ * start with the trapezoid, or (jerk) a qddd_max of a joint that moves and
+ * is not > 0 and finite. plan is untouched on error. */
 kc_status kc_interp_joint_plan_cfg(kc_interp_joint *plan, const kc_interp_joint_cfg *cfg);
 
 /* Setpoint at tick k >= 0: KC_OK while moving, KC_DONE from
@@ -385,9 +404,17 @@ kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_
  *     cruise lowered): not a straight line, but each joint moves
  *     monotonically from q0_i to q1_i, so a box of position limits that
  *     holds both ends holds the move.
+ * From a moving start (qd0, qdd0 not all zero): time synchronisation,
+ * every joint's own profile from its start state (kinctl/scurve.h) to
+ * rest at q1_i, stretched to T, the longest optimum, by
+ * kc_scurve_plan_duration_from; where a joint's stretch falls into a
+ * blocked interval, T grows by 2^m / 1024 of itself, m = 0..15, until
+ * every joint plans (KC_E_LIMIT if none does). Each joint stays within its
+ * limits as far as its start allows (kinctl/scurve.h).
  * Returns as kc_interp_joint_plan; KC_E_ARG also for a NULL cfg, an
- * unknown kind, or (jerk) a qddd_max of a moving joint that is not > 0
- * and finite. plan is untouched on error. */
+ * unknown kind, a non-finite start velocity or acceleration, a moving
+ * start with the trapezoid, or (jerk) a qddd_max of a joint that moves and
+ * is not > 0 and finite. plan is untouched on error. */
 kc_status kc_interp_joint_plan_cfg(kc_interp_joint *plan, const kc_interp_joint_cfg *cfg);
 
 /* Setpoint at tick k >= 0: KC_OK while moving, KC_DONE from
