@@ -201,17 +201,21 @@ static kc_status plan_jerk_moving(kc_interp_joint *plan, const kc_interp_joint_c
     r.sync = KC_INTERP_SYNC_TIME;
     r.lead = -1;
     r.u_jmax = INF;
+    /* Each joint's optimum, fast[i] (a joint at rest on its target: a
+     * zero-length plan, stretched into a wait). */
+    kc_scurve fast[KC_MAX_JOINTS];
+    kc_real jl[KC_MAX_JOINTS];
     for (int i = 0; i < c->n; i++) {
-        if (r.dq[i] == KC_R(0.0) && c->qd0[i] == KC_R(0.0) && c->qdd0[i] == KC_R(0.0))
-            continue;
-        if (!(c->qddd_max[i] > KC_R(0.0)) || !kc_isfinite(c->qddd_max[i]))
+        int still = r.dq[i] == KC_R(0.0) && c->qd0[i] == KC_R(0.0) && c->qdd0[i] == KC_R(0.0);
+        if (!still && (!(c->qddd_max[i] > KC_R(0.0)) || !kc_isfinite(c->qddd_max[i])))
             return KC_E_ARG;
-        st = kc_scurve_plan(&r.sj[i], r.q0[i], c->qd0[i], c->qdd0[i], r.q1[i], c->qd_max[i], c->qdd_max[i],
-                            c->qddd_max[i], c->dt);
+        jl[i] = still ? KC_R(1.0) : c->qddd_max[i];
+        st = kc_scurve_plan(&fast[i], r.q0[i], c->qd0[i], c->qdd0[i], r.q1[i], c->qd_max[i], c->qdd_max[i], jl[i],
+                            c->dt);
         if (st != KC_OK)
             return st;
-        if (r.sj[i].T > T) {
-            T = r.sj[i].T;
+        if (fast[i].T > T) {
+            T = fast[i].T;
             r.lead = i;
         }
         if (r.dq[i] != KC_R(0.0))
@@ -227,11 +231,7 @@ static kc_status plan_jerk_moving(kc_interp_joint *plan, const kc_interp_joint_c
     for (int m = 0; m < 16; m++, grow *= KC_R(2.0)) {
         int blocked = 0;
         for (int i = 0; i < c->n && !blocked; i++) {
-            st = kc_scurve_plan_duration_from(&r.sj[i], r.q0[i], c->qd0[i], c->qdd0[i], r.q1[i], c->qd_max[i],
-                                              c->qdd_max[i], kc_isfinite(c->qddd_max[i]) && c->qddd_max[i] > KC_R(0.0)
-                                                                 ? c->qddd_max[i]
-                                                                 : KC_R(1.0),
-                                              T, c->dt);
+            st = kc_scurve_stretch(&r.sj[i], &fast[i], c->qd_max[i], c->qdd_max[i], jl[i], T);
             if (st == KC_E_LIMIT)
                 blocked = 1;
             else if (st != KC_OK)

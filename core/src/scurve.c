@@ -88,15 +88,17 @@ static kc_real dist_of(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real J)
     return vchange_dist(&c, v0, a0, NULL) + vchange_dist(&s, vp, KC_R(0.0), NULL);
 }
 
-/* Duration of the change from (v0, a0) to vp and the stop from vp. */
-static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real J)
+/* Duration of the change from (v0, a0) to vp and the stop from vp; their
+ * distance d(vp) into *dist when given. */
+static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real J, kc_real *dist)
 {
     vchange c, s;
     kc_real tc, ts;
     vchange_plan(&c, v0, a0, vp, A, J);
     vchange_plan(&s, vp, KC_R(0.0), KC_R(0.0), A, J);
-    vchange_dist(&c, v0, a0, &tc);
-    vchange_dist(&s, vp, KC_R(0.0), &ts);
+    kc_real p = vchange_dist(&c, v0, a0, &tc) + vchange_dist(&s, vp, KC_R(0.0), &ts);
+    if (dist != NULL)
+        *dist = p;
     return tc + ts;
 }
 
@@ -137,7 +139,8 @@ static kc_real gap_dist(kc_real s, kc_real v0, kc_real a0, kc_real A, kc_real J,
  * (kinctl/scurve.h, "from a moving start"). */
 static kc_real cruise_time_of(kc_real vp, kc_real d, kc_real v0, kc_real a0, kc_real A, kc_real J)
 {
-    return change_stop_time(vp, v0, a0, A, J) + (d - dist_of(vp, v0, a0, A, J)) / vp;
+    kc_real dv, t = change_stop_time(vp, v0, a0, A, J, &dv);
+    return t + (d - dv) / vp;
 }
 
 static kc_real dfun_eval(const dfun *f, kc_real x)
@@ -357,11 +360,11 @@ kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc
     dfun f = {0, v0, a0, A, J, KC_R(0.0)}, g = {1, v0, a0, A, J, KC_R(0.0)};
     if (d <= d1) {
         vp = root(&f, -V, m1, dl - d, d1 - d, d);
-        best = change_stop_time(vp, v0, a0, A, J);
+        best = change_stop_time(vp, v0, a0, A, J, NULL);
     }
     if (d >= d2) {
         kc_real w = root(&f, m2, V, d2 - d, dh - d, d);
-        kc_real tw = change_stop_time(w, v0, a0, A, J);
+        kc_real tw = change_stop_time(w, v0, a0, A, J, NULL);
         if (best < KC_R(0.0) || tw < best) {
             vp = w;
             best = tw;
@@ -445,48 +448,42 @@ kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_re
     return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, p1 > p0 ? v : -v, KC_R(0.0), amax, jmax, duration, dt);
 }
 
-kc_status kc_scurve_plan_duration_from(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
-                                       kc_real amax, kc_real jmax, kc_real duration, kc_real dt)
+/* The moving start (v0, a0) != 0 stretched to duration > fast->T, fast
+ * its time-optimal plan (kinctl/scurve.h, kc_scurve_plan_duration_from). */
+static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J,
+                              kc_real duration, kc_real dt)
 {
-    kc_scurve fast;
-    if (prof == NULL || !kc_isfinite(duration) || duration < KC_R(0.0))
-        return KC_E_ARG;
-    if (v0 == KC_R(0.0) && a0 == KC_R(0.0))
-        return kc_scurve_plan_duration(prof, p0, p1, vmax, amax, jmax, duration, dt);
-    kc_status st = kc_scurve_plan(&fast, p0, v0, a0, p1, vmax, amax, jmax, dt);
-    if (st != KC_OK)
-        return st;
-    if (duration <= fast.T) {
-        if (duration < fast.T * (KC_R(1.0) - KC_R(8.0) * KC_REAL_EPS))
-            return KC_E_LIMIT;
-        *prof = fast;
-        return KC_OK;
-    }
-    kc_real A = amax, J = jmax, d = p1 - p0;
+    kc_real p0 = fast->p0, v0 = fast->v0, a0 = fast->a0, p1 = fast->p1, d = p1 - p0;
     /* e: how far the target lies beyond where stopping at once ends; the
      * cruise runs towards it (sign s). */
     kc_real e = d - dist_of(KC_R(0.0), v0, a0, A, J);
     if (e == KC_R(0.0)) /* stop at once, then wait */
         return build_vp(prof, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, J, duration, dt);
     kc_real s = e > KC_R(0.0) ? KC_R(1.0) : KC_R(-1.0);
-    kc_real V = kc_isfinite(vmax) ? vmax : kc_max(kc_fabs(fast.vp), kc_fabs(v0)) + A * A / J;
-    /* vp_hi: the fastest cruise on that side, V or where the cruise
-     * vanishes (the root of d(vp) = d between 0 and s V). */
-    kc_real vh = s * V, dv = dist_of(vh, v0, a0, A, J);
-    dfun f = {0, v0, a0, A, J, KC_R(0.0)};
-    if (s * (d - dv) < KC_R(0.0)) {
-        kc_real f0 = -e;
-        vh = s > KC_R(0.0) ? root(&f, KC_R(0.0), vh, f0, dv - d, d) : root(&f, vh, KC_R(0.0), dv - d, f0, d);
-        if (vh == KC_R(0.0))
-            return KC_E_LIMIT;
+    kc_real V = kc_isfinite(vmax) ? vmax : kc_max(kc_fabs(fast->vp), kc_fabs(v0)) + A * A / J;
+    /* vh: the fastest cruise on that side: the optimum's own vp when it is
+     * a plain plan on that side; else V, or where the cruise vanishes (the
+     * root of d(vp) = d between 0 and s V). */
+    kc_real vh = fast->vp;
+    if (fast->gap || !(s * vh > KC_R(0.0))) {
+        vh = s * V;
+        kc_real dv = dist_of(vh, v0, a0, A, J);
+        dfun f = {0, v0, a0, A, J, KC_R(0.0)};
+        if (s * (d - dv) < KC_R(0.0)) {
+            kc_real f0 = -e;
+            vh = s > KC_R(0.0) ? root(&f, KC_R(0.0), vh, f0, dv - d, d) : root(&f, vh, KC_R(0.0), dv - d, f0, d);
+            if (vh == KC_R(0.0))
+                return KC_E_LIMIT;
+        }
     }
     dfun t = {2, v0, a0, A, J, d};
     kc_real th = dfun_eval(&t, vh) - duration;
     if (!(th <= KC_R(0.0)))
         return KC_E_LIMIT; /* between the optimum and the slowest cruise this side allows */
-    /* vp_lo: halved until the plan lasts at least the duration (the cruise
-     * grows as 1 / vp: a few halvings). */
-    kc_real vl = vh, tl = th;
+    /* vl: where the cruise alone, e / vp, would fill the duration, then
+     * halved until the plan lasts at least that long (the cruise grows as
+     * 1 / vp: rarely more than a halving). */
+    kc_real vl = kc_min(kc_fabs(e) / duration, kc_fabs(vh)) * s, tl = dfun_eval(&t, vl) - duration;
     for (int i = 0; i < KC_SCURVE_MAX_ITER && tl < KC_R(0.0); i++) {
         vl *= KC_R(0.5);
         tl = dfun_eval(&t, vl) - duration;
@@ -498,6 +495,37 @@ kc_status kc_scurve_plan_duration_from(kc_scurve *prof, kc_real p0, kc_real v0, 
     if (!(tc >= KC_R(0.0)))
         return KC_E_LIMIT;
     return build_vp(prof, p0, v0, a0, p1, vp, tc, A, J, duration, dt);
+}
+
+kc_status kc_scurve_plan_duration_from(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
+                                       kc_real amax, kc_real jmax, kc_real duration, kc_real dt)
+{
+    kc_scurve fast;
+    if (prof == NULL || !kc_isfinite(duration) || duration < KC_R(0.0))
+        return KC_E_ARG;
+    if (v0 == KC_R(0.0) && a0 == KC_R(0.0))
+        return kc_scurve_plan_duration(prof, p0, p1, vmax, amax, jmax, duration, dt);
+    kc_status st = kc_scurve_plan(&fast, p0, v0, a0, p1, vmax, amax, jmax, dt);
+    if (st != KC_OK)
+        return st;
+    return kc_scurve_stretch(prof, &fast, vmax, amax, jmax, duration);
+}
+
+kc_status kc_scurve_stretch(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real amax, kc_real jmax,
+                            kc_real duration)
+{
+    if (prof == NULL || fast == NULL || !kc_isfinite(duration) || duration < KC_R(0.0) ||
+        !limits_ok(vmax, amax, jmax, fast->dt))
+        return KC_E_ARG;
+    if (duration <= fast->T) {
+        if (duration < fast->T * (KC_R(1.0) - KC_R(8.0) * KC_REAL_EPS))
+            return KC_E_LIMIT;
+        *prof = *fast;
+        return KC_OK;
+    }
+    if (fast->v0 == KC_R(0.0) && fast->a0 == KC_R(0.0))
+        return kc_scurve_plan_duration(prof, fast->p0, fast->p1, vmax, amax, jmax, duration, fast->dt);
+    return stretch_from(prof, fast, vmax, amax, jmax, duration, fast->dt);
 }
 
 /* The state at t in [0, T). */

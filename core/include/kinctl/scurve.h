@@ -201,6 +201,12 @@ kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_re
 kc_status kc_scurve_plan_duration_from(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
                                        kc_real amax, kc_real jmax, kc_real duration, kc_real dt);
 
+/* As kc_scurve_plan_duration_from, from the time-optimal plan `fast`
+ * already made by kc_scurve_plan with the same limits (saves planning it
+ * again when synchronising). prof may alias fast. */
+kc_status kc_scurve_stretch(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real amax, kc_real jmax,
+                            kc_real duration);
+
 /* State at tick k >= 0 (t = k dt): KC_OK while moving (k < ticks), KC_DONE
  * from tick `ticks` on (exactly p1, 0, 0, jerk 0, phase 4), KC_E_ARG for
  * NULL arguments or k < 0 (out untouched). */
