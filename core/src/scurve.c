@@ -78,25 +78,32 @@ static kc_real vchange_dist(const vchange *c, kc_real v, kc_real a, kc_real *tim
     return p;
 }
 
+/* The stop from (vp, 0) to rest: symmetric in time, so its distance is
+ * vp t / 2, with t = |vp| / A + A / J when A is reached (|vp| >= A^2 / J)
+ * and 2 sqrt(|vp| / J) otherwise (kinctl/scurve.h, "Velocity change"). */
+static kc_real stop_time(kc_real vp, kc_real A, kc_real J)
+{
+    kc_real w = kc_fabs(vp);
+    return w * J >= A * A ? w / A + A / J : KC_R(2.0) * kc_sqrt(w / J);
+}
+
 /* d(vp): the distance of the change from (v0, a0) to vp and the stop from
  * vp, with no cruise. */
 static kc_real dist_of(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real J)
 {
-    vchange c, s;
+    vchange c;
     vchange_plan(&c, v0, a0, vp, A, J);
-    vchange_plan(&s, vp, KC_R(0.0), KC_R(0.0), A, J);
-    return vchange_dist(&c, v0, a0, NULL) + vchange_dist(&s, vp, KC_R(0.0), NULL);
+    return vchange_dist(&c, v0, a0, NULL) + KC_R(0.5) * vp * stop_time(vp, A, J);
 }
 
 /* Duration of the change from (v0, a0) to vp and the stop from vp; their
  * distance d(vp) into *dist when given. */
 static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real J, kc_real *dist)
 {
-    vchange c, s;
-    kc_real tc, ts;
+    vchange c;
+    kc_real tc, ts = stop_time(vp, A, J);
     vchange_plan(&c, v0, a0, vp, A, J);
-    vchange_plan(&s, vp, KC_R(0.0), KC_R(0.0), A, J);
-    kc_real p = vchange_dist(&c, v0, a0, &tc) + vchange_dist(&s, vp, KC_R(0.0), &ts);
+    kc_real p = vchange_dist(&c, v0, a0, &tc) + KC_R(0.5) * vp * ts;
     if (dist != NULL)
         *dist = p;
     return tc + ts;
