@@ -113,7 +113,7 @@ static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, k
  * gap family (x = s, the fraction of a0 ramped away, kinctl/scurve.h), or
  * T(vp) = T for a stretched plan. */
 typedef struct dfun {
-    int gap; /* 0: plain d(vp); 1: gap d(s); 2: the duration with a cruise to d */
+    int gap; /* 0: plain d(vp); 1: gap d(s); 2: the duration with a cruise to d, of x = 1 / vp */
     kc_real v0, a0, A, J;
     kc_real d; /* kind 2: the distance to cover */
 } dfun;
@@ -152,8 +152,8 @@ static kc_real cruise_time_of(kc_real vp, kc_real d, kc_real v0, kc_real a0, kc_
 
 static kc_real dfun_eval(const dfun *f, kc_real x)
 {
-    if (f->gap == 2)
-        return cruise_time_of(x, f->d, f->v0, f->a0, f->A, f->J);
+    if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
+        return cruise_time_of(KC_R(1.0) / x, f->d, f->v0, f->a0, f->A, f->J);
     return f->gap ? gap_dist(x, f->v0, f->a0, f->A, f->J, NULL, NULL, NULL) : dist_of(x, f->v0, f->a0, f->A, f->J);
 }
 
@@ -484,20 +484,24 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
         }
     }
     dfun t = {2, v0, a0, A, J, d};
-    kc_real th = dfun_eval(&t, vh) - duration;
+    kc_real th = cruise_time_of(vh, d, v0, a0, A, J) - duration;
     if (!(th <= KC_R(0.0)))
         return KC_E_LIMIT; /* between the optimum and the slowest cruise this side allows */
     /* vl: where the cruise alone, e / vp, would fill the duration, then
      * halved until the plan lasts at least that long (the cruise grows as
      * 1 / vp: rarely more than a halving). */
-    kc_real vl = kc_min(kc_fabs(e) / duration, kc_fabs(vh)) * s, tl = dfun_eval(&t, vl) - duration;
+    kc_real vl = kc_min(kc_fabs(e) / duration, kc_fabs(vh)) * s, tl = cruise_time_of(vl, d, v0, a0, A, J) - duration;
     for (int i = 0; i < KC_SCURVE_MAX_ITER && tl < KC_R(0.0); i++) {
         vl *= KC_R(0.5);
-        tl = dfun_eval(&t, vl) - duration;
+        tl = cruise_time_of(vl, d, v0, a0, A, J) - duration;
     }
     if (!(tl >= KC_R(0.0)) || !kc_isfinite(tl))
         return KC_E_CAPACITY;
-    kc_real vp = s > KC_R(0.0) ? root(&t, vl, vh, tl, th, duration) : root(&t, vh, vl, th, tl, duration);
+    /* In x = 1 / vp, ascending: 1 / vh < 1 / vl for s > 0, the other way
+     * round for s < 0. */
+    kc_real xh = KC_R(1.0) / vh, xl = KC_R(1.0) / vl;
+    kc_real x = s > KC_R(0.0) ? root(&t, xh, xl, th, tl, duration) : root(&t, xl, xh, tl, th, duration);
+    kc_real vp = KC_R(1.0) / x;
     kc_real tc = (d - dist_of(vp, v0, a0, A, J)) / vp;
     if (!(tc >= KC_R(0.0)))
         return KC_E_LIMIT;
