@@ -228,7 +228,7 @@ static kc_status plan_jerk_moving(kc_interp_joint *plan, const kc_interp_joint_c
     }
     /* Every joint stretched to T; T grown past a blocked interval. */
     kc_real grow = KC_R(1.0) / KC_R(1024.0);
-    for (int m = 0; m < 16; m++, grow *= KC_R(2.0)) {
+    for (int m = 0; m < 16; m++) {
         int blocked = 0;
         for (int i = 0; i < c->n && !blocked; i++) {
             st = kc_scurve_stretch(&r.sj[i], &fast[i], c->qd_max[i], c->qdd_max[i], jl[i], T);
@@ -244,6 +244,7 @@ static kc_status plan_jerk_moving(kc_interp_joint *plan, const kc_interp_joint_c
             return KC_OK;
         }
         T += T * grow;
+        grow *= KC_R(2.0);
     }
     return KC_E_LIMIT;
 }

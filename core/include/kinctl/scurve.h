@@ -113,8 +113,9 @@
  * across the end too. Sampling a piecewise-linear acceleration whose slope
  * is at most J never shows a change of more than J dt per tick.
  *
- * Planning is bounded (closed forms, and at most three root searches of
- * at most KC_SCURVE_MAX_ITER steps for moving starts) and allocation-free;
+ * Planning is bounded (closed forms; for a moving start at most three
+ * root searches of at most KC_SCURVE_MAX_ITER steps, and to stretch it
+ * two more and at most KC_SCURVE_MAX_ITER halvings) and allocation-free;
  * evaluation is O(1) (a scan of at most seven phase ends and a cubic).
  * Every function is pure and safe to call in the control cycle.
  */
@@ -190,7 +191,10 @@ kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_re
  * vanishes): its duration
  *     T(vp) = t_change(vp) + t_stop(vp) + (d - d(vp)) / vp
  * grows without bound as vp -> 0, and T(vp) = duration is solved by the
- * same root search (vp halved first until T(vp) >= duration). e = 0 is
+ * same root search in x = 1 / vp, where the cruise's share of T is
+ * linear, bracketed by the fastest cruise and a vp = e / duration (where
+ * the cruise alone would fill the duration) halved until T(vp) >= duration;
+ * about eight evaluations of T. e = 0 is
  * the stop followed by a wait. A start at rest is
  * kc_scurve_plan_duration. Returns KC_E_LIMIT for a duration shorter than
  * the optimum (beyond 8 units of roundoff) and for one in a blocked
