@@ -455,6 +455,49 @@ kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_re
     return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, p1 > p0 ? v : -v, KC_R(0.0), amax, jmax, duration, dt);
 }
 
+/* The root between v1 and v3 of the quadratic through (v1, g1), (v2, g2),
+ * (v3, g3) (Newton's divided differences), or 0 when it has none there. */
+static kc_real quad_root(kc_real v1, kc_real g1, kc_real v2, kc_real g2, kc_real v3, kc_real g3)
+{
+    kc_real f12 = (g2 - g1) / (v2 - v1), f23 = (g3 - g2) / (v3 - v2);
+    kc_real qa = (f23 - f12) / (v3 - v1);
+    kc_real qb = f12 - qa * (v1 + v2), qc = g1 - v1 * (f12 - qa * v2);
+    kc_real lo = kc_min(v1, v3), hi = kc_max(v1, v3), r1, r2;
+    if (qa == KC_R(0.0)) {
+        r1 = r2 = -qc / qb;
+    } else {
+        kc_real disc = qb * qb - KC_R(4.0) * qa * qc;
+        if (!(disc >= KC_R(0.0)))
+            return KC_R(0.0);
+        /* The two roots without cancellation. */
+        kc_real q = KC_R(-0.5) * (qb + (qb >= KC_R(0.0) ? kc_sqrt(disc) : -kc_sqrt(disc)));
+        r1 = q / qa;
+        r2 = q != KC_R(0.0) ? qc / q : r1;
+    }
+    if (r1 > lo && r1 < hi)
+        return r1;
+    if (r2 > lo && r2 < hi)
+        return r2;
+    return KC_R(0.0);
+}
+
+/* Keeps the bracket (vh: T - duration <= 0, vl: >= 0) tight with a new
+ * point v of value f. */
+static void narrow(kc_real v, kc_real f, kc_real *vh, kc_real *th, kc_real *vl, kc_real *tl)
+{
+    if (!kc_isfinite(f))
+        return;
+    if (f <= KC_R(0.0)) {
+        if (kc_fabs(v) < kc_fabs(*vh) && kc_fabs(v) > kc_fabs(*vl)) {
+            *vh = v;
+            *th = f;
+        }
+    } else if (kc_fabs(v) > kc_fabs(*vl) && kc_fabs(v) < kc_fabs(*vh)) {
+        *vl = v;
+        *tl = f;
+    }
+}
+
 /* The moving start (v0, a0) != 0 stretched to duration > fast->T, fast
  * its time-optimal plan (kinctl/scurve.h, kc_scurve_plan_duration_from). */
 static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J,
@@ -497,11 +540,28 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
     }
     if (!(tl >= KC_R(0.0)) || !kc_isfinite(tl))
         return KC_E_CAPACITY;
-    /* In x = 1 / vp, ascending: 1 / vh < 1 / vl for s > 0, the other way
-     * round for s < 0. */
-    kc_real xh = KC_R(1.0) / vh, xl = KC_R(1.0) / vl;
-    kc_real x = s > KC_R(0.0) ? root(&t, xh, xl, th, tl, duration) : root(&t, xl, xh, tl, th, duration);
-    kc_real vp = KC_R(1.0) / x;
+    /* Where the change and the stop both reach amax, d(vp) is quadratic
+     * and the duration linear in vp, so (T(vp) - duration) vp is a
+     * quadratic in vp: fitted through vh, vl and their harmonic mean, its
+     * root is exact there and a close first guess elsewhere. */
+    kc_real vm = KC_R(2.0) / (KC_R(1.0) / vh + KC_R(1.0) / vl);
+    kc_real tm = cruise_time_of(vm, d, v0, a0, A, J) - duration;
+    kc_real vp = quad_root(vh, th * vh, vm, tm * vm, vl, tl * vl);
+    if (vp != KC_R(0.0)) {
+        kc_real tq = cruise_time_of(vp, d, v0, a0, A, J) - duration;
+        if (kc_fabs(tq) > KC_R(4.0) * KC_REAL_EPS * duration) {
+            narrow(vp, tq, &vh, &th, &vl, &tl);
+            vp = KC_R(0.0);
+        }
+    }
+    narrow(vm, tm, &vh, &th, &vl, &tl);
+    if (vp == KC_R(0.0)) {
+        /* In x = 1 / vp, ascending: 1 / vh < 1 / vl for s > 0, the other
+         * way round for s < 0. */
+        kc_real xh = KC_R(1.0) / vh, xl = KC_R(1.0) / vl;
+        kc_real x = s > KC_R(0.0) ? root(&t, xh, xl, th, tl, duration) : root(&t, xl, xh, tl, th, duration);
+        vp = KC_R(1.0) / x;
+    }
     kc_real tc = (d - dist_of(vp, v0, a0, A, J)) / vp;
     if (!(tc >= KC_R(0.0)))
         return KC_E_LIMIT;
