@@ -14,16 +14,19 @@
  * KC_OK for k < ticks and KC_DONE from then on, with the state exactly at
  * the segment's end (target position, velocity and acceleration zero). eval
  * is pure and safe to call in the control cycle and from several threads on
- * one plan; planning is bounded (no loop runs longer than KC_MAX_JOINTS) and
- * allocation-free, so it is cycle-safe too, though it costs more (trig
- * functions and square roots).
+ * one plan; planning is bounded (no loop runs longer than KC_MAX_JOINTS,
+ * except a jerk-limited joint move's root searches, each bounded by
+ * KC_SCURVE_MAX_ITER, kinctl/scurve.h) and allocation-free, so it is
+ * cycle-safe too, though it costs more (trig functions and square roots).
  *
  * Speed laws. The fraction u follows a trapezoid (triangle when short) from
  * rest to rest, with the limits of u chosen so that every physical limit
  * holds: for a quantity that moves by D over the segment with limits
  * (vmax, amax), u' <= vmax / D and u'' <= amax / D, and u takes the
  * smallest of these bounds. Where one quantity binds, this is exactly the
- * seed's trapezoid on it (lab 4 eqs. 4.6-4.12, see kinctl/profile.h).
+ * seed's trapezoid on it (lab 4 eqs. 4.6-4.12, see kinctl/profile.h). The
+ * joint move may instead be jerk-limited (kc_interp_joint_plan_cfg,
+ * kinctl/scurve.h).
  *
  * Units: positions in m (joint moves: rad or m per joint), times in s,
  * angles in rad; everything in the base frame unless said otherwise.
