@@ -87,8 +87,189 @@ kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, 
     kc_status st = plan_u(&r.prof, V, A, duration, dt);
     if (st != KC_OK)
         return st;
+    r.kind = KC_PROFILE_TRAPEZOID;
+    r.T = r.prof.T;
+    r.ticks = r.prof.ticks;
     *plan = r;
     return KC_OK;
+}
+
+kc_interp_joint_cfg kc_interp_joint_cfg_default(void)
+{
+    kc_interp_joint_cfg c;
+    memset(&c, 0, sizeof c);
+    for (int i = 0; i < KC_MAX_JOINTS; i++)
+        c.qd_max[i] = INF;
+    c.profile = KC_PROFILE_TRAPEZOID;
+    return c;
+}
+
+/* The jerk-limited move (kinctl/interp.h, kc_interp_joint_plan_cfg). */
+static kc_status plan_jerk(kc_interp_joint *plan, const kc_interp_joint_cfg *c)
+{
+    kc_interp_joint r;
+    kc_real V = INF, A = INF, J = INF, T = KC_R(0.0);
+    kc_status st;
+    /* The limits, the start and the leading joints as the trapezoid has
+     * them (u_vmax, u_amax, lead_vel, lead_acc). */
+    st = kc_interp_joint_plan(&r, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
+    if (st != KC_OK)
+        return st;
+    memset(&r.prof, 0, sizeof r.prof);
+    r.kind = KC_PROFILE_JERK;
+    r.lead = -1;
+    for (int i = 0; i < c->n; i++) {
+        kc_real D = kc_fabs(r.dq[i]);
+        if (D == KC_R(0.0))
+            continue;
+        if (!(c->qddd_max[i] > KC_R(0.0)) || !kc_isfinite(c->qddd_max[i]))
+            return KC_E_ARG;
+        st = kc_scurve_plan(&r.sj[i], r.q0[i], KC_R(0.0), KC_R(0.0), r.q1[i], c->qd_max[i], c->qdd_max[i],
+                            c->qddd_max[i], c->dt);
+        if (st != KC_OK)
+            return st;
+        /* Strict comparison: ties go to the lowest index, as in (4.2). */
+        if (r.sj[i].T > T) {
+            T = r.sj[i].T;
+            r.lead = i;
+        }
+        V = kc_min(V, c->qd_max[i] / D);
+        A = kc_min(A, c->qdd_max[i] / D);
+        J = kc_min(J, c->qddd_max[i] / D);
+    }
+    if (c->duration > KC_R(0.0)) {
+        if (c->duration < T * (KC_R(1.0) - KC_R(8.0) * KC_REAL_EPS))
+            return KC_E_LIMIT;
+        T = kc_max(T, c->duration);
+    }
+    r.u_vmax = V;
+    r.u_amax = A;
+    r.u_jmax = J;
+    r.T = T;
+    r.sync = KC_INTERP_SYNC_PHASE;
+    if (r.lead < 0 || !kc_isfinite(J)) {
+        /* Nothing moves (by a representable amount): u stays at 1. */
+        st = kc_scurve_plan_duration(&r.su, KC_R(1.0), KC_R(1.0), INF, KC_R(1.0), KC_R(1.0), T, c->dt);
+        if (st != KC_OK)
+            return st;
+        r.ticks = r.su.ticks;
+        *plan = r;
+        return KC_OK;
+    }
+    /* Phase: the straight line, if it is as fast. */
+    st = kc_scurve_plan(&r.su, KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(1.0), V, A, J, c->dt);
+    if (st != KC_OK)
+        return st;
+    if (r.su.T <= T * (KC_R(1.0) + KC_R(8.0) * KC_REAL_EPS)) {
+        if (T > r.su.T) {
+            st = kc_scurve_plan_duration(&r.su, KC_R(0.0), KC_R(1.0), V, A, J, T, c->dt);
+            if (st != KC_OK)
+                return st;
+        }
+        r.T = r.su.T;
+        r.ticks = r.su.ticks;
+        *plan = r;
+        return KC_OK;
+    }
+    /* Time: every moving joint stretched to T. */
+    r.sync = KC_INTERP_SYNC_TIME;
+    memset(&r.su, 0, sizeof r.su);
+    for (int i = 0; i < c->n; i++) {
+        /* A joint that does not move waits at q0 (its jerk limit unused). */
+        kc_real jl = r.dq[i] == KC_R(0.0) ? KC_R(1.0) : c->qddd_max[i];
+        st = kc_scurve_plan_duration(&r.sj[i], r.q0[i], r.q1[i], c->qd_max[i], c->qdd_max[i], jl, T, c->dt);
+        if (st != KC_OK)
+            return st;
+    }
+    r.ticks = r.sj[r.lead].ticks;
+    *plan = r;
+    return KC_OK;
+}
+
+/* The jerk-limited move from a moving start: time synchronisation
+ * (kinctl/interp.h). */
+static kc_status plan_jerk_moving(kc_interp_joint *plan, const kc_interp_joint_cfg *c)
+{
+    kc_interp_joint r;
+    kc_real T = KC_R(0.0);
+    kc_status st = kc_interp_joint_plan(&r, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
+    if (st != KC_OK)
+        return st;
+    memset(&r.prof, 0, sizeof r.prof);
+    memset(&r.su, 0, sizeof r.su);
+    r.kind = KC_PROFILE_JERK;
+    r.sync = KC_INTERP_SYNC_TIME;
+    r.lead = -1;
+    r.u_jmax = INF;
+    /* Each joint's optimum, fast[i] (a joint at rest on its target: a
+     * zero-length plan, stretched into a wait). */
+    kc_scurve fast[KC_MAX_JOINTS];
+    kc_real jl[KC_MAX_JOINTS];
+    for (int i = 0; i < c->n; i++) {
+        int still = r.dq[i] == KC_R(0.0) && c->qd0[i] == KC_R(0.0) && c->qdd0[i] == KC_R(0.0);
+        if (!still && (!(c->qddd_max[i] > KC_R(0.0)) || !kc_isfinite(c->qddd_max[i])))
+            return KC_E_ARG;
+        jl[i] = still ? KC_R(1.0) : c->qddd_max[i];
+        st = kc_scurve_plan(&fast[i], r.q0[i], c->qd0[i], c->qdd0[i], r.q1[i], c->qd_max[i], c->qdd_max[i], jl[i],
+                            c->dt);
+        if (st != KC_OK)
+            return st;
+        if (fast[i].T > T) {
+            T = fast[i].T;
+            r.lead = i;
+        }
+        if (r.dq[i] != KC_R(0.0))
+            r.u_jmax = kc_min(r.u_jmax, c->qddd_max[i] / kc_fabs(r.dq[i]));
+    }
+    if (c->duration > KC_R(0.0)) {
+        if (c->duration < T * (KC_R(1.0) - KC_R(8.0) * KC_REAL_EPS))
+            return KC_E_LIMIT;
+        T = kc_max(T, c->duration);
+    }
+    /* Every joint stretched to T; T grown past a blocked interval. */
+    kc_real grow = KC_R(1.0) / KC_R(1024.0);
+    for (int m = 0; m < 16; m++) {
+        int blocked = 0;
+        for (int i = 0; i < c->n && !blocked; i++) {
+            st = kc_scurve_stretch(&r.sj[i], &fast[i], c->qd_max[i], c->qdd_max[i], jl[i], T);
+            if (st == KC_E_LIMIT)
+                blocked = 1;
+            else if (st != KC_OK)
+                return st;
+        }
+        if (!blocked) {
+            r.T = r.sj[r.lead].T;
+            r.ticks = r.sj[r.lead].ticks;
+            *plan = r;
+            return KC_OK;
+        }
+        T += T * grow;
+        grow *= KC_R(2.0);
+    }
+    return KC_E_LIMIT;
+}
+
+kc_status kc_interp_joint_plan_cfg(kc_interp_joint *plan, const kc_interp_joint_cfg *cfg)
+{
+    if (plan == NULL || cfg == NULL)
+        return KC_E_ARG;
+    if (cfg->n > KC_MAX_JOINTS)
+        return KC_E_CAPACITY;
+    int moving = 0;
+    for (int i = 0; i < cfg->n; i++) {
+        if (!kc_isfinite(cfg->qd0[i]) || !kc_isfinite(cfg->qdd0[i]))
+            return KC_E_ARG;
+        moving |= cfg->qd0[i] != KC_R(0.0) || cfg->qdd0[i] != KC_R(0.0);
+    }
+    if (cfg->profile == KC_PROFILE_TRAPEZOID)
+        return moving ? KC_E_ARG
+                      : kc_interp_joint_plan(plan, cfg->n, cfg->q0, cfg->q1, cfg->qd_max, cfg->qdd_max, cfg->duration,
+                                             cfg->dt);
+    if (cfg->profile != KC_PROFILE_JERK)
+        return KC_E_ARG;
+    if (!kc_isfinite(cfg->duration) || cfg->duration < KC_R(0.0))
+        return KC_E_ARG;
+    return moving ? plan_jerk_moving(plan, cfg) : plan_jerk(plan, cfg);
 }
 
 /* The joint move's state for one state of its u profile (st: KC_OK or
@@ -102,6 +283,7 @@ static kc_status joint_at(const kc_interp_joint *plan, kc_status st, const kc_pr
             out->q[i] = plan->q1[i];
             out->qd[i] = KC_R(0.0);
             out->qdd[i] = KC_R(0.0);
+            out->qddd[i] = KC_R(0.0);
         }
     } else {
         for (int i = 0; i < n; i++) {
@@ -109,6 +291,7 @@ static kc_status joint_at(const kc_interp_joint *plan, kc_status st, const kc_pr
             out->q[i] = plan->q0[i] + d * u->p;
             out->qd[i] = d * u->v;
             out->qdd[i] = d * u->a;
+            out->qddd[i] = KC_R(0.0);
         }
     }
     out->u = u->p;
@@ -128,9 +311,63 @@ static kc_status u_state(const kc_profile *prof, int64_t k, kc_profile_state *u,
     return st;
 }
 
+/* A jerk-limited move at tick k >= 0. */
+static kc_status joint_jerk_at(const kc_interp_joint *plan, int64_t k, kc_interp_joint_state *out)
+{
+    int n = plan->n;
+    kc_scurve_state u;
+    if (k >= plan->ticks) {
+        for (int i = 0; i < n; i++) {
+            out->q[i] = plan->q1[i];
+            out->qd[i] = out->qdd[i] = out->qddd[i] = KC_R(0.0);
+        }
+        out->u = KC_R(1.0);
+        out->ud = out->udd = KC_R(0.0);
+        out->phase = 4;
+        return KC_DONE;
+    }
+    if (plan->sync == KC_INTERP_SYNC_PHASE) {
+        kc_scurve_eval(&plan->su, k, &u);
+        for (int i = 0; i < n; i++) {
+            kc_real d = plan->dq[i];
+            out->q[i] = plan->q0[i] + d * u.p;
+            out->qd[i] = d * u.v;
+            out->qdd[i] = d * u.a;
+            out->qddd[i] = d * u.j;
+        }
+        out->u = u.p;
+        out->ud = u.v;
+        out->udd = u.a;
+        out->phase = u.phase;
+        return KC_OK;
+    }
+    for (int i = 0; i < n; i++) {
+        kc_scurve_eval(&plan->sj[i], k, &u);
+        out->q[i] = u.p;
+        out->qd[i] = u.v;
+        out->qdd[i] = u.a;
+        out->qddd[i] = u.j;
+        if (i == plan->lead) {
+            /* The leading joint's fraction; time itself when it returns
+             * to where it started. */
+            kc_real d = plan->dq[i];
+            int back = d == KC_R(0.0);
+            out->u = back ? (kc_real)k * plan->sj[i].dt / plan->T : (u.p - plan->q0[i]) / d;
+            out->ud = back ? KC_R(0.0) : u.v / d;
+            out->udd = back ? KC_R(0.0) : u.a / d;
+            out->phase = u.phase;
+        }
+    }
+    return KC_OK;
+}
+
 kc_status kc_interp_joint_eval(const kc_interp_joint *plan, int64_t k, kc_interp_joint_state *out)
 {
-    return plan == NULL ? KC_E_ARG : kc_interp_joint_eval_profile(plan, &plan->prof, k, out);
+    if (plan == NULL || out == NULL || k < 0)
+        return KC_E_ARG;
+    if (plan->kind == KC_PROFILE_JERK)
+        return joint_jerk_at(plan, k, out);
+    return kc_interp_joint_eval_profile(plan, &plan->prof, k, out);
 }
 
 kc_status kc_interp_joint_eval_profile(const kc_interp_joint *plan, const kc_profile *prof, int64_t k,

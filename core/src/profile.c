@@ -4,14 +4,16 @@
 
 #include <stddef.h>
 
+#include "profile_internal.h"
+
 static int limits_ok(kc_real vmax, kc_real amax, kc_real dt)
 {
     /* Written with ! so that NaN fails every test into an error. */
     return vmax > KC_R(0.0) && amax > KC_R(0.0) && kc_isfinite(amax) && dt > KC_R(0.0) && kc_isfinite(dt);
 }
 
-/* First tick k with k dt >= T, or -1 when that exceeds the capacity. */
-static int64_t ticks_of(kc_real T, kc_real dt)
+/* profile_internal.h */
+int64_t kc_profile_ticks(kc_real T, kc_real dt)
 {
     kc_real x = T / dt;
     if (!(x <= (kc_real)KC_PROFILE_MAX_TICKS))
@@ -57,7 +59,7 @@ static kc_status finish(kc_profile *prof, kc_profile *r, kc_real dt)
     r->dt = dt;
     if (!kc_isfinite(r->T) || !kc_isfinite(r->pc))
         return KC_E_CAPACITY;
-    r->ticks = ticks_of(r->T, dt);
+    r->ticks = kc_profile_ticks(r->T, dt);
     if (r->ticks < 0)
         return KC_E_CAPACITY;
     *prof = *r;

@@ -200,6 +200,126 @@ def test_joint_model_limits_and_per_joint():
     near(rows[-1][0], 3.0, 1e-9 if not FLOAT else 1e-5, "stretched end")
 
 
+# ---- jerk-limited joint moves (--profile jerk) ----
+
+PANDA_QD = [2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61]
+PANDA_QDD = [15.0, 7.5, 10.0, 12.5, 15.0, 20.0, 20.0]
+PANDA_QDDD = [7500.0, 3750.0, 5000.0, 6250.0, 7500.0, 10000.0, 10000.0]
+
+
+def rest_to_rest_time(D, V, A, J):
+    """The fastest rest-to-rest time over D, independent of the calculator's closed form: reaching a speed v
+    from rest and stopping take ta(v) = v/A + A/J (v >= A^2/J) or 2 sqrt(v/J) each, over v ta(v) together;
+    the move cruises at the largest v <= V with v ta(v) <= D (bisection)."""
+    if D == 0.0:
+        return 0.0
+
+    def ta(v):
+        return v / A + A / J if v >= A * A / J else 2.0 * math.sqrt(v / J)
+
+    v = V
+    if v * ta(v) > D:
+        lo, hi = 0.0, V
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (lo, mid) if mid * ta(mid) > D else (mid, hi)
+        v = lo
+    return 2.0 * ta(v) + (D - v * ta(v)) / v
+
+
+def check_jerk_rows(header, rows, n, q0, q1, vmax, amax, jmax, dt):
+    """Every row within each joint's limits; jerk as the change of qdd per row over dt, with the slack of
+    tests/unit/test_scurve.c (rounding of t = k dt and of the sums: 8 eps (A + J T)); qddd within J; the
+    first row q0 at rest, the last q1 at rest, on one row for every joint."""
+    assert header == ["t"] + [f"{s}{i + 1}" for s in ("q", "qd", "qdd", "qddd") for i in range(n)]
+    T = rows[-1][0]
+    for i in range(n):
+        assert rows[0][1 + i] == q0[i] and rows[0][1 + n + i] == 0.0 and rows[0][1 + 2 * n + i] == 0.0
+        assert rows[-1][1 + i] == q1[i] and rows[-1][1 + n + i] == 0.0 and rows[-1][1 + 2 * n + i] == 0.0
+        V, A, J = vmax[i], amax[i], jmax[i]
+        slack = 8 * EPS * (A + J * T) + 16 * EPS * J * dt
+        for prev, row in zip(rows, rows[1:]):
+            assert abs(row[1 + n + i]) <= V * (1 + 16 * EPS) + 4 * EPS * A * T
+            assert abs(row[1 + 2 * n + i]) <= A * (1 + 16 * EPS) + 4 * EPS * J * T
+            assert abs(row[1 + 2 * n + i] - prev[1 + 2 * n + i]) <= J * dt + slack, (i, row[0])
+            assert abs(row[1 + 3 * n + i]) <= J * (1 + 16 * EPS)
+    # The joints do not all arrive before the last row: someone still moves on the row before it.
+    assert any(rows[-2][1 + n + i] != 0.0 or rows[-2][1 + 2 * n + i] != 0.0 for i in range(n))
+
+
+def test_joint_jerk_random_moves():
+    # Seeded random panda moves (7 joints, the model's limits including its jerk limits) and puma560 moves with
+    # given limits (6 joints): limits, jerk, exact ends on one row, and the duration is the slowest joint's
+    # independent optimum rounded up to the tick.
+    import random
+    rng = random.Random(1906)
+    for case in range(24):
+        panda = case % 2 == 0
+        n = 7 if panda else 6
+        q0 = [round(rng.uniform(-1.5, 1.5), 6) for _ in range(n)]
+        q1 = [round(rng.uniform(-1.5, 1.5), 6) for _ in range(n)]
+        dt = rng.choice([0.001, 0.002, 0.004])
+        if panda:
+            vmax, amax, jmax, extra = PANDA_QD, PANDA_QDD, PANDA_QDDD, []
+        else:
+            vmax = [round(rng.uniform(0.5, 3.0), 3) for _ in range(n)]
+            amax = [round(rng.uniform(2.0, 20.0), 3) for _ in range(n)]
+            jmax = [round(rng.uniform(20.0, 500.0), 3) for _ in range(n)]
+            extra = ["--vmax", nums(vmax), "--amax", nums(amax), "--jmax", nums(jmax)]
+        r = run(["interp", "joint", "--model", "panda" if panda else "puma560", "--q0", nums(q0), "--q1", nums(q1),
+                 "--profile", "jerk", "--dt", dt] + extra)
+        assert r.returncode == 0, r.stderr
+        lines = r.stdout.splitlines()
+        header = lines[0].split(",")
+        rows = [[float(x) for x in line.split(",")] for line in lines[1:]]
+        check_jerk_rows(header, rows, n, q0, q1, vmax, amax, jmax, dt)
+        T = max(rest_to_rest_time(abs(b - a), V, A, J) for a, b, V, A, J in zip(q0, q1, vmax, amax, jmax))
+        ticks = math.ceil(T / dt - 1e-9)
+        assert len(rows) - 1 in (ticks, ticks + 1) and (len(rows) - 2) * dt < T * (1 + 1e-6) and \
+            (len(rows) - 1) * dt >= T * (1 - 1e-6), (case, len(rows) - 1, T / dt)
+
+
+def test_joint_jerk_batch_duration_and_model_default():
+    # Batch gives the duration: the slowest joint's optimum (puma560's jerk limits from the model).
+    q1 = [0.4, -0.9, 0.7, 1.5, -1.1, 2.0]
+    a, = batch([{"op": "interp", "kind": "joint", "model": "panda", "q0": [0] * 7, "q1": q1 + [0.3],
+                 "profile": "jerk", "dt": 0.001}])
+    T = max(rest_to_rest_time(abs(q), V, A, J) for q, V, A, J in zip(q1 + [0.3], PANDA_QD, PANDA_QDD, PANDA_QDDD))
+    near(a["duration"], T, 1e-9 if not FLOAT else 1e-5, "duration")
+    assert a["columns"][-1] == "qddd7"
+    # The model's jerk limits are the default: the same rows as given explicitly (and one value for all).
+    args = ["interp", "joint", "--model", "panda", "--q0", "0,0,0,0,0,0,0", "--q1", nums(q1 + [0.3]),
+            "--profile", "jerk", "--dt", "0.002"]
+    _, model = csv_rows(args)
+    _, given = csv_rows(args + ["--jmax", nums(PANDA_QDDD)])
+    assert model == given
+    _, slow = csv_rows(args + ["--jmax", "100"])
+    assert len(slow) > len(model)
+    check_jerk_rows(_, slow, 7, [0.0] * 7, q1 + [0.3], PANDA_QD, PANDA_QDD, [100.0] * 7, 0.002)
+    # Degrees: --jmax in deg/s^3, rows in degrees, the same motion.
+    _, deg = csv_rows(["interp", "joint", "--model", "planar2", "--deg", "--q0", "0,0", "--q1", "90,-30",
+                       "--vmax", "80", "--amax", "800", "--jmax", "6000", "--profile", "jerk", "--dt", "0.01"])
+    _, rad = csv_rows(["interp", "joint", "--model", "planar2", "--q0", "0,0", "--q1",
+                       nums([math.radians(90), math.radians(-30)]), "--vmax", math.radians(80), "--amax",
+                       math.radians(800), "--jmax", math.radians(6000), "--profile", "jerk", "--dt", "0.01"])
+    assert len(deg) == len(rad)
+    for a_, b_ in zip(deg, rad):
+        for x, y in zip(a_[1:], b_[1:]):
+            near(math.radians(x), y, 1e-9 * max(1.0, abs(y)) if not FLOAT else 1e-4 * max(1.0, abs(y)), "deg vs rad")
+
+
+def test_joint_jerk_stretched_and_trapezoid_default():
+    # --duration stretches every joint to end on the same row at the first tick at or after it.
+    _, rows = csv_rows(["interp", "joint", "--model", "puma560", "--q0", "0,0,0,0,0,0", "--q1", "1,0.5,0,0,0,-1",
+                        "--profile", "jerk", "--jmax", "50", "--duration", "3", "--dt", "0.01"])
+    near(rows[-1][0], 3.0, 1e-9 if not FLOAT else 1e-5, "stretched end")
+    # The trapezoid stays the default, and --profile trapezoid is it.
+    args = ["interp", "joint", "--model", "planar2", "--q0", "0,0", "--q1", "1,1", "--dt", "0.01"]
+    h1, r1 = csv_rows(args)
+    h2, r2 = csv_rows(args + ["--profile", "trapezoid"])
+    assert h1 == h2 == ["t", "q1", "q2", "qd1", "qd2", "qdd1", "qdd2"] and r1 == r2
+
+
 # ---- cartesian_line.json ----
 
 LINE_ARGS = [(c["case"], c) for c in LINE["cases"]]
@@ -351,6 +471,11 @@ BAD = [
     (["interp", "arc", "--from", "0,0,0,1,0,0,0", "--via", "1,1", "--to", "2,0,0", "--v", "1", "--a", "1",
       "--dt", "0.01"], "via has 2 numbers"),
     (A + ["--v", "1", "--a", "1", "--dt", "0.01", "--q0", "1"], "unknown option \"--q0\""),
+    (J + ["--dt", "0.01", "--profile", "scurve"], "profile must be trapezoid or jerk"),
+    (J + ["--dt", "0.01", "--jmax", "10"], "jmax needs --profile jerk"),
+    (J + ["--dt", "0.01", "--profile", "jerk", "--jmax", "0"], "jmax must be > 0"),
+    (J + ["--dt", "0.01", "--profile", "jerk", "--jmax", "1,2,3"], "jmax has 3 values"),
+    (J + ["--dt", "0.01", "--profile", "jerk", "--duration", "0.1"], "shorter than the limits allow"),
     (["interp", "spiral"], "unknown kind \"spiral\""),
     (["interp"], "usage: kinctl-calc interp KIND"),
 ]
@@ -383,6 +508,8 @@ def test_warnings_on_stderr():
 def test_help(kind):
     r = run(["interp", kind, "--help"])
     assert r.returncode == 0 and r.stdout.startswith("usage: kinctl-calc interp " + kind)
+    if kind == "joint":
+        assert "--profile jerk --jmax" in r.stdout and "--jmax J|J1,J2,.." in r.stdout
     r = run(["interp", "--help"])
     assert r.returncode == 0 and f"\n  {kind} " in r.stdout
     r = run(["--help"])

@@ -6,7 +6,7 @@
 set -eu
 lib=$1
 shift
-allowed='^(memcpy|memset|memmove|sqrtf?|sinf?|cosf?|sincosf?|atan2f?|fabsf?|hypotf?|fmodf?|floorf?|acosf?|asinf?|atanf?|expf?|logf?|powf?|ceilf?|roundf?|truncf?)$'
+allowed='^(memcpy|memset|memmove|sqrtf?|sinf?|cosf?|sincosf?|atan2f?|fabsf?|hypotf?|cbrtf?|fmodf?|floorf?|acosf?|asinf?|atanf?|expf?|logf?|powf?|ceilf?|roundf?|truncf?)$'
 # Undefined in some member and defined in none: what the library imports.
 defined=$(nm --defined-only --format=posix "$lib" | awk 'NF >= 2 && $2 != "" {print $1}' | sort -u)
 undefined=$(nm -u --format=posix "$lib" | awk '$2 == "U" {print $1}' | sort -u | grep -vxF "$defined" || true)

@@ -10,8 +10,16 @@
 # committed), compiled into the benchmark. If it cannot be downloaded or
 # built, the rest runs and the output says why Ruckig is absent.
 #
-# Usage: tools/bench/run_interp_bench.sh    (BUILD_DIR overrides build-bench)
+# Then interp_jerk_bench (issue 19): kinctl's jerk-limited profiles beside
+# Ruckig on 6- and 7-joint moves, rest to rest and from moving states, with
+# its targets checked; it needs Ruckig, and the script fails when a target
+# is missed.
+#
+# Usage: tools/bench/run_interp_bench.sh [jerk]   (jerk: interp_jerk_bench
+# alone; BUILD_DIR overrides build-bench)
 set -euo pipefail
+only=${1:-}
+[[ -z $only || $only == jerk ]] || { echo "usage: $0 [jerk]" >&2; exit 2; }
 
 root=$(cd "$(dirname "$0")/../.." && pwd)
 build=${BUILD_DIR:-$root/build-bench}
@@ -45,4 +53,13 @@ if [[ -n $ruckig_src ]]; then
 else
     echo "Ruckig: left out: $ruckig_note"
 fi
-"$build/tools/bench/interp_bench" | tee "$build/interp_bench.txt"
+if [[ $only != jerk ]]; then
+    "$build/tools/bench/interp_bench" | tee "$build/interp_bench.txt"
+fi
+if [[ -z $ruckig_src ]]; then
+    echo "interp_jerk_bench: left out: it compares with Ruckig, which is absent"
+    [[ $only != jerk ]] || exit 1
+    exit 0
+fi
+bench_build interp_jerk_bench || { cat "$build/build.log" >&2; exit 1; }
+"$build/tools/bench/interp_jerk_bench" | tee "$build/interp_jerk_bench.txt"

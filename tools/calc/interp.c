@@ -108,6 +108,11 @@ static const calc_opt joint_opts[] = {
      "speed limit, one for every joint or one per joint (rad/s or m/s; deg/s with --deg); default: the model's"},
     {"--amax", "amax", CALC_VALUE, calc_conv_reals, "A|A1,A2,..",
      "acceleration limit, one or one per joint (rad/s^2 or m/s^2; deg/s^2 with --deg); default: the model's"},
+    {"--jmax", "jmax", CALC_VALUE, calc_conv_reals, "J|J1,J2,..",
+     "jerk limit (--profile jerk), one or one per joint (rad/s^3 or m/s^3; deg/s^3 with --deg); default: the "
+     "model's"},
+    {"--profile", "profile", CALC_VALUE, calc_conv_string, "trapezoid|jerk",
+     "motion law: seed 001 lab 4's trapezoid (default) or jerk-limited"},
     {"--duration", "duration", CALC_VALUE, calc_conv_real, "T",
      "stretch the move to last T s (synchronisation); default: as fast as the limits allow"},
     DT_OPT,
@@ -160,6 +165,8 @@ const calc_opt interp_opts[] = {
     {"--q1", "q1", CALC_VALUE, NULL, NULL, NULL},
     {"--vmax", "vmax", CALC_VALUE, NULL, NULL, NULL},
     {"--amax", "amax", CALC_VALUE, NULL, NULL, NULL},
+    {"--jmax", "jmax", CALC_VALUE, NULL, NULL, NULL},
+    {"--profile", "profile", CALC_VALUE, NULL, NULL, NULL},
     {"--duration", "duration", CALC_VALUE, NULL, NULL, NULL},
     {"--deg", "deg", CALC_FLAG, NULL, NULL, NULL},
     {"--from", "from", CALC_VALUE, NULL, NULL, NULL},
@@ -253,21 +260,23 @@ static int cart_limits_of(calc_ctx *ctx, const json_t *req, kc_interp_limits *li
 }
 
 /* Joint limits under key: absent = the model's; one value = every joint;
- * or one per joint. Revolute ones in deg/s (deg/s^2) with deg. */
+ * or one per joint. Revolute ones in deg/s (deg/s^2, deg/s^3) with deg.
+ * order: 0 speed, 1 acceleration, 2 jerk; the last two must be finite. */
 static int joint_limits_of(calc_ctx *ctx, const json_t *req, const char *key, const kc_chain *chain, int deg,
-                           int acc, kc_real *out)
+                           int order, kc_real *out)
 {
     int n = chain->n_joints, count = 0;
     kc_real v[KC_MAX_JOINTS];
     const json_t *val = json_object_get(req, key);
     for (int j = 0; j < n; j++) {
         const kc_joint_limits *l = &chain->joints[j].limits;
-        out[j] = acc ? l->qdd_max : l->qd_max;
+        out[j] = order == 2 ? l->qddd_max : order == 1 ? l->qdd_max : l->qd_max;
     }
     if (val == NULL) {
         for (int j = 0; j < n; j++)
-            if (acc && !kc_isfinite(out[j]))
-                return calc_fail(ctx, "the model gives joint %d no acceleration limit: give --amax", j + 1);
+            if (order > 0 && !(kc_isfinite(out[j]) && out[j] > KC_R(0.0)))
+                return calc_fail(ctx, "the model gives joint %d no %s limit: give --%s", j + 1,
+                                 order == 2 ? "jerk" : "acceleration", key);
         return 0;
     }
     if (req_reals(ctx, val, key, v, KC_MAX_JOINTS, &count) != 0)
@@ -309,16 +318,40 @@ static int plan_failed(calc_ctx *ctx, const char *what, kc_status st)
 
 /* ---- joint ---- */
 
+/* --profile: trapezoid (default) or jerk. */
+static int profile_of(calc_ctx *ctx, const json_t *req, kc_profile_kind *kind)
+{
+    const json_t *v = json_object_get(req, "profile");
+    *kind = KC_PROFILE_TRAPEZOID;
+    if (v == NULL)
+        return 0;
+    const char *s = json_string_value(v);
+    if (s != NULL && strcmp(s, "trapezoid") == 0)
+        return 0;
+    if (s != NULL && strcmp(s, "jerk") == 0) {
+        *kind = KC_PROFILE_JERK;
+        return 0;
+    }
+    return calc_fail(ctx, "profile must be trapezoid or jerk, not %s", s != NULL ? s : "a non-string");
+}
+
 static int run_interp_joint(const json_t *req, calc_ctx *ctx)
 {
     kc_chain chain;
-    kc_real q0[KC_MAX_JOINTS], q1[KC_MAX_JOINTS], vm[KC_MAX_JOINTS], am[KC_MAX_JOINTS], dt, duration = KC_R(0.0);
+    kc_interp_joint_cfg cfg = kc_interp_joint_cfg_default();
+    kc_real *q0 = cfg.q0, *q1 = cfg.q1, dt, duration = KC_R(0.0);
     int deg = 0;
     if (req_bool(ctx, req, "deg", &deg) != 0 || req_model(ctx, req, &chain) != 0 ||
         req_joints(ctx, req, "q0", &chain, deg, q0) != 0 || req_joints(ctx, req, "q1", &chain, deg, q1) != 0 ||
-        joint_limits_of(ctx, req, "vmax", &chain, deg, 0, vm) != 0 ||
-        joint_limits_of(ctx, req, "amax", &chain, deg, 1, am) != 0 || dt_of(ctx, req, &dt) != 0)
+        joint_limits_of(ctx, req, "vmax", &chain, deg, 0, cfg.qd_max) != 0 ||
+        joint_limits_of(ctx, req, "amax", &chain, deg, 1, cfg.qdd_max) != 0 || profile_of(ctx, req, &cfg.profile) != 0 ||
+        dt_of(ctx, req, &dt) != 0)
         return -1;
+    int jerk = cfg.profile == KC_PROFILE_JERK;
+    if (jerk && joint_limits_of(ctx, req, "jmax", &chain, deg, 2, cfg.qddd_max) != 0)
+        return -1;
+    if (!jerk && json_object_get(req, "jmax") != NULL)
+        return calc_fail(ctx, "jmax needs --profile jerk (the trapezoid's jerk is not limited)");
     if (json_object_get(req, "duration") != NULL) {
         if (req_real(ctx, req, "duration", &duration) != 0)
             return -1;
@@ -332,17 +365,21 @@ static int run_interp_joint(const json_t *req, calc_ctx *ctx)
     req_reals(ctx, json_object_get(req, "q0"), "q0", q0_given, KC_MAX_JOINTS, &n_raw);
     req_reals(ctx, json_object_get(req, "q1"), "q1", q1_given, KC_MAX_JOINTS, &n_raw);
     kc_interp_joint plan;
-    kc_status st = kc_interp_joint_plan(&plan, n, q0, q1, vm, am, duration, dt);
+    cfg.n = n;
+    cfg.dt = dt;
+    cfg.duration = duration;
+    kc_status st = kc_interp_joint_plan_cfg(&plan, &cfg);
     if (st == KC_E_LIMIT) {
-        kc_interp_joint fast;
-        kc_interp_joint_plan(&fast, n, q0, q1, vm, am, KC_R(0.0), dt);
+        cfg.duration = KC_R(0.0);
+        kc_interp_joint_plan_cfg(&plan, &cfg);
         return calc_fail(ctx, "duration %g s is shorter than the limits allow (%.9g s)", (double)duration,
-                         (double)fast.prof.T);
+                         (double)plan.T);
     }
     if (st != KC_OK)
         return plan_failed(ctx, "joint move", st);
-    if (too_many_rows(ctx, &plan.prof) != 0)
-        return -1;
+    if (plan.ticks + 1 > MAX_ROWS)
+        return calc_fail(ctx, "the motion lasts %.6g s = %lld ticks: more than %d rows; use a larger --dt",
+                         (double)plan.T, (long long)plan.ticks, MAX_ROWS);
     if (!ctx->csv) {
         /* Batch only: the leading joint (1-based, 0 when nothing moves) and the move's duration (s). */
         char lead[16];
@@ -350,32 +387,36 @@ static int run_interp_joint(const json_t *req, calc_ctx *ctx)
         jw_key(ctx->out, "lead");
         jw_raw(ctx->out, lead);
         jw_key(ctx->out, "duration");
-        jw_real(ctx->out, plan.prof.T);
+        jw_real(ctx->out, plan.T);
     }
-    /* Columns t, q1..qn, qd1..qdn, qdd1..qddn. */
-    static const char *const stems[3] = {"q", "qd", "qdd"};
-    char name_buf[1 + 3 * KC_MAX_JOINTS][8];
-    const char *names[1 + 3 * KC_MAX_JOINTS];
-    kc_real scale[KC_MAX_JOINTS], row[1 + 3 * KC_MAX_JOINTS];
+    /* Columns t, q1..qn, qd1..qdn, qdd1..qddn, and with the jerk-limited
+     * profile qddd1..qdddn. */
+    static const char *const stems[4] = {"q", "qd", "qdd", "qddd"};
+    char name_buf[1 + 4 * KC_MAX_JOINTS][8];
+    const char *names[1 + 4 * KC_MAX_JOINTS];
+    kc_real scale[KC_MAX_JOINTS], row[1 + 4 * KC_MAX_JOINTS];
+    int nd = jerk ? 4 : 3;
     names[0] = "t";
-    for (int d = 0; d < 3; d++)
+    for (int d = 0; d < nd; d++)
         for (int j = 0; j < n; j++) {
             snprintf(name_buf[1 + d * n + j], sizeof name_buf[0], "%s%d", stems[d], j + 1);
             names[1 + d * n + j] = name_buf[1 + d * n + j];
         }
     for (int j = 0; j < n; j++)
         scale[j] = deg && chain.joints[j].type == KC_JOINT_REVOLUTE ? KC_R(1.0) / KC_DEG : KC_R(1.0);
-    int ncol = 1 + 3 * n;
+    int ncol = 1 + nd * n;
     calc_rows_begin(ctx, ncol, names);
-    for (int64_t k = 0; k <= plan.prof.ticks; k++) {
+    for (int64_t k = 0; k <= plan.ticks; k++) {
         kc_interp_joint_state s;
         kc_interp_joint_eval(&plan, k, &s);
         row[0] = (kc_real)k * dt;
         for (int j = 0; j < n; j++) {
             /* The last row is q1 as given, not converted there and back. */
-            row[1 + j] = k == plan.prof.ticks ? q1_given[j] : k == 0 ? q0_given[j] : s.q[j] * scale[j];
+            row[1 + j] = k == plan.ticks ? q1_given[j] : k == 0 ? q0_given[j] : s.q[j] * scale[j];
             row[1 + n + j] = s.qd[j] * scale[j];
             row[1 + 2 * n + j] = s.qdd[j] * scale[j];
+            if (jerk)
+                row[1 + 3 * n + j] = s.qddd[j] * scale[j];
         }
         calc_rows_add(ctx, ncol, row);
     }
@@ -500,11 +541,16 @@ static int path_unavailable(const json_t *req, calc_ctx *ctx)
 static const calc_cmd kinds[] = {
     {"joint", "joint move, seed 001 lab 4: all joints start and end together",
      "kinctl-calc interp joint (--model NAME | --model-file PATH) --q0 Q1,Q2,... --q1 Q1,Q2,...\n"
-     "       [--vmax V] [--amax A] [--duration T] [--deg] --dt DT\n"
-     "Every joint covers the same fraction of its move at every tick; the common trapezoid (triangle\n"
-     "when short) keeps each joint within its own speed and acceleration limits.\n"
-     "Prints CSV: t,q1..qn,qd1..qdn,qdd1..qddn, one row per tick from t = 0 to the end inclusive.\n"
-     "Example: kinctl-calc interp joint --model planar2 --deg --q0 10,20 --q1 30,50 --vmax 50 --amax 600 --dt 0.01",
+     "       [--vmax V] [--amax A] [--profile trapezoid|jerk] [--jmax J] [--duration T] [--deg] --dt DT\n"
+     "Trapezoid (default): every joint covers the same fraction of its move at every tick; the common\n"
+     "trapezoid (triangle when short) keeps each joint within its own speed and acceleration limits.\n"
+     "Jerk: each joint's jerk-limited move within its speed, acceleration and jerk limits, all starting\n"
+     "and ending on the same tick (a straight line when that is as fast, else each joint stretched).\n"
+     "Prints CSV: t,q1..qn,qd1..qdn,qdd1..qddn (jerk: also qddd1..qdddn), one row per tick from t = 0\n"
+     "to the end inclusive.\n"
+     "Example: kinctl-calc interp joint --model planar2 --deg --q0 10,20 --q1 30,50 --vmax 50 --amax 600 --dt 0.01\n"
+     "Example: kinctl-calc interp joint --model planar2 --deg --q0 10,20 --q1 30,50 --profile jerk --jmax 3000 "
+     "--dt 0.01",
      joint_opts, run_interp_joint},
     {"line", "Cartesian straight line, seed 001 lab 5",
      "kinctl-calc interp line --from X,Y,Z,QW,QX,QY,QZ --to X,Y,Z,QW,QX,QY,QZ --v V --a A\n"

@@ -9,20 +9,24 @@
  * kinctl/profile.h profile of the fraction u of the segment (0 at the start,
  * 1 at the end) and the geometry; kc_interp_<kind>_eval(plan, k, out) gives
  * the setpoint at tick k (t = k dt, dt fixed at planning) in O(1) time with
- * no allocation. The duration in ticks is plan->prof.ticks: eval returns
+ * no allocation. The duration in ticks is plan->prof.ticks (joint move:
+ * plan->ticks): eval returns
  * KC_OK for k < ticks and KC_DONE from then on, with the state exactly at
  * the segment's end (target position, velocity and acceleration zero). eval
  * is pure and safe to call in the control cycle and from several threads on
- * one plan; planning is bounded (no loop runs longer than KC_MAX_JOINTS) and
- * allocation-free, so it is cycle-safe too, though it costs more (trig
- * functions and square roots).
+ * one plan; planning is bounded (no loop runs longer than KC_MAX_JOINTS,
+ * except a jerk-limited joint move's root searches, each bounded by
+ * KC_SCURVE_MAX_ITER, kinctl/scurve.h) and allocation-free, so it is
+ * cycle-safe too, though it costs more (trig functions and square roots).
  *
  * Speed laws. The fraction u follows a trapezoid (triangle when short) from
  * rest to rest, with the limits of u chosen so that every physical limit
  * holds: for a quantity that moves by D over the segment with limits
  * (vmax, amax), u' <= vmax / D and u'' <= amax / D, and u takes the
  * smallest of these bounds. Where one quantity binds, this is exactly the
- * seed's trapezoid on it (lab 4 eqs. 4.6-4.12, see kinctl/profile.h).
+ * seed's trapezoid on it (lab 4 eqs. 4.6-4.12, see kinctl/profile.h). The
+ * joint move may instead be jerk-limited (kc_interp_joint_plan_cfg,
+ * kinctl/scurve.h).
  *
  * Units: positions in m (joint moves: rad or m per joint), times in s,
  * angles in rad; everything in the base frame unless said otherwise.
@@ -35,6 +39,7 @@
 
 #include "kinctl/chain.h"
 #include "kinctl/profile.h"
+#include "kinctl/scurve.h"
 
 /*
  * Three points are taken as collinear when the sine of the angle at the
@@ -65,6 +70,14 @@
  * is exactly its trapezoid, as in the seed, otherwise it is somewhat longer.
  * ====================================================================== */
 
+/* The motion law of a joint move: seed 001 lab 4's trapezoid (the
+ * default for now), or jerk-limited (kinctl/scurve.h). */
+typedef enum kc_profile_kind { KC_PROFILE_TRAPEZOID = 0, KC_PROFILE_JERK = 1 } kc_profile_kind;
+
+/* How the joints of a jerk-limited move are synchronised (see
+ * kc_interp_joint_plan_cfg). */
+typedef enum kc_interp_sync { KC_INTERP_SYNC_PHASE = 0, KC_INTERP_SYNC_TIME = 1 } kc_interp_sync;
+
 typedef struct kc_interp_joint {
     int n;                                            /* joints */
     kc_real q0[KC_MAX_JOINTS], q1[KC_MAX_JOINTS];     /* start, end */
@@ -72,17 +85,53 @@ typedef struct kc_interp_joint {
     int lead;     /* leading joint (0-based; ties: lowest index), -1 if nothing moves */
     int lead_vel; /* joint whose velocity limit sets V, -1 if nothing moves */
     int lead_acc; /* joint whose acceleration limit sets A, -1 if nothing moves */
-    kc_profile prof; /* u from 0 to 1 */
+    kc_profile prof; /* u from 0 to 1 (the trapezoid; all zero for a jerk-limited move) */
     /* The bounds of u' and u'' the profile was planned with (1/s, 1/s^2;
      * infinite for a zero motion): a stop on the path uses u_amax. */
     kc_real u_vmax, u_amax;
+    kc_profile_kind kind; /* the motion law */
+    /* Both kinds: the duration (s) and in ticks (every joint starts on tick
+     * 0 and is at rest on its target from tick `ticks` on). */
+    kc_real T;
+    int64_t ticks;
+    /* Jerk-limited only: the synchronisation; with KC_INTERP_SYNC_PHASE the
+     * profile su of u (a straight line, as the trapezoid), with
+     * KC_INTERP_SYNC_TIME one profile of q per joint, sj[i]. */
+    kc_interp_sync sync;
+    kc_real u_jmax; /* the bound of the third derivative of u (1/s^3) */
+    kc_scurve su;
+    kc_scurve sj[KC_MAX_JOINTS];
 } kc_interp_joint;
 
 typedef struct kc_interp_joint_state {
     kc_real q[KC_MAX_JOINTS], qd[KC_MAX_JOINTS], qdd[KC_MAX_JOINTS];
-    kc_real u, ud, udd; /* fraction of the move and its rates (1/s, 1/s^2) */
-    int phase;          /* 1 accelerate, 2 cruise, 3 brake, 4 finished */
+    /* Jerk (rad/s^3 or m/s^3) of a jerk-limited move; 0 for the trapezoid,
+     * whose jerk is impulses at its phase changes. */
+    kc_real qddd[KC_MAX_JOINTS];
+    /* Fraction of the move and its rates (1/s, 1/s^2); with time
+     * synchronisation, the leading joint's. */
+    kc_real u, ud, udd;
+    int phase; /* 1 accelerate, 2 cruise, 3 brake, 4 finished */
 } kc_interp_joint_state;
+
+/* A joint move's request for kc_interp_joint_plan_cfg. */
+typedef struct kc_interp_joint_cfg {
+    int n;                                        /* joints, 1..KC_MAX_JOINTS */
+    kc_real q0[KC_MAX_JOINTS], q1[KC_MAX_JOINTS]; /* start, end (rad or m) */
+    /* Limits per joint, > 0; qd_max may be +infinity; qddd_max is used by
+     * the jerk-limited kind only (finite there). */
+    kc_real qd_max[KC_MAX_JOINTS], qdd_max[KC_MAX_JOINTS], qddd_max[KC_MAX_JOINTS];
+    /* Start velocity and acceleration (jerk-limited kind only; zero, the
+     * default, for a start at rest). */
+    kc_real qd0[KC_MAX_JOINTS], qdd0[KC_MAX_JOINTS];
+    kc_real duration;        /* 0: as fast as the limits allow; or a longer time (s) */
+    kc_real dt;              /* tick period (s), > 0 */
+    kc_profile_kind profile; /* KC_PROFILE_TRAPEZOID by default */
+} kc_interp_joint_cfg;
+
+/* n = 0 and every q 0, qd_max +infinity, qdd_max and qddd_max 0 (set
+ * them), duration 0, dt 0 (set it), the trapezoid. */
+kc_interp_joint_cfg kc_interp_joint_cfg_default(void);
 
 /* Plans a joint move of n joints (1..KC_MAX_JOINTS) from q0 to q1 (rad or
  * m) with per-joint limits qd_max (> 0, +infinity allowed) and qdd_max
@@ -98,15 +147,46 @@ typedef struct kc_interp_joint_state {
 kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, const kc_real *q1,
                                const kc_real *qd_max, const kc_real *qdd_max, kc_real duration, kc_real dt);
 
-/* Setpoint at tick k >= 0: KC_OK while moving, KC_DONE from
- * plan->prof.ticks on (q = q1 exactly, qd = qdd = 0), KC_E_ARG for NULL
- * arguments or k < 0. Writes the first plan->n entries of each array. */
+/* Plans a joint move from a request: KC_PROFILE_TRAPEZOID is exactly
+ * kc_interp_joint_plan. KC_PROFILE_JERK: every joint's time-optimal
+ * jerk-limited move (kinctl/scurve.h, rest to rest) with its own qd_max,
+ * qdd_max and qddd_max; the move lasts T, the longest of these (or the
+ * requested duration, if longer), and every joint starts on tick 0 and
+ * arrives on the same tick. Two ways to synchronise, tried in order (as
+ * Ruckig's phase and time synchronisation, Berscheid & Kroeger 2021):
+ *   phase: one jerk-limited profile of u from 0 to 1 with the bounds
+ *     min_i qd_max_i / |dq_i|, min_i qdd_max_i / |dq_i| and
+ *     min_i qddd_max_i / |dq_i| on its three derivatives: a straight line
+ *     in joint space like the trapezoid's, taken when it lasts no longer
+ *     than T (always so with equal limits: the leading joint sets all
+ *     three bounds);
+ *   time: each joint's own profile stretched to T (amax and jmax kept,
+ *     cruise lowered): not a straight line, but each joint moves
+ *     monotonically from q0_i to q1_i, so a box of position limits that
+ *     holds both ends holds the move.
+ * From a moving start (qd0, qdd0 not all zero): time synchronisation,
+ * every joint's own profile from its start state (kinctl/scurve.h) to
+ * rest at q1_i, stretched to T, the longest optimum, by
+ * kc_scurve_plan_duration_from; where a joint's stretch falls into a
+ * blocked interval, T grows by 2^m / 1024 of itself, m = 0..15, until
+ * every joint plans (KC_E_LIMIT if none does). Each joint stays within its
+ * limits as far as its start allows (kinctl/scurve.h).
+ * Returns as kc_interp_joint_plan; KC_E_ARG also for a NULL cfg, an
+ * unknown kind, a non-finite start velocity or acceleration, a moving
+ * start with the trapezoid, or (jerk) a qddd_max of a joint that moves and
+ * is not > 0 and finite. plan is untouched on error. */
+kc_status kc_interp_joint_plan_cfg(kc_interp_joint *plan, const kc_interp_joint_cfg *cfg);
+
+/* Setpoint at tick k >= 0: KC_OK while moving, KC_DONE from plan->ticks
+ * on (q = q1 exactly, qd = qdd = qddd = 0), KC_E_ARG for NULL arguments or
+ * k < 0. Writes the first plan->n entries of each array. */
 kc_status kc_interp_joint_eval(const kc_interp_joint *plan, int64_t k, kc_interp_joint_state *out);
 
 /* The move's geometry driven by another profile of u (for instance one
  * that stops on the path, kc_profile_plan_stop, or resumes from there): the
  * state at that profile's tick k. The end state is exact when the profile
- * ends at u = 1. Return codes as kc_profile_eval. */
+ * ends at u = 1. For a straight line: the trapezoid, or a jerk-limited
+ * move synchronised by phase. Return codes as kc_profile_eval. */
 kc_status kc_interp_joint_eval_profile(const kc_interp_joint *plan, const kc_profile *prof, int64_t k,
                                        kc_interp_joint_state *out);
 
@@ -214,6 +294,36 @@ typedef struct kc_interp_line {
 kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const kc_pose *to,
                               const kc_interp_limits *lim, kc_interp_orient orient, kc_real dt);
 
+/* Plans a joint move from a request: KC_PROFILE_TRAPEZOID is exactly
+ * kc_interp_joint_plan. KC_PROFILE_JERK: every joint's time-optimal
+ * jerk-limited move (kinctl/scurve.h, rest to rest) with its own qd_max,
+ * qdd_max and qddd_max; the move lasts T, the longest of these (or the
+ * requested duration, if longer), and every joint starts on tick 0 and
+ * arrives on the same tick. Two ways to synchronise, tried in order (as
+ * Ruckig's phase and time synchronisation, Berscheid & Kroeger 2021):
+ *   phase: one jerk-limited profile of u from 0 to 1 with the bounds
+ *     min_i qd_max_i / |dq_i|, min_i qdd_max_i / |dq_i| and
+ *     min_i qddd_max_i / |dq_i| on its three derivatives: a straight line
+ *     in joint space like the trapezoid's, taken when it lasts no longer
+ *     than T (always so with equal limits: the leading joint sets all
+ *     three bounds);
+ *   time: each joint's own profile stretched to T (amax and jmax kept,
+ *     cruise lowered): not a straight line, but each joint moves
+ *     monotonically from q0_i to q1_i, so a box of position limits that
+ *     holds both ends holds the move.
+ * From a moving start (qd0, qdd0 not all zero): time synchronisation,
+ * every joint's own profile from its start state (kinctl/scurve.h) to
+ * rest at q1_i, stretched to T, the longest optimum, by
+ * kc_scurve_plan_duration_from; where a joint's stretch falls into a
+ * blocked interval, T grows by 2^m / 1024 of itself, m = 0..15, until
+ * every joint plans (KC_E_LIMIT if none does). Each joint stays within its
+ * limits as far as its start allows (kinctl/scurve.h).
+ * Returns as kc_interp_joint_plan; KC_E_ARG also for a NULL cfg, an
+ * unknown kind, a non-finite start velocity or acceleration, a moving
+ * start with the trapezoid, or (jerk) a qddd_max of a joint that moves and
+ * is not > 0 and finite. plan is untouched on error. */
+kc_status kc_interp_joint_plan_cfg(kc_interp_joint *plan, const kc_interp_joint_cfg *cfg);
+
 /* Setpoint at tick k >= 0: KC_OK while moving, KC_DONE from
  * plan->prof.ticks on (exactly the end pose: p2, q2; velocities zero),
  * KC_E_ARG for NULL arguments or k < 0 (out untouched). */
@@ -279,6 +389,36 @@ typedef struct kc_interp_arc {
  * when the segment exceeds KC_PROFILE_MAX_TICKS ticks. */
 kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_vec3 *via, const kc_vec3 *to,
                              const kc_interp_limits *lim, kc_real dt);
+
+/* Plans a joint move from a request: KC_PROFILE_TRAPEZOID is exactly
+ * kc_interp_joint_plan. KC_PROFILE_JERK: every joint's time-optimal
+ * jerk-limited move (kinctl/scurve.h, rest to rest) with its own qd_max,
+ * qdd_max and qddd_max; the move lasts T, the longest of these (or the
+ * requested duration, if longer), and every joint starts on tick 0 and
+ * arrives on the same tick. Two ways to synchronise, tried in order (as
+ * Ruckig's phase and time synchronisation, Berscheid & Kroeger 2021):
+ *   phase: one jerk-limited profile of u from 0 to 1 with the bounds
+ *     min_i qd_max_i / |dq_i|, min_i qdd_max_i / |dq_i| and
+ *     min_i qddd_max_i / |dq_i| on its three derivatives: a straight line
+ *     in joint space like the trapezoid's, taken when it lasts no longer
+ *     than T (always so with equal limits: the leading joint sets all
+ *     three bounds);
+ *   time: each joint's own profile stretched to T (amax and jmax kept,
+ *     cruise lowered): not a straight line, but each joint moves
+ *     monotonically from q0_i to q1_i, so a box of position limits that
+ *     holds both ends holds the move.
+ * From a moving start (qd0, qdd0 not all zero): time synchronisation,
+ * every joint's own profile from its start state (kinctl/scurve.h) to
+ * rest at q1_i, stretched to T, the longest optimum, by
+ * kc_scurve_plan_duration_from; where a joint's stretch falls into a
+ * blocked interval, T grows by 2^m / 1024 of itself, m = 0..15, until
+ * every joint plans (KC_E_LIMIT if none does). Each joint stays within its
+ * limits as far as its start allows (kinctl/scurve.h).
+ * Returns as kc_interp_joint_plan; KC_E_ARG also for a NULL cfg, an
+ * unknown kind, a non-finite start velocity or acceleration, a moving
+ * start with the trapezoid, or (jerk) a qddd_max of a joint that moves and
+ * is not > 0 and finite. plan is untouched on error. */
+kc_status kc_interp_joint_plan_cfg(kc_interp_joint *plan, const kc_interp_joint_cfg *cfg);
 
 /* Setpoint at tick k >= 0: KC_OK while moving, KC_DONE from
  * plan->prof.ticks on (exactly p3 and q3, velocities zero), KC_E_ARG for

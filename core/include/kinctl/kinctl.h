@@ -10,6 +10,7 @@
 #include "kinctl/fk.h"
 #include "kinctl/ik.h"
 #include "kinctl/profile.h"
+#include "kinctl/scurve.h"
 #include "kinctl/interp.h"
 #include "kinctl/path.h"
 #include "kinctl/path_cart.h"

@@ -61,7 +61,8 @@
  * KC_PROFILE_MAX_TICKS ticks, so that k dt is exact in both precisions.
  *
  * Planning is O(1) and allocation-free; evaluation is O(1), branch-light
- * and pure. Every function is safe to call in the control cycle.
+ * and pure. Every function is safe to call in the control cycle. The
+ * jerk-limited profile, with the same tick rule, is kinctl/scurve.h.
  */
 #ifndef KINCTL_PROFILE_H
 #define KINCTL_PROFILE_H

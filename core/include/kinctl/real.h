@@ -71,6 +71,7 @@ static inline kc_real kc_fabs(kc_real x) { return fabsf(x); }
 static inline kc_real kc_hypot(kc_real x, kc_real y) { return hypotf(x, y); }
 static inline kc_real kc_fmod(kc_real x, kc_real y) { return fmodf(x, y); }
 static inline kc_real kc_floor(kc_real x) { return floorf(x); }
+static inline kc_real kc_cbrt(kc_real x) { return cbrtf(x); }
 #else
 static inline kc_real kc_sqrt(kc_real x) { return sqrt(x); }
 static inline kc_real kc_sin(kc_real x) { return sin(x); }
@@ -80,6 +81,7 @@ static inline kc_real kc_fabs(kc_real x) { return fabs(x); }
 static inline kc_real kc_hypot(kc_real x, kc_real y) { return hypot(x, y); }
 static inline kc_real kc_fmod(kc_real x, kc_real y) { return fmod(x, y); }
 static inline kc_real kc_floor(kc_real x) { return floor(x); }
+static inline kc_real kc_cbrt(kc_real x) { return cbrt(x); }
 #endif
 
 /*

@@ -1,0 +1,658 @@
+/* scurve.c - jerk-limited (double S) motion laws evaluated at integer
+ * ticks. The phase equations and their sources are in kinctl/scurve.h. */
+#include "kinctl/scurve.h"
+
+#include <stddef.h>
+
+#include "kinctl/profile.h"
+#include "profile_internal.h"
+
+/* One velocity change: at most three phases of constant jerk. */
+typedef struct vchange {
+    int n;
+    kc_real j[3], t[3];
+} vchange;
+
+static void vchange_add(vchange *c, kc_real j, kc_real t)
+{
+    if (t > KC_R(0.0)) {
+        c->j[c->n] = j;
+        c->t[c->n] = t;
+        c->n++;
+    }
+}
+
+/* The fastest change from (v, a) to velocity w with zero acceleration,
+ * limits A and J (kinctl/scurve.h, "Velocity change"). */
+static void vchange_plan(vchange *c, kc_real v, kc_real a, kc_real w, kc_real A, kc_real J)
+{
+    c->n = 0;
+    kc_real vn = v + a * kc_fabs(a) / (KC_R(2.0) * J);
+    if (w == vn) {
+        vchange_add(c, a > KC_R(0.0) ? -J : J, kc_fabs(a) / J);
+        return;
+    }
+    /* Work along sg, the side the acceleration must go to. */
+    kc_real sg = w > vn ? KC_R(1.0) : KC_R(-1.0);
+    kc_real as = sg * a, dw = sg * (w - v), dn = sg * (w - vn);
+    if (as > A) {
+        /* Outside the limit: ramp down to A, hold, ramp to zero. */
+        vchange_add(c, -sg * J, (as - A) / J);
+        vchange_add(c, KC_R(0.0), dn / A);
+        vchange_add(c, -sg * J, A / J);
+        return;
+    }
+    kc_real full = (KC_R(2.0) * A * A - as * as) / (KC_R(2.0) * J);
+    kc_real ap = A, th = KC_R(0.0);
+    if (dw >= full) {
+        th = (dw - full) / A;
+    } else {
+        ap = kc_sqrt(kc_max(J * dw + KC_R(0.5) * as * as, KC_R(0.0)));
+        /* dn > 0 makes ap > max(as, 0) exactly; keep it so under rounding. */
+        ap = kc_min(kc_max(ap, kc_max(as, KC_R(0.0))), A);
+    }
+    vchange_add(c, sg * J, (ap - as) / J);
+    vchange_add(c, KC_R(0.0), th);
+    vchange_add(c, -sg * J, ap / J);
+}
+
+/* Advances (p, v, a) by a phase of jerk j over tau (which may be
+ * negative: backwards). */
+static void advance(kc_real *p, kc_real *v, kc_real *a, kc_real j, kc_real tau)
+{
+    *p += tau * (*v + tau * (KC_R(0.5) * *a + tau * j / KC_R(6.0)));
+    *v += tau * (*a + KC_R(0.5) * tau * j);
+    *a += j * tau;
+}
+
+/* Distance and duration of a velocity change from (v, a). */
+static kc_real vchange_dist(const vchange *c, kc_real v, kc_real a, kc_real *time)
+{
+    kc_real p = KC_R(0.0), t = KC_R(0.0);
+    for (int i = 0; i < c->n; i++) {
+        advance(&p, &v, &a, c->j[i], c->t[i]);
+        t += c->t[i];
+    }
+    if (time != NULL)
+        *time = t;
+    return p;
+}
+
+/* The stop from (vp, 0) to rest: symmetric in time, so its distance is
+ * vp t / 2, with t = |vp| / A + A / J when A is reached (|vp| >= A^2 / J)
+ * and 2 sqrt(|vp| / J) otherwise (kinctl/scurve.h, "Velocity change"). */
+static kc_real stop_time(kc_real vp, kc_real A, kc_real J)
+{
+    kc_real w = kc_fabs(vp);
+    return w * J >= A * A ? w / A + A / J : KC_R(2.0) * kc_sqrt(w / J);
+}
+
+/* d(vp): the distance of the change from (v0, a0) to vp and the stop from
+ * vp, with no cruise. */
+static kc_real dist_of(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real J)
+{
+    vchange c;
+    vchange_plan(&c, v0, a0, vp, A, J);
+    return vchange_dist(&c, v0, a0, NULL) + KC_R(0.5) * vp * stop_time(vp, A, J);
+}
+
+/* Duration of the change from (v0, a0) to vp and the stop from vp; their
+ * distance d(vp) into *dist when given. */
+static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real J, kc_real *dist)
+{
+    vchange c;
+    kc_real tc, ts = stop_time(vp, A, J);
+    vchange_plan(&c, v0, a0, vp, A, J);
+    kc_real p = vchange_dist(&c, v0, a0, &tc) + KC_R(0.5) * vp * ts;
+    if (dist != NULL)
+        *dist = p;
+    return tc + ts;
+}
+
+/* What a root search solves: d(x) = d for the plain family (x = vp) or the
+ * gap family (x = s, the fraction of a0 ramped away, kinctl/scurve.h), or
+ * T(vp) = T for a stretched plan. */
+typedef struct dfun {
+    int gap; /* 0: plain d(vp); 1: gap d(s); 2: the duration with a cruise to d, of x = 1 / vp */
+    kc_real v0, a0, A, J;
+    kc_real d; /* kind 2: the distance to cover */
+} dfun;
+
+/* The gap family: ramp a0 towards zero by the fraction s at jerk J, then
+ * the fastest change to rest. Fills the phases when c and st are given. */
+static kc_real gap_dist(kc_real s, kc_real v0, kc_real a0, kc_real A, kc_real J, vchange *c, vchange *st,
+                        kc_real *time)
+{
+    vchange r, sp;
+    kc_real p = KC_R(0.0), v = v0, a = a0, ts = KC_R(0.0);
+    r.n = 0;
+    vchange_add(&r, a0 > KC_R(0.0) ? -J : J, s * kc_fabs(a0) / J);
+    if (r.n > 0)
+        advance(&p, &v, &a, r.j[0], r.t[0]);
+    if (s >= KC_R(1.0))
+        a = KC_R(0.0);
+    vchange_plan(&sp, v, a, KC_R(0.0), A, J);
+    if (c != NULL) {
+        *c = r;
+        *st = sp;
+    }
+    p += vchange_dist(&sp, v, a, &ts);
+    if (time != NULL)
+        *time = ts + (r.n > 0 ? r.t[0] : KC_R(0.0));
+    return p;
+}
+
+/* The duration of the plain plan through vp with the cruise that covers d
+ * (kinctl/scurve.h, "from a moving start"). */
+static kc_real cruise_time_of(kc_real vp, kc_real d, kc_real v0, kc_real a0, kc_real A, kc_real J)
+{
+    kc_real dv, t = change_stop_time(vp, v0, a0, A, J, &dv);
+    return t + (d - dv) / vp;
+}
+
+static kc_real dfun_eval(const dfun *f, kc_real x)
+{
+    if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
+        return cruise_time_of(KC_R(1.0) / x, f->d, f->v0, f->a0, f->A, f->J);
+    return f->gap ? gap_dist(x, f->v0, f->a0, f->A, f->J, NULL, NULL, NULL) : dist_of(x, f->v0, f->a0, f->A, f->J);
+}
+
+/* Root of f(x) = d on [lo, hi], with f - d of opposite signs (or zero) at
+ * the ends, by the Illinois variant of regula falsi: the secant through
+ * the bracket's ends, the weight of an end that stays twice in a row
+ * halved (superlinear, about ten steps), a halving whenever the secant
+ * falls outside the bracket. At most KC_SCURVE_MAX_ITER steps; stops when
+ * f - d is within 4 units of roundoff of d or the bracket reaches adjacent
+ * numbers. Returns the point nearest the root. */
+static kc_real root(const dfun *f, kc_real lo, kc_real hi, kc_real flo, kc_real fhi, kc_real d)
+{
+    if (flo == KC_R(0.0))
+        return lo;
+    if (fhi == KC_R(0.0))
+        return hi;
+    kc_real tol = KC_R(4.0) * KC_REAL_EPS * kc_fabs(d);
+    kc_real wlo = flo, whi = fhi; /* the weighted end values */
+    int side = 0;
+    for (int i = 0; i < KC_SCURVE_MAX_ITER; i++) {
+        kc_real x = (lo * whi - hi * wlo) / (whi - wlo);
+        if (!(x > lo && x < hi))
+            x = KC_R(0.5) * (lo + hi);
+        if (!(x > lo && x < hi))
+            break; /* adjacent: the bracket cannot shrink */
+        kc_real fx = dfun_eval(f, x) - d;
+        if (kc_fabs(fx) <= tol)
+            return x;
+        if ((fx < KC_R(0.0)) == (flo < KC_R(0.0))) {
+            lo = x;
+            flo = wlo = fx;
+            if (side == -1)
+                whi *= KC_R(0.5);
+            side = -1;
+        } else {
+            hi = x;
+            fhi = whi = fx;
+            if (side == 1)
+                wlo *= KC_R(0.5);
+            side = 1;
+        }
+    }
+    return kc_fabs(flo) <= kc_fabs(fhi) ? lo : hi;
+}
+
+static int limits_ok(kc_real vmax, kc_real amax, kc_real jmax, kc_real dt)
+{
+    /* Written with ! so that NaN fails every test into an error. */
+    return vmax > KC_R(0.0) && amax > KC_R(0.0) && kc_isfinite(amax) && jmax > KC_R(0.0) && kc_isfinite(jmax) &&
+           dt > KC_R(0.0) && kc_isfinite(dt);
+}
+
+static void add_phase(kc_scurve *r, int kind, kc_real t_end, kc_real tr, kc_real p, kc_real v, kc_real a, kc_real j)
+{
+    int i = r->n++;
+    r->kind[i] = kind;
+    r->t_end[i] = t_end;
+    r->tr[i] = tr;
+    r->pr[i] = p;
+    r->vr[i] = v;
+    r->ar[i] = a;
+    r->j[i] = j;
+}
+
+/* The profile: the phases c from the start, a cruise at vp for tc, and
+ * the stop s (a velocity change to rest) laid backwards from (p1, 0, 0) at
+ * T, where T is `duration` when positive, the sum of the phases otherwise. */
+static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, const vchange *cp, kc_real vp,
+                       kc_real tc, const vchange *sp, kc_real duration, kc_real dt)
+{
+    kc_scurve r;
+    vchange c = *cp, s = *sp;
+    kc_real p = p0, v = v0, a = a0, t = KC_R(0.0), t_stop = KC_R(0.0);
+    r.p0 = p0;
+    r.v0 = v0;
+    r.a0 = a0;
+    r.p1 = p1;
+    r.vp = vp;
+    r.gap = 0;
+    r.n = 0;
+    for (int i = 0; i < c.n; i++) {
+        kc_real t0 = t, p_ = p, v_ = v, a_ = a;
+        advance(&p, &v, &a, c.j[i], c.t[i]);
+        t += c.t[i];
+        add_phase(&r, 1, t, t0, p_, v_, a_, c.j[i]);
+    }
+    for (int i = 0; i < s.n; i++)
+        t_stop += s.t[i];
+    kc_real T = duration > KC_R(0.0) ? duration : t + kc_max(tc, KC_R(0.0)) + t_stop;
+    kc_real te = T - t_stop; /* start of the stop */
+    if ((tc > KC_R(0.0) || duration > KC_R(0.0)) && te > t)
+        add_phase(&r, 2, te, t, p, vp, KC_R(0.0), KC_R(0.0));
+    /* The stop, backwards from the end: fill it in reverse order after the
+     * slot where it begins. */
+    int first = r.n;
+    r.n += s.n;
+    kc_real pb = p1, vb = KC_R(0.0), ab = KC_R(0.0), tb = T;
+    for (int i = s.n - 1; i >= 0; i--) {
+        int k = first + i;
+        r.kind[k] = 3;
+        r.t_end[k] = tb;
+        r.tr[k] = tb;
+        r.pr[k] = pb;
+        r.vr[k] = vb;
+        r.ar[k] = ab;
+        r.j[k] = s.j[i];
+        advance(&pb, &vb, &ab, s.j[i], -s.t[i]);
+        tb -= s.t[i];
+    }
+    r.T = T;
+    r.dt = dt;
+    if (!kc_isfinite(T) || !kc_isfinite(p) || !kc_isfinite(pb))
+        return KC_E_CAPACITY;
+    r.ticks = kc_profile_ticks(T, dt);
+    if (r.ticks < 0)
+        return KC_E_CAPACITY;
+    *prof = r;
+    return KC_OK;
+}
+
+/* The plain profile through the extremum vp: change, cruise, stop. */
+static kc_status build_vp(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vp, kc_real tc,
+                          kc_real A, kc_real J, kc_real duration, kc_real dt)
+{
+    vchange c, s;
+    vchange_plan(&c, v0, a0, vp, A, J);
+    vchange_plan(&s, vp, KC_R(0.0), KC_R(0.0), A, J);
+    return build(prof, p0, v0, a0, p1, &c, vp, tc, &s, duration, dt);
+}
+
+/* Rest to rest over D >= 0 (kinctl/scurve.h, Biagiotti & Melchiorri 3.4):
+ * the peak speed and the cruise time. */
+static void rest_to_rest(kc_real D, kc_real V, kc_real A, kc_real J, kc_real *vpeak, kc_real *tc)
+{
+    kc_real Tj, Ta;
+    if (V * J >= A * A) {
+        Tj = A / J;
+        Ta = Tj + V / A;
+    } else {
+        Tj = kc_sqrt(V / J);
+        Ta = KC_R(2.0) * Tj;
+    }
+    kc_real Tv = D / V - Ta;
+    if (Tv > KC_R(0.0)) {
+        *vpeak = V;
+        *tc = Tv;
+        return;
+    }
+    *tc = KC_R(0.0);
+    if (D >= KC_R(2.0) * A * A * A / (J * J)) {
+        Tj = A / J;
+        Ta = KC_R(0.5) * Tj + kc_sqrt(KC_R(0.25) * Tj * Tj + D / A);
+        *vpeak = A * (Ta - Tj);
+    } else {
+        Tj = kc_cbrt(D / (KC_R(2.0) * J));
+        *vpeak = J * Tj * Tj;
+    }
+    /* Never above V: the two forms meet it only at the boundary. */
+    *vpeak = kc_min(*vpeak, V);
+}
+
+kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
+                         kc_real amax, kc_real jmax, kc_real dt)
+{
+    if (prof == NULL || !kc_isfinite(p0) || !kc_isfinite(v0) || !kc_isfinite(a0) || !kc_isfinite(p1) ||
+        !limits_ok(vmax, amax, jmax, dt))
+        return KC_E_ARG;
+    kc_real d = p1 - p0;
+    if (!kc_isfinite(d))
+        return KC_E_ARG;
+    kc_real A = amax, J = jmax;
+    if (v0 == KC_R(0.0) && a0 == KC_R(0.0)) {
+        kc_real vpeak, tc;
+        if (d == KC_R(0.0))
+            return build_vp(prof, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, J, KC_R(0.0), dt);
+        rest_to_rest(kc_fabs(d), vmax, A, J, &vpeak, &tc);
+        return build_vp(prof, p0, v0, a0, p1, d > KC_R(0.0) ? vpeak : -vpeak, tc, A, J, KC_R(0.0), dt);
+    }
+    /* The velocity range to search: vmax, or without a speed limit a bound
+     * that brackets d, found by doubling (at most 64 times). */
+    kc_real V = vmax;
+    if (!kc_isfinite(V)) {
+        kc_real vn = v0 + a0 * kc_fabs(a0) / (KC_R(2.0) * J);
+        V = kc_max(kc_max(kc_fabs(v0), kc_fabs(vn)), kc_max(kc_sqrt(A * kc_fabs(d)), A * A / J));
+        int i = 0;
+        while ((dist_of(V, v0, a0, A, J) < d || dist_of(-V, v0, a0, A, J) > d) && i < 64) {
+            V *= KC_R(2.0);
+            i++;
+        }
+        if (i == 64 || !kc_isfinite(V))
+            return KC_E_CAPACITY;
+    }
+    kc_real dh = dist_of(V, v0, a0, A, J), dl = dist_of(-V, v0, a0, A, J);
+    if (!kc_isfinite(dh) || !kc_isfinite(dl))
+        return KC_E_CAPACITY;
+    if (d >= dh)
+        return build_vp(prof, p0, v0, a0, p1, V, (d - dh) / V, A, J, KC_R(0.0), dt);
+    if (d <= dl)
+        return build_vp(prof, p0, v0, a0, p1, -V, (dl - d) / V, A, J, KC_R(0.0), dt);
+    /* dl < d < dh, Tc = 0. The plain branches are vp <= min(vn, 0) and
+     * vp >= max(vn, 0), where the change ends on the other side of zero
+     * acceleration than the stop starts, so vp is a true extremum; d
+     * increases along each of them. The gap family (a0 partly ramped away,
+     * then the stop) joins d(0) and d(vn). Of the roots these hold, the
+     * fastest is the plan; if none does (vmax cut vn short), the plain
+     * change to a vp between the branches. */
+    kc_real vn = kc_clamp(v0 + a0 * kc_fabs(a0) / (KC_R(2.0) * J), -V, V);
+    kc_real m1 = kc_min(vn, KC_R(0.0)), m2 = kc_max(vn, KC_R(0.0));
+    kc_real d1 = dist_of(m1, v0, a0, A, J), d2 = dist_of(m2, v0, a0, A, J);
+    kc_real vp = KC_R(0.0), best = KC_R(-1.0), s_gap = KC_R(-1.0);
+    dfun f = {0, v0, a0, A, J, KC_R(0.0)}, g = {1, v0, a0, A, J, KC_R(0.0)};
+    if (d <= d1) {
+        vp = root(&f, -V, m1, dl - d, d1 - d, d);
+        best = change_stop_time(vp, v0, a0, A, J, NULL);
+    }
+    if (d >= d2) {
+        kc_real w = root(&f, m2, V, d2 - d, dh - d, d);
+        kc_real tw = change_stop_time(w, v0, a0, A, J, NULL);
+        if (best < KC_R(0.0) || tw < best) {
+            vp = w;
+            best = tw;
+        }
+    }
+    kc_real g0 = gap_dist(KC_R(0.0), v0, a0, A, J, NULL, NULL, NULL) - d;
+    kc_real g1 = gap_dist(KC_R(1.0), v0, a0, A, J, NULL, NULL, NULL) - d;
+    /* Signs compared, not multiplied: a product of small distances may
+     * underflow to zero in float. */
+    if (a0 != KC_R(0.0) && ((g0 <= KC_R(0.0) && g1 >= KC_R(0.0)) || (g0 >= KC_R(0.0) && g1 <= KC_R(0.0)))) {
+        kc_real s = root(&g, KC_R(0.0), KC_R(1.0), g0, g1, d), ts;
+        gap_dist(s, v0, a0, A, J, NULL, NULL, &ts);
+        if (best < KC_R(0.0) || ts < best) {
+            s_gap = s;
+            best = ts;
+        }
+    }
+    if (s_gap >= KC_R(0.0)) {
+        vchange c, st;
+        gap_dist(s_gap, v0, a0, A, J, &c, &st, NULL);
+        kc_status r = build(prof, p0, v0, a0, p1, &c, KC_R(0.0), KC_R(0.0), &st, KC_R(0.0), dt);
+        if (r == KC_OK)
+            prof->gap = 1;
+        return r;
+    }
+    if (best < KC_R(0.0))
+        vp = root(&f, m1, m2, d1 - d, d2 - d, d);
+    return build_vp(prof, p0, v0, a0, p1, vp, KC_R(0.0), A, J, KC_R(0.0), dt);
+}
+
+/* The peak speed v that makes a rest-to-rest move over D > 0 last T
+ * (kinctl/scurve.h, "Stretched"), T >= the time-optimal duration. */
+static kc_real stretch_speed(kc_real D, kc_real A, kc_real J, kc_real T)
+{
+    kc_real Tp = T - A / J;
+    kc_real rad = Tp * Tp - KC_R(4.0) * D / A;
+    if (Tp > KC_R(0.0) && rad >= KC_R(0.0)) {
+        kc_real v = KC_R(2.0) * D / (Tp + kc_sqrt(rad));
+        if (v >= A * A / J)
+            return v;
+    }
+    /* x^3 - (T/2) x^2 + D/(2J) = 0, the root in (0, T/4]. */
+    kc_real e = KC_R(54.0) * D / (J * T * T * T); /* 1 - cos(3 th) */
+    kc_real c = kc_clamp(KC_R(1.0) - e, KC_R(-1.0), KC_R(1.0));
+    kc_real th = kc_atan2(kc_sqrt(kc_max(e * (KC_R(2.0) - e), KC_R(0.0))), c) / KC_R(3.0);
+    kc_real sn, cs;
+    kc_sincos(KC_R(0.5) * th, &sn, &cs);
+    /* 1 - cos th = 2 sin^2(th/2), sin th = 2 sin(th/2) cos(th/2). */
+    kc_real x = T / KC_R(6.0) * (KC_R(2.0) * sn * sn + KC_R(2.0) * KC_R(1.7320508075688772935) * sn * cs);
+    for (int i = 0; i < 2; i++) {
+        kc_real g = x * x * (x - KC_R(0.5) * T) + D / (KC_R(2.0) * J);
+        kc_real dg = x * (KC_R(3.0) * x - T);
+        if (dg < KC_R(0.0)) {
+            kc_real xn = x - g / dg;
+            if (xn > KC_R(0.0) && xn <= KC_R(0.25) * T)
+                x = xn;
+        }
+    }
+    return J * x * x;
+}
+
+kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_real vmax, kc_real amax,
+                                  kc_real jmax, kc_real duration, kc_real dt)
+{
+    kc_scurve fast;
+    if (prof == NULL || !kc_isfinite(duration) || duration < KC_R(0.0))
+        return KC_E_ARG;
+    kc_status st = kc_scurve_plan(&fast, p0, KC_R(0.0), KC_R(0.0), p1, vmax, amax, jmax, dt);
+    if (st != KC_OK)
+        return st;
+    if (duration <= fast.T) {
+        if (duration < fast.T * (KC_R(1.0) - KC_R(8.0) * KC_REAL_EPS))
+            return KC_E_LIMIT;
+        *prof = fast;
+        return KC_OK;
+    }
+    kc_real D = kc_fabs(p1 - p0);
+    if (D == KC_R(0.0))
+        return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, KC_R(0.0), duration, amax, jmax, duration, dt);
+    kc_real v = kc_min(stretch_speed(D, amax, jmax, duration), fast.vp < KC_R(0.0) ? -fast.vp : fast.vp);
+    return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, p1 > p0 ? v : -v, KC_R(0.0), amax, jmax, duration, dt);
+}
+
+/* The root between v1 and v3 of the quadratic through (v1, g1), (v2, g2),
+ * (v3, g3) (Newton's divided differences), or 0 when it has none there. */
+static kc_real quad_root(kc_real v1, kc_real g1, kc_real v2, kc_real g2, kc_real v3, kc_real g3)
+{
+    kc_real f12 = (g2 - g1) / (v2 - v1), f23 = (g3 - g2) / (v3 - v2);
+    kc_real qa = (f23 - f12) / (v3 - v1);
+    kc_real qb = f12 - qa * (v1 + v2), qc = g1 - v1 * (f12 - qa * v2);
+    kc_real lo = kc_min(v1, v3), hi = kc_max(v1, v3), r1, r2;
+    if (qa == KC_R(0.0)) {
+        r1 = r2 = -qc / qb;
+    } else {
+        kc_real disc = qb * qb - KC_R(4.0) * qa * qc;
+        if (!(disc >= KC_R(0.0)))
+            return KC_R(0.0);
+        /* The two roots without cancellation. */
+        kc_real q = KC_R(-0.5) * (qb + (qb >= KC_R(0.0) ? kc_sqrt(disc) : -kc_sqrt(disc)));
+        r1 = q / qa;
+        r2 = q != KC_R(0.0) ? qc / q : r1;
+    }
+    if (r1 > lo && r1 < hi)
+        return r1;
+    if (r2 > lo && r2 < hi)
+        return r2;
+    return KC_R(0.0);
+}
+
+/* Keeps the bracket (vh: T - duration <= 0, vl: >= 0) tight with a new
+ * point v of value f. */
+static void narrow(kc_real v, kc_real f, kc_real *vh, kc_real *th, kc_real *vl, kc_real *tl)
+{
+    if (!kc_isfinite(f))
+        return;
+    if (f <= KC_R(0.0)) {
+        if (kc_fabs(v) < kc_fabs(*vh) && kc_fabs(v) > kc_fabs(*vl)) {
+            *vh = v;
+            *th = f;
+        }
+    } else if (kc_fabs(v) > kc_fabs(*vl) && kc_fabs(v) < kc_fabs(*vh)) {
+        *vl = v;
+        *tl = f;
+    }
+}
+
+/* The moving start (v0, a0) != 0 stretched to duration > fast->T, fast
+ * its time-optimal plan (kinctl/scurve.h, kc_scurve_plan_duration_from). */
+static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J,
+                              kc_real duration, kc_real dt)
+{
+    kc_real p0 = fast->p0, v0 = fast->v0, a0 = fast->a0, p1 = fast->p1, d = p1 - p0;
+    /* e: how far the target lies beyond where stopping at once ends; the
+     * cruise runs towards it (sign s). */
+    kc_real e = d - dist_of(KC_R(0.0), v0, a0, A, J);
+    if (e == KC_R(0.0)) /* stop at once, then wait */
+        return build_vp(prof, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, J, duration, dt);
+    kc_real s = e > KC_R(0.0) ? KC_R(1.0) : KC_R(-1.0);
+    kc_real V = kc_isfinite(vmax) ? vmax : kc_max(kc_fabs(fast->vp), kc_fabs(v0)) + A * A / J;
+    /* vh: the fastest cruise on that side: the optimum's own vp when it is
+     * a plain plan on that side; else V, or where the cruise vanishes (the
+     * root of d(vp) = d between 0 and s V). */
+    kc_real vh = fast->vp;
+    if (fast->gap || !(s * vh > KC_R(0.0))) {
+        vh = s * V;
+        kc_real dv = dist_of(vh, v0, a0, A, J);
+        dfun f = {0, v0, a0, A, J, KC_R(0.0)};
+        if (s * (d - dv) < KC_R(0.0)) {
+            kc_real f0 = -e;
+            vh = s > KC_R(0.0) ? root(&f, KC_R(0.0), vh, f0, dv - d, d) : root(&f, vh, KC_R(0.0), dv - d, f0, d);
+            if (vh == KC_R(0.0))
+                return KC_E_LIMIT;
+        }
+    }
+    dfun t = {2, v0, a0, A, J, d};
+    kc_real th = cruise_time_of(vh, d, v0, a0, A, J) - duration;
+    if (!(th <= KC_R(0.0)))
+        return KC_E_LIMIT; /* between the optimum and the slowest cruise this side allows */
+    /* vl: where the cruise alone, e / vp, would fill the duration, then
+     * halved until the plan lasts at least that long (the cruise grows as
+     * 1 / vp: rarely more than a halving). */
+    kc_real vl = kc_min(kc_fabs(e) / duration, kc_fabs(vh)) * s, tl = cruise_time_of(vl, d, v0, a0, A, J) - duration;
+    for (int i = 0; i < KC_SCURVE_MAX_ITER && tl < KC_R(0.0); i++) {
+        vl *= KC_R(0.5);
+        tl = cruise_time_of(vl, d, v0, a0, A, J) - duration;
+    }
+    if (!(tl >= KC_R(0.0)) || !kc_isfinite(tl))
+        return KC_E_CAPACITY;
+    /* Where the change and the stop both reach amax, d(vp) is quadratic
+     * and the duration linear in vp, so (T(vp) - duration) vp is a
+     * quadratic in vp: fitted through vh, vl and their harmonic mean, its
+     * root is exact there and a close first guess elsewhere. */
+    kc_real vm = KC_R(2.0) / (KC_R(1.0) / vh + KC_R(1.0) / vl);
+    kc_real tm = cruise_time_of(vm, d, v0, a0, A, J) - duration;
+    kc_real vp = quad_root(vh, th * vh, vm, tm * vm, vl, tl * vl);
+    if (vp != KC_R(0.0)) {
+        kc_real tq = cruise_time_of(vp, d, v0, a0, A, J) - duration;
+        if (kc_fabs(tq) > KC_R(4.0) * KC_REAL_EPS * duration) {
+            narrow(vp, tq, &vh, &th, &vl, &tl);
+            vp = KC_R(0.0);
+        }
+    }
+    narrow(vm, tm, &vh, &th, &vl, &tl);
+    if (vp == KC_R(0.0)) {
+        /* In x = 1 / vp, ascending: 1 / vh < 1 / vl for s > 0, the other
+         * way round for s < 0. */
+        kc_real xh = KC_R(1.0) / vh, xl = KC_R(1.0) / vl;
+        kc_real x = s > KC_R(0.0) ? root(&t, xh, xl, th, tl, duration) : root(&t, xl, xh, tl, th, duration);
+        vp = KC_R(1.0) / x;
+    }
+    kc_real tc = (d - dist_of(vp, v0, a0, A, J)) / vp;
+    if (!(tc >= KC_R(0.0)))
+        return KC_E_LIMIT;
+    return build_vp(prof, p0, v0, a0, p1, vp, tc, A, J, duration, dt);
+}
+
+kc_status kc_scurve_plan_duration_from(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
+                                       kc_real amax, kc_real jmax, kc_real duration, kc_real dt)
+{
+    kc_scurve fast;
+    if (prof == NULL || !kc_isfinite(duration) || duration < KC_R(0.0))
+        return KC_E_ARG;
+    if (v0 == KC_R(0.0) && a0 == KC_R(0.0))
+        return kc_scurve_plan_duration(prof, p0, p1, vmax, amax, jmax, duration, dt);
+    kc_status st = kc_scurve_plan(&fast, p0, v0, a0, p1, vmax, amax, jmax, dt);
+    if (st != KC_OK)
+        return st;
+    return kc_scurve_stretch(prof, &fast, vmax, amax, jmax, duration);
+}
+
+kc_status kc_scurve_stretch(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real amax, kc_real jmax,
+                            kc_real duration)
+{
+    if (prof == NULL || fast == NULL || !kc_isfinite(duration) || duration < KC_R(0.0) ||
+        !limits_ok(vmax, amax, jmax, fast->dt))
+        return KC_E_ARG;
+    if (duration <= fast->T) {
+        if (duration < fast->T * (KC_R(1.0) - KC_R(8.0) * KC_REAL_EPS))
+            return KC_E_LIMIT;
+        *prof = *fast;
+        return KC_OK;
+    }
+    if (fast->v0 == KC_R(0.0) && fast->a0 == KC_R(0.0))
+        return kc_scurve_plan_duration(prof, fast->p0, fast->p1, vmax, amax, jmax, duration, fast->dt);
+    return stretch_from(prof, fast, vmax, amax, jmax, duration, fast->dt);
+}
+
+/* The state at t in [0, T). */
+static void state_at(const kc_scurve *prof, kc_real t, kc_scurve_state *out)
+{
+    int i = 0;
+    while (i < prof->n - 1 && !(t < prof->t_end[i]))
+        i++;
+    if (t == KC_R(0.0)) {
+        /* Exactly the start state (a stop evaluated from its end would
+         * round it). */
+        out->p = prof->p0;
+        out->v = prof->v0;
+        out->a = prof->a0;
+        out->j = prof->j[0];
+        out->phase = prof->kind[0];
+        return;
+    }
+    kc_real tau = t - prof->tr[i], j = prof->j[i];
+    out->p = prof->pr[i] + tau * (prof->vr[i] + tau * (KC_R(0.5) * prof->ar[i] + tau * j / KC_R(6.0)));
+    out->v = prof->vr[i] + tau * (prof->ar[i] + KC_R(0.5) * tau * j);
+    out->a = prof->ar[i] + j * tau;
+    out->j = j;
+    out->phase = prof->kind[i];
+}
+
+static void state_done(const kc_scurve *prof, kc_scurve_state *out)
+{
+    out->p = prof->p1;
+    out->v = KC_R(0.0);
+    out->a = KC_R(0.0);
+    out->j = KC_R(0.0);
+    out->phase = 4;
+}
+
+kc_status kc_scurve_eval(const kc_scurve *prof, int64_t k, kc_scurve_state *out)
+{
+    if (prof == NULL || out == NULL || k < 0)
+        return KC_E_ARG;
+    if (k >= prof->ticks) {
+        state_done(prof, out);
+        return KC_DONE;
+    }
+    /* k < ticks <= 2^24: exact in both precisions, and k dt < T. */
+    state_at(prof, (kc_real)k * prof->dt, out);
+    return KC_OK;
+}
+
+kc_status kc_scurve_eval_time(const kc_scurve *prof, kc_real t, kc_scurve_state *out)
+{
+    if (prof == NULL || out == NULL || !(t >= KC_R(0.0)))
+        return KC_E_ARG;
+    if (t >= prof->T) {
+        state_done(prof, out);
+        return KC_DONE;
+    }
+    state_at(prof, t, out);
+    return KC_OK;
+}
