@@ -40,6 +40,7 @@ install(TARGETS kinctl_core_${KINCTL_REAL} kinctl_desc EXPORT kinctlTargets
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/core/include/kinctl ${PROJECT_SOURCE_DIR}/core/desc/include/kinctl
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR} FILES_MATCHING PATTERN "*.h"
         PATTERN "cfgread.h" EXCLUDE PATTERN "desc_tree.h" EXCLUDE)
+install(FILES ${KINCTL_GENERATED_INCLUDE}/kinctl/version.h DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/kinctl)
 install(EXPORT kinctlTargets NAMESPACE kinctl:: DESTINATION ${KINCTL_CMAKE_DIR})
 configure_package_config_file(${PROJECT_SOURCE_DIR}/cmake/kinctlConfig.cmake.in
   ${PROJECT_BINARY_DIR}/kinctlConfig.cmake INSTALL_DESTINATION ${KINCTL_CMAKE_DIR})

@@ -1,5 +1,6 @@
 /* args.c - kinctld's command line (config_internal.h): getopt_long over
  * the options --help lists; applied over the file in config.c. */
+#include "kinctl/version.h"
 #include "config_internal.h"
 
 #include <errno.h>
@@ -27,6 +28,7 @@ static void usage(FILE *out)
             "      --no-rt           none of them (tests, sanitizers, laptops)\n"
             "      --check           read and check the configuration, print it, exit\n"
             "  -h, --help            this text\n"
+            "  -V, --version         print kinctld's version and exit\n"
             "\n"
             "Channels: <prefix>GOAL_JOINT GOAL_LINE GOAL_ARC GOAL_PATH GOAL_SERVO COMMAND\n"
             "(in), <prefix>SETPOINT STATUS STATS (out). Setpoints to drives over SocketCAN\n"
@@ -62,7 +64,8 @@ kd_config_result kd_args_parse(kd_args *a, int argc, char **argv)
         {"period-us", required_argument, NULL, 'p'}, {"prefix", required_argument, NULL, 'P'},
         {"lcm-url", required_argument, NULL, 'u'}, {"rt", no_argument, NULL, OPT_RT},
         {"no-rt", no_argument, NULL, OPT_NO_RT},   {"check", no_argument, NULL, OPT_CHECK},
-        {"help", no_argument, NULL, 'h'},          {NULL, 0, NULL, 0}};
+        {"help", no_argument, NULL, 'h'},          {"version", no_argument, NULL, 'V'},
+        {NULL, 0, NULL, 0}};
     int opt;
 
     a->config_path = a->model = a->prefix = a->url = NULL;
@@ -71,7 +74,7 @@ kd_config_result kd_args_parse(kd_args *a, int argc, char **argv)
     a->check = 0;
     opterr = 0;
     optind = 1;
-    while ((opt = getopt_long(argc, argv, ":c:m:p:P:u:h", opts, NULL)) != -1) {
+    while ((opt = getopt_long(argc, argv, ":c:m:p:P:u:hV", opts, NULL)) != -1) {
         switch (opt) {
         case 'c': a->config_path = optarg; break;
         case 'm': a->model = optarg; break;
@@ -89,6 +92,7 @@ kd_config_result kd_args_parse(kd_args *a, int argc, char **argv)
         case OPT_NO_RT: a->rt = 0; break;
         case OPT_CHECK: a->check = 1; break;
         case 'h': usage(stdout); return KD_CONFIG_EXIT;
+        case 'V': printf("kinctld %s\n", KC_VERSION); return KD_CONFIG_EXIT;
         case ':':
             kd_problem("%s needs a value (see --help)", argv[optind - 1]);
             return KD_CONFIG_ERROR;

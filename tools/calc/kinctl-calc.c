@@ -10,6 +10,7 @@
 #include <string.h>
 
 #include "calc.h"
+#include "kinctl/version.h"
 
 #define EXIT_BAD_INPUT 2
 #define EXIT_FAILURE_IO 1
@@ -490,7 +491,7 @@ static void print_main_help(FILE *f)
            "Kinematics calculator of kinctl; answers are JSON on stdout.\n\nsubcommands:\n");
     for (size_t i = 0; i < N_COMMANDS; i++)
         fprintf(f, "  %-10s %s\n", commands[i].name, commands[i].summary);
-    fprintf(f, "\nExample: kinctl-calc fk --model puma560 --q 0,0,0,0,0,0\n");
+    fprintf(f, "\n--version prints the version.\nExample: kinctl-calc fk --model puma560 --q 0,0,0,0,0,0\n");
 }
 
 /* Runs one request and writes its answer object (result, or error) to out.
@@ -666,6 +667,10 @@ int main(int argc, char **argv)
     if (argc < 2 || strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
         print_main_help(argc < 2 ? stderr : stdout);
         return argc < 2 ? EXIT_BAD_INPUT : 0;
+    }
+    if (strcmp(argv[1], "--version") == 0 || strcmp(argv[1], "-V") == 0) {
+        printf("kinctl-calc %s (core %s)\n", KC_VERSION, KC_REAL_NAME);
+        return 0;
     }
     if (strcmp(argv[1], "interp") == 0) /* dispatches on its second word: calc.h */
         return calc_interp_main(argc - 2, argv + 2);

@@ -18,7 +18,19 @@ tests/tools/test_imports.py):
 - the machine: programs (where the built programs are), local (a kinctld of
   one's own: the launcher of the demo and the tests), demo, urdf.
 """
-__version__ = "0.1.0"
+
+
+def _version():
+    # tools/pyproject.toml holds it (checked against the CMake project's by
+    # cmake/wheel.cmake); installed, editable or as the wheel, it is here.
+    from importlib import metadata
+    try:
+        return metadata.version("kinctl")
+    except metadata.PackageNotFoundError:
+        return "unknown (not installed)"
+
+
+__version__ = _version()
 
 
 def __getattr__(name):

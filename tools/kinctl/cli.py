@@ -44,16 +44,30 @@ def build_parser():
         epilog=EXAMPLES + "\nexit status: 0 ok; 1 goal rejected/preempted/aborted, timeout or no daemon; "
                           "2 bad command line")
     connection.add_options(p, suppress=False)
+    from kinctl import __version__
+    p.add_argument("-V", "--version", action="version", version=f"kinctl {__version__}")
     sub = p.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for module in COMMAND_MODULES:
         module.register(sub, parents)
     return p
 
 
+def _no_messages(e):
+    """The generated message classes are missing (kinctl.msgs says how to get
+    them): the reason, not a traceback; anything else goes on up."""
+    if "kinctl_msgs" not in str(e):
+        raise e
+    err("error:", e)
+    return 1
+
+
 def main(argv=None):
     argv = glue_negative_values(sys.argv[1:] if argv is None else list(argv))
     args = build_parser().parse_args(argv)
-    from kinctl.client import DaemonNotFound
+    try:
+        from kinctl.client import DaemonNotFound
+    except ImportError as e:
+        return _no_messages(e)
     try:
         return args.run(args)
     except DaemonNotFound as e:
@@ -62,6 +76,8 @@ def main(argv=None):
     except (ValueError, UsageError) as e:
         err("error:", e)
         return 2
+    except ImportError as e:
+        return _no_messages(e)
     except OSError as e:
         err("error:", e)
         return 1

@@ -12,7 +12,8 @@ except ImportError as e:  # pragma: no cover - depends on the installation
     raise ImportError(
         "kinctl: the generated message package kinctl_msgs is not importable (" + str(e) + "). "
         "Build the tree (scripts/setup.sh, which also adds build/lcmtypes/python to .venv), "
-        "or set PYTHONPATH=<build>/lcmtypes/python.") from e
+        "or set PYTHONPATH=<build>/lcmtypes/python; on a controller PC, install the kinctl wheel "
+        "(docs/deploy.md).") from e
 
 # Channel suffixes (the daemon adds its prefix, KINCTL_ by default).
 CHANNELS = {goal_joint_t: "GOAL_JOINT", goal_line_t: "GOAL_LINE", goal_arc_t: "GOAL_ARC",

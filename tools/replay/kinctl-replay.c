@@ -37,6 +37,7 @@
 #include "goal.h"
 #include "kinctl/ctrl.h"
 #include "kinctl/se3.h"
+#include "kinctl/version.h"
 #include "msg.h"
 
 #define PROGRESS_EVERY 2000 /* cycles between progress lines */
@@ -53,6 +54,7 @@ static void usage(FILE *f)
           "--prefix P): give the ones the daemon ran with.\n"
           "\n"
           "  --progress   print 'progress DONE TOTAL' lines on stderr\n"
+          "  --version    print kinctl-replay's version and exit\n"
           "\n"
           "example:\n"
           "  kinctl-replay run.lcmlog --model panda --period-us 500\n"
@@ -337,6 +339,11 @@ int main(int argc, char **argv)
     for (i = 1; i < argc; i++) {
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             usage(stdout);
+            free(rest);
+            return 0;
+        }
+        if (strcmp(argv[i], "--version") == 0 || strcmp(argv[i], "-V") == 0) {
+            printf("kinctl-replay %s\n", KC_VERSION);
             free(rest);
             return 0;
         }
