@@ -329,6 +329,9 @@ def build_parser():
                     help="following error window: statusword bit 13 beyond it; 0: never (default)")
     ds.add_argument("--no-stdin", action="store_true", help="ignore stdin (run until SIGINT)")
 
+    from kinctl import drive402
+    drive402.add_parser(sub, _sub, parents, nonneg)
+
     cd = _sub(sub, "candecode", "print CAN frames decoded with kinctl's DBC (kinctl.dbc): a candump log "
                                 "(candump -L, or its default format) or a live interface",
               "candump -L vcan0 | kinctl candecode\n  kinctl candecode --interface vcan0 --count 20\n"
@@ -623,6 +626,9 @@ def main(argv=None):
         if args.command == "drivesim":
             from kinctl import drivesim
             return drivesim.run(args)
+        if args.command == "drive402":
+            from kinctl import drive402
+            return drive402.run(args)
         if args.command == "candecode":
             from kinctl import candecode
             return candecode.run(args)
