@@ -136,6 +136,7 @@ class Drive:
 
     def __init__(self, network, node_id, eds, start_counts, lag_s=0.0):
         import canopen
+        self._cache = {}
         self.network = network
         self.id = node_id
         self.eds = eds
@@ -176,7 +177,16 @@ class Drive:
         self.error_register = 0
         self.state = SWITCH_ON_DISABLED  # not ready to switch on passes at once
 
+    def cached(self, key, compute):
+        """compute() once until the dictionary changes (an SDO write, an
+        RPDO into the dictionary, a reset): the PDO layout and the settings
+        read at every SYNC."""
+        if key not in self._cache:
+            self._cache[key] = compute()
+        return self._cache[key]
+
     def _reset_communication(self):
+        self._cache = {}
         for index in [i for i in self.node.data_store if 0x1000 <= i < 0x2000]:
             del self.node.data_store[index]
         self.pending = {}  # RPDO number -> data received since the last SYNC
@@ -201,6 +211,7 @@ class Drive:
 
     def _on_write(self, index, subindex, od, data):
         from canopen.sdo import SdoAbortedError
+        self._cache = {}  # stored after this returns: computed again then
         value = od.decode_raw(data)
         if 0x1600 <= index < 0x1800 or 0x1A00 <= index < 0x1C00:
             comm = index - 0x200
@@ -252,9 +263,9 @@ class Drive:
             sw |= SW_VOLTAGE_ENABLED
         if self.state in (READY, SWITCHED_ON, ENABLED):
             sw |= SW_QUICK_STOP
-        if self.state == ENABLED and self.od(0x6060) == MODE_CSP:
+        if self.state == ENABLED and self.cached(0x6060, lambda: self.od(0x6060)) == MODE_CSP:
             sw |= SW_TARGET_FOLLOWED
-            window = self.od(0x6065)
+            window = self.cached(0x6065, lambda: self.od(0x6065))
             if window != 0xFFFFFFFF and abs(self.target - self.pos) > window:
                 sw |= SW_FOLLOWING_ERROR
         return sw
@@ -325,6 +336,9 @@ class Drive:
     def _pdos(self, comm_base, map_base):
         """[(number, cob id, transmission type, [mapping entries])] of the
         valid PDOs."""
+        return self.cached(comm_base, lambda: self._read_pdos(comm_base, map_base))
+
+    def _read_pdos(self, comm_base, map_base):
         out = []
         for k in range(2):
             if comm_base + k not in self.node.object_dictionary:
@@ -338,7 +352,7 @@ class Drive:
 
     def on_frame(self, can_id, data, timestamp):
         """Every frame the network hands over (SYNC, RPDOs, heartbeats)."""
-        if can_id == self.od(0x1005) & 0x7FF:
+        if can_id == self.cached(0x1005, lambda: self.od(0x1005) & 0x7FF):
             self._on_sync(data)
             return
         if 0x700 < can_id < 0x780 and len(data) >= 1:
@@ -373,6 +387,7 @@ class Drive:
                 self.vel_offset = value
             else:
                 self.node.data_store.setdefault(index, {})[sub] = bytes(raw)
+                self._cache = {}
 
     def _tpdo_data(self, entries):
         out = b""
@@ -403,7 +418,7 @@ class Drive:
             self._send_tpdos(at_sync=False)
 
     def _on_sync(self, data):
-        overflow = self.od(0x1019)
+        overflow = self.cached(0x1019, lambda: self.od(0x1019))
         if len(data) != (1 if overflow else 0):
             self.events.append(("sync_error", len(data)))
             self._comm_error(EMCY_SYNC_LENGTH)
@@ -421,7 +436,7 @@ class Drive:
         self._send_tpdos(at_sync=True)
 
     def _move(self):
-        if self.state != ENABLED or self.od(0x6060) != MODE_CSP:
+        if self.state != ENABLED or self.cached(0x6060, lambda: self.od(0x6060)) != MODE_CSP:
             self.target = int(round(self.pos))
             return
         if self.lag_s <= 0:
