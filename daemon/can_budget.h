@@ -18,6 +18,17 @@
  * check refuses a mean above share (default 0.70) of the bus cycle's
  * period; a peak above the share is said but not refused (the bus takes
  * the burst in the next cycle's idle time).
+ *
+ * What fits under the default share (0.70) with an empty SYNC (55 bits),
+ * per drive an RPDO of controlword + target (6 bytes, 115 bits) and a TPDO
+ * of statusword + actual position (6 bytes, 115 bits), drives per bus:
+ *                         TPDO every SYNC    TPDO every 2nd SYNC
+ *     1 Mbit/s,   1 kHz          2                   3
+ *     1 Mbit/s,   500 Hz         5                   7
+ *     500 kbit/s, 1 kHz          1                   1
+ *     500 kbit/s, 500 Hz         2                   3
+ * e.g. 1 Mbit/s at 1 kHz: (700 - 55) / 230 = 2.8, (700 - 55) / (115 +
+ * 115 / 2) = 3.7; unit.can_budget checks the table.
  */
 #ifndef KINCTL_DAEMON_CAN_BUDGET_H
 #define KINCTL_DAEMON_CAN_BUDGET_H

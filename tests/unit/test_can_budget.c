@@ -128,6 +128,32 @@ static void test_options(void **state)
     assert_near(u.mean_bits, 55.0 + 460.0 + 460.0 / 3.0, 1e-9);
 }
 
+/* can_budget.h's table of what fits, by hand: (share * cycle bits - 55) /
+ * bits per drive, 230 with the TPDO every SYNC, 172.5 every 2nd. */
+static void test_what_fits(void **state)
+{
+    (void)state;
+    static const struct {
+        int64_t bitrate, period_ns;
+        int every_sync, every_2nd;
+    } table[] = {{1000000, 1000000, 2, 3}, {1000000, 2000000, 5, 7}, {500000, 1000000, 1, 1}, {500000, 2000000, 2, 3}};
+    for (size_t i = 0; i < sizeof table / sizeof table[0]; i++) {
+        for (int every = 1; every <= 2; every++) {
+            int fit = 0;
+            for (int n = 1; n <= KC_MAX_JOINTS; n++) {
+                kd_can_budget_use u;
+                kd_can_budget b = bus(n, 6, 6, every, table[i].period_ns, table[i].bitrate);
+                if (kd_can_budget_check(&b, &u, NULL, 0) == 0)
+                    fit = n;
+            }
+            int want = every == 1 ? table[i].every_sync : table[i].every_2nd;
+            if (fit != want)
+                fail_msg("%lld bit/s, %lld ns, TPDO every %d: %d drives fit, the table says %d",
+                         (long long)table[i].bitrate, (long long)table[i].period_ns, every, fit, want);
+        }
+    }
+}
+
 static void test_bad(void **state)
 {
     (void)state;
@@ -160,6 +186,7 @@ int main(void)
         cmocka_unit_test(test_issue_case),
         cmocka_unit_test(test_fits),
         cmocka_unit_test(test_options),
+        cmocka_unit_test(test_what_fits),
         cmocka_unit_test(test_bad),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
