@@ -102,7 +102,7 @@ def next_state(state, cw, prev_cw, quick_stop_option):
     if state == SWITCH_ON_DISABLED:
         return READY if shutdown else state
     if state == READY:
-        if switch_on or enable:  # 3 (enable: 3 then 4 on the next, as many drives do in one)
+        if switch_on or enable:  # 3; enable operation here: 3 now, 4 at the next controlword
             return SWITCHED_ON
         return SWITCH_ON_DISABLED if disable_voltage or quick_stop else state
     if state == SWITCHED_ON:
