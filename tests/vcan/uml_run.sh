@@ -4,7 +4,8 @@
 #      (root: modprobe vcan, ip link add vcan0 type vcan);
 #   2. otherwise inside User Mode Linux (Debian user-mode-linux, kmod): UML
 #      boots as a normal process with the host's / as its root (hostfs), its
-#      init loads can, can-raw, can-dev and vcan from /usr/lib/uml/modules,
+#      init loads can, can-raw, can-bcm (python-can's periodic frames), can-dev
+#      and vcan from /usr/lib/uml/modules,
 #      brings up vcan0 and lo with multicast (a route for 224.0.0.0/4: LCM),
 #      runs the same pytest command in the same directory with the same
 #      environment, and writes its exit code to a file UML leaves behind;
@@ -85,7 +86,7 @@ fi
 mount -t proc proc /proc
 mount -t sysfs sys /sys
 mount -t tmpfs tmp /dev/shm 2>/dev/null
-for m in net/can/can.ko net/can/can-raw.ko drivers/net/can/dev/can-dev.ko drivers/net/can/vcan.ko; do
+for m in net/can/can.ko net/can/can-raw.ko net/can/can-bcm.ko drivers/net/can/dev/can-dev.ko drivers/net/can/vcan.ko; do
     insmod "${uml_modules}kernel/\$m" || echo "uml: insmod \$m failed"
 done
 sysctl -q -w net.core.rmem_max=16777216 net.core.wmem_max=16777216
