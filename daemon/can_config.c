@@ -58,6 +58,7 @@ int kd_can_cfg_read(kc_cfg *r, const config_setting_t *g, kd_can_cfg *can)
     s = config_setting_get_member(g, "joints");
     if (s != NULL) {
         n = config_setting_length(s);
+        can->joints_line = (int)config_setting_source_line(s);
         if (!config_setting_is_aggregate(s) || n < 1 || n > KC_MAX_JOINTS)
             return kc_cfg_fail(r, s, "controller.can.joints must be a list of 1 .. %d groups", KC_MAX_JOINTS);
         for (i = 0; i < n; i++) {
@@ -66,6 +67,7 @@ int kd_can_cfg_read(kc_cfg *r, const config_setting_t *g, kd_can_cfg *can)
             char where[64];
             double off = 0.0;
             snprintf(where, sizeof where, "controller.can.joints[%d]", i);
+            jc->line = (int)config_setting_source_line(e);
             if (!config_setting_is_group(e))
                 return kc_cfg_fail(r, e, "%s must be a group { node = ...; counts_per_unit = ...; }", where);
             if (config_setting_get_member(e, "node") == NULL || config_setting_get_member(e, "counts_per_unit") == NULL)
@@ -102,14 +104,23 @@ int kd_can_cfg_read(kc_cfg *r, const config_setting_t *g, kd_can_cfg *can)
 
 /* The CAN section against the arm: one drive per joint, node ids apart
  * from the master's, and every position and velocity inside int32 counts. */
+/* "<file>:<line>: " where the line is known, else "<file>: ". */
+static void where_in(const char *path, int line)
+{
+    if (line > 0)
+        fprintf(stderr, "%s:%d: ", path != NULL ? path : "kinctld", line);
+    else
+        fprintf(stderr, "%s: ", path != NULL ? path : "kinctld");
+}
+
 int kd_can_cfg_check(const kd_can_cfg *can, const kc_chain *chain, const char *robot_name, const char *path)
 {
-    const char *f = path != NULL ? path : "kinctld";
     int j;
     if (!can->enable)
         return 0;
     if (can->n_joints != chain->n_joints) {
-        fprintf(stderr, "%s: controller.can.joints has %d drives, the arm \"%s\" has %d joints\n", f, can->n_joints,
+        where_in(path, can->joints_line);
+        fprintf(stderr, "controller.can.joints has %d drives, the arm \"%s\" has %d joints\n", can->n_joints,
                 robot_name, chain->n_joints);
         return -1;
     }
@@ -120,15 +131,17 @@ int kd_can_cfg_check(const kd_can_cfg *can, const kc_chain *chain, const char *r
                        fabs((double)jc->offset_counts);
         double vel = (double)l->qd_max * jc->counts_per_unit;
         if (jc->node == can->master_id) {
-            fprintf(stderr, "%s: controller.can.joints[%d].node = %d is the master's id (master_id)\n", f, j,
-                    jc->node);
+            where_in(path, jc->line);
+            fprintf(stderr, "controller.can.joints[%d].node = %d (joint %d) is the master's id (master_id)\n", j,
+                    jc->node, j + 1);
             return -1;
         }
         if (!(reach < 2147483647.0) || !(vel < 2147483647.0)) {
+            where_in(path, jc->line);
             fprintf(stderr,
-                    "%s: controller.can.joints[%d]: joint %d's range [%.6g, %.6g] or speed %.6g at %.6g counts per "
+                    "controller.can.joints[%d]: joint %d's range [%.6g, %.6g] or speed %.6g at %.6g counts per "
                     "unit does not fit int32 counts\n",
-                    f, j, j + 1, (double)l->q_min, (double)l->q_max, (double)l->qd_max, jc->counts_per_unit);
+                    j, j + 1, (double)l->q_min, (double)l->q_max, (double)l->qd_max, jc->counts_per_unit);
             return -1;
         }
     }

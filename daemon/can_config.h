@@ -34,6 +34,7 @@ typedef struct kd_can_joint {
     double counts_per_unit; /* drive counts per rad (revolute) or per m (prismatic), > 0 */
     int sign;               /* +1 or -1: the drive's direction against the joint's */
     int64_t offset_counts;  /* counts at joint position 0 */
+    int line;               /* its group's line in the file (0: none) */
 } kd_can_joint;
 
 typedef struct kd_can_cfg {
@@ -45,6 +46,7 @@ typedef struct kd_can_cfg {
     int on_error_stop;                   /* bus lost: 1 fault and stop, 0 carry on with LCM only */
     kd_can_joint joint[KC_MAX_JOINTS];
     int n_joints;                        /* as configured (checked against the arm) */
+    int joints_line;                     /* the joints list's line in the file (0: none) */
     int feedback;                        /* read TPDOs and drive heartbeats */
     double following_error;              /* largest |actual - target| (rad or m); 0: unchecked */
     double drive_timeout_ms;             /* longest silence of a drive's heartbeat; 0: unchecked */

@@ -212,7 +212,7 @@ static int place_home(kd_config *cfg, const kd_file *fc, int robot_deg, const ch
 
 /* The zones against the arm: goals are checked tick by tick, so no volume
  * may travel the margin in one cycle (kinctl/zone.h). */
-static int check_zones(kd_config *cfg, const char *path)
+static int check_zones(kd_config *cfg, const char *path, const kd_file *fc)
 {
     kc_real travel;
     if (cfg->zones.n_zones == 0)
@@ -220,15 +220,60 @@ static int check_zones(kd_config *cfg, const char *path)
     travel = kc_zone_tick_travel(&cfg->chain, cfg->ctrl.dt);
     cfg->ctrl.zones = &cfg->zones;
     if (cfg->chain.n_volumes == 0) {
-        fprintf(stderr, "%s: warning: controller.zones is set but robot \"%s\" has no link volumes\n", path,
-                cfg->robot_name);
+        fprintf(stderr, "%s:%d: warning: controller.zones is set but robot \"%s\" has no link volumes\n", path,
+                fc->zones_line, cfg->robot_name);
     } else if (!(cfg->zones.margin > travel)) {
-        fprintf(stderr, "%s: controller.zones.margin = %g m is not above %g m, the farthest a link volume moves in "
-                        "one cycle at the joints' velocity limits (raise the margin, shorten period_us or lower "
-                        "vel_scale)\n", path, (double)cfg->zones.margin, (double)travel);
+        fprintf(stderr, "%s:%d: controller.zones.margin = %g m is not above %g m, the farthest a link volume moves "
+                        "in one cycle at the joints' velocity limits (raise the margin, shorten period_us or lower "
+                        "vel_scale)\n", path, fc->margin_line, (double)cfg->zones.margin, (double)travel);
         return -1;
     }
     return 0;
+}
+
+/* The controller's own check of the whole (kc_ctrl_cfg_check_field): what it
+ * refuses, named by its key, or for a joint's limit by the joint and the line
+ * of its row in the description. 0 when it takes the configuration. */
+static int refuse_ctrl(const kd_config *cfg, const char *path)
+{
+    static const char *const keys[] = {
+        [KC_CFG_FIELD_DT] = "period_us",
+        [KC_CFG_FIELD_CART_SPEED] = "controller.cartesian.speed",
+        [KC_CFG_FIELD_CART_ACCEL] = "controller.cartesian.accel",
+        [KC_CFG_FIELD_CART_OMEGA] = "controller.cartesian.omega",
+        [KC_CFG_FIELD_CART_ALPHA] = "controller.cartesian.alpha",
+        [KC_CFG_FIELD_TRACK_TOL] = "controller.cartesian.track_tol",
+        [KC_CFG_FIELD_LIMIT_SLACK] = "the limit slack",
+        [KC_CFG_FIELD_SERVO_TIMEOUT] = "controller.servo_timeout_ms",
+        [KC_CFG_FIELD_IK] = "the inverse kinematics settings",
+        [KC_CFG_FIELD_ZONES] = "controller.zones",
+        [KC_CFG_FIELD_ZONES_MARGIN] = "controller.zones.margin",
+    };
+    kc_ctrl_cfg_field field;
+    int j;
+    const char *file = path != NULL ? path : "built-in model";
+    if (kc_ctrl_cfg_check_field(&cfg->ctrl, &cfg->chain, &field, &j) == KC_OK)
+        return 0;
+    if (field == KC_CFG_FIELD_JOINT_QD_MAX || field == KC_CFG_FIELD_JOINT_QDD_MAX) {
+        const char *what = field == KC_CFG_FIELD_JOINT_QD_MAX ? "velocity limit (limits.qd)"
+                                                               : "acceleration limit (limits.qdd)";
+        int line = cfg->joint_lines[j];
+        if (line > 0)
+            fprintf(stderr, "%s:%d: robot \"%s\" joint %d%s%s%s has no %s: the controller needs a finite one for "
+                            "every joint\n",
+                    file, line, cfg->robot_name, j + 1, cfg->joint_names[j][0] ? " (" : "", cfg->joint_names[j],
+                    cfg->joint_names[j][0] ? ")" : "", what);
+        else
+            kd_problem("%s: robot \"%s\" joint %d has no %s: the controller needs a finite one for every joint", file,
+                       cfg->robot_name, j + 1, what);
+        return -1;
+    }
+    kd_problem("%s: the controller refuses %s with robot \"%s\"", file,
+               field > KC_CFG_FIELD_ARG && (size_t)field < sizeof keys / sizeof keys[0] && keys[field] != NULL
+                   ? keys[field]
+                   : "this configuration",
+               cfg->robot_name);
+    return -1;
 }
 
 kd_config_result kd_config_load(kd_config *cfg, int argc, char **argv)
@@ -252,6 +297,8 @@ kd_config_result kd_config_load(kd_config *cfg, int argc, char **argv)
     if (a.model != NULL || !fc.has_robot) {
         const char *model = a.model != NULL ? a.model : "puma560";
         memset(cfg->volume_names, 0, sizeof cfg->volume_names);
+        memset(cfg->joint_lines, 0, sizeof cfg->joint_lines);
+        memset(cfg->joint_names, 0, sizeof cfg->joint_names);
         if (builtin_model(cfg, model) != 0) {
             kd_problem("cannot build the built-in model \"%s\"", model);
             return KD_CONFIG_ERROR;
@@ -272,14 +319,10 @@ kd_config_result kd_config_load(kd_config *cfg, int argc, char **argv)
     cfg->ctrl.servo_timeout_ticks = (int64_t)ceil(cfg->servo_timeout_s / ((double)cfg->period_ns * 1e-9));
     if (cfg->ctrl.servo_timeout_ticks < 1)
         cfg->ctrl.servo_timeout_ticks = 1;
-    if (check_zones(cfg, a.config_path) != 0)
+    if (check_zones(cfg, a.config_path, &fc) != 0)
         return KD_CONFIG_ERROR;
-    if (kc_ctrl_cfg_check(&cfg->ctrl, &cfg->chain) != KC_OK) {
-        kd_problem("%s: the controller refuses this configuration with robot \"%s\" (%s; check the limits, period "
-                   "and cartesian settings)",
-                   a.config_path != NULL ? a.config_path : "built-in", cfg->robot_name, kc_status_str(KC_E_ARG));
+    if (refuse_ctrl(cfg, a.config_path) != 0)
         return KD_CONFIG_ERROR;
-    }
     if (a.check) {
         char line[512];
         kd_config_describe(cfg, line, sizeof line);

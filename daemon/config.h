@@ -106,6 +106,10 @@ typedef struct kd_config {
     kc_zone_set zones;
     char zone_names[KC_ZONE_MAX][KD_NAME_MAX];
     char volume_names[KC_MAX_VOLUMES][KD_NAME_MAX];
+    /* The robot section's name ("" where none) and line (0: a built-in
+     * model) of each joint. */
+    char joint_names[KC_MAX_JOINTS][KD_NAME_MAX];
+    int joint_lines[KC_MAX_JOINTS];
 } kd_config;
 
 /* Outcome of kd_config_load. */

@@ -190,7 +190,13 @@ int kd_config_read_file(const char *path, kd_config *cfg, kd_file *f)
     if (rc == 0 && c != NULL) {
         /* controller.zones, in the description library's format. */
         kc_desc_zone_info info;
-        if (kc_desc_read_zones(config_setting_get_member(c, "zones"), path, &cfg->zones, &info, &err) != KC_OK)
+        const config_setting_t *zs = config_setting_get_member(c, "zones");
+        if (zs != NULL) {
+            const config_setting_t *m = config_setting_is_group(zs) ? config_setting_get_member(zs, "margin") : NULL;
+            f->zones_line = (int)config_setting_source_line(zs);
+            f->margin_line = m != NULL ? (int)config_setting_source_line(m) : f->zones_line;
+        }
+        if (kc_desc_read_zones(zs, path, &cfg->zones, &info, &err) != KC_OK)
             rc = -1;
         else
             for (int z = 0; z < info.n_zones; z++)
@@ -205,6 +211,9 @@ int kd_config_read_file(const char *path, kd_config *cfg, kd_file *f)
             f->robot_deg = info.angles_deg;
             for (int v = 0; v < info.n_volumes; v++)
                 snprintf(cfg->volume_names[v], sizeof cfg->volume_names[v], "%s", info.volume_names[v]);
+            memcpy(cfg->joint_lines, info.joint_lines, sizeof cfg->joint_lines);
+            for (int j = 0; j < info.n_joints; j++)
+                snprintf(cfg->joint_names[j], sizeof cfg->joint_names[j], "%s", info.joint_names[j]);
         }
     }
     if (rc != 0)

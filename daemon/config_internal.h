@@ -36,6 +36,7 @@ typedef struct kd_file {
     double home[KC_MAX_JOINTS];
     int has_url;
     char url[KD_URL_MAX];
+    int zones_line, margin_line; /* controller.zones and its margin (0: absent) */
 } kd_file;
 
 /* Parses the file at path once and reads it: the controller section into

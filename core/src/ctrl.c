@@ -38,29 +38,66 @@ kc_ctrl_cfg kc_ctrl_cfg_default(void)
 
 static int positive(kc_real x) { return kc_isfinite(x) && x > KC_R(0.0); }
 
-kc_status kc_ctrl_cfg_check(const kc_ctrl_cfg *cfg, const kc_chain *chain)
+/* The first field cfg_check refuses, KC_CFG_FIELD_NONE when none; *joint
+ * for a joint's limit. */
+static kc_ctrl_cfg_field cfg_problem(const kc_ctrl_cfg *cfg, const kc_chain *chain, int *joint)
 {
+    *joint = -1;
     if (cfg == NULL || chain == NULL)
-        return KC_E_ARG;
-    if (!positive(cfg->dt) || !positive(cfg->cart_speed) || !positive(cfg->cart_accel) ||
-        !positive(cfg->cart_omega) || !positive(cfg->cart_alpha) || !positive(cfg->track_tol) ||
-        !kc_isfinite(cfg->limit_slack) || cfg->limit_slack < KC_R(0.0) || cfg->servo_timeout_ticks < 1)
-        return KC_E_ARG;
+        return KC_CFG_FIELD_ARG;
+    if (!positive(cfg->dt))
+        return KC_CFG_FIELD_DT;
+    if (!positive(cfg->cart_speed))
+        return KC_CFG_FIELD_CART_SPEED;
+    if (!positive(cfg->cart_accel))
+        return KC_CFG_FIELD_CART_ACCEL;
+    if (!positive(cfg->cart_omega))
+        return KC_CFG_FIELD_CART_OMEGA;
+    if (!positive(cfg->cart_alpha))
+        return KC_CFG_FIELD_CART_ALPHA;
+    if (!positive(cfg->track_tol))
+        return KC_CFG_FIELD_TRACK_TOL;
+    if (!kc_isfinite(cfg->limit_slack) || cfg->limit_slack < KC_R(0.0))
+        return KC_CFG_FIELD_LIMIT_SLACK;
+    if (cfg->servo_timeout_ticks < 1)
+        return KC_CFG_FIELD_SERVO_TIMEOUT;
     if (kc_ik_cfg_check(&cfg->ik, chain) != KC_OK)
-        return KC_E_ARG;
+        return KC_CFG_FIELD_IK;
     /* The controller commands velocities within every joint's limits: they
      * must be finite. */
-    for (int j = 0; j < chain->n_joints; j++)
-        if (!kc_isfinite(chain->joints[j].limits.qd_max) || !kc_isfinite(chain->joints[j].limits.qdd_max))
-            return KC_E_ARG;
+    for (int j = 0; j < chain->n_joints; j++) {
+        *joint = j;
+        if (!kc_isfinite(chain->joints[j].limits.qd_max))
+            return KC_CFG_FIELD_JOINT_QD_MAX;
+        if (!kc_isfinite(chain->joints[j].limits.qdd_max))
+            return KC_CFG_FIELD_JOINT_QDD_MAX;
+    }
+    *joint = -1;
     /* Zones: a goal is checked tick by tick, so no volume may travel as far
      * as the margin in one tick (see kinctl/zone.h). */
-    if (cfg->zones != NULL &&
-        (kc_zone_set_check(cfg->zones) != KC_OK ||
-         (cfg->zones->n_zones > 0 && chain->n_volumes > 0 &&
-          !(cfg->zones->margin > kc_zone_tick_travel(chain, cfg->dt)))))
-        return KC_E_ARG;
-    return KC_OK;
+    if (cfg->zones != NULL && kc_zone_set_check(cfg->zones) != KC_OK)
+        return KC_CFG_FIELD_ZONES;
+    if (cfg->zones != NULL && cfg->zones->n_zones > 0 && chain->n_volumes > 0 &&
+        !(cfg->zones->margin > kc_zone_tick_travel(chain, cfg->dt)))
+        return KC_CFG_FIELD_ZONES_MARGIN;
+    return KC_CFG_FIELD_NONE;
+}
+
+kc_status kc_ctrl_cfg_check_field(const kc_ctrl_cfg *cfg, const kc_chain *chain, kc_ctrl_cfg_field *field,
+                                  int *joint)
+{
+    int j;
+    kc_ctrl_cfg_field f = cfg_problem(cfg, chain, &j);
+    if (field != NULL)
+        *field = f;
+    if (joint != NULL)
+        *joint = j;
+    return f == KC_CFG_FIELD_NONE ? KC_OK : KC_E_ARG;
+}
+
+kc_status kc_ctrl_cfg_check(const kc_ctrl_cfg *cfg, const kc_chain *chain)
+{
+    return kc_ctrl_cfg_check_field(cfg, chain, NULL, NULL);
 }
 
 kc_status kc_ctrl_init(kc_ctrl *c, const kc_chain *chain, const kc_ctrl_cfg *cfg, const kc_real *q0)

@@ -109,7 +109,7 @@ def test_bad_zone_configurations_refused(tmp_path):
     cfg = config(tmp_path, [ball("ball", on_sweep(0.6))], margin=0.001)
     r = run_kinctld("--config", cfg, "--check")
     assert r.returncode == 2
-    assert "controller.zones.margin = 0.001 m is not above" in r.stderr, r.stderr
+    assert "zones.cfg:4: controller.zones.margin = 0.001 m is not above" in r.stderr, r.stderr
     bad = tmp_path / "bad.cfg"
     bad.write_text('controller = {\n  zones = {\n    list = (\n      { shape = "cone"; }\n    );\n  };\n};\n')
     r = run_kinctld("--config", str(bad), "--check")

@@ -897,9 +897,45 @@ static void test_fault_stop_that_cannot_settle(void **state)
     assert_int_equal(H.out.goal_id, 0);
 }
 
+/* kc_ctrl_cfg_check_field names the first field it refuses, and for a
+ * joint's rate limit the joint; kc_ctrl_cfg_check agrees with it. */
+static void test_cfg_field(void **state)
+{
+    kc_chain chain;
+    kc_ctrl_cfg cfg;
+    kc_ctrl_cfg_field field;
+    int joint;
+    (void)state;
+    assert_int_equal(kc_chain_init_model(&chain, KC_MODEL_PUMA560, NULL), KC_OK);
+    cfg = kc_ctrl_cfg_default();
+    assert_int_equal(kc_ctrl_cfg_check_field(&cfg, &chain, &field, &joint), KC_OK);
+    assert_int_equal(field, KC_CFG_FIELD_NONE);
+    assert_int_equal(joint, -1);
+    cfg.cart_alpha = KC_R(0.0);
+    assert_int_equal(kc_ctrl_cfg_check_field(&cfg, &chain, &field, &joint), KC_E_ARG);
+    assert_int_equal(field, KC_CFG_FIELD_CART_ALPHA);
+    assert_int_equal(kc_ctrl_cfg_check(&cfg, &chain), KC_E_ARG);
+    cfg = kc_ctrl_cfg_default();
+    cfg.dt = KC_R(-0.001);
+    assert_int_equal(kc_ctrl_cfg_check_field(&cfg, &chain, &field, NULL), KC_E_ARG);
+    assert_int_equal(field, KC_CFG_FIELD_DT);
+    cfg = kc_ctrl_cfg_default();
+    chain.joints[4].limits.qdd_max = kc_joint_limits_default().qdd_max; /* infinite: no limit */
+    assert_int_equal(kc_ctrl_cfg_check_field(&cfg, &chain, &field, &joint), KC_E_ARG);
+    assert_int_equal(field, KC_CFG_FIELD_JOINT_QDD_MAX);
+    assert_int_equal(joint, 4);
+    chain.joints[2].limits.qd_max = kc_joint_limits_default().qd_max;
+    assert_int_equal(kc_ctrl_cfg_check_field(&cfg, &chain, &field, &joint), KC_E_ARG);
+    assert_int_equal(field, KC_CFG_FIELD_JOINT_QD_MAX);
+    assert_int_equal(joint, 2);
+    assert_int_equal(kc_ctrl_cfg_check_field(NULL, &chain, &field, &joint), KC_E_ARG);
+    assert_int_equal(field, KC_CFG_FIELD_ARG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_cfg_field),
         cmocka_unit_test(test_joint_goal),        cmocka_unit_test(test_line_goal),
         cmocka_unit_test(test_arc_and_paths),     cmocka_unit_test(test_queue_and_preemption),
         cmocka_unit_test(test_stop_pause_resume), cmocka_unit_test(test_estop_and_reset),

@@ -132,6 +132,7 @@ static kc_status read_dh_row(kc_desc_reader *r, const config_setting_t *g, const
         (st = read_limits(r, g, where, row.type == KC_JOINT_REVOLUTE, &row.limits)) != KC_OK ||
         (st = kc_desc_read_name(r, g, where, info->joint_names[chain->n_joints])) != KC_OK)
         return st;
+    info->joint_lines[chain->n_joints] = (int)config_setting_source_line(g);
     st = modified ? kc_chain_add_mdh(chain, &row) : kc_chain_add_dh(chain, &row);
     return built(r, g, where, st);
 }
@@ -181,6 +182,7 @@ static kc_status read_element(kc_desc_reader *r, const config_setting_t *g, cons
             (st = read_limits(r, g, where, rotation, &lim)) != KC_OK ||
             (st = kc_desc_read_name(r, g, where, info->joint_names[chain->n_joints])) != KC_OK)
             return st;
+        info->joint_lines[chain->n_joints] = (int)config_setting_source_line(g);
         st = kc_chain_add_joint(chain, (kc_code)(KC_CODE_RX_JOINT + k), offset, &lim);
     } else {
         static const char *const joint_only[] = {"offset", "limits", "name", NULL};

@@ -359,6 +359,31 @@ kc_status kc_ctrl_init(kc_ctrl *ctrl, const kc_chain *chain, const kc_ctrl_cfg *
  * kc_zone_tick_travel(chain, dt) (when both zones and volumes exist). */
 kc_status kc_ctrl_cfg_check(const kc_ctrl_cfg *cfg, const kc_chain *chain);
 
+/* The first thing kc_ctrl_cfg_check refuses, for a message that names it. */
+typedef enum kc_ctrl_cfg_field {
+    KC_CFG_FIELD_NONE = 0, /* nothing: the cfg is usable */
+    KC_CFG_FIELD_ARG,      /* cfg or chain NULL */
+    KC_CFG_FIELD_DT,
+    KC_CFG_FIELD_CART_SPEED,
+    KC_CFG_FIELD_CART_ACCEL,
+    KC_CFG_FIELD_CART_OMEGA,
+    KC_CFG_FIELD_CART_ALPHA,
+    KC_CFG_FIELD_TRACK_TOL,
+    KC_CFG_FIELD_LIMIT_SLACK,
+    KC_CFG_FIELD_SERVO_TIMEOUT,
+    KC_CFG_FIELD_IK,
+    KC_CFG_FIELD_JOINT_QD_MAX,  /* a joint's velocity limit is not finite */
+    KC_CFG_FIELD_JOINT_QDD_MAX, /* a joint's acceleration limit is not finite */
+    KC_CFG_FIELD_ZONES,         /* the zone set fails kc_zone_set_check */
+    KC_CFG_FIELD_ZONES_MARGIN   /* the margin is not above a tick's travel */
+} kc_ctrl_cfg_field;
+
+/* kc_ctrl_cfg_check, saying what it refuses: *field (KC_CFG_FIELD_NONE when
+ * the cfg is usable) and, for a joint's limit, *joint (0-based; else -1).
+ * field and joint may be NULL. */
+kc_status kc_ctrl_cfg_check_field(const kc_ctrl_cfg *cfg, const kc_chain *chain, kc_ctrl_cfg_field *field,
+                                  int *joint);
+
 /* A verdict that takes the goal and names nothing: indices -1, no tick,
  * infinite distance. */
 void kc_ctrl_verdict_init(kc_verdict *verdict);

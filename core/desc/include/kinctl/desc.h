@@ -107,6 +107,8 @@ typedef struct kc_desc_info {
     int n_joints;
     /* Joint names from the file, "" where none was given. */
     char joint_names[KC_MAX_JOINTS][KC_DESC_NAME_LEN];
+    /* The line of each joint's row or element in the file (0: none). */
+    int joint_lines[KC_MAX_JOINTS];
     /* Link volumes read from the file (chain->volumes), and their names. */
     int n_volumes;
     char volume_names[KC_MAX_VOLUMES][KC_DESC_NAME_LEN];
