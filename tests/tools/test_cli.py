@@ -196,7 +196,7 @@ def test_log_csv_has_a_row_per_cycle(daemon, tmp_path):
     (["goal", "line", "--to", "0.5,0,0.5,2,0,0,0"], "not a unit quaternion"),
     (["goal", "arc", "--via", "1,2", "--to", "0.5,0,0.5,1,0,0,0"], "needs 3 numbers"),
     (["goal", "path", "--points", "0,0,0;1,1"], "point 2 has 2 values"),
-    (["goal", "path", "--points", "0,0;1,1", "--times", "1"], "--times needs 2 numbers"),
+    (["goal", "path", "--points", "0,0;1,1", "--times", "1"], "times needs 2 numbers"),
     (["goal", "path", "--method", "bezier", "--points", "0"], "invalid choice"),
     (["goal", "servo", "--rate", "10"], "one of the arguments --pose --twist is required"),
     (["goal", "servo", "--twist", "1,2,3"], "needs 6 numbers"),

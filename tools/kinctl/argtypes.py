@@ -80,6 +80,14 @@ def nonneg(text):
     return v
 
 
+def fraction(text):
+    """A fraction of the limits, 0 .. 1 (0 means 1, as the messages say)."""
+    v = nonneg(text)
+    if v > 1.0:
+        raise argparse.ArgumentTypeError(f"{text} must be a fraction of the limits in [0, 1] (0 means 1)")
+    return v
+
+
 def goal_id(text):
     try:
         v = int(text, 0)

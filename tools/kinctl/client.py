@@ -84,21 +84,21 @@ def make_goal_joint(q, goal_id=None, replace=False, vel_scale=0.0, acc_scale=0.0
     """Joint move to q (rad or m); vel_scale, acc_scale in [0, 1] (0 = 1). Returns the message."""
     g = goal_joint_t()
     if not 1 <= len(q) <= goal_joint_t.MAX_JOINTS:
-        raise ValueError(f"--q needs 1 to {goal_joint_t.MAX_JOINTS} joint values, got {len(q)}")
+        raise ValueError(f"q needs 1 to {goal_joint_t.MAX_JOINTS} joint values, got {len(q)}")
     _finite("q", q)
     g.goal_id = goal_id or new_goal_id()
     g.mode = MODES[bool(replace)]
     g.n = len(q)
     g.q = list(q) + [0.0] * (goal_joint_t.MAX_JOINTS - len(q))
-    g.vel_scale, g.acc_scale = _scale("speed", vel_scale), _scale("accel", acc_scale)
+    g.vel_scale, g.acc_scale = _scale("vel_scale", vel_scale), _scale("acc_scale", acc_scale)
     return g
 
 
 def _cartesian(g, speed, accel, angular_speed, angular_accel, vel_scale, acc_scale):
     g.speed, g.accel = _nonneg("speed", speed), _nonneg("accel", accel)
-    g.angular_speed = _nonneg("angular speed", angular_speed)
-    g.angular_accel = _nonneg("angular accel", angular_accel)
-    g.vel_scale, g.acc_scale = _scale("joint speed", vel_scale), _scale("joint accel", acc_scale)
+    g.angular_speed = _nonneg("angular_speed", angular_speed)
+    g.angular_accel = _nonneg("angular_accel", angular_accel)
+    g.vel_scale, g.acc_scale = _scale("vel_scale", vel_scale), _scale("acc_scale", acc_scale)
 
 
 def make_goal_line(to, goal_id=None, replace=False, speed=0.0, accel=0.0, angular_speed=0.0,
@@ -107,7 +107,7 @@ def make_goal_line(to, goal_id=None, replace=False, speed=0.0, accel=0.0, angula
     g = goal_line_t()
     g.goal_id = goal_id or new_goal_id()
     g.mode = MODES[bool(replace)]
-    g.position, g.orientation = _pose("--to", to)
+    g.position, g.orientation = _pose("to", to)
     _cartesian(g, speed, accel, angular_speed, angular_accel, vel_scale, acc_scale)
     g.orientation_method = goal_line_t.SLERP if slerp else goal_line_t.TWO_ROTATIONS
     return g
@@ -117,12 +117,12 @@ def make_goal_arc(via, to, goal_id=None, replace=False, speed=0.0, accel=0.0, an
              angular_accel=0.0, vel_scale=0.0, acc_scale=0.0):
     """Arc of the tool through via = x, y, z to pose to. Returns the message."""
     g = goal_arc_t()
-    _count("--via", via, 3)
-    _finite("--via", via)
+    _count("via", via, 3)
+    _finite("via", via)
     g.goal_id = goal_id or new_goal_id()
     g.mode = MODES[bool(replace)]
     g.via = list(via)
-    g.position, g.orientation = _pose("--to", to)
+    g.position, g.orientation = _pose("to", to)
     _cartesian(g, speed, accel, angular_speed, angular_accel, vel_scale, acc_scale)
     return g
 
@@ -134,11 +134,11 @@ def make_goal_path(points, space="joint", method="blend", times=None, blend_time
     space "cartesian"); method blend, spline, quintic or lagrange; times (s) optional. Returns the message."""
     g = goal_path_t()
     if not 1 <= len(points) <= goal_path_t.MAX_POINTS:
-        raise ValueError(f"--points needs 1 to {goal_path_t.MAX_POINTS} points, got {len(points)}")
+        raise ValueError(f"points needs 1 to {goal_path_t.MAX_POINTS} points, got {len(points)}")
     if space not in ("joint", "cartesian"):
-        raise ValueError(f"--space {space}: joint or cartesian")
+        raise ValueError(f"space = {space!r} must be 'joint' or 'cartesian'")
     if method not in ("blend", "spline", "quintic", "lagrange"):
-        raise ValueError(f"--method {method}: blend, spline, quintic or lagrange")
+        raise ValueError(f"method = {method!r} must be 'blend', 'spline', 'quintic' or 'lagrange'")
     if space == "cartesian":
         rows = []
         for i, p in enumerate(points):
@@ -164,18 +164,18 @@ def make_goal_path(points, space="joint", method="blend", times=None, blend_time
     g.points = [r + [0.0] * (goal_path_t.MAX_DIM - dim) for r in rows] + \
         [[0.0] * goal_path_t.MAX_DIM for _ in range(goal_path_t.MAX_POINTS - len(rows))]
     if times:
-        _count("--times", times, len(rows))
-        _finite("--times", times)
+        _count("times", times, len(rows))
+        _finite("times", times)
         if any(b <= a for a, b in zip(times, times[1:])) or times[0] <= 0.0:
-            raise ValueError("--times must be positive and increasing (s after the start of the motion)")
+            raise ValueError("times must be positive and increasing (s after the start of the motion)")
         g.has_times = 1
         g.times = list(times) + [0.0] * (goal_path_t.MAX_POINTS - len(times))
     else:
         g.has_times = 0
         g.times = [0.0] * goal_path_t.MAX_POINTS
-    g.blend_time = _nonneg("--blend-time", blend_time)
+    g.blend_time = _nonneg("blend_time", blend_time)
     g.speed, g.accel = _nonneg("speed", speed), _nonneg("accel", accel)
-    g.vel_scale, g.acc_scale = _scale("joint speed", vel_scale), _scale("joint accel", acc_scale)
+    g.vel_scale, g.acc_scale = _scale("vel_scale", vel_scale), _scale("acc_scale", acc_scale)
     return g
 
 
@@ -183,16 +183,16 @@ def make_servo_message(goal_id, pose=None, twist=None, replace=False, timeout_s=
     """One goal_servo_t of a stream (not sent): a target pose, or a twist
     vx, vy, vz (m/s), wx, wy, wz (rad/s) in the base frame."""
     if (pose is None) == (twist is None):
-        raise ValueError("a servo message needs either --pose or --twist")
+        raise ValueError("a servo message needs either pose or twist")
     g = goal_servo_t()
     g.goal_id = goal_id
     g.mode = MODES[bool(replace)]
     if pose is not None:
         g.kind = goal_servo_t.POSE
-        g.position, g.orientation = _pose("--pose", pose)
+        g.position, g.orientation = _pose("pose", pose)
     else:
-        _count("--twist", twist, 6)
-        _finite("--twist", twist)
+        _count("twist", twist, 6)
+        _finite("twist", twist)
         g.kind = goal_servo_t.TWIST
         g.orientation = [1.0, 0.0, 0.0, 0.0]
         g.twist = list(twist)
@@ -278,7 +278,7 @@ class Client:
             raise DaemonNotFound(
                 f"no setpoint on {self.prefix}SETPOINT within {timeout:g} s on LCM URL "
                 f"{self.url or '$LCM_DEFAULT_URL or LCM default'}: is kinctld running with the same "
-                f"--lcm-url and --prefix? (start one with: kinctld --no-rt)")
+                f"LCM URL and channel prefix? (start one with: kinctld --no-rt)")
         return sp
 
     def wait_setpoint(self, predicate, timeout):

@@ -8,7 +8,7 @@ preempted or aborted, or a wait timed out.
 import math
 import time
 
-from kinctl.argtypes import add_command, err, goal_id, nonneg, numbers, points, positive, say, vector
+from kinctl.argtypes import add_command, err, fraction, goal_id, nonneg, numbers, points, positive, say, vector
 from kinctl.connection import connect, state_of
 
 STALE_MIN_S, STALE_MAX_S = 0.05, 0.1
@@ -101,14 +101,14 @@ def _goal_options(p, cartesian):
         g.add_argument("--accel", type=nonneg, default=0.0, metavar="M_S2",
                        help="tool acceleration (m/s^2); 0 or absent: the controller's default"
                             + both.replace("speed", "accel"))
-        g.add_argument("--joint-speed", type=nonneg, default=0.0, metavar="SCALE",
+        g.add_argument("--joint-speed", type=fraction, default=0.0, metavar="SCALE",
                        help="fraction of the joint velocity limits the motion may use, (0, 1]")
-        g.add_argument("--joint-accel", type=nonneg, default=0.0, metavar="SCALE",
+        g.add_argument("--joint-accel", type=fraction, default=0.0, metavar="SCALE",
                        help="fraction of the joint acceleration limits, (0, 1]")
     else:
-        g.add_argument("--speed", type=nonneg, default=0.0, metavar="SCALE",
+        g.add_argument("--speed", type=fraction, default=0.0, metavar="SCALE",
                        help="fraction of the joint velocity limits, (0, 1] (default 1)")
-        g.add_argument("--accel", type=nonneg, default=0.0, metavar="SCALE",
+        g.add_argument("--accel", type=fraction, default=0.0, metavar="SCALE",
                        help="fraction of the joint acceleration limits, (0, 1] (default 1)")
     g.add_argument("--replace", action="store_true",
                    help="replace the motion in progress and the queue (default: queue behind them)")
