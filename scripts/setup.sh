@@ -43,6 +43,9 @@ apt_packages=(
     can-utils user-mode-linux kmod iproute2 procps
     # analysis: tests/analysis
     cppcheck clang-tidy valgrind
+    # mcu: the Cortex-M4F build of the core (mcu/, tests/mcu) and QEMU's
+    # mps2-an386 board that runs it (tools/bench/run_mcu_bench.sh too)
+    gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
 )
 missing=()
 for p in "${apt_packages[@]}"; do
