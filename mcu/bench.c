@@ -9,10 +9,9 @@
  * callgrind's inclusive counts on the host and the stack analysis of
  * tools/bench/mcu_stack.py name the same thing.
  *
- * On the board (QEMU with -icount shift=0: one instruction per virtual
- * nanosecond) instructions are counted with SysTick on the 25 MHz CPU
- * clock, one count per 40 instructions: a single call is known to +-40,
- * a mean over n calls to 40/n. The stack high-water of each bench_
+ * On the board instructions are counted with SysTick under -icount
+ * (board/systick.h: a single call to +-40, a mean over n calls to 40/n).
+ * The stack high-water of each bench_
  * function is measured by painting the free stack below the caller with a
  * pattern and finding the deepest word overwritten.
  *
@@ -53,23 +52,9 @@ static kc_jacobian jac_sink;
 /* ---- counting and stack painting (board only) ---- */
 
 #if ON_BOARD
-#define SYST_CSR (*(volatile uint32_t *)0xE000E010u)
-#define SYST_RVR (*(volatile uint32_t *)0xE000E014u)
-#define SYST_CVR (*(volatile uint32_t *)0xE000E018u)
-#define SYST_TICK_INSNS 40u /* 1 GHz of instructions / 25 MHz */
+#include "board/systick.h"
 #define PAINT_BYTES 32768u
 #define PAINT_WORD 0xC5C5C5C5u
-
-static void counter_start(void)
-{
-    SYST_RVR = 0x00FFFFFFu;
-    SYST_CVR = 0u;
-    SYST_CSR = 5u; /* enabled, CPU clock, no interrupt */
-}
-
-/* SysTick counts down, 24 bits; a call is far shorter than a wrap (0.67 s). */
-static uint32_t counter_now(void) { return SYST_CVR; }
-static uint32_t counter_insns(uint32_t from, uint32_t to) { return ((from - to) & 0x00FFFFFFu) * SYST_TICK_INSNS; }
 
 static uint32_t *stack_pointer(void)
 {
@@ -99,10 +84,10 @@ static int measure(tally *t, int (*fn)(int), int arg)
     if (paint)
         for (volatile uint32_t *w = lo; w < hi; w++)
             *w = PAINT_WORD;
-    uint32_t c0 = counter_now();
+    uint32_t c0 = kc_systick_now();
     int st = fn(arg);
-    uint32_t c1 = counter_now();
-    uint32_t n = counter_insns(c0, c1);
+    uint32_t c1 = kc_systick_now();
+    uint32_t n = kc_systick_insns(c0, c1);
     if (paint) {
         volatile uint32_t *w = lo;
         while (w < hi && *w == PAINT_WORD)
@@ -200,7 +185,7 @@ int main(int argc, char **argv)
     ik_cfg = cfg.ik;
     make_configs();
 #if ON_BOARD
-    counter_start();
+    kc_systick_start();
 #endif
     int failures = 0;
 

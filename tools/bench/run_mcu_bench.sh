@@ -6,15 +6,18 @@
 # shift=0 beside callgrind's count of the same program on this host.
 # Both configurations of mcu/CMakeLists.txt: the header defaults and the
 # small one (KINCTL_MCU_SMALL_*).
-#   tools/bench/run_mcu_bench.sh [MCU_BUILD_DIR [HOST_BENCH]]
-# defaults: build/mcu and build/tests/mcu/mcu_bench_host (both built by
-# `cmake --build build --target kinctl_mcu mcu_bench_host`).
+#   tools/bench/run_mcu_bench.sh [MCU_BUILD_DIR [HOST_BENCH [MCU_M3_BUILD_DIR]]]
+# defaults: build/mcu, build/tests/mcu/mcu_bench_host and build/mcu-m3 (built
+# by `cmake --build build --target kinctl_mcu kinctl_mcu_m3 mcu_bench_host`).
+# Last, the fixed-point FK and Jacobian (kinctl/fx.h) beside the float ones
+# on the M4F (mps2-an386) and the Cortex-M3 (mps2-an385, soft float).
 # Exit status 1 when a measurement fails (a program fails, or a measured
 # stack exceeds its static bound); a missed target is printed, not fatal.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 mcu=${1:-build/mcu}
 host_bench=${2:-build/tests/mcu/mcu_bench_host}
+mcu_m3=${3:-build/mcu-m3}
 qemu=(qemu-system-arm -M mps2-an386 -nographic -semihosting-config enable=on,target=native -icount shift=0)
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -131,4 +134,17 @@ for cfg in default small; do
     done < <(awk '$1 == "icount"' "$tmp/board.$cfg")
 done
 [ "$have_valgrind" = 1 ] || echo "(valgrind not found: no x86 counts)"
+
+echo
+echo "== fixed point (kinctl/fx.h) beside float, PUMA 560, instructions per call"
+printf '%-28s %-16s %10s %10s\n' board call mean max
+for board in "mps2-an386 (M4F, FPU):$mcu" "mps2-an385 (M3, soft float):$mcu_m3"; do
+    name=${board%%:*} dir=${board#*:}
+    machine=${name%% *}
+    qemu-system-arm -M "$machine" -nographic -semihosting-config enable=on,target=native -icount shift=0 \
+        -kernel "$dir/mcu_fx_bench.elf" >"$tmp/fx" || { cat "$tmp/fx"; echo "FAIL: the fixed-point bench failed on $machine"; exit 1; }
+    while read -r _ what _ _ _ mean _ max; do
+        printf '%-28s %-16s %10d %10d\n' "$name" "$what" "$mean" "$max"
+    done < <(awk '$1 == "icount"' "$tmp/fx")
+done
 exit $status

@@ -1,0 +1,94 @@
+/* fx_chain.c - conversions between kinctl's floating-point types and the
+ * fixed-point formats of kinctl/fx.h: done once when a chain is set up,
+ * outside the cycle. */
+#include "kinctl/fx.h"
+
+#include <string.h>
+
+/* x 2^bits rounded to nearest into *out; 0 when out of int32_t's range. */
+static int to_fixed(kc_real x, int bits, int32_t *out)
+{
+    kc_real scaled = x * (kc_real)((int32_t)1 << bits);
+    kc_real r = kc_floor(scaled + KC_R(0.5));
+    /* 2^31 - 128 keeps the float build's rounding of the bound inside. */
+    if (!(r > KC_R(-2147483520.0) && r < KC_R(2147483520.0)))
+        return 0;
+    *out = (int32_t)r;
+    return 1;
+}
+
+static int pose_to_fixed(const kc_pose *p, kc_fx_pose *dest)
+{
+    for (int r = 0; r < 3; r++) {
+        for (int k = 0; k < 3; k++)
+            if (!to_fixed(p->R.m[r][k], KC_FX_ROT_BITS, &dest->R[r][k]))
+                return 0;
+        if (!to_fixed(p->t.v[r], KC_FX_POS_BITS, &dest->t[r]))
+            return 0;
+    }
+    return 1;
+}
+
+kc_status kc_fx_chain_init(kc_fx_chain *fx, const kc_chain *chain)
+{
+    if (fx == NULL || chain == NULL || kc_chain_check(chain) != KC_OK)
+        return KC_E_ARG;
+    kc_fx_chain out;
+    memset(&out, 0, sizeof out);
+    out.n_joints = chain->n_joints;
+    out.n_elements = chain->n_elements;
+    for (int j = 0; j < chain->n_joints; j++) {
+        out.revolute[j] = chain->joints[j].type == KC_JOINT_REVOLUTE;
+        int bits = out.revolute[j] ? KC_FX_ANGLE_BITS : KC_FX_POS_BITS;
+        if (!to_fixed(chain->joints[j].offset, bits, &out.offset[j]))
+            return KC_E_CAPACITY;
+    }
+    for (int e = 0; e < chain->n_elements; e++) {
+        const kc_element *el = &chain->elements[e];
+        kc_fx_element *fe = &out.elements[e];
+        fe->code = el->code;
+        fe->joint = el->joint;
+        fe->quarter = el->quarter;
+        if (el->code >= KC_CODE_TX && !to_fixed(el->value, KC_FX_POS_BITS, &fe->value))
+            return KC_E_CAPACITY;
+        if (el->code >= KC_CODE_RX && el->code <= KC_CODE_RZ &&
+            (!to_fixed(el->c, KC_FX_ROT_BITS, &fe->c) || !to_fixed(el->s, KC_FX_ROT_BITS, &fe->s)))
+            return KC_E_CAPACITY;
+    }
+    if (!pose_to_fixed(&chain->base, &out.base) || !pose_to_fixed(&chain->tool, &out.tool))
+        return KC_E_CAPACITY;
+    out.tool_identity = 1;
+    for (int r = 0; r < 3; r++) {
+        for (int k = 0; k < 3; k++)
+            if (out.tool.R[r][k] != (r == k ? KC_FX_ONE_ROT : 0))
+                out.tool_identity = 0;
+        if (out.tool.t[r] != 0)
+            out.tool_identity = 0;
+    }
+    *fx = out;
+    return KC_OK;
+}
+
+kc_status kc_fx_q_from_real(const kc_fx_chain *fx, const kc_real *q, int32_t *q_fx)
+{
+    int32_t out[KC_MAX_JOINTS];
+    if (fx == NULL || q == NULL || q_fx == NULL)
+        return KC_E_ARG;
+    for (int j = 0; j < fx->n_joints; j++) {
+        int bits = fx->revolute[j] ? KC_FX_ANGLE_BITS : KC_FX_POS_BITS;
+        if (!kc_isfinite(q[j]) || !to_fixed(q[j], bits, &out[j]))
+            return KC_E_ARG;
+    }
+    memcpy(q_fx, out, sizeof(int32_t) * (size_t)fx->n_joints);
+    return KC_OK;
+}
+
+void kc_fx_pose_to_real(const kc_fx_pose *p, kc_pose *dest)
+{
+    const kc_real rot = KC_R(1.0) / (kc_real)KC_FX_ONE_ROT, pos = KC_R(1.0) / (kc_real)((int32_t)1 << KC_FX_POS_BITS);
+    for (int r = 0; r < 3; r++) {
+        for (int k = 0; k < 3; k++)
+            dest->R.m[r][k] = (kc_real)p->R[r][k] * rot;
+        dest->t.v[r] = (kc_real)p->t[r] * pos;
+    }
+}

@@ -1,0 +1,126 @@
+/*
+ * fx_test.c - the fixed-point kinematics (kinctl/fx.h) against the double
+ * build: for every built-in arm, FK and the Jacobian at random
+ * configurations inside the joint limits (infinite limits: +-pi), and
+ * kc_fx_sincos over the whole Q3.28 range of a joint. Built against the
+ * double core for the host and for the boards (soft double there: the
+ * reference only), so the same program judges the M3, the M4F and x86.
+ *
+ * Tolerances (issue 20): tool position 1e-6 m, rotation entries 1e-6; the
+ * Jacobian's linear rows 1e-6 m/rad, angular rows 1e-6; sine and cosine
+ * 4e-9 (kinctl/fx.h's analysis). The joint values are rounded to fixed
+ * point first and the double FK is evaluated at the rounded values, so the
+ * errors are the fixed-point arithmetic's alone. Prints the largest errors
+ * per arm; exit status 1 when one exceeds its tolerance.
+ */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "kinctl/kinctl.h"
+
+#define N_CONFIGS 500
+#define TOL_POS 1e-6
+#define TOL_ROT 1e-6
+#define TOL_JAC 1e-6
+#define TOL_SINCOS 4e-9
+
+static kc_chain chain;
+static kc_fx_chain fx;
+
+static uint64_t rng = 20240601u;
+
+/* Uniform in [0, 1) (splitmix64). */
+static double uniform(void)
+{
+    uint64_t z = (rng += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    z ^= z >> 31;
+    return (double)(z >> 11) / 9007199254740992.0;
+}
+
+static double max_abs(double a, double b) { return fabs(a) > b ? fabs(a) : b; }
+
+static int check(const char *what, double err, double tol)
+{
+    int ok = err <= tol;
+    printf("  %-22s max error %.3e  (tolerance %.0e)%s\n", what, err, tol, ok ? "" : "  FAIL");
+    return ok ? 0 : 1;
+}
+
+static int test_sincos(void)
+{
+    double err = 0.0;
+    for (int i = 0; i < 20000; i++) {
+        int32_t a = (int32_t)((uniform() * 2.0 - 1.0) * 2147483647.0), s, c;
+        kc_fx_sincos(a, &s, &c);
+        double x = (double)a / (double)(1 << KC_FX_ANGLE_BITS);
+        err = max_abs((double)s / (double)KC_FX_ONE_ROT - sin(x), err);
+        err = max_abs((double)c / (double)KC_FX_ONE_ROT - cos(x), err);
+    }
+    printf("sincos (Q3.28 -> Q2.30), 20000 angles in (-8, 8) rad\n");
+    return check("sin, cos", err, TOL_SINCOS);
+}
+
+static int test_model(kc_model model)
+{
+    if (kc_chain_init_model(&chain, model, NULL) != KC_OK || kc_fx_chain_init(&fx, &chain) != KC_OK) {
+        printf("FAIL: %s: cannot build the chain\n", kc_model_name(model));
+        return 1;
+    }
+    double e_pos = 0.0, e_rot = 0.0, e_jv = 0.0, e_jw = 0.0;
+    const double pos_unit = (double)(1 << KC_FX_POS_BITS), rot_unit = (double)KC_FX_ONE_ROT;
+    for (int n = 0; n < N_CONFIGS; n++) {
+        kc_real q[KC_MAX_JOINTS], qr[KC_MAX_JOINTS];
+        int32_t qf[KC_MAX_JOINTS];
+        for (int j = 0; j < chain.n_joints; j++) {
+            double lo = (double)chain.joints[j].limits.q_min, hi = (double)chain.joints[j].limits.q_max;
+            if (!isfinite(lo))
+                lo = -KC_PI;
+            if (!isfinite(hi))
+                hi = KC_PI;
+            q[j] = (kc_real)(lo + (hi - lo) * uniform());
+        }
+        if (kc_fx_q_from_real(&fx, q, qf) != KC_OK) {
+            printf("FAIL: %s: q out of the fixed-point range\n", kc_model_name(model));
+            return 1;
+        }
+        for (int j = 0; j < chain.n_joints; j++)
+            qr[j] = (kc_real)qf[j] / (kc_real)(1 << (fx.revolute[j] ? KC_FX_ANGLE_BITS : KC_FX_POS_BITS));
+        kc_pose T;
+        kc_jacobian J;
+        kc_fx_pose Tf, Tj;
+        kc_fx_jacobian Jf;
+        kc_fk_jacobian(&chain, qr, &J, &T);
+        kc_fx_fk_eval(&fx, qf, &Tf);
+        kc_fx_jacobian_eval(&fx, qf, &Jf, &Tj);
+        for (int r = 0; r < 3; r++) {
+            e_pos = max_abs((double)Tf.t[r] / pos_unit - (double)T.t.v[r], e_pos);
+            for (int k = 0; k < 3; k++)
+                e_rot = max_abs((double)Tf.R[r][k] / rot_unit - (double)T.R.m[r][k], e_rot);
+            if (Tj.t[r] != Tf.t[r]) {
+                printf("FAIL: %s: the Jacobian's tool pose differs from kc_fx_fk_eval's\n", kc_model_name(model));
+                return 1;
+            }
+        }
+        for (int j = 0; j < chain.n_joints; j++)
+            for (int r = 0; r < 3; r++) {
+                e_jv = max_abs((double)Jf.m[r][j] / pos_unit - (double)J.m[r][j], e_jv);
+                e_jw = max_abs((double)Jf.m[r + 3][j] / rot_unit - (double)J.m[r + 3][j], e_jw);
+            }
+    }
+    printf("%s: %d joints, %d elements, %d configurations\n", kc_model_name(model), chain.n_joints, chain.n_elements,
+           N_CONFIGS);
+    return check("tool position (m)", e_pos, TOL_POS) + check("rotation entries", e_rot, TOL_ROT) +
+           check("Jacobian linear (m/rad)", e_jv, TOL_JAC) + check("Jacobian angular", e_jw, TOL_JAC);
+}
+
+int main(void)
+{
+    int failures = test_sincos();
+    for (int m = 0; m < KC_MODEL_COUNT; m++)
+        failures += test_model((kc_model)m);
+    printf(failures ? "FAIL: %d checks\n" : "ok: every check within its tolerance\n", failures);
+    return failures ? 1 : 0;
+}
