@@ -165,7 +165,7 @@ kc_status kc_fx_fk_eval(const kc_fx_chain *fx, const int32_t *q_fx, kc_fx_pose *
 
 kc_status kc_fx_jacobian_eval(const kc_fx_chain *fx, const int32_t *q_fx, kc_fx_jacobian *jac, kc_fx_pose *tool)
 {
-    int32_t origin[KC_MAX_JOINTS][3];
+    int32_t origin[KC_MAX_JOINTS][3] = {{0}}; /* walk fills the rows of the joints */
     kc_fx_pose end;
     if (fx == NULL || q_fx == NULL || jac == NULL)
         return KC_E_ARG;
