@@ -77,9 +77,9 @@ static int test_model(kc_model model)
         for (int j = 0; j < chain.n_joints; j++) {
             double lo = (double)chain.joints[j].limits.q_min, hi = (double)chain.joints[j].limits.q_max;
             if (!isfinite(lo))
-                lo = -KC_PI;
+                lo = -(double)KC_PI;
             if (!isfinite(hi))
-                hi = KC_PI;
+                hi = (double)KC_PI;
             q[j] = (kc_real)(lo + (hi - lo) * uniform());
         }
         if (kc_fx_q_from_real(&fx, q, qf) != KC_OK) {
