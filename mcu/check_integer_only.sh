@@ -1,8 +1,8 @@
 #!/bin/sh
-# Proves the fixed-point kinematics integer-only: the objects given (fx.c's,
-# for a Cortex-M3 and a Cortex-M4F) import no float or double helper and no
-# libm function, and contain no floating-point instruction (on the M4F, any
-# VFP mnemonic: vadd, vmul, vmov, vldr, vcvt...).
+# Proves the fixed-point kinematics integer-only: the objects given (fx.c's
+# and fx_interp.c's, for a Cortex-M3 and a Cortex-M4F) import no float or
+# double helper and no libm function, and contain no floating-point
+# instruction (on the M4F, any VFP mnemonic: vadd, vmul, vmov, vldr...).
 # Usage: check_integer_only.sh NM OBJDUMP OBJECT...
 set -eu
 nm=$1

@@ -1,7 +1,9 @@
 /*
  * fx_bench.c - instructions per call of the fixed-point FK and Jacobian
  * (kinctl/fx.h) beside the floating-point ones of the same core, on a PUMA
- * 560 at 100 random configurations: on the Cortex-M3 the float calls are
+ * 560 at 100 random configurations, and of a joint move's evaluation
+ * (every tick of one move between the first two configurations): on the
+ * Cortex-M3 the float calls are
  * libgcc's soft float, on the Cortex-M4F the FPU's. Counted with SysTick
  * under -icount shift=0 (board/systick.h). Prints
  *   icount <what> calls <n> mean <instructions> max <instructions>
@@ -74,9 +76,33 @@ int main(void)
         add(&fx_fk, kc_systick_insns(c2, c3));
         add(&fx_jac, kc_systick_insns(c3, c4));
     }
+    kc_real vmax[6], amax[6];
+    for (int j = 0; j < 6; j++) {
+        vmax[j] = chain.joints[j].limits.qd_max;
+        amax[j] = chain.joints[j].limits.qdd_max;
+    }
+    kc_interp_joint plan;
+    kc_fx_joint_move move;
+    if (kc_interp_joint_plan(&plan, 6, q[0], q[1], vmax, amax, KC_R(0.0), KC_R(0.001)) != KC_OK ||
+        kc_fx_joint_init(&move, &fx, &plan) != KC_OK)
+        return 1;
+    tally jm = {0, 0, 0}, fx_jm = {0, 0, 0};
+    for (int64_t k = 0; k < plan.prof.ticks; k++) {
+        kc_interp_joint_state st;
+        int32_t qk[6];
+        uint32_t c0 = kc_systick_now();
+        kc_interp_joint_eval(&plan, k, &st);
+        uint32_t c1 = kc_systick_now();
+        kc_fx_joint_eval(&move, k, qk);
+        uint32_t c2 = kc_systick_now();
+        add(&jm, kc_systick_insns(c0, c1));
+        add(&fx_jm, kc_systick_insns(c1, c2));
+    }
     report("fk_" KC_REAL_NAME, &fk);
     report("jacobian_" KC_REAL_NAME, &jac);
     report("fx_fk", &fx_fk);
     report("fx_jacobian", &fx_jac);
+    report("joint_eval_" KC_REAL_NAME, &jm);
+    report("fx_joint_eval", &fx_jm);
     return 0;
 }

@@ -24,6 +24,8 @@
 #define TOL_ROT 1e-6
 #define TOL_JAC 1e-6
 #define TOL_SINCOS 4e-9
+#define TOL_JOINT_MOVE 2e-8 /* rad: kinctl/fx.h, |dq| 2e-9 + 2e-9 for moves up to 2 pi */
+#define N_MOVES 20
 
 static kc_chain chain;
 static kc_fx_chain fx;
@@ -116,9 +118,54 @@ static int test_model(kc_model model)
            check("Jacobian linear (m/rad)", e_jv, TOL_JAC) + check("Jacobian angular", e_jw, TOL_JAC);
 }
 
+/* Joint moves of the PUMA 560 between random configurations at its
+ * limits, every tick against kc_interp_joint_eval of the double build
+ * (kinctl/fx.h: the plan is made once in floating point). */
+static int test_joint_moves(void)
+{
+    if (kc_chain_init_model(&chain, KC_MODEL_PUMA560, NULL) != KC_OK || kc_fx_chain_init(&fx, &chain) != KC_OK)
+        return 1;
+    double err = 0.0;
+    long ticks = 0;
+    int done_exact = 1;
+    for (int n = 0; n < N_MOVES; n++) {
+        kc_real q0[6], q1[6], vmax[6], amax[6];
+        for (int j = 0; j < 6; j++) {
+            const kc_joint_limits *l = &chain.joints[j].limits;
+            q0[j] = l->q_min + (l->q_max - l->q_min) * (kc_real)uniform();
+            q1[j] = l->q_min + (l->q_max - l->q_min) * (kc_real)uniform();
+            vmax[j] = l->qd_max;
+            amax[j] = l->qdd_max;
+        }
+        kc_interp_joint plan;
+        kc_fx_joint_move move;
+        if (kc_interp_joint_plan(&plan, 6, q0, q1, vmax, amax, KC_R(0.0), KC_R(0.001)) != KC_OK ||
+            kc_fx_joint_init(&move, &fx, &plan) != KC_OK) {
+            printf("FAIL: joint move %d: cannot plan or convert it\n", n);
+            return 1;
+        }
+        for (int64_t k = 0; k <= plan.prof.ticks; k++) {
+            kc_interp_joint_state ref;
+            int32_t qf[6];
+            kc_status st = kc_fx_joint_eval(&move, k, qf);
+            kc_interp_joint_eval(&plan, k, &ref);
+            for (int j = 0; j < 6; j++) {
+                double q = (double)qf[j] / (double)(1 << KC_FX_ANGLE_BITS);
+                err = max_abs(q - (double)ref.q[j], err);
+                if (st == KC_DONE && qf[j] != move.q1[j])
+                    done_exact = 0;
+            }
+            ticks++;
+        }
+    }
+    printf("joint moves (puma560): %d moves, %ld ticks\n", N_MOVES, ticks);
+    return check("q (rad)", err, TOL_JOINT_MOVE) + (done_exact ? 0 : 1);
+}
+
 int main(void)
 {
     int failures = test_sincos();
+    failures += test_joint_moves();
     for (int m = 0; m < KC_MODEL_COUNT; m++)
         failures += test_model((kc_model)m);
     printf(failures ? "FAIL: %d checks\n" : "ok: every check within its tolerance\n", failures);

@@ -92,3 +92,71 @@ void kc_fx_pose_to_real(const kc_fx_pose *p, kc_pose *dest)
         dest->t.v[r] = (kc_real)p->t[r] * pos;
     }
 }
+
+/* x > 0 as m 2^-shift with m in [2^30, 2^31) (kinctl/fx.h); 0 for x = 0. */
+static int scaled_of(kc_real x, kc_fx_scaled *out)
+{
+    int shift = 0;
+    if (!(x >= KC_R(0.0)) || !kc_isfinite(x))
+        return 0;
+    out->m = 0;
+    out->shift = 0;
+    if (x == KC_R(0.0))
+        return 1;
+    /* Bounded: a finite positive float or double is within 2^-1100..2^1024. */
+    while (x < KC_R(1073741824.0) && shift < 1100) {
+        x *= KC_R(2.0);
+        shift++;
+    }
+    while (x >= KC_R(2147483648.0)) {
+        x *= KC_R(0.5);
+        shift--;
+    }
+    kc_real r = kc_floor(x + KC_R(0.5));
+    if (r >= KC_R(2147483648.0)) { /* rounded up to 2^31 */
+        r = KC_R(1073741824.0);
+        shift--;
+    }
+    out->m = (uint32_t)(int32_t)r;
+    out->shift = shift;
+    return 1;
+}
+
+/* A time in ticks (0 <= x < 2^24) into Q32.32, through int32_t parts (a
+ * float-to-int64 conversion would pull in soft double on an M4F). */
+static int64_t ticks_q32(kc_real x)
+{
+    kc_real ip = kc_floor(x);
+    kc_real frac = (x - ip) * KC_R(65536.0);
+    kc_real f1 = kc_floor(frac);
+    kc_real f2 = kc_floor((frac - f1) * KC_R(65536.0) + KC_R(0.5));
+    return (int64_t)(int32_t)ip * ((int64_t)1 << 32) + (int64_t)(int32_t)f1 * 65536 + (int32_t)f2;
+}
+
+kc_status kc_fx_joint_init(kc_fx_joint_move *move, const kc_fx_chain *fx, const kc_interp_joint *plan)
+{
+    if (move == NULL || fx == NULL || plan == NULL || plan->n != fx->n_joints)
+        return KC_E_ARG;
+    const kc_profile *p = &plan->prof;
+    if (p->p0 != KC_R(0.0) || p->v0 != KC_R(0.0) || p->p1 != KC_R(1.0) || !(p->dt > KC_R(0.0)))
+        return KC_E_ARG;
+    kc_fx_joint_move out;
+    memset(&out, 0, sizeof out);
+    out.n = plan->n;
+    if (kc_fx_q_from_real(fx, plan->q0, out.q0) != KC_OK || kc_fx_q_from_real(fx, plan->q1, out.q1) != KC_OK)
+        return KC_E_ARG;
+    for (int i = 0; i < out.n; i++)
+        out.dq[i] = (int64_t)out.q1[i] - out.q0[i]; /* so that u = 1 lands on q1 */
+    kc_real dt = p->dt;
+    out.ticks = p->ticks;
+    if (p->ticks > 0) {
+        out.k1 = ticks_q32(p->t1 / dt);
+        out.k2 = ticks_q32(p->t2 / dt);
+        out.kT = ticks_q32(p->T / dt);
+        if (!to_fixed(p->pc, KC_FX_ROT_BITS, &out.uc) || !scaled_of(KC_R(0.5) * p->a1 * dt * dt, &out.a) ||
+            !scaled_of(p->vc * dt, &out.v) || !scaled_of(-KC_R(0.5) * p->a3 * dt * dt, &out.b))
+            return KC_E_ARG;
+    }
+    *move = out;
+    return KC_OK;
+}

@@ -51,6 +51,7 @@
 #include <stdint.h>
 
 #include "kinctl/chain.h"
+#include "kinctl/interp.h"
 
 #define KC_FX_ROT_BITS 30
 #define KC_FX_POS_BITS 24
@@ -110,5 +111,48 @@ kc_status kc_fx_fk_eval(const kc_fx_chain *fx, const int32_t *q_fx, kc_fx_pose *
 /* Geometric Jacobian in the base frame (kinctl/fk.h), and the tool pose if
  * tool != NULL. KC_E_ARG for NULL. */
 kc_status kc_fx_jacobian_eval(const kc_fx_chain *fx, const int32_t *q_fx, kc_fx_jacobian *jac, kc_fx_pose *tool);
+
+/* ---- joint move (kinctl/interp.h) evaluated at integer ticks ---- */
+
+/* A positive factor as m 2^-shift, m in [2^30, 2^31): 31 significant bits
+ * whatever its size (a per-tick acceleration of 1e-7 keeps them all). */
+typedef struct kc_fx_scaled {
+    uint32_t m;
+    int shift;
+} kc_fx_scaled;
+
+/*
+ * A planned joint move (kc_interp_joint_plan, from rest) in fixed point:
+ * q(k) = q0 + dq u(k), u the trapezoid from 0 to 1 in tick units:
+ *   k < k1:       u = a k^2                    a = u'' dt^2 / 2
+ *   k1 <= k < k2: u = uc + v (k - k1)          v = u' dt
+ *   k2 <= k < kT: u = 1 - b (kT - k)^2         b = |u''_3| dt^2 / 2
+ *   k >= ticks:   u = 1 exactly (q = q1)
+ * Phase ends k1, k2, kT are in ticks in Q32.32 (2.3e-10 of a tick); u is
+ * Q2.30; the products (k^2 up to 2^48, k - k1 up to 2^56 in Q32.32, by 31
+ * bits) are formed in 96 bits from two 64-bit products. u is within 2e-9
+ * of the double build's (its three roundings and the 2^-31 relative of each
+ * factor), so q is within |dq| 2e-9 + 2e-9 rad (1e-8 rad for a turn of
+ * 2 pi; measured in mcu/fx_test.c).
+ */
+typedef struct kc_fx_joint_move {
+    int n;
+    int32_t q0[KC_MAX_JOINTS], q1[KC_MAX_JOINTS]; /* joint formats */
+    int64_t dq[KC_MAX_JOINTS];                    /* q1 - q0: up to twice a format's range */
+    int64_t k1, k2, kT; /* Q32.32 ticks */
+    int64_t ticks;      /* first tick with k dt >= T */
+    int32_t uc;         /* u at k1, Q2.30 */
+    kc_fx_scaled a, v, b;
+} kc_fx_joint_move;
+
+/* Converts a plan: KC_E_ARG for NULL, a plan not from rest to rest at
+ * u = 0 .. 1, or joint values outside the formats. Floating point: set up
+ * outside the cycle. */
+kc_status kc_fx_joint_init(kc_fx_joint_move *move, const kc_fx_chain *fx, const kc_interp_joint *plan);
+
+/* q at tick k (>= 0) into q_fx (n values). KC_OK while moving, KC_DONE
+ * from the last tick on (q = q1 exactly); KC_E_ARG for NULL or k < 0.
+ * Integer only, cycle-safe. */
+kc_status kc_fx_joint_eval(const kc_fx_joint_move *move, int64_t k, int32_t *q_fx);
 
 #endif /* KINCTL_FX_H */
