@@ -1,8 +1,9 @@
 /*
  * fx_bench.c - instructions per call of the fixed-point FK and Jacobian
  * (kinctl/fx.h) beside the floating-point ones of the same core, on a PUMA
- * 560 at 100 random configurations, and of a joint move's evaluation
- * (every tick of one move between the first two configurations): on the
+ * 560 at 100 random configurations, and of the evaluation of a joint move
+ * and of a line (slerp) at every tick, between the tool poses of the first
+ * two configurations: on the
  * Cortex-M3 the float calls are
  * libgcc's soft float, on the Cortex-M4F the FPU's. Counted with SysTick
  * under -icount shift=0 (board/systick.h). Prints
@@ -98,11 +99,36 @@ int main(void)
         add(&jm, kc_systick_insns(c0, c1));
         add(&fx_jm, kc_systick_insns(c1, c2));
     }
+    kc_pose from, to;
+    kc_fk_eval(&chain, q[0], &from);
+    kc_fk_eval(&chain, q[1], &to);
+    kc_interp_limits lim = kc_interp_limits_default();
+    lim.v = KC_R(0.5);
+    lim.a = KC_R(2.0);
+    kc_interp_line lplan;
+    kc_fx_line line;
+    if (kc_interp_line_plan(&lplan, &from, &to, &lim, KC_INTERP_SLERP, KC_R(0.001)) != KC_OK ||
+        kc_fx_line_init(&line, &lplan) != KC_OK)
+        return 1;
+    tally le = {0, 0, 0}, fx_le = {0, 0, 0};
+    for (int64_t k = 0; k < lplan.prof.ticks; k++) {
+        kc_interp_cart_state st;
+        int32_t p[3], qk[4];
+        uint32_t c0 = kc_systick_now();
+        kc_interp_line_eval(&lplan, k, &st);
+        uint32_t c1 = kc_systick_now();
+        kc_fx_line_eval(&line, k, p, qk);
+        uint32_t c2 = kc_systick_now();
+        add(&le, kc_systick_insns(c0, c1));
+        add(&fx_le, kc_systick_insns(c1, c2));
+    }
     report("fk_" KC_REAL_NAME, &fk);
     report("jacobian_" KC_REAL_NAME, &jac);
     report("fx_fk", &fx_fk);
     report("fx_jacobian", &fx_jac);
     report("joint_eval_" KC_REAL_NAME, &jm);
     report("fx_joint_eval", &fx_jm);
+    report("line_eval_" KC_REAL_NAME, &le);
+    report("fx_line_eval", &fx_le);
     return 0;
 }

@@ -26,6 +26,7 @@
 #define TOL_SINCOS 4e-9
 #define TOL_JOINT_MOVE 2e-8 /* rad: kinctl/fx.h, |dq| 2e-9 + 2e-9 for moves up to 2 pi */
 #define N_MOVES 20
+#define N_LINES 10 /* of each orientation method */
 
 static kc_chain chain;
 static kc_fx_chain fx;
@@ -162,10 +163,62 @@ static int test_joint_moves(void)
     return check("q (rad)", err, TOL_JOINT_MOVE) + (done_exact ? 0 : 1);
 }
 
+/* Lines between the tool poses of random PUMA 560 configurations, both
+ * orientation methods, every tick against kc_interp_line_eval of the
+ * double build: position 1e-6 m, quaternion entries 1e-6 (as FK). */
+static int test_lines(void)
+{
+    if (kc_chain_init_model(&chain, KC_MODEL_PUMA560, NULL) != KC_OK)
+        return 1;
+    double e_pos = 0.0, e_rot = 0.0;
+    long ticks = 0;
+    int done_exact = 1;
+    for (int n = 0; n < 2 * N_LINES; n++) {
+        kc_pose from, to;
+        kc_real q[2][6];
+        for (int c = 0; c < 2; c++)
+            for (int j = 0; j < 6; j++) {
+                const kc_joint_limits *l = &chain.joints[j].limits;
+                q[c][j] = l->q_min + (l->q_max - l->q_min) * (kc_real)uniform();
+            }
+        kc_fk_eval(&chain, q[0], &from);
+        kc_fk_eval(&chain, q[1], &to);
+        kc_interp_line plan;
+        kc_fx_line line;
+        kc_interp_orient orient = n < N_LINES ? KC_INTERP_SLERP : KC_INTERP_TWO_ROTATIONS;
+        kc_interp_limits lim = kc_interp_limits_default();
+        lim.v = KC_R(0.5);
+        lim.a = KC_R(2.0);
+        if (kc_interp_line_plan(&plan, &from, &to, &lim, orient, KC_R(0.001)) != KC_OK ||
+            kc_fx_line_init(&line, &plan) != KC_OK) {
+            printf("FAIL: line %d: cannot plan or convert it\n", n);
+            return 1;
+        }
+        for (int64_t k = 0; k <= plan.prof.ticks; k++) {
+            kc_interp_cart_state ref;
+            int32_t p[3], qf[4];
+            kc_status st = kc_fx_line_eval(&line, k, p, qf);
+            kc_interp_line_eval(&plan, k, &ref);
+            const double qr[4] = {(double)ref.q.w, (double)ref.q.x, (double)ref.q.y, (double)ref.q.z};
+            for (int i = 0; i < 3; i++)
+                e_pos = max_abs((double)p[i] / (double)(1 << KC_FX_POS_BITS) - (double)ref.p.v[i], e_pos);
+            for (int i = 0; i < 4; i++) {
+                e_rot = max_abs((double)qf[i] / (double)KC_FX_ONE_ROT - qr[i], e_rot);
+                if (st == KC_DONE && qf[i] != line.q2[i])
+                    done_exact = 0;
+            }
+            ticks++;
+        }
+    }
+    printf("lines (puma560 poses): %d slerp, %d two rotations, %ld ticks\n", N_LINES, N_LINES, ticks);
+    return check("position (m)", e_pos, TOL_POS) + check("quaternion entries", e_rot, TOL_ROT) + (done_exact ? 0 : 1);
+}
+
 int main(void)
 {
     int failures = test_sincos();
     failures += test_joint_moves();
+    failures += test_lines();
     for (int m = 0; m < KC_MODEL_COUNT; m++)
         failures += test_model((kc_model)m);
     printf(failures ? "FAIL: %d checks\n" : "ok: every check within its tolerance\n", failures);

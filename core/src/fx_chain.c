@@ -133,30 +133,71 @@ static int64_t ticks_q32(kc_real x)
     return (int64_t)(int32_t)ip * ((int64_t)1 << 32) + (int64_t)(int32_t)f1 * 65536 + (int32_t)f2;
 }
 
+/* The u profile of a plan from rest to rest (kinctl/fx.h's kc_fx_ramp). */
+static int ramp_init(kc_fx_ramp *ramp, const kc_profile *p)
+{
+    if (p->p0 != KC_R(0.0) || p->v0 != KC_R(0.0) || p->p1 != KC_R(1.0) || !(p->dt > KC_R(0.0)))
+        return 0;
+    memset(ramp, 0, sizeof *ramp);
+    kc_real dt = p->dt;
+    ramp->ticks = p->ticks;
+    if (p->ticks == 0)
+        return 1;
+    ramp->k1 = ticks_q32(p->t1 / dt);
+    ramp->k2 = ticks_q32(p->t2 / dt);
+    ramp->kT = ticks_q32(p->T / dt);
+    return to_fixed(p->pc, KC_FX_ROT_BITS, &ramp->uc) && scaled_of(KC_R(0.5) * p->a1 * dt * dt, &ramp->a) &&
+           scaled_of(p->vc * dt, &ramp->v) && scaled_of(-KC_R(0.5) * p->a3 * dt * dt, &ramp->b);
+}
+
 kc_status kc_fx_joint_init(kc_fx_joint_move *move, const kc_fx_chain *fx, const kc_interp_joint *plan)
 {
     if (move == NULL || fx == NULL || plan == NULL || plan->n != fx->n_joints)
         return KC_E_ARG;
-    const kc_profile *p = &plan->prof;
-    if (p->p0 != KC_R(0.0) || p->v0 != KC_R(0.0) || p->p1 != KC_R(1.0) || !(p->dt > KC_R(0.0)))
-        return KC_E_ARG;
     kc_fx_joint_move out;
     memset(&out, 0, sizeof out);
     out.n = plan->n;
-    if (kc_fx_q_from_real(fx, plan->q0, out.q0) != KC_OK || kc_fx_q_from_real(fx, plan->q1, out.q1) != KC_OK)
+    if (!ramp_init(&out.ramp, &plan->prof) || kc_fx_q_from_real(fx, plan->q0, out.q0) != KC_OK ||
+        kc_fx_q_from_real(fx, plan->q1, out.q1) != KC_OK)
         return KC_E_ARG;
     for (int i = 0; i < out.n; i++)
         out.dq[i] = (int64_t)out.q1[i] - out.q0[i]; /* so that u = 1 lands on q1 */
-    kc_real dt = p->dt;
-    out.ticks = p->ticks;
-    if (p->ticks > 0) {
-        out.k1 = ticks_q32(p->t1 / dt);
-        out.k2 = ticks_q32(p->t2 / dt);
-        out.kT = ticks_q32(p->T / dt);
-        if (!to_fixed(p->pc, KC_FX_ROT_BITS, &out.uc) || !scaled_of(KC_R(0.5) * p->a1 * dt * dt, &out.a) ||
-            !scaled_of(p->vc * dt, &out.v) || !scaled_of(-KC_R(0.5) * p->a3 * dt * dt, &out.b))
-            return KC_E_ARG;
-    }
     *move = out;
+    return KC_OK;
+}
+
+static int quat_to_fixed(const kc_quat *q, int32_t out[4])
+{
+    return to_fixed(q->w, KC_FX_ROT_BITS, &out[0]) && to_fixed(q->x, KC_FX_ROT_BITS, &out[1]) &&
+           to_fixed(q->y, KC_FX_ROT_BITS, &out[2]) && to_fixed(q->z, KC_FX_ROT_BITS, &out[3]);
+}
+
+kc_status kc_fx_line_init(kc_fx_line *line, const kc_interp_line *plan)
+{
+    if (line == NULL || plan == NULL)
+        return KC_E_ARG;
+    kc_fx_line out;
+    memset(&out, 0, sizeof out);
+    if (!ramp_init(&out.ramp, &plan->prof) || !quat_to_fixed(&plan->q1, out.q1) || !quat_to_fixed(&plan->q2, out.q2))
+        return KC_E_ARG;
+    for (int i = 0; i < 3; i++) {
+        if (!to_fixed(plan->p1.v[i], KC_FX_POS_BITS, &out.p1[i]) || !to_fixed(plan->p2.v[i], KC_FX_POS_BITS, &out.p2[i]))
+            return KC_E_ARG;
+        out.dp[i] = (int64_t)out.p2[i] - out.p1[i];
+    }
+    out.slerp = plan->orient == KC_INTERP_SLERP;
+    int ok;
+    if (out.slerp) {
+        ok = to_fixed(KC_R(0.5) * plan->angle, KC_FX_ANGLE_BITS, &out.half_angle);
+        for (int i = 0; i < 3; i++)
+            ok = ok && to_fixed(plan->axis.v[i], KC_FX_ROT_BITS, &out.axis[i]);
+    } else {
+        ok = to_fixed(KC_R(0.5) * plan->theta, KC_FX_ANGLE_BITS, &out.half_theta) &&
+             to_fixed(KC_R(0.5) * plan->phi, KC_FX_ANGLE_BITS, &out.half_phi) &&
+             to_fixed(plan->k1.v[0], KC_FX_ROT_BITS, &out.kx) && to_fixed(plan->k1.v[1], KC_FX_ROT_BITS, &out.ky);
+    }
+    if (!ok)
+        return KC_E_ARG;
+    *line = out;
     return KC_OK;
 }

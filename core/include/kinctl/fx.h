@@ -112,7 +112,7 @@ kc_status kc_fx_fk_eval(const kc_fx_chain *fx, const int32_t *q_fx, kc_fx_pose *
  * tool != NULL. KC_E_ARG for NULL. */
 kc_status kc_fx_jacobian_eval(const kc_fx_chain *fx, const int32_t *q_fx, kc_fx_jacobian *jac, kc_fx_pose *tool);
 
-/* ---- joint move (kinctl/interp.h) evaluated at integer ticks ---- */
+/* ---- interpolators (kinctl/interp.h) evaluated at integer ticks ---- */
 
 /* A positive factor as m 2^-shift, m in [2^30, 2^31): 31 significant bits
  * whatever its size (a per-tick acceleration of 1e-7 keeps them all). */
@@ -122,27 +122,32 @@ typedef struct kc_fx_scaled {
 } kc_fx_scaled;
 
 /*
- * A planned joint move (kc_interp_joint_plan, from rest) in fixed point:
- * q(k) = q0 + dq u(k), u the trapezoid from 0 to 1 in tick units:
+ * The fraction u of a segment planned from rest to rest (the trapezoid of
+ * kinctl/profile.h, u from 0 to 1) in tick units:
  *   k < k1:       u = a k^2                    a = u'' dt^2 / 2
  *   k1 <= k < k2: u = uc + v (k - k1)          v = u' dt
  *   k2 <= k < kT: u = 1 - b (kT - k)^2         b = |u''_3| dt^2 / 2
- *   k >= ticks:   u = 1 exactly (q = q1)
+ *   k >= ticks:   the segment's end, exactly
  * Phase ends k1, k2, kT are in ticks in Q32.32 (2.3e-10 of a tick); u is
  * Q2.30; the products (k^2 up to 2^48, k - k1 up to 2^56 in Q32.32, by 31
  * bits) are formed in 96 bits from two 64-bit products. u is within 2e-9
- * of the double build's (its three roundings and the 2^-31 relative of each
- * factor), so q is within |dq| 2e-9 + 2e-9 rad (1e-8 rad for a turn of
- * 2 pi; measured in mcu/fx_test.c).
+ * of the double build's (three roundings and the 2^-31 relative of each
+ * factor).
  */
-typedef struct kc_fx_joint_move {
-    int n;
-    int32_t q0[KC_MAX_JOINTS], q1[KC_MAX_JOINTS]; /* joint formats */
-    int64_t dq[KC_MAX_JOINTS];                    /* q1 - q0: up to twice a format's range */
+typedef struct kc_fx_ramp {
     int64_t k1, k2, kT; /* Q32.32 ticks */
     int64_t ticks;      /* first tick with k dt >= T */
     int32_t uc;         /* u at k1, Q2.30 */
     kc_fx_scaled a, v, b;
+} kc_fx_ramp;
+
+/* A joint move (kc_interp_joint_plan): q(k) = q0 + dq u(k); q is within
+ * |dq| 2e-9 + 2e-9 rad of the double build's (measured in mcu/fx_test.c). */
+typedef struct kc_fx_joint_move {
+    int n;
+    int32_t q0[KC_MAX_JOINTS], q1[KC_MAX_JOINTS]; /* joint formats */
+    int64_t dq[KC_MAX_JOINTS];                    /* q1 - q0: up to twice a format's range */
+    kc_fx_ramp ramp;
 } kc_fx_joint_move;
 
 /* Converts a plan: KC_E_ARG for NULL, a plan not from rest to rest at
@@ -154,5 +159,35 @@ kc_status kc_fx_joint_init(kc_fx_joint_move *move, const kc_fx_chain *fx, const 
  * from the last tick on (q = q1 exactly); KC_E_ARG for NULL or k < 0.
  * Integer only, cycle-safe. */
 kc_status kc_fx_joint_eval(const kc_fx_joint_move *move, int64_t k, int32_t *q_fx);
+
+/*
+ * A Cartesian line (kc_interp_line_plan): p(k) = p1 + dp u(k) in Q8.24 and
+ * the orientation q1 rel(u) as a quaternion (w x y z) in Q2.30, rel(u) by
+ * either method of kinctl/interp.h: slerp (cos, sin times the axis, of half
+ * the angle times u) or the two rotations (5.16: about k1 by theta u, then
+ * about z by phi u). Half angles are Q3.28; sine and cosine kc_fx_sincos's.
+ * The position is within |dp| 2e-9 + 6e-8 m, the quaternion within about
+ * 1e-8 of the double build's (measured in mcu/fx_test.c).
+ */
+typedef struct kc_fx_line {
+    int32_t p1[3], p2[3]; /* Q8.24 */
+    int64_t dp[3];        /* p2 - p1 */
+    int32_t q1[4], q2[4]; /* Q2.30, w x y z */
+    int slerp;            /* 1: slerp; 0: two rotations */
+    int32_t half_angle;   /* slerp: angle / 2, Q3.28 */
+    int32_t axis[3];      /* slerp: unit axis in the start frame, Q2.30 */
+    int32_t half_theta, half_phi; /* two rotations: theta / 2, phi / 2, Q3.28 */
+    int32_t kx, ky;               /* two rotations: the first axis (kx, ky, 0), Q2.30 */
+    kc_fx_ramp ramp;
+} kc_fx_line;
+
+/* Converts a plan; KC_E_ARG as kc_fx_joint_init (or a position outside
+ * Q8.24). Floating point, outside the cycle. */
+kc_status kc_fx_line_init(kc_fx_line *line, const kc_interp_line *plan);
+
+/* Position (Q8.24) and orientation (Q2.30, w x y z) at tick k (>= 0):
+ * KC_OK while moving, KC_DONE from the last tick on (the end pose
+ * exactly); KC_E_ARG for NULL or k < 0. Integer only, cycle-safe. */
+kc_status kc_fx_line_eval(const kc_fx_line *line, int64_t k, int32_t p[3], int32_t q[4]);
 
 #endif /* KINCTL_FX_H */
