@@ -181,7 +181,8 @@ kc_status kc_fx_line_init(kc_fx_line *line, const kc_interp_line *plan)
     if (!ramp_init(&out.ramp, &plan->prof) || !quat_to_fixed(&plan->q1, out.q1) || !quat_to_fixed(&plan->q2, out.q2))
         return KC_E_ARG;
     for (int i = 0; i < 3; i++) {
-        if (!to_fixed(plan->p1.v[i], KC_FX_POS_BITS, &out.p1[i]) || !to_fixed(plan->p2.v[i], KC_FX_POS_BITS, &out.p2[i]))
+        if (!to_fixed(plan->p1.v[i], KC_FX_POS_BITS, &out.p1[i]) ||
+            !to_fixed(plan->p2.v[i], KC_FX_POS_BITS, &out.p2[i]))
             return KC_E_ARG;
         out.dp[i] = (int64_t)out.p2[i] - out.p1[i];
     }

@@ -1,14 +1,16 @@
 /*
- * kinctl/fx.h - forward kinematics and the geometric Jacobian in fixed
- * point, for cores without an FPU (Cortex-M0/M3), where every float
- * operation is a libgcc call.
+ * kinctl/fx.h - forward kinematics, the geometric Jacobian, and joint moves
+ * and lines evaluated at integer ticks, in fixed point: for cores without
+ * an FPU (Cortex-M0/M3), where every float operation is a libgcc call.
  *
  * The same walk over the chain's elementary transforms as kinctl/fk.h
- * (seed 000, seed 003), in integer arithmetic only: the objects that
- * evaluate (fx.c) use no float type, operation or call (checked by
- * mcu/check_integer_only.sh). A chain is converted once, outside the cycle
- * and in floating point (kc_fx_chain_init, fx_chain.c); joint values come
- * in fixed point (from encoder counts directly, or kc_fx_q_from_real).
+ * (seed 000, seed 003), and the interpolators of kinctl/interp.h (seed 001
+ * labs 4, 5), in integer arithmetic only: the objects that evaluate (fx.c,
+ * fx_interp.c) use no float type, operation or call (checked by
+ * mcu/check_integer_only.sh). Chains and plans are converted once,
+ * outside the cycle and in floating point (kc_fx_chain_init,
+ * kc_fx_joint_init, kc_fx_line_init in fx_chain.c); joint values come in
+ * fixed point (from encoder counts directly, or kc_fx_q_from_real).
  *
  * Formats (Qm.n: a signed 32-bit integer, value = integer / 2^n):
  *   KC_FX_ROT   Q2.30  rotation entries, sine and cosine, Jacobian rows 3-5:
@@ -19,8 +21,8 @@
  *   KC_FX_ANGLE Q3.28  revolute joint values and offsets (rad): |q| < 8,
  *                      resolution 3.7e-9 rad; prismatic ones are KC_FX_POS
  * Products are formed in int64_t and rounded to nearest (ties up): a Q2.30
- * by Q2.30 product is Q4.60 (|x| < 16, 2^63 > 2^64 / 4 fits), a Q2.30 by
- * Q8.24 product Q10.54; a rotation's row times a column sums three in int64
+ * by Q2.30 product is Q4.60 (|x| < 4: below 2^62), a Q2.30 by Q8.24
+ * product Q10.54; a rotation's row times a column sums three in int64
  * before the one rounding. Right shifts of negative values are arithmetic
  * (GCC and Clang on every target; C99 leaves it to the implementation).
  *
@@ -30,8 +32,8 @@
  * Sine and cosine (kc_fx_sincos) are within 4e-9 of the true values: the
  * angle becomes a Q0.32 fraction of a turn (rounding 7.3e-10 rad), then a
  * Q2.30 angle in [0, pi/4] (4.7e-10), and the series take about ten
- * roundings of 4.7e-10 (measured in mcu/fx_test.c). For a chain of N elements the tool
- * position is off by at most about N (3e-8 m + |p| 1e-8) and each rotation
+ * roundings of 4.7e-10 (measured in mcu/fx_test.c). For a chain of N
+ * elements the tool position is off by at most about N (3e-8 m + |p| 1e-8) and each rotation
  * entry by about N 1e-9 plus the conversion of the chain's constants
  * (half a resolution each): a PUMA 560 (15 elements) stays below 1 um and
  * 1e-6, the errors measured against the double build on random
