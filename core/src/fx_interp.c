@@ -50,10 +50,12 @@ static int64_t ramp_eval(const kc_fx_ramp *ramp, int64_t k)
     return KC_FX_ONE_ROT - mul_scaled(r, br, 32);
 }
 
-/* a + d u, rounded: d in a's format (64 bits), u in Q2.30. */
+/* a + d u, rounded: d in a's format (64 bits), u in Q2.30. d u alone may
+ * exceed the format (a move across more than half its range): the sum is
+ * formed in 64 bits, and it lies between the segment's ends. */
 static int32_t along(int32_t a, int64_t d, int64_t u)
 {
-    return a + (int32_t)((d * u + ((int64_t)1 << 29)) >> KC_FX_ROT_BITS);
+    return (int32_t)(a + ((d * u + ((int64_t)1 << 29)) >> KC_FX_ROT_BITS));
 }
 
 kc_status kc_fx_joint_eval(const kc_fx_joint_move *move, int64_t k, int32_t *q_fx)
