@@ -66,6 +66,9 @@ apt_packages=(
     # systemd.unit: a Debian 12 root (mmdebstrap) booted by systemd-nspawn
     # (systemd-container) runs the shipped unit under systemd (tests/systemd)
     mmdebstrap systemd-container
+    # mcu: the Cortex-M4F build of the core (mcu/, tests/mcu) and QEMU's
+    # mps2-an386 board that runs it (tools/bench/run_mcu_bench.sh too)
+    gcc-arm-none-eabi libnewlib-arm-none-eabi qemu-system-arm
 )
 missing=()
 for p in "${apt_packages[@]}"; do

@@ -511,7 +511,9 @@ static int64_t tick_count(kc_real duration, kc_real dt)
     kc_real k = -kc_floor(-(r - PATH_SLACK * kc_max(KC_R(1.0), r)));
     if (k < KC_R(1.0))
         k = KC_R(1.0);
-    return (int64_t)k;
+    /* k <= KC_PATH_MAX_TICKS + 1 (prepare): int32_t converts in one
+     * instruction where float-to-int64 would need libgcc's soft double. */
+    return (int32_t)k;
 }
 
 /* Writes the checked plan. */

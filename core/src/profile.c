@@ -18,7 +18,10 @@ int64_t kc_profile_ticks(kc_real T, kc_real dt)
     kc_real x = T / dt;
     if (!(x <= (kc_real)KC_PROFILE_MAX_TICKS))
         return -1;
-    int64_t n = (int64_t)x; /* x >= 0: truncation is floor */
+    /* x >= 0: truncation is floor. Through int32_t (x <= 2^24 here), one
+     * VCVT on an FPU-only-single core instead of libgcc's soft-double
+     * float-to-int64 conversion. */
+    int64_t n = (int32_t)x;
     /* The division rounds: settle on the exact grid the evaluation uses. */
     if ((kc_real)n * dt < T)
         n++;

@@ -28,7 +28,9 @@
 #include "kinctl/shape.h"
 
 /* Compile-time capacities. */
+#ifndef KC_MAX_JOINTS
 #define KC_MAX_JOINTS 16
+#endif
 #define KC_MAX_ELEMENTS 128
 #define KC_MAX_FRAMES 64
 #define KC_MAX_VOLUMES 32

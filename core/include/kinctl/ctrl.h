@@ -98,7 +98,9 @@
 #include "kinctl/profile.h"
 #include "kinctl/zone.h"
 
+#ifndef KC_CTRL_QUEUE_MAX
 #define KC_CTRL_QUEUE_MAX 8
+#endif
 /* Events one tick can produce. Every event names a goal: each of the at
  * most KC_CTRL_QUEUE_MAX + 1 goals queued or taken in the tick ends in one
  * event, except the one goal a tick can start (ACCEPTED, STARTED, FAULT,

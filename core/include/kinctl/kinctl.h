@@ -8,6 +8,7 @@
 #include "kinctl/orient.h"
 #include "kinctl/chain.h"
 #include "kinctl/fk.h"
+#include "kinctl/fx.h"
 #include "kinctl/ik.h"
 #include "kinctl/profile.h"
 #include "kinctl/scurve.h"

@@ -116,7 +116,9 @@
 #include "kinctl/status.h"
 
 /* Most knots of a path. */
+#ifndef KC_PATH_MAX_KNOTS
 #define KC_PATH_MAX_KNOTS 32
+#endif
 /* Most knots of a Lagrange path (degree 7). */
 #define KC_PATH_MAX_LAGRANGE_KNOTS 8
 /* Pieces: a blend path has n blends and n - 1 lines. */
