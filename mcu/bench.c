@@ -4,7 +4,7 @@
  *
  * Measured: kc_fk_eval, kc_fk_jacobian and kc_ik_step on a PUMA 560 at 100
  * configurations, and every tick of kc_ctrl_step for each goal kind of
- * scenario.h (from rest until idle), plus one kc_ctrl_check of a line.
+ * scenario.h (from rest until idle), plus one dry run of a line (kc_check_from).
  * Each measured call goes through a bench_<what> function of its own, so
  * callgrind's inclusive counts on the host and the stack analysis of
  * tools/bench/mcu_stack.py name the same thing.
@@ -42,7 +42,8 @@
 #define NOINLINE __attribute__((noinline))
 
 static kc_chain chain;
-static kc_ctrl ctrl, scratch;
+static kc_ctrl ctrl;
+static kc_check check; /* the dry run's own storage */
 static kc_ctrl_cfg cfg;
 static kc_ctrl_output out;
 static kc_real qs[N_CONFIGS][6];
@@ -151,9 +152,8 @@ int bench_ctrl_step(int unused)
 int bench_ctrl_check(int unused)
 {
     (void)unused;
-    kc_real q_end[KC_MAX_JOINTS], where;
-    kc_ctrl_reason why;
-    return kc_ctrl_check(&scratch, &chain, &cfg, &check_goal, scn_q0, MAX_TICKS, q_end, &why, &where);
+    kc_verdict verdict;
+    return kc_check_from(&check, scn_q0, &check_goal, &verdict);
 }
 
 /* Random configurations inside the limits (splitmix64, fixed seed). */
@@ -235,6 +235,10 @@ int main(int argc, char **argv)
     kc_pose here;
     kc_fk_eval(&chain, scn_q0, &here);
     scn_goal(&check_goal, KC_GOAL_LINE, 300, &here, 0);
+    if (kc_check_init(&check, &chain, &cfg, MAX_TICKS, scn_q0) != KC_OK) {
+        printf("FAIL: kc_check_init\n");
+        return 1;
+    }
     tally chk = {"ctrl_check_line", 0, 0, 0, 0};
     failures += measure(&chk, bench_ctrl_check, 0) != KC_OK;
     report(&chk, "bench_ctrl_check");

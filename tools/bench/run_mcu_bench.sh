@@ -68,9 +68,9 @@ echo "== stack (bytes): static worst case from -fcallgraph-info (libm frames not
 printf '%-8s %-16s %8s %10s %10s  %s\n' config entry static bench_fn measured "unknown callees"
 for cfg in default small; do
     "$here/mcu_stack.py" "${core_dir[$cfg]}" "${bench_dir[$cfg]}" -- \
-        kc_fk_eval kc_fk_jacobian kc_ik_step kc_ctrl_step kc_ctrl_check \
+        kc_fk_eval kc_fk_jacobian kc_ik_step kc_ctrl_step kc_check_from \
         bench_fk bench_jacobian bench_ik_step bench_ctrl_step bench_ctrl_check >"$tmp/stack.$cfg"
-    for pair in fk_eval:fk fk_jacobian:jacobian ik_step:ik_step ctrl_step:ctrl_step ctrl_check:ctrl_check; do
+    for pair in fk_eval:fk fk_jacobian:jacobian ik_step:ik_step ctrl_step:ctrl_step check_from:ctrl_check; do
         entry=kc_${pair%%:*} fn=bench_${pair#*:}
         static=$(awk -v f="$entry" '$2 == f {print $3}' "$tmp/stack.$cfg")
         bound=$(awk -v f="$fn" '$2 == f {print $3}' "$tmp/stack.$cfg")
