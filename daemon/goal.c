@@ -6,6 +6,11 @@
 
 #include "kinctl/se3.h"
 
+/* One limit of knots everywhere: what the wire carries is what a goal holds
+ * after the start of its motion. */
+_Static_assert(KINCTL_GOAL_PATH_T_MAX_POINTS == KC_PATH_MAX_KNOTS - 1,
+               "goal_path_t.MAX_POINTS (lcmtypes) must be KC_PATH_MAX_KNOTS - 1 (kinctl/path.h)");
+
 #define KD_QUAT_NORM_TOL 1e-3
 
 static kc_real scale_of(double s)

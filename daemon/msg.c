@@ -74,7 +74,7 @@ static const kd_msg_info info[KD_MSG_TYPE_COUNT] = {
     {"goal_line_t", "GOAL_LINE", 1, 8 + 8 + 8 + 1 + 3 * 8 + 4 * 8 + 4 * 8 + 1 + 2 * 8},
     {"goal_arc_t", "GOAL_ARC", 1, 8 + 8 + 8 + 1 + 3 * 8 + 3 * 8 + 4 * 8 + 4 * 8 + 2 * 8},
     {"goal_path_t", "GOAL_PATH", 1,
-     8 + 8 + 8 + 5 * 1 + 2 * 4 + 32 * 16 * 8 + 1 + 32 * 8 + 5 * 8},
+     8 + 8 + 8 + 5 * 1 + 2 * 4 + 31 * 16 * 8 + 1 + 31 * 8 + 5 * 8},
     {"goal_servo_t", "GOAL_SERVO", 1, 8 + 8 + 8 + 2 * 1 + 3 * 8 + 4 * 8 + 6 * 8 + 8},
     {"command_t", "COMMAND", 1, 8 + 8 + 1},
     {"setpoint_t", "SETPOINT", 0, 8 + 8 + 8 + 8 + 1 + 4 + 3 * 16 * 8 + 3 * 8 + 4 * 8 + 8 + 1 + 1 + 1},

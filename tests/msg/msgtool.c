@@ -70,7 +70,7 @@ static void print_json(kd_msg_type t, const kd_msg_any *m)
         pi("space", g->space); pi("method", g->method); pi("blend_shape", g->blend_shape);
         pi("spline_ends", g->spline_ends); pi("n_points", g->n_points); pi("dim", g->dim);
         printf("\"points\": [");
-        for (i = 0; i < 32; i++) {
+        for (i = 0; i < KINCTL_GOAL_PATH_T_MAX_POINTS; i++) {
             int j;
             printf("%s[", i ? ", " : "");
             for (j = 0; j < 16; j++)
@@ -78,7 +78,7 @@ static void print_json(kd_msg_type t, const kd_msg_any *m)
             printf("]");
         }
         printf("], ");
-        pi("has_times", g->has_times); pd("times", g->times, 32, 1);
+        pi("has_times", g->has_times); pd("times", g->times, KINCTL_GOAL_PATH_T_MAX_POINTS, 1);
         pd("blend_time", &g->blend_time, 1, 0); pd("speed", &g->speed, 1, 0);
         pd("accel", &g->accel, 1, 0); pd("vel_scale", &g->vel_scale, 1, 0);
         pd("acc_scale", &g->acc_scale, 1, 0);
