@@ -60,6 +60,8 @@ void kd_reject_set(kd_reject *rej, kc_ctrl_reason reason, const char *fmt, ...)
     int n;
     rej->reason = reason;
     rej->code = kd_reason_code(reason);
+    rej->joint = rej->prismatic = 0;
+    rej->value = rej->lower = rej->upper = 0.0;
     n = snprintf(rej->text, sizeof rej->text, "%s: ", kd_reason_token(reason));
     if (n < 0 || (size_t)n >= sizeof rej->text)
         return;
@@ -94,6 +96,11 @@ static void limit_text(kd_reject *rej, const kd_config *cfg, const kc_goal *g, c
     else
         kd_reject_set(rej, v->reason, "%s.q[%d] = %.9g is outside joint %d's limits [%.9g, %.9g]", wire_name(g->kind),
                       v->joint, (double)v->value, v->joint + 1, (double)l->q_min, (double)l->q_max);
+    rej->joint = v->joint + 1;
+    rej->prismatic = cfg->chain.joints[v->joint].type == KC_JOINT_PRISMATIC;
+    rej->value = (double)v->value;
+    rej->lower = (double)l->q_min;
+    rej->upper = (double)l->q_max;
 }
 
 void kd_reject_verdict(kd_reject *rej, const kd_config *cfg, const kc_goal *g, const kc_verdict *v)

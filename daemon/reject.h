@@ -30,6 +30,10 @@ typedef struct kd_reject {
     kc_ctrl_reason reason;
     kc_status code;
     char text[KD_REASON_TEXT];
+    /* A joint's limit at fault (status_t.joint..): the joint, 1-based (0:
+     * none), prismatic or not, the value and the limits (rad or m). */
+    int joint, prismatic;
+    double value, lower, upper;
 } kd_reject;
 
 /* The stable token of a reason ("joint_limit"); "unknown" for others. */

@@ -128,6 +128,7 @@ def _angular_options(p):
 
 def _answer(c, gid, kind, args):
     """Waits for the goal's answer (and with --wait, its end). Returns the exit code."""
+    from kinctl.msgs import reason_text
     st = c.wait_answer(gid, args.connect_timeout)
     if st is None:
         err(f"goal {gid} ({kind}): no answer from kinctld within {args.connect_timeout:g} s "
@@ -135,7 +136,7 @@ def _answer(c, gid, kind, args):
         return 1
     ev = c.event(st)
     if ev == "REJECTED":
-        err(f"goal {gid} ({kind}) REJECTED: {st.reason}")
+        err(f"goal {gid} ({kind}) REJECTED: {reason_text(st, args.deg)}")
         return 1
     if not args.wait:
         say(f"goal {gid} ({kind}) {ev}" + ("" if ev != "ACCEPTED" else " (replacing)" if args.replace else ""))
@@ -151,7 +152,7 @@ def _answer(c, gid, kind, args):
     if ev == "COMPLETED":
         say(f"goal {gid} ({kind}) COMPLETED after {time.monotonic() - t0:.2f} s")
         return 0
-    err(f"goal {gid} ({kind}) {ev}" + (f": {st.reason}" if st.reason else ""))
+    err(f"goal {gid} ({kind}) {ev}" + (f": {reason_text(st, args.deg)}" if st.reason else ""))
     return 1
 
 
@@ -192,6 +193,7 @@ def cmd_goal(args):
 
 def cmd_servo(args, deg):
     from kinctl.client import make_servo_message, new_goal_id
+    from kinctl.msgs import reason_text
     period = 1.0 / args.rate
     stale = args.stale_ms / 1e3 if args.stale_ms else min(max(3 * period, STALE_MIN_S), STALE_MAX_S)
     twist = None if args.twist is None else args.twist[:3] + [v * deg for v in args.twist[3:]]
@@ -214,7 +216,7 @@ def cmd_servo(args, deg):
             err(f"servo {gid}: no answer from kinctld within {args.connect_timeout:g} s")
             return 1
         if c.event(st) == "REJECTED":
-            err(f"servo {gid} REJECTED: {st.reason}")
+            err(f"servo {gid} REJECTED: {reason_text(st, args.deg)}")
             return 1
         say(f"servo {gid}: {sent} messages in {time.monotonic() - t0:.2f} s "
             f"(stale after {stale * 1e3:.0f} ms without one)")
