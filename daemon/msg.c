@@ -78,7 +78,7 @@ static const kd_msg_info info[KD_MSG_TYPE_COUNT] = {
     {"goal_servo_t", "GOAL_SERVO", 1, 8 + 8 + 8 + 2 * 1 + 3 * 8 + 4 * 8 + 6 * 8 + 8},
     {"command_t", "COMMAND", 1, 8 + 8 + 1},
     {"setpoint_t", "SETPOINT", 0, 8 + 8 + 8 + 8 + 1 + 4 + 3 * 16 * 8 + 3 * 8 + 4 * 8 + 8 + 1 + 1 + 1},
-    {"status_t", "STATUS", 0, 8 + 8 + 8 + 1 + 8 + 8 + 4 + 1 + 8 + 4 + (4 + 1) + 4 + 2 * 16 * 8 + 1 + 2 + 1 + 3 * 8},
+    {"status_t", "STATUS", 0, 8 + 8 + 8 + 1 + 8 + 8 + 4 + 1 + 8 + 4 + (4 + 1) + 4 + 2 * 16 * 8 + 1 + 4 + 1 + 3 * 8},
     {"stats_t", "STATS", 0, 8 + 18 * 8 + 1 + 5 * 8},
 };
 

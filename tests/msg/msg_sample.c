@@ -172,6 +172,11 @@ void msg_sample(kd_msg_type type, uint32_t seed, kd_msg_any *m, char *reason_buf
         fill(s, p->q_measured, KINCTL_STATUS_T_MAX_JOINTS, -6.5, 6.5);
         fill(s, p->qd_measured, KINCTL_STATUS_T_MAX_JOINTS, -3.0, 3.0);
         p->can_state = (int8_t)pick(s, KINCTL_STATUS_T_CAN_OFF, KINCTL_STATUS_T_CAN_LOST);
+        p->joint = pick(s, 0, KINCTL_STATUS_T_MAX_JOINTS);
+        p->joint_prismatic = (int8_t)pick(s, 0, 1);
+        p->joint_value = uniform(s, -7.0, 7.0);
+        p->joint_lower = uniform(s, -3.2, 0.0);
+        p->joint_upper = uniform(s, 0.0, 3.2);
         break;
     }
     case KD_MSG_STATS: {

@@ -125,6 +125,9 @@ static void print_json(kd_msg_type t, const kd_msg_any *m)
         pi("n", p->n); pd("q_measured", p->q_measured, 16, 1);
         pd("qd_measured", p->qd_measured, 16, 1);
         pi("can_state", p->can_state);
+        pi("joint", p->joint); pi("joint_prismatic", p->joint_prismatic);
+        pd("joint_value", &p->joint_value, 1, 0); pd("joint_lower", &p->joint_lower, 1, 0);
+        pd("joint_upper", &p->joint_upper, 1, 0);
         break;
     }
     case KD_MSG_STATS: {
