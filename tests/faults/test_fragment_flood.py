@@ -11,14 +11,11 @@ cycle (the setpoint that names it as its input). Behaviour is asserted, never
 a clock."""
 import os
 import re
-import socket
-import struct
 import threading
 
-from kinctl_testing import EVENTS, QN, STATES, command_t, go_nominal
+from kinctl_testing import EVENTS, QN, STATES, command_t, flood_fragments, go_nominal
 
 N_FORGED = 3000
-MIB = 1 << 20
 
 
 def rss_kib(pid):
@@ -31,29 +28,6 @@ def locked_kib(pid):
         return int(re.search(r"VmLck:\s+(\d+) kB", f.read()).group(1))
 
 
-def group_of(url):
-    m = re.match(r"udpm://([\d.]+):(\d+)", url)
-    return m.group(1), int(m.group(2))
-
-
-def forged_fragment(seqno, channel):
-    """LCM's fragment header (lcm_udpm.c): magic "LC03", sequence number,
-    message size, fragment offset, fragment number, fragments in the message;
-    the first fragment carries the channel name."""
-    return struct.pack(">IIIIHH", 0x4C433033, seqno, 256 * MIB, 0, 0, 2) + channel.encode() + b"\0" + bytes(1000)
-
-
-def flood(url, prefix, count, done):
-    host, port = group_of(url)
-    s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
-    s.setsockopt(socket.IPPROTO_IP, socket.IP_MULTICAST_TTL, 0)
-    channels = [prefix + c for c in ("GOAL_PATH", "COMMAND", "GOAL_JOINT")]
-    for i in range(count):
-        s.sendto(forged_fragment(i, channels[i % 3]), (host, port))
-    s.close()
-    done.set()
-
-
 def test_fragment_flood_leaves_memory_flat_and_commands_heard(kinctld):
     rt = os.geteuid() == 0 and not os.environ.get("KINCTLD_SANITIZED")
     d = kinctld(rt=rt)
@@ -63,7 +37,7 @@ def test_fragment_flood_leaves_memory_flat_and_commands_heard(kinctld):
         assert locked_kib(pid) > 0, "kinctld --rt locked no memory"
     before = rss_kib(pid)
     done = threading.Event()
-    sender = threading.Thread(target=flood, args=(d.url, d.prefix, N_FORGED, done))
+    sender = threading.Thread(target=flood_fragments, args=(d.url, d.prefix, N_FORGED, done))
     sender.start()
     # Goals during the flood: each answered exactly once.
     ids = list(range(500, 520))
@@ -73,7 +47,7 @@ def test_fragment_flood_leaves_memory_flat_and_commands_heard(kinctld):
     sender.join()
     # A second wave of forged fragments, and an ESTOP in the middle of it.
     done2 = threading.Event()
-    sender = threading.Thread(target=flood, args=(d.url, d.prefix, N_FORGED, done2))
+    sender = threading.Thread(target=flood_fragments, args=(d.url, d.prefix, N_FORGED, done2))
     sender.start()
     seen = d.bus.last_setpoint().cycle
     d.bus.send_command("ESTOP")

@@ -33,6 +33,8 @@ import os
 import re
 import shlex
 import signal
+import socket
+import struct
 import subprocess
 import sys
 import threading
@@ -367,3 +369,27 @@ def assert_smooth(sps, slack=1e-6):
 
 def close(a, b, tol):
     return all(abs(x - y) <= tol for x, y in zip(a, b))
+
+
+# -- hostile datagrams -------------------------------------------------------
+
+def forged_fragment(seqno, channel, claimed=256 << 20):
+    """LCM's first-fragment header (lcm_udpm.c: magic "LC03", sequence
+    number, message size, fragment offset, fragment number, fragments in the
+    message), claiming a message of `claimed` bytes in two fragments that
+    never completes; the first fragment carries the channel name."""
+    return struct.pack(">IIIIHH", 0x4C433033, seqno, claimed, 0, 0, 2) + channel.encode() + b"\0" + bytes(1000)
+
+
+def flood_fragments(url, prefix, count, done=None):
+    """Sends count forged first fragments to the LCM group of url (TTL 0:
+    this host only), on three of kinctld's channels; sets done at the end."""
+    m = re.match(r"udpm://([\d.]+):(\d+)", url)
+    s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+    s.setsockopt(socket.IPPROTO_IP, socket.IP_MULTICAST_TTL, 0)
+    channels = [prefix + c for c in ("GOAL_PATH", "COMMAND", "GOAL_JOINT")]
+    for i in range(count):
+        s.sendto(forged_fragment(i, channels[i % 3]), (m.group(1), int(m.group(2))))
+    s.close()
+    if done is not None:
+        done.set()

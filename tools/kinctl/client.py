@@ -14,6 +14,7 @@ callbacks (called on that thread) see every message, for logging.
 """
 import math
 import random
+import struct
 import threading
 import time
 
@@ -213,6 +214,9 @@ class Client:
         self.status = None
         self.n_setpoints = 0
         self.n_statuses = 0
+        # Datagrams on the two channels that are not what they claim (garbage,
+        # another type, a truncated one): counted and passed over.
+        self.n_invalid = 0
         self.events = []  # every status_t with an event, in order
         self._on_setpoint, self._on_status = on_setpoint, on_status
         for suffix, handler in (("SETPOINT", self._handle_setpoint), ("STATUS", self._handle_status)):
@@ -226,8 +230,19 @@ class Client:
         while self._run:
             self.lc.handle_timeout(20)
 
+    def _decode(self, cls, data):
+        """cls.decode(data), or None (counted) for anything else on its channel."""
+        try:
+            return cls.decode(data)
+        except (ValueError, struct.error, UnicodeDecodeError, IndexError):
+            with self.cond:
+                self.n_invalid += 1
+            return None
+
     def _handle_setpoint(self, channel, data):
-        sp = setpoint_t.decode(data)
+        sp = self._decode(setpoint_t, data)
+        if sp is None:
+            return
         if self._on_setpoint:
             self._on_setpoint(sp)
         with self.cond:
@@ -236,7 +251,9 @@ class Client:
             self.cond.notify_all()
 
     def _handle_status(self, channel, data):
-        st = status_t.decode(data)
+        st = self._decode(status_t, data)
+        if st is None:
+            return
         if self._on_status:
             self._on_status(st)
         with self.cond:

@@ -12,6 +12,12 @@ import time
 
 import lcm
 
+from kinctl.cycles import CycleCount
+from kinctl.msgs import setpoint_t
+
+SETPOINT_FINGERPRINT = setpoint_t._get_packed_fingerprint()
+SETPOINT_SIZE = len(setpoint_t().encode())
+
 # Channel suffixes that carry what clients send the daemon (the inputs a
 # recorded run can be played back into another daemon with).
 QUEUE_CAPACITY = 100000  # messages LCM may hold for the recorder (100 s of setpoints at 1 kHz)
@@ -44,9 +50,7 @@ class Recorder:
         self.events = 0
         self.bytes = 0
         self.channels = {}
-        self.first_cycle = self.last_cycle = None
-        self.setpoints = 0
-        self.gaps = 0
+        self.cycles = CycleCount()
         self.sub = self.lc.subscribe(regex, self._on)
         # LCM drops what waits beyond a subscription's queue (30 by default):
         # a recorder that falls behind for a moment must not lose setpoints.
@@ -57,14 +61,10 @@ class Recorder:
         self.events += 1
         self.bytes += len(data)
         self.channels[channel] = self.channels.get(channel, 0) + 1
-        if channel == self.setpoint_channel and len(data) >= 24:
-            cycle = struct.unpack(">q", data[16:24])[0]
-            if self.last_cycle is not None and cycle != self.last_cycle + 1:
-                self.gaps += 1
-            if self.first_cycle is None:
-                self.first_cycle = cycle
-            self.last_cycle = cycle
-            self.setpoints += 1
+        # A setpoint is counted when it is one (its fingerprint and size):
+        # anything else on the channel is recorded as it came, not counted.
+        if channel == self.setpoint_channel and len(data) == SETPOINT_SIZE and data[:8] == SETPOINT_FINGERPRINT:
+            self.cycles.add(struct.unpack(">q", data[16:24])[0])
 
     def run(self, stop, duration=None, progress=True):
         """Handles messages until stop (a threading.Event) is set or duration (s) has passed."""
@@ -102,11 +102,8 @@ class Recorder:
 
     def report(self):
         s = f"{self.events} events ({self.bytes / 1e6:.2f} MB) on {len(self.channels)} channels"
-        if self.setpoints:
-            span = self.last_cycle - self.first_cycle + 1
-            missing = span - self.setpoints
-            s += (f"; setpoints of cycles {self.first_cycle}..{self.last_cycle}: "
-                  + ("none missing" if missing == 0 else f"{missing} missing in {self.gaps} gaps"))
+        if self.cycles.count:
+            s += "; setpoints of " + self.cycles.report()
         return s
 
 

@@ -6,6 +6,7 @@ Events:    utime,cycle,goal_id,event,code,reason
 """
 import csv
 
+from kinctl.cycles import CycleCount
 from kinctl.msgs import event_name, state_name, STATES
 
 EVENT_HEADER = ["utime", "cycle", "goal_id", "event", "code", "reason"]
@@ -29,38 +30,29 @@ def event_row(st):
 
 class SetpointWriter:
     """Writes setpoints as they come; the joint count is the first one's.
-    Counts them and the cycle span, to tell whether any were lost."""
+    Counts them by cycle (kinctl.cycles), to tell whether any were lost."""
 
     def __init__(self, f):
         self.f = f
         self.w = csv.writer(f, lineterminator="\n")
         self.n = None
-        self.count = 0
-        self.first = self.last = None
-        self.gaps = 0
+        self.cycles = CycleCount()
 
     def write(self, sp):
         if self.n is None:
             self.n = sp.n
             self.w.writerow(header(self.n))
         self.w.writerow(row(sp, self.n))
-        if self.last is not None and sp.cycle != self.last + 1:
-            self.gaps += 1
-        if self.first is None:
-            self.first = sp.cycle
-        self.last = sp.cycle
-        self.count += 1
+        self.cycles.add(sp.cycle)
 
     @property
-    def span(self):
-        return 0 if self.first is None else self.last - self.first + 1
+    def count(self):
+        return self.cycles.count
 
     def report(self):
         if not self.count:
             return "no setpoints received"
-        missing = self.span - self.count
-        return (f"{self.count} setpoints received, cycles {self.first}..{self.last} (span {self.span}): "
-                + ("none missing" if missing == 0 else f"{missing} missing in {self.gaps} gaps"))
+        return f"{self.count} setpoints received, " + self.cycles.report()
 
 
 def read(path, progress=False):
