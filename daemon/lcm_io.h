@@ -45,6 +45,7 @@
 #include <lcm/lcm.h>
 
 #include "can_io.h"
+#include "checker.h"
 #include "config.h"
 #include "cycle.h"
 #include "goal.h"
@@ -61,7 +62,8 @@ typedef struct kd_io kd_io;
 struct kd_io {
     const kd_config *cfg;
     kd_cycle *cycle;
-    kc_check *check; /* the goals' dry run, caller-owned (large) */
+    kc_check *check; /* the goals' dry run, caller-owned (large): the checker thread's */
+    kd_checker checker;
     lcm_t *lcm;  /* publishing only */
     kd_rx rx;    /* receiving */
     int64_t rx_errors;

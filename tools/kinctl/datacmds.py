@@ -54,10 +54,8 @@ def register(sub, parents):
     sp.set_defaults(run=cmd_spy)
 
     iu = add_command(sub, "import-urdf", "write a robot description file (models/README.md) from a URDF",
-                     "kinctl import-urdf panda.urdf -o panda.cfg --tip panda_link8
-"
-                     "  kinctl-calc fk --model-file panda.cfg --q 0,0,0,-1.57,0,1.57,0.78
-"
+                     "kinctl import-urdf panda.urdf -o panda.cfg --tip panda_link8\n"
+                     "  kinctl-calc fk --model-file panda.cfg --q 0,0,0,-1.57,0,1.57,0.78\n"
                      "  kinctld --config panda.cfg --check", parents)
     iu.add_argument("urdf", metavar="FILE.urdf", help="the URDF")
     iu.add_argument("-o", "--output", metavar="FILE", default=None,
