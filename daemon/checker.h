@@ -26,7 +26,9 @@
  * verdicts come back in the order of the jobs, and a goal the I/O thread
  * refuses itself (a datagram that fails to decode or convert, a full job
  * ring) while goals before it wait for their verdicts takes its place in
- * the order (kd_checker_refuse) and is answered in its turn. Only when
+ * the order (kd_checker_refuse) and is answered in its turn, also behind
+ * the goals handed to the controller and not yet taken (the controller
+ * answers those, ACCEPTED or REJECTED, when it takes them). Only when
  * that order is itself full (KD_ORDER_MAX goals waiting) is a refusal
  * answered at once, out of order, and counted (answered_early). Servo
  * messages stream past the dry runs (the cheap checks only, on the I/O
