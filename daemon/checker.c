@@ -241,6 +241,11 @@ void kd_checker_tick(kd_checker *k, const kc_ctrl_output *out, int64_t goals_tak
     k->have_pending = kd_spsc_push(&k->ticks, p) != 0;
 }
 
+void kd_checker_busy(kd_reject *rej)
+{
+    kd_reject_set(rej, KC_REASON_QUEUE_FULL, "the dry runs' queue (%d goals) is full", KD_CHECK_RING);
+}
+
 int kd_checker_answer(kd_checker *k, kd_answer *a)
 {
     const kd_order *o;
@@ -255,7 +260,7 @@ int kd_checker_answer(kd_checker *k, kd_answer *a)
         return 1;
     }
     if (o->kind == KD_ORDER_BUSY) {
-        kd_reject_set(&a->rej, KC_REASON_QUEUE_FULL, "the dry runs' queue (%d goals) is full", KD_CHECK_RING);
+        kd_checker_busy(&a->rej);
         k->answer_from = KD_FROM_ORDER;
         return 1;
     }
@@ -278,9 +283,13 @@ void kd_checker_answered(kd_checker *k)
     o = &k->order[k->order_head % KD_ORDER_MAX];
     if (o->kind == KD_ORDER_REFUSED)
         k->texts_head++;
-    if (k->answer_from == KD_FROM_VERDICTS && o->kind == KD_ORDER_CHECKED)
+    if (k->answer_from == KD_FROM_VERDICTS && o->kind == KD_ORDER_CHECKED) {
+        /* A checker waiting for room for its verdict goes on at once. */
+        int was_full = kd_spsc_count(&k->verdicts) == KD_CHECK_RING;
         kd_spsc_release(&k->verdicts);
-    else if (k->answer_from == KD_FROM_JOBS && o->kind == KD_ORDER_CHECKED)
+        if (was_full && !k->stopped)
+            signal_fd(k->wake_fd);
+    } else if (k->answer_from == KD_FROM_JOBS && o->kind == KD_ORDER_CHECKED)
         kd_spsc_release(&k->jobs);
     k->order_head++;
 }

@@ -153,6 +153,9 @@ int kd_checker_submit(kd_checker *k, const kc_goal *goal);
  * kept and comes back from kd_checker_answer in its turn. */
 int kd_checker_refuse(kd_checker *k, int64_t goal_id, const kd_reject *rej, int behind);
 
+/* The refusal of a goal for a full job ring ("queue_full: ..."). */
+void kd_checker_busy(kd_reject *rej);
+
 /* I/O thread: a tick of the controller for the checker (copied; when its
  * ring is full the latest is kept, with the rejections of those it
  * replaces, and handed over at the next call). */

@@ -243,8 +243,8 @@ static void refuse(kd_io *io, int64_t goal_id, const kd_reject *rej)
  * it refused, or stopped for its budget, is answered here. When the goal
  * ring is full the goal waits, and every one behind it, for the next pass:
  * the cycle takes one a tick; so does a refusal while goals before it are
- * still on their way to the controller. final: the cycle has stopped, and nothing
- * will take a goal again. */
+ * still on their way to the controller. final: the cycle has stopped, and
+ * nothing will take a goal again. */
 static void answer_goals(kd_io *io, int final)
 {
     kd_answer a;
@@ -317,7 +317,7 @@ static void handle_goal(kd_io *io, kd_msg_type type, int64_t received_ns)
     if (kd_checker_submit(&io->checker, g) != 0) {
         io->msgs_dropped++;
         if (kd_checker_refuse(&io->checker, g->id, NULL, goals_in_flight(io)) == 1) {
-            kd_reject_set(&rej, KC_REASON_QUEUE_FULL, "the dry runs' queue (%d goals) is full", KD_CHECK_RING);
+            kd_checker_busy(&rej);
             reject(io, g->id, &rej);
         }
     }
