@@ -133,3 +133,24 @@ def test_dry_run_over_budget_is_rejected_for_it(kinctld, tmp_path):
     st = d.bus.wait_event(4, ("COMPLETED", "REJECTED", "ABORTED"), 20.0)
     assert st.event == EVENTS["COMPLETED"], st.reason
     assert d.stop() == 0
+
+
+def test_goals_waiting_at_shutdown_answered_once_in_order(kinctld, tmp_path):
+    d = kinctld("--config", config(tmp_path, 60000), rt=RT)
+    s0 = go_nominal(d)
+    # Six long dry runs (each hundreds of ms), then joint moves behind them.
+    crawls, joints = list(range(2, 8)), list(range(8, 13))
+    for gid in crawls:
+        d.bus.send("GOAL_LINE", crawl(gid, s0))
+    for gid in joints:
+        d.bus.send_goal_joint(gid, [q + 0.01 * gid for q in QN])
+    d.bus.wait_stats(lambda s: s.msgs_in >= 1 + len(crawls) + len(joints), 5.0)
+    # SIGTERM while the dry runs are under way and the joint moves wait
+    # behind them: each goal is answered, once, in the order sent, before
+    # the end; those never judged as refused for the shutdown.
+    assert d.stop() == 0
+    got = answers(d, set(crawls + joints))
+    assert [g for g, _ in got] == crawls + joints, [g for g, _ in got]
+    for _, s in got[len(crawls):]:
+        assert s.event == EVENTS["REJECTED"] and s.reason.startswith("shutdown: "), s.reason
+    assert got[-len(joints) - 1][1].reason.startswith("shutdown: ")  # the last long one too
