@@ -2,8 +2,8 @@
 running kinctld: a goal whose dry run takes long (a line at a crawl, as
 long as check_max_s allows) delays neither an ESTOP sent right behind it
 nor a servo stream; a flood of goals is answered exactly once each, in the
-order sent; a dry run longer than controller.check_budget_ms is rejected
-for it. In real-time mode (mlockall, SCHED_FIFO) where this machine allows
+order sent, and so are goals still waiting at shutdown; a dry run longer
+than controller.check_budget_ms is rejected for it. In real-time mode (mlockall, SCHED_FIFO) where this machine allows
 it. Behaviour is asserted (which setpoint took the command, the order of
 answers, the staleness flag the cycle gave the controller), never a clock."""
 import os
