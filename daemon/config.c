@@ -84,6 +84,7 @@ static void defaults(kd_config *cfg)
     cfg->queue_size = 64;
     cfg->servo_timeout_s = 0.1;
     cfg->check_max_s = 120.0;
+    cfg->check_budget_s = 0.5;
     cfg->stop_timeout_s = 5.0;
     cfg->status_hz = 10.0;
     cfg->stats_hz = 1.0;

@@ -31,6 +31,8 @@
  *     servo_timeout_ms = 100.0; # longest staleness a servo stream may
  *                               # ask for (its timeout_us is capped)
  *     check_max_s = 120.0;      # longest motion the dry run follows
+ *     check_budget_ms = 500.0;  # longest a dry run may take (wall clock),
+ *                               # 1 .. 600000; longer: rejected
  *     stop_timeout_s = 5.0;     # SIGINT/SIGTERM: longest wait for rest
  *     status_hz = 10.0;         # periodic status rate (events are extra)
  *     stats_hz = 1.0;           # stats rate
@@ -94,6 +96,7 @@ typedef struct kd_config {
     int queue_size;
     double servo_timeout_s;
     double check_max_s;
+    double check_budget_s; /* longest dry run (wall clock) */
     double stop_timeout_s;
     double status_hz, stats_hz;
     int overrun_missed;       /* 0: policy off */

@@ -18,7 +18,7 @@
 static int read_controller(kc_cfg *r, const config_setting_t *c, kd_config *cfg, kd_file *fc)
 {
     static const char *const keys[] = {"period_us", "angles", "home", "vel_scale", "acc_scale", "prefix",
-                                       "lcm_url", "queue_size", "servo_timeout_ms", "check_max_s",
+                                       "lcm_url", "queue_size", "servo_timeout_ms", "check_max_s", "check_budget_ms",
                                        "stop_timeout_s", "status_hz", "stats_hz", "overrun", "rt", "plant",
                                        "cartesian", "can", "zones", NULL};
     static const char *const overrun_keys[] = {"missed_cycles", "action", NULL};
@@ -99,6 +99,10 @@ static int read_controller(kc_cfg *r, const config_setting_t *c, kd_config *cfg,
     if (kc_cfg_lookup_number(r, c, "servo_timeout_ms", "controller", 1.0, 60000.0, &ms) != 0)
         return -1;
     cfg->servo_timeout_s = ms * 1e-3;
+    ms = cfg->check_budget_s * 1e3;
+    if (kc_cfg_lookup_number(r, c, "check_budget_ms", "controller", 1.0, 600000.0, &ms) != 0)
+        return -1;
+    cfg->check_budget_s = ms * 1e-3;
     if (kc_cfg_lookup_number(r, c, "check_max_s", "controller", 0.1, 3600.0, &cfg->check_max_s) != 0 ||
         kc_cfg_lookup_number(r, c, "stop_timeout_s", "controller", 0.0, 600.0, &cfg->stop_timeout_s) != 0 ||
         kc_cfg_lookup_number(r, c, "status_hz", "controller", 0.1, 1000.0, &cfg->status_hz) != 0 ||

@@ -99,6 +99,8 @@ static void tick(kd_cycle *c, int64_t deadline_ns, int64_t consecutive_missed, i
     t->in_fault = in.fault != KC_REASON_NONE;
     st = kc_ctrl_step(c->ctrl, &in, &t->out);
     if (goal != NULL) {
+        if (goal->kind == KC_GOAL_SERVO)
+            c->servo_taken_total++;
         kd_spsc_release(&c->goals);
         c->goals_taken_total++;
     }
@@ -113,6 +115,7 @@ static void tick(kd_cycle *c, int64_t deadline_ns, int64_t consecutive_missed, i
     kd_plant_step(&c->plant, q_cmd, qd_cmd, t->q_meas, t->qd_meas);
     t->deadline_ns = deadline_ns;
     t->goals_taken = c->goals_taken_total;
+    t->servo_taken = c->servo_taken_total;
     t->cmds_taken = c->cmds_taken_total;
     t->missed_total = atomic_load_explicit(&c->overruns, memory_order_relaxed);
     atomic_store_explicit(&c->state, (int)t->out.state, memory_order_relaxed);
@@ -240,6 +243,24 @@ int kd_cycle_cpu(const kd_config *cfg)
     if (cpu < 0 && ncpu > 1)
         cpu = (int)ncpu - 1;
     return cpu >= 0 && cpu < CPU_SETSIZE ? cpu : -1;
+}
+
+void kd_cycle_keep_off(const kd_config *cfg, pthread_t thread, const char *what)
+{
+    int cycle_cpu = kd_cycle_cpu(cfg);
+    long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
+    if (cycle_cpu >= 0 && ncpu > 1) {
+        cpu_set_t set;
+        int rc;
+        CPU_ZERO(&set);
+        for (long c = 0; c < ncpu && c < CPU_SETSIZE; c++)
+            if (c != cycle_cpu)
+                CPU_SET((size_t)c, &set);
+        rc = pthread_setaffinity_np(thread, sizeof set, &set);
+        if (rc != 0)
+            fprintf(stderr, "kinctld: warning: cannot keep the %s thread off CPU %d (%s)\n", what, cycle_cpu,
+                    strerror(rc));
+    }
 }
 
 void kd_cycle_stop(kd_cycle *c)

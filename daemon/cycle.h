@@ -43,6 +43,7 @@ typedef struct kd_tick {
     kc_ctrl_output out;
     int64_t deadline_ns;  /* this tick's deadline, CLOCK_MONOTONIC */
     int64_t goals_taken;  /* goals taken from the goal ring so far */
+    int64_t servo_taken;  /* ... of which servo messages (the others passed a dry run) */
     int64_t cmds_taken;   /* commands taken so far */
     int64_t missed_total; /* overruns so far */
     kc_ctrl_command policy_cmd; /* the overrun policy fired this tick (or NONE) */
@@ -94,7 +95,7 @@ typedef struct kd_cycle {
     atomic_llong events_dropped; /* events of dropped ticks: the reserve ran out too */
     atomic_llong step_errors;   /* kc_ctrl_step refused a tick (a bug) */
     atomic_int state;           /* kc_ctrl_state of the last tick */
-    int64_t goals_taken_total, cmds_taken_total; /* the cycle's own */
+    int64_t goals_taken_total, servo_taken_total, cmds_taken_total; /* the cycle's own */
     kd_tick spare;              /* the cycle's output when the tick ring is full */
 
     /* Histograms: hist[active] is the cycle's. */
@@ -122,11 +123,16 @@ int kd_cycle_init(kd_cycle *c, const kd_config *cfg, kc_ctrl *ctrl, kc_goal *goa
  * thread. Returns 0 or -1 (no thread could be created). */
 int kd_cycle_start(kd_cycle *c);
 
-/* Stops the thread after its current tick and joins it. */
 /* The CPU the cycle thread is pinned to (the configured one, else the last
  * one), or -1 when it is not pinned (RT off, or a single CPU). */
 int kd_cycle_cpu(const kd_config *cfg);
 
+/* Keeps thread (the I/O or the checker thread, named what for a warning)
+ * off the cycle's CPU, so that it never sits between the cycle and its
+ * wake-up. Main thread. */
+void kd_cycle_keep_off(const kd_config *cfg, pthread_t thread, const char *what);
+
+/* Stops the thread after its current tick and joins it. */
 void kd_cycle_stop(kd_cycle *c);
 
 /* Timing of the cycles since the previous take. */

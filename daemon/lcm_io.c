@@ -209,8 +209,9 @@ static void drain_ticks(kd_io *io)
             fprintf(stderr, "kinctld: %s\n", rej.text);
             publish_status(io, KINCTL_STATUS_T_NONE, t->out.goal_id, rej.code, rej.text);
         }
-        /* The dry run learns where the queue ends. */
-        kc_check_tick(io->check, &t->out, t->goals_taken);
+        /* The dry runs learn where the queue ends (from the goals they
+         * judged: servo messages pass them by). */
+        kd_checker_tick(&io->checker, &t->out, t->goals_taken - t->servo_taken);
     }
     step_errors = atomic_load_explicit(&io->cycle->step_errors, memory_order_relaxed);
     if (step_errors != io->step_errors_seen) {
@@ -222,24 +223,69 @@ static void drain_ticks(kd_io *io)
 
 /* ---- messages in ------------------------------------------------------- */
 
-static void handle_goal(kd_io *io, kd_msg_type type, int64_t received_ns)
+/* Goals handed to the cycle and not yet taken: the controller answers
+ * them when it takes them, so nothing behind them is answered before. */
+static int goals_in_flight(const kd_io *io)
 {
-    kc_goal *g = &io->goal;
+    return io->goals_pushed > (io->have_last ? io->last.goals_taken : 0);
+}
+
+/* A goal refused here, answered in its turn: behind the goals still in
+ * their dry runs or on their way to the controller (checker.h). */
+static void refuse(kd_io *io, int64_t goal_id, const kd_reject *rej)
+{
+    if (kd_checker_refuse(&io->checker, goal_id, rej, goals_in_flight(io)) == 1)
+        reject(io, goal_id, rej);
+}
+
+/* The answers that are ready, in arrival order: a goal the checker took
+ * goes to the cycle (the controller answers ACCEPTED when it takes it), one
+ * it refused, or stopped for its budget, is answered here. When the goal
+ * ring is full the goal waits, and every one behind it, for the next pass:
+ * the cycle takes one a tick; so does a refusal while goals before it are
+ * still on their way to the controller. final: the cycle has stopped, and
+ * nothing will take a goal again. */
+static void answer_goals(kd_io *io, int final)
+{
+    kd_answer a;
+    while (kd_checker_answer(&io->checker, &a)) {
+        const kd_job *j = a.job;
+        kd_reject rej;
+        int taken = j != NULL && j->end == KD_JOB_JUDGED && j->verdict.status == KC_OK && !final;
+        if (!taken && !final && goals_in_flight(io))
+            return; /* a refusal waits for the goals before it to be answered */
+        if (j == NULL) {
+            reject(io, a.goal_id, &a.rej);
+        } else if (taken) {
+            if (kd_spsc_push(&io->cycle->goals, &j->goal) != 0)
+                return;
+            io->goals_pushed++;
+        } else {
+            if (j->end == KD_JOB_OVER_BUDGET)
+                kd_reject_budget(&rej, io->cfg, j->elapsed_ns, j->ticks, j->progress);
+            else if (j->end == KD_JOB_STOPPED || j->verdict.status == KC_OK)
+                kd_reject_set(&rej, KD_REASON_SHUTDOWN, "kinctld exiting before the goal reached the controller");
+            else
+                kd_reject_verdict(&rej, io->cfg, &j->goal, &j->verdict);
+            reject(io, a.goal_id, &rej);
+        }
+        kd_checker_answered(&io->checker);
+    }
+}
+
+/* A servo message streams past the dry runs: the cheap checks (the core's
+ * kc_ctrl_goal_check) and straight to the cycle. */
+static void handle_servo(kd_io *io, const kc_goal *g, int64_t received_ns, int64_t servo_timeout_ns)
+{
     kc_verdict v;
     kd_reject rej;
-    int64_t servo_timeout_ns = 0;
-
-    /* Converted, then judged once, by the core: from where the goal will
-     * start, with the queue's room, tick by tick of its motion. */
-    if (kd_goal_from_msg(type, &io->msg, io->cfg->servo_timeout_s, g, &servo_timeout_ns, &v) != 0 ||
-        kc_check_goal(io->check, g, &v) != KC_OK) {
+    if (kc_ctrl_goal_check(&io->cfg->chain, g, &v) != KC_OK) {
         kd_reject_verdict(&rej, io->cfg, g, &v);
         reject(io, g->id, &rej);
         return;
     }
     /* The staleness clock starts at receipt, before the cycle sees it. */
-    if (g->kind == KC_GOAL_SERVO)
-        atomic_store_explicit(&io->cycle->servo_deadline_ns, received_ns + servo_timeout_ns, memory_order_release);
+    atomic_store_explicit(&io->cycle->servo_deadline_ns, received_ns + servo_timeout_ns, memory_order_release);
     if (kd_spsc_push(&io->cycle->goals, g) != 0) {
         io->msgs_dropped++;
         kd_reject_set(&rej, KC_REASON_QUEUE_FULL, "the daemon's goal queue (%d goals) is full", io->cfg->queue_size);
@@ -247,7 +293,34 @@ static void handle_goal(kd_io *io, kd_msg_type type, int64_t received_ns)
         return;
     }
     io->goals_pushed++;
-    kc_check_handed(io->check, g, &v);
+}
+
+static void handle_goal(kd_io *io, kd_msg_type type, int64_t received_ns)
+{
+    kc_goal *g = &io->goal;
+    kc_verdict v;
+    kd_reject rej;
+    int64_t servo_timeout_ns = 0;
+
+    /* Converted here; judged once, by the core, on the checker thread: from
+     * where the goal will start, with the queue's room, tick by tick of its
+     * motion. */
+    if (kd_goal_from_msg(type, &io->msg, io->cfg->servo_timeout_s, g, &servo_timeout_ns, &v) != 0) {
+        kd_reject_verdict(&rej, io->cfg, g, &v);
+        refuse(io, g->id, &rej);
+        return;
+    }
+    if (g->kind == KC_GOAL_SERVO) {
+        handle_servo(io, g, received_ns, servo_timeout_ns);
+        return;
+    }
+    if (kd_checker_submit(&io->checker, g) != 0) {
+        io->msgs_dropped++;
+        if (kd_checker_refuse(&io->checker, g->id, NULL, goals_in_flight(io)) == 1) {
+            kd_checker_busy(&rej);
+            reject(io, g->id, &rej);
+        }
+    }
 }
 
 static void push_command(kd_io *io, kc_ctrl_command command)
@@ -284,7 +357,7 @@ static void on_message(kd_io *io, kd_msg_type type, const void *data, size_t len
         if (id != 0) {
             kd_reject rej;
             kd_reject_set(&rej, KC_REASON_BAD_GOAL, "%s on %s: %s", kd_msg_status_str(ms), io->channel[type], why);
-            reject(io, id, &rej);
+            refuse(io, id, &rej);
         }
         return;
     }
@@ -410,14 +483,16 @@ static int receive_one(kd_io *io)
 static void *io_main(void *arg)
 {
     kd_io *io = arg;
-    struct pollfd pfd;
+    struct pollfd pfd[2];
     struct timespec wait;
     int64_t now = kd_now_ns();
     kd_cycle_stats cs;
 
     prctl(PR_SET_NAME, "kinctld-io");
-    pfd.fd = kd_rx_fd(&io->rx);
-    pfd.events = POLLIN;
+    pfd[0].fd = kd_rx_fd(&io->rx);
+    pfd[0].events = POLLIN;
+    pfd[1].fd = kd_checker_done_fd(&io->checker);
+    pfd[1].events = POLLIN;
     wait.tv_sec = (time_t)(io->cfg->period_ns / KD_NS);
     wait.tv_nsec = (long)(io->cfg->period_ns % KD_NS);
     io->next_status_ns = now + io->status_period_ns;
@@ -425,20 +500,30 @@ static void *io_main(void *arg)
     while (atomic_load(&io->run)) {
         int burst;
         drain_ticks(io);
+        answer_goals(io, 0);
         can_step(io);
         shutdown_step(io);
         timers(io);
-        pfd.revents = 0;
-        if (ppoll(&pfd, 1, &wait, NULL) <= 0)
+        pfd[0].revents = pfd[1].revents = 0;
+        if (ppoll(pfd, 2, &wait, NULL) <= 0)
             continue;
-        for (burst = 0; burst < KD_HANDLE_BURST; burst++) {
+        if (pfd[1].revents & POLLIN) {
+            uint64_t n;
+            ssize_t r = read(pfd[1].fd, &n, sizeof n);
+            (void)r;
+        }
+        for (burst = 0; burst < KD_HANDLE_BURST && (pfd[0].revents & POLLIN); burst++) {
             if (!receive_one(io))
                 break;
             drain_ticks(io);
         }
     }
-    /* The cycle has stopped: publish what it left, then the last word. */
+    /* The cycle has stopped: publish what it left, answer every goal still
+     * waiting (in order, as refused: nothing takes a goal now), then the
+     * last word. */
     drain_ticks(io);
+    kd_checker_stop(&io->checker);
+    answer_goals(io, 1);
     {
         kd_reject rej;
         kd_reject_set(&rej, KD_REASON_SHUTDOWN, "kinctld exiting (%s)",
@@ -486,6 +571,8 @@ int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_check *check
                 (double)io->check_cfg.dt);
         return -1;
     }
+    if (kd_checker_init(&io->checker, check, (int64_t)(cfg->check_budget_s * 1e9)) != 0)
+        return -1;
     io->status_period_ns = (int64_t)(1e9 / cfg->status_hz);
     io->stats_period_ns = (int64_t)(1e9 / cfg->stats_hz);
     atomic_init(&io->run, 0);
@@ -527,28 +614,18 @@ int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_check *check
 int kd_io_start(kd_io *io)
 {
     int rc;
+    if (kd_checker_start(&io->checker, io->cfg) != 0)
+        return -1;
     atomic_store(&io->run, 1);
     rc = pthread_create(&io->thread, NULL, io_main, io);
     if (rc != 0) {
         atomic_store(&io->run, 0);
+        kd_checker_stop(&io->checker);
         fprintf(stderr, "kinctld: cannot start the I/O thread: %s\n", strerror(rc));
         return -1;
     }
     io->thread_live = 1;
-    /* Keep the I/O thread (dry runs, publishing) off the cycle's CPU, so it
-     * never sits between the cycle and its wake-up. */
-    int cycle_cpu = kd_cycle_cpu(io->cfg);
-    long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
-    if (cycle_cpu >= 0 && ncpu > 1) {
-        cpu_set_t set;
-        CPU_ZERO(&set);
-        for (long c = 0; c < ncpu && c < CPU_SETSIZE; c++)
-            if (c != cycle_cpu)
-                CPU_SET((size_t)c, &set);
-        rc = pthread_setaffinity_np(io->thread, sizeof set, &set);
-        if (rc != 0)
-            fprintf(stderr, "kinctld: warning: cannot keep the I/O thread off CPU %d (%s)\n", cycle_cpu, strerror(rc));
-    }
+    kd_cycle_keep_off(io->cfg, io->thread, "I/O");
     return 0;
 }
 
@@ -563,6 +640,7 @@ void kd_io_stop(kd_io *io)
 
 void kd_io_destroy(kd_io *io)
 {
+    kd_checker_destroy(&io->checker);
     kd_can_close(&io->can);
     kd_rx_close(&io->rx);
     if (io->lcm != NULL)
@@ -582,6 +660,12 @@ void kd_io_summary(const kd_io *io, char *buf, int size)
                              atomic_load(&io->cycle->events_dropped)),
                  (long long)atomic_load(&io->cycle->ticks_dropped), (long long)atomic_load(&io->cycle->events_dropped),
                  (long long)io->rejections, (long long)io->msgs_invalid);
+    if (o > 0 && o < size)
+        o += snprintf(buf + o, (size_t)(size - o), ", dry runs %lld (over budget %lld)",
+                      (long long)atomic_load(&io->checker.judged), (long long)atomic_load(&io->checker.over_budget));
+    if (o > 0 && o < size && io->checker.answered_early > 0)
+        o += snprintf(buf + o, (size_t)(size - o), ", refusals answered out of order %lld",
+                      (long long)io->checker.answered_early);
     if (o > 0 && o < size && (io->rx.refused > 0 || io->rx_errors > 0))
         o += snprintf(buf + o, (size_t)(size - o), ", datagrams refused by the receiver %lld, receive errors %lld",
                       (long long)io->rx.refused, (long long)io->rx_errors);

@@ -7,14 +7,17 @@
  * receive path, whose fragment buffers take any size a datagram claims).
  * Every datagram goes through kd_msg_decode (daemon/msg.h); one that fails
  * is counted by its reason and ignored, and answered with a status REJECTED
- * when it names a goal_id. A valid goal is
- * turned into a kc_goal (goal.h) and judged by the core's dry run
- * (kinctl/check.h kc_check_goal) from where it will start: the end of the
- * queue, which the kc_check keeps from the goals handed on and the ticks it
- * is fed, or the latest setpoint for a replacing goal; servo messages get
- * the cheap checks only (they stream). A goal refused is answered with the
- * text of its verdict (reject.h); one taken goes to the cycle through the
- * goal ring. Servo staleness is judged on CLOCK_MONOTONIC at receipt.
+ * when it names a goal_id. Commands go straight into the cycle's command
+ * ring. A valid goal is turned into a kc_goal (goal.h); a servo message
+ * gets the cheap checks only (kc_ctrl_goal_check: it streams) and goes
+ * straight into the cycle's goal ring, its staleness judged on
+ * CLOCK_MONOTONIC at receipt. Every other goal goes to the checker thread
+ * (checker.h), whose dry run judges it from where it will start; no dry
+ * run, however long, stands between a datagram and the cycle. Its verdict
+ * comes back in arrival order: a goal refused is answered with the text of
+ * its verdict (reject.h), one taken goes to the cycle through the goal
+ * ring (so each of the cycle's rings keeps one producer, this thread), and
+ * a goal refused here before any dry run is answered in its turn.
  *
  * Out, each encoded into a preallocated buffer with kd_msg_encode:
  *   <prefix>SETPOINT  setpoint_t for every tick the cycle produced
@@ -32,8 +35,11 @@
  * FAULT's reason ("drive: ...", "can: ..."). With feedback on, status_t's
  * measured joints are the drives'.
  *
- * The loop: drain the tick ring and publish, then wait on the receive
- * socket for at most one period and handle what it holds, a burst at a time.
+ * The loop: drain the tick ring and publish (copying each tick to the
+ * checker), answer the goals whose verdicts are back, then wait on the
+ * receive socket and the checker's eventfd for at most one period and
+ * handle what the socket holds, a burst at a time. At the end the checker
+ * is stopped and every goal still waiting is answered (shutdown).
  */
 #ifndef KINCTL_DAEMON_LCM_IO_H
 #define KINCTL_DAEMON_LCM_IO_H
@@ -45,6 +51,7 @@
 #include <lcm/lcm.h>
 
 #include "can_io.h"
+#include "checker.h"
 #include "config.h"
 #include "cycle.h"
 #include "goal.h"
@@ -61,7 +68,8 @@ typedef struct kd_io kd_io;
 struct kd_io {
     const kd_config *cfg;
     kd_cycle *cycle;
-    kc_check *check; /* the goals' dry run, caller-owned (large) */
+    kc_check *check; /* the goals' dry run, caller-owned (large): the checker thread's */
+    kd_checker checker;
     lcm_t *lcm;  /* publishing only */
     kd_rx rx;    /* receiving */
     int64_t rx_errors;
@@ -110,18 +118,21 @@ struct kd_io {
     int thread_live;
 };
 
-/* Starts the goals' dry run in check (caller-owned storage), opens the
+/* Starts the goals' dry run in check (caller-owned storage) and sets the
+ * checker up over it (budget controller.check_budget_ms), opens the
  * receive socket (kd_rx) and the LCM instance that publishes, both on
  * cfg->lcm_url. Returns 0, or -1 with a message on stderr (a configuration
  * the dry run refuses, a URL that is not UDP multicast or is malformed, no
  * network or multicast route). Main thread, before the threads start. */
 int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_check *check);
 
-/* Starts the I/O thread. Returns 0 or -1. */
+/* Starts the checker thread, then the I/O thread, each off the cycle's
+ * CPU. Returns 0 or -1. */
 int kd_io_start(kd_io *io);
 
-/* Stops the thread: it drains the tick ring, publishes the final status
- * (with reason, NULL for none) and stats, and exits; then joins it. */
+/* Stops the thread: it drains the tick ring, stops the checker thread and
+ * answers every goal still waiting (REJECTED, shutdown), publishes the
+ * final status and stats, and exits; then joins it. After kd_cycle_stop. */
 void kd_io_stop(kd_io *io);
 
 /* Frees LCM. After kd_io_stop. */

@@ -1,9 +1,10 @@
-/* main.c - kinctld: configuration, the two threads, and a controlled stop.
+/* main.c - kinctld: configuration, the threads (cycle, I/O, checker), and a
+ * controlled stop.
  *
  * Start-up: configuration (exit 2 on a problem, before anything runs), the
  * controller at rest at the home joints, LCM, then mlockall (when rt is on
- * and permitted) and the I/O and cycle threads. The main thread then only
- * waits for SIGINT or SIGTERM (blocked in every thread, taken here with
+ * and permitted) and the checker, I/O and cycle threads. The main thread
+ * then only waits for SIGINT or SIGTERM (blocked in every thread, taken here with
  * sigtimedwait): it asks the I/O thread to send STOP, waits until the
  * controller has taken it and the arm is at rest (at most stop_timeout_s; a
  * second signal cuts the wait short), stops the cycle, lets the I/O thread

@@ -26,6 +26,7 @@ const char *kd_reason_token(kc_ctrl_reason reason)
     case KC_REASON_EXTERNAL: return "external";
     case (int)KD_REASON_DRIVE: return "drive";
     case (int)KD_REASON_CAN: return "can";
+    case (int)KD_REASON_CHECK_BUDGET: return "check_budget";
     default: return "unknown";
     }
 }
@@ -40,7 +41,8 @@ kc_status kd_reason_code(kc_ctrl_reason reason)
     case KC_REASON_JOINT_LIMIT:
     case KC_REASON_ZONE:
     case KC_REASON_LIMIT_GUARD: return KC_E_LIMIT;
-    case KC_REASON_QUEUE_FULL: return KC_E_CAPACITY;
+    case KC_REASON_QUEUE_FULL:
+    case (int)KD_REASON_CHECK_BUDGET: return KC_E_CAPACITY;
     case KC_REASON_UNREACHABLE:
     case KC_REASON_TRACKING: return KC_E_UNREACHABLE;
     case KC_REASON_STATE:
@@ -128,4 +130,11 @@ void kd_reject_verdict(kd_reject *rej, const kd_config *cfg, const kc_goal *g, c
         kd_reject_set(rej, reason, "%s (%s at %.6g)", why, kc_status_str(v->status), (double)v->where);
     else
         kd_reject_set(rej, reason, "%s (%s)", why, kc_status_str(v->status));
+}
+
+void kd_reject_budget(kd_reject *rej, const kd_config *cfg, int64_t elapsed_ns, int64_t ticks, kc_real progress)
+{
+    kd_reject_set(rej, KD_REASON_CHECK_BUDGET,
+                  "dry run stopped after %.0f ms at %.0f %% of the motion (%lld ticks; controller.check_budget_ms = %.6g)",
+                  (double)elapsed_ns * 1e-6, 100.0 * (double)progress, (long long)ticks, cfg->check_budget_s * 1e3);
 }

@@ -7,7 +7,7 @@
  *   reason  "<token>: <readable detail>", the token one of
  *           bad_goal joint_count joint_limit queue_full state plan
  *           unreachable tracking limit_guard servo_timeout duplicate_id
- *           zone external overrun shutdown drive can
+ *           zone external overrun shutdown drive can check_budget
  *           (kd_reason_token), so that tools can match it and people read it:
  *           "joint_count: goal_joint_t.n = 5, the arm has 6 joints".
  * Not for the cycle (it formats text); for the I/O thread.
@@ -25,6 +25,7 @@
 #define KD_REASON_SHUTDOWN ((kc_ctrl_reason)(KC_REASON_COUNT + 2))
 #define KD_REASON_DRIVE ((kc_ctrl_reason)(KC_REASON_COUNT + 3))   /* a drive on CAN: fault, silent, lagging */
 #define KD_REASON_CAN ((kc_ctrl_reason)(KC_REASON_COUNT + 4))     /* the CAN bus: bus-off, interface down */
+#define KD_REASON_CHECK_BUDGET ((kc_ctrl_reason)(KC_REASON_COUNT + 5)) /* a dry run longer than its budget */
 
 typedef struct kd_reject {
     kc_ctrl_reason reason;
@@ -55,5 +56,10 @@ void kd_reject_set(kd_reject *rej, kc_ctrl_reason reason, const char *fmt, ...)
  * limits [...]"), the zone pair by name, where along the motion the dry run
  * failed. cfg names the arm's joints, limits, zones and volumes. */
 void kd_reject_verdict(kd_reject *rej, const kd_config *cfg, const kc_goal *g, const kc_verdict *v);
+
+/* The rejection of a goal whose dry run was stopped by its budget
+ * (controller.check_budget_ms) after elapsed_ns, ticks dry-run ticks in,
+ * the motion at progress (0..1). */
+void kd_reject_budget(kd_reject *rej, const kd_config *cfg, int64_t elapsed_ns, int64_t ticks, kc_real progress);
 
 #endif

@@ -1,7 +1,9 @@
 /* check.c - the dry run of a goal and where the controller's queue ends
  * (kinctl/check.h). The goal runs through kc_ctrl_step on the check's own
  * controller, put back at rest at the start of each run (kc_ctrl_restart):
- * the same code as the cycle's, at the check's period. */
+ * the same code as the cycle's, at the check's period. A run is set up
+ * (begin_from) and then stepped (kc_check_run) at most so many ticks a
+ * call, so the one loop serves the whole run and its slices. */
 #include "kinctl/check.h"
 
 #include <string.h>
@@ -28,6 +30,9 @@ kc_status kc_check_init(kc_check *k, const kc_chain *chain, const kc_ctrl_cfg *c
     k->taken = 0;
     k->queue_length = 0;
     k->have_tick = 0;
+    k->run_tick = 0;
+    k->run_progress = KC_R(0.0);
+    k->running = 0;
     return KC_OK;
 }
 
@@ -67,12 +72,12 @@ static int judged(const kc_check *k, const kc_ctrl_event *ev, int64_t tick, kc_v
     return 1;
 }
 
-kc_status kc_check_from(kc_check *k, const kc_real *q_start, const kc_goal *goal, kc_verdict *v)
+/* The dry run of goal from q_start as far as stepping its motion: the
+ * verdict, or KC_MORE with the run set up (kc_check_run steps it). v is
+ * initialised, k and goal are not NULL. */
+static kc_status begin_from(kc_check *k, const kc_real *q_start, const kc_goal *goal, kc_verdict *v)
 {
-    if (v == NULL)
-        return KC_E_ARG;
-    kc_ctrl_verdict_init(v);
-    if (k == NULL || k->chain == NULL || goal == NULL || q_start == NULL)
+    if (q_start == NULL)
         return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, -1, KC_R(0.0));
     const kc_chain *chain = k->chain;
     int n = chain->n_joints;
@@ -101,31 +106,78 @@ kc_status kc_check_from(kc_check *k, const kc_real *q_start, const kc_goal *goal
             return kc_ctrl_refuse(v, KC_REASON_PLAN, KC_FIELD_NONE, -1, -1, KC_R(0.0));
         return taken(v, goal->q, n);
     }
-    kc_goal g = *goal;
-    g.replace = 0;
-    kc_ctrl_input in = {&g, KC_CMD_NONE, 0, KC_REASON_NONE};
+    k->run_goal = *goal;
+    k->run_goal.replace = 0;
+    k->run_in.goal = &k->run_goal;
+    k->run_in.command = KC_CMD_NONE;
+    k->run_in.servo_stale = 0;
+    k->run_in.fault = KC_REASON_NONE;
+    k->run_tick = 0;
+    k->run_progress = KC_R(0.0);
+    k->running = 1;
+    return KC_MORE;
+}
+
+kc_status kc_check_run(kc_check *k, int64_t max_ticks, kc_verdict *v)
+{
+    if (k == NULL || v == NULL || !k->running || max_ticks < 1)
+        return KC_E_ARG;
     kc_ctrl_output out;
-    for (int64_t tick = 1; tick <= k->max_ticks; tick++) {
-        if (kc_ctrl_step(scratch, &in, &out) != KC_OK) /* not reached: the scratch controller is initialised */
+    int64_t last = k->max_ticks - k->run_tick > max_ticks ? k->run_tick + max_ticks : k->max_ticks;
+    while (k->run_tick < last) {
+        int64_t tick = ++k->run_tick;
+        if (kc_ctrl_step(&k->scratch, &k->run_in, &out) != KC_OK) { /* not reached: the scratch controller is initialised */
+            k->running = 0;
             return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, -1, KC_R(0.0));
-        in.goal = NULL;
+        }
+        k->run_in.goal = NULL;
+        k->run_progress = out.progress;
         for (int e = 0; e < out.n_events; e++)
-            if (judged(k, &out.events[e], tick, v))
+            if (judged(k, &out.events[e], tick, v)) {
+                k->running = 0;
                 return v->status;
+            }
     }
+    if (k->run_tick < k->max_ticks)
+        return KC_MORE;
+    k->running = 0;
     v->status = KC_E_CAPACITY;
     v->reason = KC_REASON_PLAN;
     v->tick = k->max_ticks;
     return KC_E_CAPACITY;
 }
 
-kc_status kc_check_goal(kc_check *k, const kc_goal *goal, kc_verdict *v)
+/* A run begun, stepped to its end. */
+static kc_status run_all(kc_check *k, kc_status st, kc_verdict *v)
+{
+    return st == KC_MORE ? kc_check_run(k, k->max_ticks, v) : st;
+}
+
+kc_status kc_check_from(kc_check *k, const kc_real *q_start, const kc_goal *goal, kc_verdict *v)
 {
     if (v == NULL)
         return KC_E_ARG;
     kc_ctrl_verdict_init(v);
     if (k == NULL || k->chain == NULL || goal == NULL)
         return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, -1, KC_R(0.0));
+    k->running = 0;
+    return run_all(k, begin_from(k, q_start, goal, v), v);
+}
+
+kc_status kc_check_goal(kc_check *k, const kc_goal *goal, kc_verdict *v)
+{
+    kc_status st = kc_check_begin(k, goal, v);
+    return st == KC_MORE ? run_all(k, st, v) : st;
+}
+
+kc_status kc_check_begin(kc_check *k, const kc_goal *goal, kc_verdict *v)
+{
+    if (v == NULL)
+        return KC_E_ARG;
+    kc_ctrl_verdict_init(v);
+    if (k == NULL || k->chain == NULL || goal == NULL)
+        return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, -1, KC_R(0.0));
+    k->running = 0;
     int n = k->chain->n_joints;
     memcpy(k->q_from, goal->replace ? k->q_now : k->q_end, sizeof k->q_from);
     if (kc_ctrl_goal_check(k->chain, goal, v) != KC_OK)
@@ -143,7 +195,7 @@ kc_status kc_check_goal(kc_check *k, const kc_goal *goal, kc_verdict *v)
     }
     if (goal->kind == KC_GOAL_SERVO) /* it streams: the cheap checks only, and it ends where the arm is */
         return taken(v, k->q_now, n);
-    return kc_check_from(k, k->q_from, goal, v);
+    return begin_from(k, k->q_from, goal, v);
 }
 
 void kc_check_handed(kc_check *k, const kc_goal *goal, const kc_verdict *v)

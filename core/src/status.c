@@ -6,6 +6,7 @@ const char *kc_status_str(kc_status status)
     switch (status) {
     case KC_OK: return "ok";
     case KC_DONE: return "done";
+    case KC_MORE: return "unfinished";
     case KC_E_ARG: return "invalid argument (NULL, NaN, infinite or out of domain)";
     case KC_E_LIMIT: return "a joint or Cartesian limit would be violated";
     case KC_E_SINGULAR: return "singular configuration or degenerate geometry";

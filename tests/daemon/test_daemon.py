@@ -334,6 +334,8 @@ def test_check_model_file_and_controller_section(tmp_path):
     ("controller = {\n  perod_us = 1000;\n};\n", [], 'k.cfg:2: unknown key "perod_us" in controller'),
     ("controller = {\n  period_us = 10;\n};\n", [], "k.cfg:2: controller.period_us = 10 is outside 100 .. 100000"),
     ("controller = {\n  period_us = \"fast\";\n};\n", [], "k.cfg:2: controller.period_us must be a number"),
+    ("controller = {\n  check_budget_ms = 0.5;\n};\n", [],
+     "k.cfg:2: controller.check_budget_ms = 0.5 is outside 1 .. 600000"),
     ("controller = {\n  vel_scale = 0.0;\n};\n", [], "k.cfg:2: controller.vel_scale must be > 0"),
     ("controller = {\n  home = [0.0, 0.0];\n};\n", [], "k.cfg:2: controller.home has 2 values"),
     ("controller = {\n  home = [9.0, 0.0, 0.0, 0.0, 0.0, 0.0];\n};\n", [], "controller.home[0] is outside"),

@@ -320,6 +320,124 @@ static void test_queue_end(void **state)
     kt_near((double)CTRL.q[0], (double)sent[KC_CTRL_QUEUE_MAX - 1].q[0], 1e-9, "the last goal's end");
 }
 
+/* Two verdicts the same, field by field (the dry run is deterministic). */
+static void assert_same_verdict(const kc_verdict *a, const kc_verdict *b)
+{
+    assert_int_equal(a->status, b->status);
+    assert_int_equal(a->reason, b->reason);
+    assert_int_equal(a->field, b->field);
+    assert_int_equal(a->joint, b->joint);
+    assert_int_equal(a->point, b->point);
+    assert_true(a->value == b->value);
+    assert_int_equal(a->tick, b->tick);
+    assert_true(a->where == b->where);
+    assert_int_equal(a->zone, b->zone);
+    assert_int_equal(a->volume, b->volume);
+    assert_true(a->distance == b->distance);
+    for (int j = 0; j < 6; j++)
+        assert_true(a->q_end[j] == b->q_end[j]);
+}
+
+/* g judged in slices of slice ticks from a check just set up at q0 (max_ticks
+ * of motion): KC_MORE until the end, the ticks counted and the progress
+ * never going back; returns the number of calls to kc_check_run. */
+static int sliced(const kc_real *q0, int64_t max_ticks, const kc_goal *g, int64_t slice, kc_verdict *v)
+{
+    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, max_ticks, q0), KC_OK);
+    kc_status st = kc_check_begin(&CHECK, g, v);
+    int calls = 0;
+    kc_real progress = KC_R(0.0);
+    while (st == KC_MORE) {
+        int64_t before = CHECK.run_tick;
+        st = kc_check_run(&CHECK, slice, v);
+        calls++;
+        if (st == KC_MORE) {
+            assert_int_equal(CHECK.run_tick, before + slice);
+            assert_true(CHECK.run_progress >= progress && CHECK.run_progress <= KC_R(1.0));
+            progress = CHECK.run_progress;
+        }
+    }
+    assert_int_equal(st, v->status);
+    assert_int_equal(kc_check_run(&CHECK, slice, v), KC_E_ARG); /* nothing under way */
+    return calls;
+}
+
+/* A dry run in slices of any size gives the verdict of one call: a line
+ * taken, one leaving the workspace, one longer than the check looks, a
+ * joint sweep into a zone, and a goal refused before any motion. */
+static void test_sliced_same_verdict(void **state)
+{
+    (void)state;
+    setup();
+    kc_pose start, to, far;
+    kc_fk_eval(&CHAIN, PUMA_Q0, &start);
+    to = start;
+    to.t.v[1] += KC_R(0.2);
+    far = to;
+    far.t.v[0] += KC_R(2.0);
+    kc_real bad[6];
+    memcpy(bad, PUMA_Q0, sizeof bad);
+    bad[2] = KC_R(40.0);
+    kc_goal goals[4] = {line_goal(1, &to), line_goal(2, &far), line_goal(3, &to), joint_goal(4, bad)};
+    int64_t max_ticks[4] = {100000, 100000, 50, 100000};
+    static const int64_t slices[3] = {1, 13, 1 << 20};
+    for (int i = 0; i < 4; i++) {
+        kc_verdict one, part;
+        assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, max_ticks[i], PUMA_Q0), KC_OK);
+        kc_status st = kc_check_goal(&CHECK, &goals[i], &one);
+        assert_int_equal(st, one.status);
+        for (int k = 0; k < 3; k++) {
+            int calls = sliced(PUMA_Q0, max_ticks[i], &goals[i], slices[k], &part);
+            assert_same_verdict(&one, &part);
+            if (i < 3 && slices[k] == 1)
+                assert_int_equal(calls, one.tick); /* one tick a call, to the tick that ended it */
+            if (i == 3)
+                assert_int_equal(calls, 0); /* refused before any motion */
+        }
+    }
+    assert_int_equal(goals[0].id, 1);
+    kc_verdict v;
+    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, PUMA_Q0), KC_OK);
+    assert_int_equal(kc_check_goal(&CHECK, &goals[0], &v), KC_OK);
+    assert_int_equal(kc_check_goal(&CHECK, &goals[1], &v), KC_E_UNREACHABLE);
+    assert_int_equal(kc_check_goal(&CHECK, &goals[2], &v), KC_OK);
+
+    /* with zones, the sweep of test_zone_verdict: zone 0 in the way */
+    CFG.zones = &ZONES;
+    kc_real qa[6], qb[6], qm[6];
+    memcpy(qa, PUMA_Q0, sizeof qa);
+    memcpy(qb, PUMA_Q0, sizeof qb);
+    memcpy(qm, PUMA_Q0, sizeof qm);
+    qa[0] = KC_R(-0.8);
+    qb[0] = KC_R(0.8);
+    qm[0] = KC_R(0.0);
+    kc_pose mid;
+    kc_fk_eval(&CHAIN, qm, &mid);
+    kc_shape s;
+    memset(&s, 0, sizeof s);
+    s.kind = KC_SHAPE_SPHERE;
+    kc_pose_identity(&s.pose);
+    s.pose.t = mid.t;
+    s.dim[0] = KC_R(0.05);
+    assert_int_equal(kc_zone_set_add(&ZONES, &s), KC_OK);
+    kc_goal sweep = joint_goal(5, qb);
+    kc_verdict one, part;
+    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, qa), KC_OK);
+    assert_int_equal(kc_check_goal(&CHECK, &sweep, &one), KC_E_UNREACHABLE);
+    assert_int_equal(one.reason, KC_REASON_ZONE);
+    for (int k = 0; k < 3; k++) {
+        assert_true(sliced(qa, 100000, &sweep, slices[k], &part) >= 1);
+        assert_same_verdict(&one, &part);
+    }
+    /* a begin abandons the run under way: the next verdict is its own */
+    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, qa), KC_OK);
+    assert_int_equal(kc_check_begin(&CHECK, &sweep, &part), KC_MORE);
+    assert_int_equal(kc_check_run(&CHECK, 3, &part), KC_MORE);
+    assert_int_equal(kc_check_goal(&CHECK, &sweep, &part), KC_E_UNREACHABLE);
+    assert_same_verdict(&one, &part);
+    assert_int_equal(kc_check_run(&CHECK, 0, &part), KC_E_ARG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -327,6 +445,7 @@ int main(void)
         cmocka_unit_test(test_dry_run_verdicts),
         cmocka_unit_test(test_zone_verdict),
         cmocka_unit_test(test_queue_end),
+        cmocka_unit_test(test_sliced_same_verdict),
     };
     int failed = cmocka_run_group_tests_name("check (" KC_REAL_NAME ")", tests, NULL, NULL);
     kt_report("check");

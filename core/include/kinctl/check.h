@@ -30,6 +30,9 @@
  * arm is.
  *
  * Not for the cycle: a dry run costs one controller step per tick of motion.
+ * It may run in slices (kc_check_begin, then kc_check_run until it
+ * returns anything but KC_MORE), so that a caller with a clock can stop
+ * one that takes too long; the verdict is the same as in one call.
  */
 #ifndef KINCTL_CHECK_H
 #define KINCTL_CHECK_H
@@ -52,6 +55,12 @@ typedef struct kc_check {
     int64_t handed, taken;          /* goals handed on, and taken by the controller */
     int queue_length;               /* the controller's queue at the latest tick */
     int have_tick;
+    /* The dry run under way (kc_check_begin .. kc_check_run). */
+    kc_goal run_goal;     /* the goal stepped (its copy, queued behind nothing) */
+    kc_ctrl_input run_in;
+    int64_t run_tick;     /* ticks stepped so far */
+    kc_real run_progress; /* of the goal's motion when last stepped, 0..1 */
+    int running;
 } kc_check;
 
 /* Starts a dry run for chain and cfg (the controller's configuration; its
@@ -65,8 +74,8 @@ kc_status kc_check_init(kc_check *check, const kc_chain *chain, const kc_ctrl_cf
 
 /* Judges goal from where it will start: the latest setpoint for a goal
  * that replaces, the end of the queue for one that waits (see above).
- * Returns verdict->status. The queue's end moves only once the goal is
- * handed on (kc_check_handed). */
+ * Returns verdict->status (never KC_MORE). The queue's end moves only once
+ * the goal is handed on (kc_check_handed). */
 kc_status kc_check_goal(kc_check *check, const kc_goal *goal, kc_verdict *verdict);
 
 /* Judges goal started at rest at joints q_start (which may lie outside the
@@ -74,7 +83,20 @@ kc_status kc_check_goal(kc_check *check, const kc_goal *goal, kc_verdict *verdic
  * as the controller would run it alone. Returns verdict->status. */
 kc_status kc_check_from(kc_check *check, const kc_real *q_start, const kc_goal *goal, kc_verdict *verdict);
 
-/* The goal last judged by kc_check_goal, taken (verdict KC_OK), was handed
+/* kc_check_goal in slices: judges goal as kc_check_goal does as far as
+ * stepping its motion. Returns the verdict's status as kc_check_goal would
+ * when that is all, else KC_MORE: call kc_check_run with the same verdict
+ * until it returns anything else. A dry run under way is abandoned. */
+kc_status kc_check_begin(kc_check *check, const kc_goal *goal, kc_verdict *verdict);
+
+/* Steps the dry run under way by at most max_ticks ticks (>= 1). Returns
+ * KC_MORE while it goes on (check->run_tick ticks stepped, the motion at
+ * check->run_progress), else the verdict's status, then exactly what
+ * kc_check_goal would have returned. KC_E_ARG with no dry run under way
+ * (verdict untouched) or max_ticks < 1. */
+kc_status kc_check_run(kc_check *check, int64_t max_ticks, kc_verdict *verdict);
+
+/* The goal last judged by kc_check_goal (or begin and run), taken (verdict KC_OK), was handed
  * to the controller: the queue now ends where it ends. */
 void kc_check_handed(kc_check *check, const kc_goal *goal, const kc_verdict *verdict);
 

@@ -12,6 +12,7 @@ typedef enum kc_status {
     KC_OK = 0,
     /* Non-error outcomes. */
     KC_DONE = 1,
+    KC_MORE = 2, /* unfinished: call again to go on (a dry run in slices) */
     /* Errors. */
     KC_E_ARG = -1,        /* an argument is NULL, NaN, infinite or out of its domain */
     KC_E_LIMIT = -2,      /* a joint or Cartesian limit would be violated */

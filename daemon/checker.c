@@ -1,0 +1,295 @@
+/* checker.c - the checker thread and the goals' answers in order
+ * (checker.h). */
+#define _GNU_SOURCE /* syscall(SYS_gettid) */
+#include "checker.h"
+
+#include <errno.h>
+#include <poll.h>
+#include <stdio.h>
+#include <string.h>
+#include <sys/eventfd.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include "clock.h"
+#include "cycle.h"
+
+enum { KD_ORDER_CHECKED = 0, KD_ORDER_REFUSED = 1, KD_ORDER_BUSY = 2 };
+enum { KD_FROM_ORDER = 0, KD_FROM_VERDICTS = 1, KD_FROM_JOBS = 2 };
+
+/* Nice value of the checker: still SCHED_OTHER, but a dry run that keeps
+ * its CPU busy yields at once to the I/O thread when a datagram wakes it. */
+#define KD_CHECK_NICE 10
+
+int kd_checker_init(kd_checker *k, kc_check *check, int64_t budget_ns)
+{
+    memset(k, 0, sizeof *k);
+    k->check = check;
+    k->budget_ns = budget_ns;
+    k->wake_fd = k->done_fd = -1;
+    if (kd_spsc_init(&k->jobs, k->job_storage, KD_CHECK_RING, sizeof(kd_job)) != 0 ||
+        kd_spsc_init(&k->verdicts, k->verdict_storage, KD_CHECK_RING, sizeof(kd_job)) != 0 ||
+        kd_spsc_init(&k->ticks, k->tick_storage, KD_CHECK_TICK_RING, sizeof(kd_check_tick)) != 0)
+        return -1;
+    atomic_init(&k->judged, 0);
+    atomic_init(&k->over_budget, 0);
+    atomic_init(&k->run, 0);
+    k->wake_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+    k->done_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
+    if (k->wake_fd < 0 || k->done_fd < 0) {
+        fprintf(stderr, "kinctld: cannot make the checker's eventfds: %s\n", strerror(errno));
+        kd_checker_destroy(k);
+        return -1;
+    }
+    return 0;
+}
+
+static void signal_fd(int fd)
+{
+    uint64_t one = 1;
+    ssize_t r = write(fd, &one, sizeof one); /* EAGAIN: already signalled */
+    (void)r;
+}
+
+/* ---- the checker thread ------------------------------------------------ */
+
+static void take_ticks(kd_checker *k)
+{
+    const kd_check_tick *t;
+    while ((t = kd_spsc_slot_read(&k->ticks)) != NULL) {
+        kc_check_tick(k->check, &t->out, t->goals_taken);
+        kd_spsc_release(&k->ticks);
+    }
+}
+
+/* The dry run of job, in slices, into out. */
+static void judge(kd_checker *k, const kd_job *job, kd_job *out)
+{
+    int64_t start = kd_now_ns();
+    kc_status st;
+    memcpy(&out->goal, &job->goal, sizeof out->goal);
+    out->end = KD_JOB_JUDGED;
+    st = kc_check_begin(k->check, &out->goal, &out->verdict);
+    while (st == KC_MORE) {
+        int64_t elapsed = kd_now_ns() - start;
+        if (!atomic_load_explicit(&k->run, memory_order_acquire)) {
+            out->end = KD_JOB_STOPPED;
+            break;
+        }
+        if (elapsed >= k->budget_ns) {
+            out->end = KD_JOB_OVER_BUDGET;
+            atomic_fetch_add_explicit(&k->over_budget, 1, memory_order_relaxed);
+            break;
+        }
+        st = kc_check_run(k->check, KD_CHECK_SLICE, &out->verdict);
+        /* Where the controller is, between slices: the ring never fills
+         * behind a long dry run. */
+        take_ticks(k);
+    }
+    out->elapsed_ns = kd_now_ns() - start;
+    out->ticks = k->check->run_tick;
+    out->progress = k->check->run_progress;
+    if (out->end == KD_JOB_JUDGED && out->verdict.status == KC_OK)
+        kc_check_handed(k->check, &out->goal, &out->verdict);
+    atomic_fetch_add_explicit(&k->judged, 1, memory_order_relaxed);
+}
+
+static void wait_for_work(kd_checker *k)
+{
+    struct pollfd pfd;
+    uint64_t n;
+    pfd.fd = k->wake_fd;
+    pfd.events = POLLIN;
+    pfd.revents = 0;
+    if (poll(&pfd, 1, KD_CHECK_IDLE_MS) > 0) {
+        ssize_t r = read(k->wake_fd, &n, sizeof n);
+        (void)r;
+    }
+}
+
+static void *checker_main(void *arg)
+{
+    kd_checker *k = arg;
+    prctl(PR_SET_NAME, "kinctld-check");
+    if (setpriority(PRIO_PROCESS, (id_t)syscall(SYS_gettid), KD_CHECK_NICE) != 0)
+        fprintf(stderr, "kinctld: warning: the checker keeps its nice value (%s)\n", strerror(errno));
+    while (atomic_load_explicit(&k->run, memory_order_acquire)) {
+        const kd_job *job;
+        kd_job *out;
+        take_ticks(k);
+        job = kd_spsc_slot_read(&k->jobs);
+        out = job != NULL ? kd_spsc_slot_write(&k->verdicts) : NULL;
+        if (out == NULL) { /* nothing to judge, or the I/O thread has every verdict still to answer */
+            wait_for_work(k);
+            continue;
+        }
+        judge(k, job, out);
+        kd_spsc_commit(&k->verdicts);
+        kd_spsc_release(&k->jobs);
+        signal_fd(k->done_fd);
+    }
+    return NULL;
+}
+
+int kd_checker_start(kd_checker *k, const kd_config *cfg)
+{
+    int rc;
+    atomic_store(&k->run, 1);
+    rc = pthread_create(&k->thread, NULL, checker_main, k);
+    if (rc != 0) {
+        atomic_store(&k->run, 0);
+        fprintf(stderr, "kinctld: cannot start the checker thread: %s\n", strerror(rc));
+        return -1;
+    }
+    k->thread_live = 1;
+    kd_cycle_keep_off(cfg, k->thread, "checker");
+    return 0;
+}
+
+void kd_checker_stop(kd_checker *k)
+{
+    atomic_store(&k->run, 0);
+    if (k->thread_live) {
+        signal_fd(k->wake_fd);
+        pthread_join(k->thread, NULL);
+        k->thread_live = 0;
+    }
+    k->stopped = 1;
+}
+
+void kd_checker_destroy(kd_checker *k)
+{
+    if (k->wake_fd >= 0)
+        close(k->wake_fd);
+    if (k->done_fd >= 0)
+        close(k->done_fd);
+    k->wake_fd = k->done_fd = -1;
+}
+
+int kd_checker_done_fd(const kd_checker *k)
+{
+    return k->done_fd;
+}
+
+/* ---- the I/O thread's side --------------------------------------------- */
+
+static int order_full(const kd_checker *k)
+{
+    return k->order_tail - k->order_head >= KD_ORDER_MAX;
+}
+
+static void order_push(kd_checker *k, int64_t goal_id, int kind, int text)
+{
+    kd_order *o = &k->order[k->order_tail % KD_ORDER_MAX];
+    o->goal_id = goal_id;
+    o->kind = kind;
+    o->text = text;
+    k->order_tail++;
+}
+
+int kd_checker_submit(kd_checker *k, const kc_goal *goal)
+{
+    kd_job *job;
+    if (k->stopped || order_full(k) || (job = kd_spsc_slot_write(&k->jobs)) == NULL)
+        return -1;
+    memcpy(&job->goal, goal, sizeof job->goal);
+    job->end = KD_JOB_STOPPED; /* until the checker judges it */
+    kd_spsc_commit(&k->jobs);
+    order_push(k, goal->id, KD_ORDER_CHECKED, 0);
+    signal_fd(k->wake_fd);
+    return 0;
+}
+
+int kd_checker_refuse(kd_checker *k, int64_t goal_id, const kd_reject *rej, int behind)
+{
+    if (k->order_tail == k->order_head && !behind)
+        return 1; /* nothing waits before it */
+    if (order_full(k) || (rej != NULL && k->texts_tail - k->texts_head >= KD_ORDER_TEXTS)) {
+        k->answered_early++;
+        return 1;
+    }
+    if (rej == NULL) {
+        order_push(k, goal_id, KD_ORDER_BUSY, 0);
+        return 0;
+    }
+    k->texts[k->texts_tail % KD_ORDER_TEXTS] = *rej;
+    order_push(k, goal_id, KD_ORDER_REFUSED, (int)(k->texts_tail % KD_ORDER_TEXTS));
+    k->texts_tail++;
+    return 0;
+}
+
+void kd_checker_tick(kd_checker *k, const kc_ctrl_output *out, int64_t goals_taken)
+{
+    kd_check_tick *p = &k->pending;
+    if (k->have_pending) {
+        /* The tick kept is replaced by this one: its rejections stay (the
+         * checker learns from them that a goal handed on was refused). */
+        kc_ctrl_event keep[KC_CTRL_EVENTS_MAX];
+        int n_keep = 0;
+        for (int i = 0; i < p->out.n_events && i < KC_CTRL_EVENTS_MAX; i++)
+            if (p->out.events[i].kind == KC_EVENT_REJECTED)
+                keep[n_keep++] = p->out.events[i];
+        p->out = *out;
+        for (int i = 0; i < n_keep && p->out.n_events < KC_CTRL_EVENTS_MAX; i++)
+            p->out.events[p->out.n_events++] = keep[i];
+    } else {
+        p->out = *out;
+    }
+    p->goals_taken = goals_taken;
+    k->have_pending = kd_spsc_push(&k->ticks, p) != 0;
+}
+
+void kd_checker_busy(kd_reject *rej)
+{
+    kd_reject_set(rej, KC_REASON_QUEUE_FULL, "the dry runs' queue (%d goals) is full", KD_CHECK_RING);
+}
+
+int kd_checker_answer(kd_checker *k, kd_answer *a)
+{
+    const kd_order *o;
+    if (k->order_head == k->order_tail)
+        return 0;
+    o = &k->order[k->order_head % KD_ORDER_MAX];
+    a->goal_id = o->goal_id;
+    a->job = NULL;
+    if (o->kind == KD_ORDER_REFUSED) {
+        a->rej = k->texts[o->text];
+        k->answer_from = KD_FROM_ORDER;
+        return 1;
+    }
+    if (o->kind == KD_ORDER_BUSY) {
+        kd_checker_busy(&a->rej);
+        k->answer_from = KD_FROM_ORDER;
+        return 1;
+    }
+    a->job = kd_spsc_slot_read(&k->verdicts);
+    k->answer_from = KD_FROM_VERDICTS;
+    if (a->job == NULL && k->stopped) {
+        /* The checker is gone: the jobs it never judged, as they were
+         * handed over (end KD_JOB_STOPPED). */
+        a->job = kd_spsc_slot_read(&k->jobs);
+        k->answer_from = KD_FROM_JOBS;
+    }
+    return a->job != NULL;
+}
+
+void kd_checker_answered(kd_checker *k)
+{
+    const kd_order *o;
+    if (k->order_head == k->order_tail)
+        return;
+    o = &k->order[k->order_head % KD_ORDER_MAX];
+    if (o->kind == KD_ORDER_REFUSED)
+        k->texts_head++;
+    if (k->answer_from == KD_FROM_VERDICTS && o->kind == KD_ORDER_CHECKED) {
+        /* A checker waiting for room for its verdict goes on at once. */
+        int was_full = kd_spsc_count(&k->verdicts) == KD_CHECK_RING;
+        kd_spsc_release(&k->verdicts);
+        if (was_full && !k->stopped)
+            signal_fd(k->wake_fd);
+    } else if (k->answer_from == KD_FROM_JOBS && o->kind == KD_ORDER_CHECKED)
+        kd_spsc_release(&k->jobs);
+    k->order_head++;
+}

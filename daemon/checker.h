@@ -1,0 +1,172 @@
+/* checker.h - kinctld's checker thread: the goals' dry runs, apart from the
+ * receive path, and the goals' answers in arrival order.
+ *
+ * A dry run (kinctl/check.h) costs one controller step per tick of motion:
+ * up to a second for the longest goal check_max_s allows. Run on the I/O
+ * thread it would hold back every datagram behind it, STOP and ESTOP
+ * included. So the checker thread owns the kc_check; the I/O thread hands
+ * it each goal, decoded and converted (kc_goal), through the job ring, and
+ * takes the verdicts back through the verdict ring, in the same order:
+ *
+ *   I/O thread --jobs-->     checker thread   (kd_checker_submit)
+ *   I/O thread --ticks-->    checker thread   (kd_checker_tick: copies of
+ *                                              the controller's ticks)
+ *   I/O thread <--verdicts-- checker thread   (kd_checker_answer)
+ *
+ * The checker judges each job from where the one before it ends: it feeds
+ * the kc_check every tick the I/O thread copies to it (between goals and
+ * between the slices of a dry run), so a goal that waits is judged from
+ * the end of the queue and one that replaces from the latest setpoint, and
+ * hands the kc_check each goal it accepts (kc_check_handed) before the next.
+ * A dry run goes in slices of KD_CHECK_SLICE ticks with CLOCK_MONOTONIC
+ * read between them: one that takes longer than the budget
+ * (controller.check_budget_ms) is stopped and its job marked over budget.
+ *
+ * Answers in order. Every goal is answered once, in arrival order: the
+ * verdicts come back in the order of the jobs, and a goal the I/O thread
+ * refuses itself (a datagram that fails to decode or convert, a full job
+ * ring) while goals before it wait for their verdicts takes its place in
+ * the order (kd_checker_refuse) and is answered in its turn, also behind
+ * the goals handed to the controller and not yet taken (the controller
+ * answers those, ACCEPTED or REJECTED, when it takes them). Only when
+ * that order is itself full (KD_ORDER_MAX goals waiting) is a refusal
+ * answered at once, out of order, and counted (answered_early). Servo
+ * messages stream past the dry runs (the cheap checks only, on the I/O
+ * thread): they are answered by the controller when it takes them.
+ *
+ * Every ring is kd_spsc (spsc.h): one producer, one consumer, no locks.
+ * The checker sleeps on an eventfd (wake_fd) when it has nothing to do,
+ * waking at least every KD_CHECK_IDLE_MS to take the ticks; it writes
+ * done_fd after each verdict, for the I/O thread's poll.
+ *
+ * Threads: kd_checker_init, _start from the main thread before the I/O
+ * thread runs; kd_checker_stop, _submit, _refuse, _tick, _answer and
+ * _answered from the I/O thread only. After kd_checker_stop every ring is
+ * the I/O thread's, and kd_checker_answer hands the jobs never judged back
+ * as stopped. Not for the cycle.
+ */
+#ifndef KINCTL_DAEMON_CHECKER_H
+#define KINCTL_DAEMON_CHECKER_H
+
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdint.h>
+
+#include "config.h"
+#include "kinctl/check.h"
+#include "reject.h"
+#include "spsc.h"
+
+#define KD_CHECK_RING 64        /* goals on their way to or back from the checker */
+#define KD_CHECK_TICK_RING 256  /* ticks copied to the checker */
+#define KD_CHECK_SLICE 256      /* dry-run ticks between two looks at the clock */
+#define KD_CHECK_IDLE_MS 20     /* longest sleep of an idle checker */
+#define KD_ORDER_MAX 16384      /* goals waiting for their answer, in order */
+#define KD_ORDER_TEXTS 256      /* of which refused with a text of their own */
+
+/* How a job's dry run ended. */
+typedef enum kd_job_end {
+    KD_JOB_JUDGED = 0,      /* verdict is the dry run's */
+    KD_JOB_OVER_BUDGET = 1, /* stopped after budget_ns: ticks, progress say how far */
+    KD_JOB_STOPPED = 2      /* never judged: kinctld is shutting down */
+} kd_job_end;
+
+/* A goal to judge, and (back from the checker) its verdict. */
+typedef struct kd_job {
+    kc_goal goal;
+    kc_verdict verdict;
+    kd_job_end end;
+    int64_t elapsed_ns; /* the dry run's wall-clock time */
+    int64_t ticks;      /* dry-run ticks stepped */
+    kc_real progress;   /* of the motion where it stopped, 0..1 */
+} kd_job;
+
+/* A copy of one tick for the checker (kc_check_tick's arguments). */
+typedef struct kd_check_tick {
+    kc_ctrl_output out;
+    int64_t goals_taken; /* goals from the checker the controller has taken */
+} kd_check_tick;
+
+/* One goal waiting for its answer: the checker's verdict, or a refusal. */
+typedef struct kd_order {
+    int64_t goal_id;
+    int kind;  /* KD_ORDER_* (checker.c) */
+    int text;  /* KD_ORDER_REFUSED: index into texts */
+} kd_order;
+
+/* The next answer in order (kd_checker_answer). */
+typedef struct kd_answer {
+    int64_t goal_id;
+    const kd_job *job; /* the checker's job (valid until kd_checker_answered), or NULL: */
+    kd_reject rej;     /* ... a refusal */
+} kd_answer;
+
+typedef struct kd_checker {
+    kc_check *check;   /* the checker thread's (caller-owned) */
+    int64_t budget_ns; /* longest dry run */
+    kd_spsc jobs, verdicts, ticks;
+    kd_job job_storage[KD_CHECK_RING], verdict_storage[KD_CHECK_RING];
+    kd_check_tick tick_storage[KD_CHECK_TICK_RING];
+    int wake_fd, done_fd; /* eventfds: work for the checker; verdicts for the I/O thread */
+
+    /* The I/O thread's: the answers' order, and the tick waiting for room. */
+    kd_order order[KD_ORDER_MAX];
+    int64_t order_head, order_tail;
+    kd_reject texts[KD_ORDER_TEXTS];
+    int64_t texts_head, texts_tail;
+    kd_check_tick pending;
+    int have_pending;
+    int stopped;     /* the thread has been joined */
+    int answer_from; /* where the answer last given came from (checker.c) */
+
+    /* Counters (the checker's, read anywhere). */
+    atomic_llong judged, over_budget;
+    int64_t answered_early; /* the I/O thread's: refusals answered out of order */
+
+    atomic_int run;
+    pthread_t thread;
+    int thread_live;
+} kd_checker;
+
+/* Sets the checker up over check (kc_check_init done; then the checker
+ * thread's alone), with the dry runs' budget in ns. Returns 0, or -1 with
+ * a message on stderr (no eventfd). */
+int kd_checker_init(kd_checker *k, kc_check *check, int64_t budget_ns);
+
+/* Starts the thread at normal priority, off the cycle's CPU (cfg). Returns
+ * 0 or -1. */
+int kd_checker_start(kd_checker *k, const kd_config *cfg);
+
+/* Stops the thread (a dry run under way ends as KD_JOB_STOPPED) and joins
+ * it; then closes nothing: kd_checker_destroy does. */
+void kd_checker_stop(kd_checker *k);
+void kd_checker_destroy(kd_checker *k);
+
+/* I/O thread: hands goal over for its dry run. 0, or -1 when the job ring
+ * or the order is full (refuse the goal with kd_checker_refuse, rej NULL). */
+int kd_checker_submit(kd_checker *k, const kc_goal *goal);
+
+/* I/O thread: goal goal_id refused before any dry run, with rej (NULL: the
+ * job ring was full); behind: goals the caller handed on are still to be
+ * answered by the controller. Returns 1 when the caller answers it now
+ * (nothing waits before it, or the order is full: counted), 0 when it is
+ * kept and comes back from kd_checker_answer in its turn. */
+int kd_checker_refuse(kd_checker *k, int64_t goal_id, const kd_reject *rej, int behind);
+
+/* The refusal of a goal for a full job ring ("queue_full: ..."). */
+void kd_checker_busy(kd_reject *rej);
+
+/* I/O thread: a tick of the controller for the checker (copied; when its
+ * ring is full the latest is kept, with the rejections of those it
+ * replaces, and handed over at the next call). */
+void kd_checker_tick(kd_checker *k, const kc_ctrl_output *out, int64_t goals_taken);
+
+/* I/O thread: the next answer in order, when it is ready: 1 with *a filled
+ * (then kd_checker_answered once it is dealt with), else 0. */
+int kd_checker_answer(kd_checker *k, kd_answer *a);
+void kd_checker_answered(kd_checker *k);
+
+/* The eventfd the I/O thread polls for verdicts (read it to clear). */
+int kd_checker_done_fd(const kd_checker *k);
+
+#endif
