@@ -69,7 +69,7 @@ static void publish_setpoint(kd_io *io, const kd_tick *t)
 }
 
 /* A status from the latest tick, with an event about goal_id. */
-static void publish_status(kd_io *io, int8_t event, int64_t goal_id, kc_status code, const char *reason)
+static kinctl_status_t *fill_status(kd_io *io, int8_t event, int64_t goal_id, kc_status code, const char *reason)
 {
     kinctl_status_t *st = &io->st;
     int j, n = io->cfg->chain.n_joints;
@@ -105,13 +105,26 @@ static void publish_status(kd_io *io, int8_t event, int64_t goal_id, kc_status c
     st->code = (int32_t)code;
     snprintf(io->reason, sizeof io->reason, "%s", reason != NULL ? reason : "");
     st->reason = io->reason;
-    publish(io, KD_MSG_STATUS, st);
+    return st;
 }
 
+static void publish_status(kd_io *io, int8_t event, int64_t goal_id, kc_status code, const char *reason)
+{
+    publish(io, KD_MSG_STATUS, fill_status(io, event, goal_id, code, reason));
+}
+
+/* A REJECTED status with the verdict's text, and the joint a limit
+ * rejection names (status_t.joint..: clients show it in their own units). */
 static void reject(kd_io *io, int64_t goal_id, const kd_reject *rej)
 {
+    kinctl_status_t *st = fill_status(io, KINCTL_STATUS_T_REJECTED, goal_id, rej->code, rej->text);
     io->rejections++;
-    publish_status(io, KINCTL_STATUS_T_REJECTED, goal_id, rej->code, rej->text);
+    st->joint = rej->joint;
+    st->joint_prismatic = (int8_t)(rej->prismatic != 0);
+    st->joint_value = rej->value;
+    st->joint_lower = rej->lower;
+    st->joint_upper = rej->upper;
+    publish(io, KD_MSG_STATUS, st);
 }
 
 static void publish_stats(kd_io *io, const kd_cycle_stats *cs)

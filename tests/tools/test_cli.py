@@ -87,6 +87,21 @@ def test_rejection_exits_1_with_the_reason(daemon, args, token):
     assert r.returncode == 1 and token in r.stderr
 
 
+def test_joint_limit_rejection_in_the_clis_units(daemon):
+    """A limit rejection names the joint from 1 and gives the value and the
+    limits in the CLI's units: degrees after --deg (puma560's joint 2 is
+    limited to [-45, 225] deg, models/puma560.cfg), radians without."""
+    d = daemon()
+    r = run_kinctl(d, "--deg", "goal", "joint", "--q", "0,250,-90,0,0,0")
+    assert r.returncode == 1, r.stdout + r.stderr
+    assert "REJECTED: joint_limit: joint 2: 250 deg is outside its limits [-45, 225] deg" in r.stderr, r.stderr
+    r = run_kinctl(d, "goal", "joint", "--q", "0,0.5,-3")
+    assert "joint_count" in r.stderr, r.stderr
+    r = run_kinctl(d, "goal", "joint", "--q", "0,0.5,-4,0,0,0")
+    assert "REJECTED: joint_limit: joint 3: -4 rad is outside its limits [-3.92699, 0.785398] rad" in r.stderr, \
+        r.stderr
+
+
 def test_preempted_goal_exits_1_and_the_replacing_goal_0(daemon):
     d = daemon()
     go_nominal(d)
