@@ -96,7 +96,7 @@ static json_t *conv_points(const char *arg, char *err, size_t errlen)
     {"--v", "v", CALC_VALUE, calc_conv_real, "V", "speed limit of the tool point along the path (m/s)"},        \
     {"--a", "a", CALC_VALUE, calc_conv_real, "A", "acceleration limit along the path (m/s^2)"},                 \
     {"--omega", "omega", CALC_VALUE, calc_conv_real, "W",                                                        \
-     "angular speed limit of the tool (rad/s); default: none (the seed's method)"},                             \
+     "angular speed limit of the tool (rad/s); default: none (the two-rotations method's own timing)"},          \
     {"--epsilon", "epsilon", CALC_VALUE, calc_conv_real, "E",                                                    \
      "angular acceleration limit of the tool (rad/s^2); default: none; needed by a pure rotation"}
 
@@ -112,7 +112,7 @@ static const calc_opt joint_opts[] = {
      "jerk limit (--profile jerk), one or one per joint (rad/s^3 or m/s^3; deg/s^3 with --deg); default: the "
      "model's"},
     {"--profile", "profile", CALC_VALUE, calc_conv_string, "trapezoid|jerk",
-     "motion law: seed 001 lab 4's trapezoid (default) or jerk-limited"},
+     "motion law: trapezoid with a leading joint (default) or jerk-limited"},
     {"--duration", "duration", CALC_VALUE, calc_conv_real, "T",
      "stretch the move to last T s (synchronisation); default: as fast as the limits allow"},
     DT_OPT,
@@ -125,7 +125,7 @@ static const calc_opt line_opts[] = {
     {"--to", "to", CALC_VALUE, calc_conv_reals, "X,Y,Z,QW,QX,QY,QZ", "end pose (m; or 16 numbers, a 4x4)"},
     CART_LIMIT_OPTS,
     {"--orientation", "orientation", CALC_VALUE, calc_conv_string, "METHOD",
-     "two-rotations (seed 001 lab 5, default) or slerp"},
+     "two-rotations (default) or slerp"},
     DT_OPT,
     {NULL, NULL, CALC_FLAG, NULL, NULL, NULL},
 };
@@ -539,7 +539,7 @@ static int path_unavailable(const json_t *req, calc_ctx *ctx)
 /* ---- the kinds ---- */
 
 static const calc_cmd kinds[] = {
-    {"joint", "joint move, seed 001 lab 4: all joints start and end together",
+    {"joint", "joint move: all joints start and end together",
      "kinctl-calc interp joint (--model NAME | --model-file PATH) --q0 Q1,Q2,... --q1 Q1,Q2,...\n"
      "       [--vmax V] [--amax A] [--profile trapezoid|jerk] [--jmax J] [--duration T] [--deg] --dt DT\n"
      "Trapezoid (default): every joint covers the same fraction of its move at every tick; the common\n"
@@ -552,18 +552,18 @@ static const calc_cmd kinds[] = {
      "Example: kinctl-calc interp joint --model planar2 --deg --q0 10,20 --q1 30,50 --profile jerk --jmax 3000 "
      "--dt 0.01",
      joint_opts, run_interp_joint},
-    {"line", "Cartesian straight line, seed 001 lab 5",
+    {"line", "Cartesian straight line",
      "kinctl-calc interp line --from X,Y,Z,QW,QX,QY,QZ --to X,Y,Z,QW,QX,QY,QZ --v V --a A\n"
      "       [--omega W --epsilon E] [--orientation two-rotations|slerp] --dt DT\n"
      "The tool point moves on the straight line with a trapezoidal speed law (v, a) along the path;\n"
-     "the orientation turns by the seed's two rotations (about a fixed axis, then about the tool's z)\n"
+     "the orientation turns by the two-rotations method (about a fixed axis, then about the tool's z)\n"
      "or by slerp, within --omega and --epsilon if given. A pure rotation needs them: its speed law\n"
      "runs on the angle, and s is then the angle turned (rad).\n"
      "Prints CSV: t,x,y,z,qw,qx,qy,qz,s,sd,sdd (s: path length so far), one row per tick.\n"
      "Example: kinctl-calc interp line --from 0.4,0,0.5,1,0,0,0 --to 0.4,0.3,0.4,0.7071068,0,0,0.7071068 "
      "--v 0.5 --a 2 --dt 0.001",
      line_opts, run_interp_line},
-    {"arc", "arc through three points, seed 001 lab 6",
+    {"arc", "circular arc through three points",
      "kinctl-calc interp arc --from X,Y,Z,QW,QX,QY,QZ --via X,Y,Z --to X,Y,Z --v V --a A\n"
      "       [--omega W --epsilon E] --dt DT\n"
      "The arc of the circle through the three points that passes through --via (more than half a\n"
@@ -573,7 +573,7 @@ static const calc_cmd kinds[] = {
      "Example: kinctl-calc interp arc --from 0.5,0,0.3,1,0,0,0 --via 0.4,0.1,0.3 --to 0.3,0,0.3 "
      "--v 0.2 --a 1 --dt 0.001",
      arc_opts, run_interp_arc},
-    {"path", "multi-point path, seed 001 lab 7",
+    {"path", "multi-point path: blends, splines, quintics or Lagrange",
      "kinctl-calc interp path --space joint|cartesian --method blend|lagrange|spline|quintic\n"
      "       --points \"P;P;...\" [--times T0,T1,...] [--velocities \"V;V;...\"] [--tacc T]\n"
      "       [--v V --a A] [--omega W --epsilon E] [--blend quartic|parabolic] [--ends clamped|natural]\n"

@@ -384,7 +384,7 @@ static const calc_cmd commands[] = {
     {"orient", "convert an orientation between rpy, zyz, axis-angle, quat, matrix",
      "kinctl-calc orient --from FORM --to FORM [--deg] VALUES...\n"
      "Forms and their VALUES:\n"
-     "  rpy         phi theta psi: R = Rz(phi) Ry(theta) Rx(psi) (seed 001 lab 2)\n"
+     "  rpy         phi theta psi: R = Rz(phi) Ry(theta) Rx(psi) (roll-pitch-yaw)\n"
      "  zyz         phi theta psi: R = Rz(phi) Ry(theta) Rz(psi)\n"
      "  axis-angle  kx ky kz theta (the axis need not be unit)\n"
      "  quat        w x y z (normalised)\n"
@@ -394,7 +394,7 @@ static const calc_cmd commands[] = {
      "angle 0 or pi (axis-angle), where the conventions of kinctl/orient.h pick the answer.\n"
      "Example: kinctl-calc orient --from rpy --to quat --deg 30 45 60",
      orient_opts, run_orient},
-    {"transform", "seed 001 lab 1: homogeneous transforms of points",
+    {"transform", "homogeneous transforms of points (rotation, translation, scale, perspective)",
      "kinctl-calc transform OPERATION... [--point X,Y,Z]... [--deg]\n"
      "Operations act on the points in the order given (M = M_k ... M_2 M_1).\n"
      "Prints {\"matrix\": 4x4, \"homogeneous\": [[x,y,z,w] per point], \"cartesian\": [[x/w,y/w,z/w]\n"
@@ -403,7 +403,7 @@ static const calc_cmd commands[] = {
      transform_opts, run_transform},
     {"ik", "inverse kinematics: joint values that put the tool at a target pose",
      "kinctl-calc ik (--model NAME | --model-file PATH) --target T [--q0 Q1,Q2,...] [--mask TASK] [--deg]\n"
-     "Integrates seed 002's dual-quaternion feedback law from q0 (with damping, joint limits and,\n"
+     "Integrates the dual-quaternion feedback law from q0 (with damping, joint limits and,\n"
      "for redundant tasks, a null-space pull to mid-range) until the tool is within 1e-10 m and\n"
      "1e-10 rad of T, restarting from other starts when a run stalls. Prints {\"q\": [...],\n"
      "\"status\": \"converged\" | \"unreachable\" (q: null) | or, with q the best found, where it\n"

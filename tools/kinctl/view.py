@@ -154,7 +154,7 @@ class Scene:
                 ax.set_ylabel("v (m)")
                 ax.grid(True, alpha=0.25)
                 ax.tick_params(labelsize=7)
-                ax.set_title(pj.TITLES[name] + " (seed 001 lab 3)", loc="left", fontsize=10)
+                ax.set_title(pj.TITLES[name], loc="left", fontsize=10)
             p = {"ax": ax, "M": M}
             p["trail"] = self._line(ax, M, color="0.55", lw=1.0, ls="-", label="tool path")
             p["skeleton"] = self._line(ax, M, color="0.15", lw=2.6, marker="o", ms=4, mfc="#ffb000",
