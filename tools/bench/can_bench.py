@@ -23,7 +23,6 @@ import argparse
 import os
 import re
 import signal
-import subprocess
 import sys
 import tempfile
 import time
@@ -72,10 +71,8 @@ def run_one(kinctld, n, period_us, duration, iface, rt):
     sub = lc.subscribe("KINCTL_SETPOINT", on_sp)
     sub.set_queue_capacity(1000000)
     rec = canraw.FrameRecorder(iface, rcvbuf=16 << 20)
-    argv = [kinctld, "--config", cfg_path, "--lcm-url", url, "--rt" if rt else "--no-rt"]
-    if n == 6:
-        argv += ["--model", "puma560"]
-    proc = subprocess.Popen(argv, stderr=subprocess.PIPE, text=True)
+    daemon = local.Kinctld("--config", cfg_path, binary=kinctld, url=url, rt=rt,
+                           extra_args=["--model", "puma560"] if n == 6 else ())
     t_end = time.monotonic() + duration
     goal = 0
     next_goal = time.monotonic() + 0.5
@@ -91,8 +88,10 @@ def run_one(kinctld, n, period_us, duration, iface, rt):
             g.vel_scale = g.acc_scale = 1.0
             lc.publish("KINCTL_GOAL_JOINT", g.encode())
             next_goal += 1.5
-    proc.send_signal(signal.SIGTERM)
-    _, err = proc.communicate(timeout=30)
+    daemon.stop(signal.SIGTERM, timeout=30)
+    if daemon.hung:
+        sys.exit(f"kinctld did not exit within 30 s of SIGTERM: {daemon.stderr.strip()}")
+    err = daemon.stderr
     for _ in range(20):
         lc.handle_timeout(20)
     frames = rec.settle(quiet_s=0.5, longest_s=20.0)  # the backlog read
@@ -136,7 +135,7 @@ def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter,
                                 epilog="example:\n  python3 tools/bench/can_bench.py --kinctld build/daemon/kinctld "
                                        "--duration 10")
-    p.add_argument("--kinctld", required=True)
+    p.add_argument("--kinctld", help="the daemon (default: kinctl.programs.find)")
     p.add_argument("--interface", default="vcan0")
     p.add_argument("--duration", type=float, default=10.0)
     p.add_argument("--period-us", type=int, default=1000)

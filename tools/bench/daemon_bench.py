@@ -37,12 +37,12 @@ import math
 import os
 import signal
 import struct
-import subprocess
 import sys
 import tempfile
 import time
 
 import lcm
+from kinctl import local
 from kinctl_msgs import goal_arc_t, goal_line_t, setpoint_t, stats_t, status_t
 
 HOME = [0.0, 0.7854, -3.1416, 0.0, 0.7854, 0.0]  # rad (qn)
@@ -63,7 +63,7 @@ def percentile(sorted_vals, p):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--kinctld", required=True)
+    ap.add_argument("--kinctld", help="the daemon (default: kinctl.programs.find)")
     ap.add_argument("--period-us", type=int, default=1000)
     ap.add_argument("--duration", type=float, default=60.0)
     ap.add_argument("--cpu", type=int, default=-1)
@@ -81,10 +81,8 @@ def main():
               f"  period_us = {a.period_us};\n"
               '  angles = "rad";\n'
               f"  home = [{', '.join(repr(v) for v in HOME)}];\n"
-              f'  prefix = "{PREFIX}";\n'
-              f'  lcm_url = "{a.url}";\n'
               "  stats_hz = 0.01;\n"
-              f"  rt = {{ enable = true; priority = {a.priority}; cpu = {a.cpu}; mlock = true; }};\n"
+              f"  rt = {{ priority = {a.priority}; cpu = {a.cpu}; mlock = true; }};\n"
               "};\n")
     cfg.close()
 
@@ -125,17 +123,15 @@ def main():
     if a.dma_latency is not None:
         pm_qos = open("/dev/cpu_dma_latency", "wb", buffering=0)
         pm_qos.write(struct.pack("i", a.dma_latency))
-    log = open(a.log, "w") if a.log else subprocess.DEVNULL
-    cmd = [a.kinctld, "--config", cfg.name]
-    if a.nice:
-        cmd = ["nice", "-n", str(a.nice)] + cmd
-    daemon = subprocess.Popen(cmd, stderr=log, stdout=log)
+    daemon = local.Kinctld("--config", cfg.name, binary=a.kinctld, url=a.url, prefix=PREFIX, rt=True,
+                           stderr=a.log or os.devnull, stdout=True,
+                           wrapper=["nice", "-n", str(a.nice)] if a.nice else ())
     try:
         t0 = time.monotonic()
         while not first_sp:
             lc.handle_timeout(100)
-            if daemon.poll() is not None:
-                sys.exit(f"kinctld exited with {daemon.returncode} before its first setpoint")
+            if daemon.proc.poll() is not None:
+                sys.exit(f"kinctld exited with {daemon.proc.returncode} before its first setpoint")
             if time.monotonic() - t0 > 10:
                 sys.exit("no setpoint from kinctld within 10 s")
         sp0 = first_sp["msg"]
@@ -190,19 +186,14 @@ def main():
             lc.handle_timeout(max(1, min(20, int((end - time.monotonic()) * 1000))))
         run_s = time.monotonic() - start
 
-        daemon.send_signal(signal.SIGTERM)
-        deadline = time.monotonic() + 15
-        while daemon.poll() is None and time.monotonic() < deadline:
-            lc.handle_timeout(50)
+        daemon.stop(signal.SIGTERM, timeout=15, while_waiting=lambda: lc.handle_timeout(50))
         # Whatever is still queued on the socket (the final status and stats).
         while lc.handle_timeout(200) > 0:
             pass
-        if daemon.poll() is None:
-            daemon.kill()
+        if daemon.hung:
             sys.exit("kinctld did not exit within 15 s of SIGTERM")
     finally:
-        if daemon.poll() is None:
-            daemon.kill()
+        daemon.stop(signal.SIGKILL)
         os.unlink(cfg.name)
         if pm_qos is not None:
             pm_qos.close()
@@ -219,7 +210,7 @@ def main():
     out = {
         "period_us": a.period_us,
         "duration_s": round(run_s, 3),
-        "daemon_exit": daemon.returncode,
+        "daemon_exit": daemon.proc.returncode,
         "goals_sent": len(sent),
         "goals_accepted": sum(1 for g in sent if events.get(g) == status_t.ACCEPTED),
         "goals_rejected": sum(1 for g in sent if events.get(g) == status_t.REJECTED),

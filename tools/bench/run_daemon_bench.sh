@@ -138,7 +138,7 @@ for p in $periods; do
             >"$build/cyclictest_${p}us.txt" 2>&1 || { cat "$build/cyclictest_${p}us.txt" >&2; return 1; }
     }
     run_kinctld() {
-        PYTHONPATH=$build/lcmtypes/python "$venv/bin/python" "$root/tools/bench/daemon_bench.py" \
+        PYTHONPATH=$build/lcmtypes/python:$root/tools "$venv/bin/python" "$root/tools/bench/daemon_bench.py" \
             --kinctld "$build/daemon/kinctld" --nice -5 "${kd_pm[@]}" --period-us "$p" --duration "$duration" \
             --cpu "$cpu" --priority "$priority" --log "$build/kinctld_${p}us.log" >"$kd_json" ||
             { cat "$build/kinctld_${p}us.log" >&2; return 1; }

@@ -19,10 +19,8 @@ the start and the end. Exit status 1 when a book does not balance.
 """
 import argparse
 import json
-import os
 import random
 import signal
-import subprocess
 import sys
 import tempfile
 import threading
@@ -166,7 +164,7 @@ def random_goal(rng, gid, here):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--kinctld", required=True)
+    ap.add_argument("--kinctld", help="the daemon (default: kinctl.programs.find)")
     ap.add_argument("--duration", type=float, default=600.0, help="seconds (default 600)")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--rt", action="store_true", help="SCHED_FIFO, pinned to the last CPU, mlockall")
@@ -178,8 +176,7 @@ def main():
     cfg = tempfile.NamedTemporaryFile("w", suffix=".cfg", delete=False)
     cfg.write('controller = {\n  angles = "rad";\n'
               f"  home = [{', '.join(map(repr, QN))}];\n"
-              f'  prefix = "{prefix}";\n  lcm_url = "{url}";\n  stats_hz = 1.0;\n'
-              f"  rt = {{ enable = {'true' if a.rt else 'false'}; priority = 80; cpu = -1; mlock = true; }};\n}};\n")
+              "  stats_hz = 1.0;\n  rt = { priority = 80; cpu = -1; mlock = true; };\n};\n")
     cfg.close()
 
     books = Books()
@@ -196,7 +193,9 @@ def main():
     pumper = threading.Thread(target=pump, daemon=True)
     pumper.start()
     log = tempfile.NamedTemporaryFile("w", suffix=".log", delete=False)
-    daemon = subprocess.Popen([a.kinctld, "--config", cfg.name], stdout=log, stderr=log)
+    log.close()
+    daemon = local.Kinctld("--config", cfg.name, binary=a.kinctld, url=url, prefix=prefix, rt=a.rt, stderr=log.name,
+                           stdout=True)
     rng = random.Random(a.seed)
     sent = 0
     sent_log = {}   # goal_id -> what was sent, when (wall clock)
@@ -204,11 +203,11 @@ def main():
     try:
         deadline = time.monotonic() + 10
         while books.last is None:
-            if daemon.poll() is not None or time.monotonic() > deadline:
+            if daemon.proc.poll() is not None or time.monotonic() > deadline:
                 sys.exit(f"kinctld did not start (log: {log.name})")
             time.sleep(0.05)
         time.sleep(2.0)
-        rss_start = rss_kib(daemon.pid)
+        rss_start = rss_kib(daemon.proc.pid)
         start = time.monotonic()
         next_report = start + 10
         gid = 1000
@@ -259,20 +258,18 @@ def main():
                 with books.lock:
                     answers, ends, _, _ = books.tally()
                     print(f"soak: {now - start:6.0f}/{a.duration:.0f} s  goals {sent}  answered {len(answers)}"
-                          f"  ended {len(ends)}  setpoints {books.setpoints}  rss {rss_kib(daemon.pid)} KiB",
+                          f"  ended {len(ends)}  setpoints {books.setpoints}  rss {rss_kib(daemon.proc.pid)} KiB",
                           file=sys.stderr, flush=True)
         # Quiet down: stop, let the last answers and ends arrive.
         cmd = command_t()
         cmd.command = command_t.STOP
         lc.publish(prefix + "COMMAND", cmd.encode())
         time.sleep(3.0)
-        rss_end = rss_kib(daemon.pid)
-        daemon.send_signal(signal.SIGTERM)
-        code = daemon.wait(30)
+        rss_end = rss_kib(daemon.proc.pid)
+        code = daemon.stop(signal.SIGTERM, timeout=30)
         time.sleep(1.0)
     finally:
-        if daemon.poll() is None:
-            daemon.kill()
+        daemon.stop(signal.SIGKILL)
         running = False
         pumper.join(2)
     with books.lock:

@@ -76,12 +76,14 @@ class Kinctld:
     the default), --rt or --no-rt and extra_args follow them. wrapper: a
     command line the daemon runs under (valgrind ...). env: added to this
     process's environment, which loses LCM_DEFAULT_URL. stderr: a file for
-    the daemon's stderr (default: captured in memory). slowdown: every
-    timeout is multiplied by it (sanitizer builds run several times slower).
+    the daemon's stderr (default: captured in memory; os.devnull: dropped).
+    stdout: True sends the daemon's stdout where its stderr goes, one log
+    of both (default: discarded). slowdown: every timeout is multiplied by
+    it (sanitizer builds run several times slower).
     """
 
     def __init__(self, *args, binary=None, url=None, prefix=DEFAULT_PREFIX, rt=False, stderr=None, env=None,
-                 url_flag=True, extra_args=(), wrapper=(), slowdown=1.0):
+                 url_flag=True, extra_args=(), wrapper=(), slowdown=1.0, stdout=False):
         self.binary = binary or programs.find("kinctld")
         self.url = url or unique_url()
         self.prefix = prefix
@@ -97,7 +99,13 @@ class Kinctld:
         e.update(env or {})
         self._stderr_path = stderr
         self._stderr = open(stderr, "w") if stderr else subprocess.PIPE
-        self.proc = subprocess.Popen(self.argv, stdout=subprocess.DEVNULL, stderr=self._stderr, text=True, env=e)
+        if not stdout:
+            out, err = subprocess.DEVNULL, self._stderr
+        elif stderr:
+            out, err = self._stderr, self._stderr
+        else:
+            out, err = subprocess.PIPE, subprocess.STDOUT  # one pipe: communicate() returns both as out
+        self.proc = subprocess.Popen(self.argv, stdout=out, stderr=err, text=True, env=e)
         self.stderr = ""
         self.stopped = False
         self.hung = False
@@ -118,11 +126,16 @@ class Kinctld:
         raise RuntimeError(f"{' '.join(self.argv)} sent no setpoint (exit {self.proc.returncode}): "
                            f"{self.stderr.strip()}")
 
-    def stop(self, sig=signal.SIGTERM, timeout=20.0):
+    def stop(self, sig=signal.SIGTERM, timeout=20.0, while_waiting=None):
         """Signals the daemon (SIGTERM: controlled stop), waits, returns its exit code
         (at once when stopped before; also when it had exited on its own). One
-        that does not exit within timeout is killed, and hung set."""
-        return self._end(sig, timeout)
+        that does not exit within timeout is killed, and hung set.
+        while_waiting: called over and over until the daemon exits or the
+        timeout passes, each call blocking a little (lc.handle_timeout(50)),
+        so that the caller goes on reading what the daemon publishes as it
+        stops (its last status and stats); the daemon's stderr should then
+        go to a file, as a pipe is not read meanwhile."""
+        return self._end(sig, timeout, while_waiting)
 
     def close(self, sig=signal.SIGKILL, timeout=20.0):
         """The end of the daemon: stopped by sig when it still runs; then
@@ -139,24 +152,29 @@ class Kinctld:
         m = SANITIZER_REPORT.search(self.stderr)
         return self.stderr[self.stderr.rfind("\n", 0, m.start()) + 1:] if m else ""
 
-    def _end(self, sig, timeout):
+    def _end(self, sig, timeout, while_waiting=None):
         if self.stopped:
             return self.proc.returncode
         self.stopped = True
         if self.proc.poll() is None:
             self.proc.send_signal(sig)
+        deadline = time.monotonic() + timeout * self.slowdown
+        while while_waiting is not None and self.proc.poll() is None and time.monotonic() < deadline:
+            while_waiting()
+        # An exited daemon's pipe is read to its end without a deadline.
+        left = None if self.proc.poll() is not None else max(0.0, deadline - time.monotonic())
         try:
-            _, err = self.proc.communicate(timeout=timeout * self.slowdown)
+            out, err = self.proc.communicate(timeout=left)
         except subprocess.TimeoutExpired:
             self.hung = True
             self.proc.kill()
-            _, err = self.proc.communicate()
+            out, err = self.proc.communicate()
         if self._stderr_path:
             self._stderr.close()
             with open(self._stderr_path) as f:
                 self.stderr = f.read()
         else:
-            self.stderr = err or ""
+            self.stderr = (out if self.proc.stdout is not None else err) or ""
         return self.proc.returncode
 
     def __enter__(self):
