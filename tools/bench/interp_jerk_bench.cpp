@@ -94,6 +94,23 @@ struct Walk {
     }
 };
 
+// Walks every tick of a joint move p of duration T within lim; returns the
+// violations over all its joints.
+template <size_t N> long long walk_move(const kc_interp_joint &p, const Limits &lim, double T)
+{
+    Walk w[N];
+    kc_interp_joint_state s;
+    for (long long t = 0; t <= p.ticks; t++) {
+        kc_interp_joint_eval(&p, t, &s);
+        for (size_t j = 0; j < N; j++)
+            w[j].step(t, s.qd[j], s.qdd[j], lim.V[j], lim.A[j], lim.J[j], T);
+    }
+    long long bad = 0;
+    for (size_t j = 0; j < N; j++)
+        bad += w[j].bad;
+    return bad;
+}
+
 struct Row {
     std::string what;
     Stats st;
@@ -209,15 +226,7 @@ template <size_t N> struct ModelBench {
             mean_phase += Tk / Tp - 1.0;
             off += std::fabs(Tk - Tp) > 1e-3 * Tp + DT;
             // Every tick within every joint's limits.
-            Walk w[N];
-            kc_interp_joint_state s;
-            for (long long t = 0; t <= p.ticks; t++) {
-                kc_interp_joint_eval(&p, t, &s);
-                for (size_t j = 0; j < N; j++)
-                    w[j].step(t, s.qd[j], s.qdd[j], lim.V[j], lim.A[j], lim.J[j], Tk);
-            }
-            for (size_t j = 0; j < N; j++)
-                bad += w[j].bad;
+            bad += walk_move<N>(p, lim, Tk);
             // Evaluation: a batch of random ticks on this plan, once the
             // ring of plans is full (every plan in it is fresh).
             kc_interp_joint_state es;
@@ -315,15 +324,7 @@ template <size_t N> struct ModelBench {
                 if (one.calculate(in1, t1d) == ruckig::Result::Working)
                     ratio.push_back((double)prof[j].T / t1d.get_duration());
             }
-            Walk w[N];
-            kc_interp_joint_state s;
-            for (long long t = 0; t <= p.ticks; t++) {
-                kc_interp_joint_eval(&p, t, &s);
-                for (size_t j = 0; j < N; j++)
-                    w[j].step(t, s.qd[j], s.qdd[j], lim.V[j], lim.A[j], lim.J[j], Tk);
-            }
-            for (size_t j = 0; j < N; j++)
-                bad += w[j].bad;
+            bad += walk_move<N>(p, lim, Tk);
             worst_t = std::max(worst_t, Tk / Tt - 1.0);
             best_t = std::min(best_t, Tk / Tt - 1.0);
             worst_p = std::max(worst_p, Tk / Tp - 1.0);
