@@ -148,6 +148,20 @@ template <size_t N> struct ModelBench {
         return in;
     }
 
+    // Ruckig's input for joint j alone: from q0 moving at v0, a0 to rest at q1.
+    ruckig::InputParameter<1> input1(double q0, double v0, double a0, double q1, size_t j) const
+    {
+        ruckig::InputParameter<1> in;
+        in.current_position[0] = q0;
+        in.current_velocity[0] = v0;
+        in.current_acceleration[0] = a0;
+        in.target_position[0] = q1;
+        in.max_velocity[0] = lim.V[j];
+        in.max_acceleration[0] = lim.A[j];
+        in.max_jerk[0] = lim.J[j];
+        return in;
+    }
+
     kc_interp_joint_cfg cfg(const Case &c, bool moving = false) const
     {
         kc_interp_joint_cfg g = kc_interp_joint_cfg_default();
@@ -313,14 +327,7 @@ template <size_t N> struct ModelBench {
             for (size_t j = 0; j < N; j++) {
                 T1 = std::max(T1, (double)prof[j].T);
                 gap += prof[j].gap;
-                ruckig::InputParameter<1> in1;
-                in1.current_position[0] = c.q0[j];
-                in1.current_velocity[0] = c.v0[j];
-                in1.current_acceleration[0] = c.a0[j];
-                in1.target_position[0] = c.q1[j];
-                in1.max_velocity[0] = lim.V[j];
-                in1.max_acceleration[0] = lim.A[j];
-                in1.max_jerk[0] = lim.J[j];
+                auto in1 = input1(c.q0[j], c.v0[j], c.a0[j], c.q1[j], j);
                 if (one.calculate(in1, t1d) == ruckig::Result::Working)
                     ratio.push_back((double)prof[j].T / t1d.get_duration());
             }
@@ -385,14 +392,7 @@ template <size_t N> struct ModelBench {
                     continue;
                 }
                 gap += prof.gap;
-                ruckig::InputParameter<1> in1;
-                in1.current_position[0] = c.q0[j];
-                in1.current_velocity[0] = c.v0x[j];
-                in1.current_acceleration[0] = c.a0x[j];
-                in1.target_position[0] = c.q1[j];
-                in1.max_velocity[0] = lim.V[j];
-                in1.max_acceleration[0] = lim.A[j];
-                in1.max_jerk[0] = lim.J[j];
+                auto in1 = input1(c.q0[j], c.v0x[j], c.a0x[j], c.q1[j], j);
                 if (one.calculate(in1, t1d) == ruckig::Result::Working)
                     ratio.push_back((double)prof.T / t1d.get_duration());
                 Walk w;
