@@ -111,6 +111,21 @@ template <size_t N> long long walk_move(const kc_interp_joint &p, const Limits &
     return bad;
 }
 
+// Times kc_interp_joint_eval on a batch of random ticks of p (c.frac);
+// returns the time per call, adding the positions to sum so that the calls
+// stay.
+double time_ticks(const kc_interp_joint &p, const Case &c, double &sum)
+{
+    kc_interp_joint_state es;
+    double t0 = bench_now_ns();
+    for (int i = 0; i < BENCH_BATCH; i++) {
+        kc_interp_joint_eval(&p, bench_interp_tick(c.frac[i], p.ticks), &es);
+        sum += es.q[0];
+    }
+    double t1 = bench_now_ns();
+    return (t1 - t0) / BENCH_BATCH;
+}
+
 struct Row {
     std::string what;
     Stats st;
@@ -243,14 +258,7 @@ template <size_t N> struct ModelBench {
             bad += walk_move<N>(p, lim, Tk);
             // Evaluation: a batch of random ticks on this plan, once the
             // ring of plans is full (every plan in it is fresh).
-            kc_interp_joint_state es;
-            t0 = bench_now_ns();
-            for (int i = 0; i < BENCH_BATCH; i++) {
-                kc_interp_joint_eval(&p, bench_interp_tick(c.frac[i], p.ticks), &es);
-                sum += es.q[0];
-            }
-            t1 = bench_now_ns();
-            ktick.ns.push_back((t1 - t0) / BENCH_BATCH);
+            ktick.ns.push_back(time_ticks(p, c, sum));
             std::array<double, N> pos, vel, acc;
             t0 = bench_now_ns();
             for (int i = 0; i < BENCH_BATCH; i++) {
@@ -337,14 +345,7 @@ template <size_t N> struct ModelBench {
             worst_p = std::max(worst_p, Tk / Tp - 1.0);
             worst_1 = std::max(worst_1, Tk / T1 - 1.0);
             off += std::fabs(Tk - Tt) > 1e-3 * Tt + DT;
-            kc_interp_joint_state es;
-            t0 = bench_now_ns();
-            for (int i = 0; i < BENCH_BATCH; i++) {
-                kc_interp_joint_eval(&p, bench_interp_tick(c.frac[i], p.ticks), &es);
-                sum += es.q[0];
-            }
-            t1 = bench_now_ns();
-            ktick.ns.push_back((t1 - t0) / BENCH_BATCH);
+            ktick.ns.push_back(time_ticks(p, c, sum));
         }
         for (Stats *x : {&kplan, &kplan1, &rplan, &ktick})
             x->done();
