@@ -237,12 +237,22 @@ class Drive:
         elif index == 0x6060:
             if SUPPORTED_MODE_BITS.get(value, 0) & self.od(0x6502) == 0:
                 raise SdoAbortedError(0x06090030)
-        elif index == 0x6040:
+        else:
+            self._act_on(index, value)
+
+    def _act_on(self, index, value):
+        """What the drive does when one of the objects it acts on is written
+        (by SDO or by RPDO): the controlword, the target position, the
+        velocity offset. False for any other object."""
+        if index == 0x6040:
             self._controlword(value)
         elif index == 0x607A:
             self.target = value
         elif index == 0x60B1:
             self.vel_offset = value
+        else:
+            return False
+        return True
 
     def _mappable(self, entry):
         index, sub, bits = entry >> 16, (entry >> 8) & 0xFF, entry & 0xFF
@@ -378,13 +388,7 @@ class Drive:
             obj = self.node.object_dictionary[index]
             var = obj[sub] if hasattr(obj, "subindices") and obj.subindices else obj
             value = var.decode_raw(raw)
-            if index == 0x6040:
-                self._controlword(value)
-            elif index == 0x607A:
-                self.target = value
-            elif index == 0x60B1:
-                self.vel_offset = value
-            else:
+            if not self._act_on(index, value):
                 self.node.data_store.setdefault(index, {})[sub] = bytes(raw)
                 self._cache = {}
 
