@@ -259,61 +259,79 @@ static kd_msg_status check_goal_id(kd_reason *r, const char *ty, int64_t id)
             return s_;                    \
     } while (0)
 
+/* What every goal opens with: its id and whether it queues or replaces. */
+static kd_msg_status check_goal_head(kd_reason *r, const char *ty, int64_t id, int mode, int queue,
+                                     int replace)
+{
+    CHECK(check_goal_id(r, ty, id));
+    return check_enum(r, ty, "mode", mode, queue, replace);
+}
+
+/* A Cartesian target: position (3) and orientation quaternion (4). */
+static kd_msg_status check_pose(kd_reason *r, const char *ty, const double position[3],
+                                const double orientation[4])
+{
+    CHECK(check_finite(r, ty, "position", position, 3));
+    return check_finite(r, ty, "orientation", orientation, 4);
+}
+
+/* A Cartesian move's own limits, linear then angular (0 meaning the
+ * configured ones). */
+static kd_msg_status check_cart_limits(kd_reason *r, const char *ty, double speed, double accel,
+                                       double angular_speed, double angular_accel)
+{
+    CHECK(check_nonneg(r, ty, "speed", speed));
+    CHECK(check_nonneg(r, ty, "accel", accel));
+    CHECK(check_nonneg(r, ty, "angular_speed", angular_speed));
+    return check_nonneg(r, ty, "angular_accel", angular_accel);
+}
+
+/* The fractions of the limits a goal moves at. */
+static kd_msg_status check_scales(kd_reason *r, const char *ty, double vel_scale, double acc_scale)
+{
+    CHECK(check_scale(r, ty, "vel_scale", vel_scale));
+    return check_scale(r, ty, "acc_scale", acc_scale);
+}
+
 static kd_msg_status validate_goal_joint(kd_reason *r, const kinctl_goal_joint_t *m)
 {
     const char *ty = "goal_joint_t";
-    CHECK(check_goal_id(r, ty, m->goal_id));
-    CHECK(check_enum(r, ty, "mode", m->mode, KINCTL_GOAL_JOINT_T_QUEUE,
-                     KINCTL_GOAL_JOINT_T_REPLACE));
+    CHECK(check_goal_head(r, ty, m->goal_id, m->mode, KINCTL_GOAL_JOINT_T_QUEUE,
+                          KINCTL_GOAL_JOINT_T_REPLACE));
     CHECK(check_count(r, ty, "n", m->n, KINCTL_GOAL_JOINT_T_MAX_JOINTS));
     CHECK(check_finite(r, ty, "q", m->q, KINCTL_GOAL_JOINT_T_MAX_JOINTS));
-    CHECK(check_scale(r, ty, "vel_scale", m->vel_scale));
-    CHECK(check_scale(r, ty, "acc_scale", m->acc_scale));
-    return KD_MSG_OK;
+    return check_scales(r, ty, m->vel_scale, m->acc_scale);
 }
 
 static kd_msg_status validate_goal_line(kd_reason *r, const kinctl_goal_line_t *m)
 {
     const char *ty = "goal_line_t";
-    CHECK(check_goal_id(r, ty, m->goal_id));
-    CHECK(check_enum(r, ty, "mode", m->mode, KINCTL_GOAL_LINE_T_QUEUE,
-                     KINCTL_GOAL_LINE_T_REPLACE));
+    CHECK(check_goal_head(r, ty, m->goal_id, m->mode, KINCTL_GOAL_LINE_T_QUEUE,
+                          KINCTL_GOAL_LINE_T_REPLACE));
     CHECK(check_enum(r, ty, "orientation_method", m->orientation_method,
                      KINCTL_GOAL_LINE_T_TWO_ROTATIONS, KINCTL_GOAL_LINE_T_SLERP));
-    CHECK(check_finite(r, ty, "position", m->position, 3));
-    CHECK(check_finite(r, ty, "orientation", m->orientation, 4));
-    CHECK(check_nonneg(r, ty, "speed", m->speed));
-    CHECK(check_nonneg(r, ty, "accel", m->accel));
-    CHECK(check_nonneg(r, ty, "angular_speed", m->angular_speed));
-    CHECK(check_nonneg(r, ty, "angular_accel", m->angular_accel));
-    CHECK(check_scale(r, ty, "vel_scale", m->vel_scale));
-    CHECK(check_scale(r, ty, "acc_scale", m->acc_scale));
-    return KD_MSG_OK;
+    CHECK(check_pose(r, ty, m->position, m->orientation));
+    CHECK(check_cart_limits(r, ty, m->speed, m->accel, m->angular_speed, m->angular_accel));
+    return check_scales(r, ty, m->vel_scale, m->acc_scale);
 }
 
 static kd_msg_status validate_goal_arc(kd_reason *r, const kinctl_goal_arc_t *m)
 {
     const char *ty = "goal_arc_t";
-    CHECK(check_goal_id(r, ty, m->goal_id));
-    CHECK(check_enum(r, ty, "mode", m->mode, KINCTL_GOAL_ARC_T_QUEUE, KINCTL_GOAL_ARC_T_REPLACE));
+    CHECK(check_goal_head(r, ty, m->goal_id, m->mode, KINCTL_GOAL_ARC_T_QUEUE,
+                          KINCTL_GOAL_ARC_T_REPLACE));
     CHECK(check_finite(r, ty, "via", m->via, 3));
-    CHECK(check_finite(r, ty, "position", m->position, 3));
-    CHECK(check_finite(r, ty, "orientation", m->orientation, 4));
-    CHECK(check_nonneg(r, ty, "speed", m->speed));
-    CHECK(check_nonneg(r, ty, "accel", m->accel));
-    CHECK(check_nonneg(r, ty, "angular_speed", m->angular_speed));
-    CHECK(check_nonneg(r, ty, "angular_accel", m->angular_accel));
-    CHECK(check_scale(r, ty, "vel_scale", m->vel_scale));
-    CHECK(check_scale(r, ty, "acc_scale", m->acc_scale));
-    return KD_MSG_OK;
+    CHECK(check_pose(r, ty, m->position, m->orientation));
+    CHECK(check_cart_limits(r, ty, m->speed, m->accel, m->angular_speed, m->angular_accel));
+    return check_scales(r, ty, m->vel_scale, m->acc_scale);
 }
 
 static kd_msg_status validate_goal_path(kd_reason *r, const kinctl_goal_path_t *m)
 {
     const char *ty = "goal_path_t";
     int i;
-    CHECK(check_goal_id(r, ty, m->goal_id));
-    CHECK(check_enum(r, ty, "mode", m->mode, KINCTL_GOAL_PATH_T_QUEUE, KINCTL_GOAL_PATH_T_REPLACE));
+    CHECK(check_goal_head(r, ty, m->goal_id, m->mode, KINCTL_GOAL_PATH_T_QUEUE,
+                          KINCTL_GOAL_PATH_T_REPLACE));
     CHECK(check_enum(r, ty, "space", m->space, KINCTL_GOAL_PATH_T_JOINT,
                      KINCTL_GOAL_PATH_T_CARTESIAN));
     CHECK(check_enum(r, ty, "method", m->method, KINCTL_GOAL_PATH_T_BLEND,
@@ -340,20 +358,16 @@ static kd_msg_status validate_goal_path(kd_reason *r, const kinctl_goal_path_t *
     CHECK(check_nonneg(r, ty, "blend_time", m->blend_time));
     CHECK(check_nonneg(r, ty, "speed", m->speed));
     CHECK(check_nonneg(r, ty, "accel", m->accel));
-    CHECK(check_scale(r, ty, "vel_scale", m->vel_scale));
-    CHECK(check_scale(r, ty, "acc_scale", m->acc_scale));
-    return KD_MSG_OK;
+    return check_scales(r, ty, m->vel_scale, m->acc_scale);
 }
 
 static kd_msg_status validate_goal_servo(kd_reason *r, const kinctl_goal_servo_t *m)
 {
     const char *ty = "goal_servo_t";
-    CHECK(check_goal_id(r, ty, m->goal_id));
-    CHECK(check_enum(r, ty, "mode", m->mode, KINCTL_GOAL_SERVO_T_QUEUE,
-                     KINCTL_GOAL_SERVO_T_REPLACE));
+    CHECK(check_goal_head(r, ty, m->goal_id, m->mode, KINCTL_GOAL_SERVO_T_QUEUE,
+                          KINCTL_GOAL_SERVO_T_REPLACE));
     CHECK(check_enum(r, ty, "kind", m->kind, KINCTL_GOAL_SERVO_T_POSE, KINCTL_GOAL_SERVO_T_TWIST));
-    CHECK(check_finite(r, ty, "position", m->position, 3));
-    CHECK(check_finite(r, ty, "orientation", m->orientation, 4));
+    CHECK(check_pose(r, ty, m->position, m->orientation));
     CHECK(check_finite(r, ty, "twist", m->twist, 6));
     if (m->timeout_us <= 0)
         return fail(r, KD_MSG_E_RANGE, "%s.timeout_us = %lld, must be > 0", ty,
@@ -375,8 +389,7 @@ static kd_msg_status validate_setpoint(kd_reason *r, const kinctl_setpoint_t *m)
     CHECK(check_finite(r, ty, "q", m->q, KINCTL_SETPOINT_T_MAX_JOINTS));
     CHECK(check_finite(r, ty, "qd", m->qd, KINCTL_SETPOINT_T_MAX_JOINTS));
     CHECK(check_finite(r, ty, "qdd", m->qdd, KINCTL_SETPOINT_T_MAX_JOINTS));
-    CHECK(check_finite(r, ty, "position", m->position, 3));
-    CHECK(check_finite(r, ty, "orientation", m->orientation, 4));
+    CHECK(check_pose(r, ty, m->position, m->orientation));
     CHECK(check_enum(r, ty, "input_command", m->input_command, 0, KINCTL_COMMAND_T_RESET));
     CHECK(check_enum(r, ty, "input_servo_stale", m->input_servo_stale, 0, 1));
     CHECK(check_enum(r, ty, "input_fault", m->input_fault, 0, 1));

@@ -434,6 +434,35 @@ static void state_done(kc_interp_cart_state *out, const kc_vec3 *p, const kc_qua
     out->phase = 4;
 }
 
+/* The speed law's part of a Cartesian state: u's state scaled by the law's
+ * own length D (path length, or the angle when there is no path). */
+static void state_law(kc_interp_cart_state *out, kc_real D, const kc_profile_state *u)
+{
+    out->s = D * u->p;
+    out->sd = D * u->v;
+    out->sdd = D * u->a;
+    out->u = u->p;
+    out->phase = u->phase;
+}
+
+/* A Cartesian plan's state for one state of a u profile (line_at, arc_at). */
+typedef kc_status (*cart_at_fn)(const void *plan, kc_status st, const kc_profile_state *u,
+                                kc_interp_cart_state *out);
+
+/* A Cartesian plan at tick k of the u profile prof, drawn by at. */
+static kc_status cart_eval(const void *plan, const kc_profile *prof, int64_t k, cart_at_fn at,
+                           kc_interp_cart_state *out)
+{
+    kc_profile_state u;
+    kc_status end;
+    if (plan == NULL || prof == NULL || out == NULL)
+        return KC_E_ARG;
+    kc_status st = u_state(prof, k, &u, &end);
+    if (st >= 0)
+        at(plan, end, &u, out);
+    return st;
+}
+
 /* ---- straight line ---- */
 
 /* Orientation of the line at fraction u, and the angular velocity per unit
@@ -554,9 +583,10 @@ kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const k
 }
 
 /* The line's state for one state of a u profile; end: the exact end. */
-static kc_status line_at(const kc_interp_line *plan, kc_status st, const kc_profile_state *u_state,
+static kc_status line_at(const void *line, kc_status st, const kc_profile_state *u_state,
                          kc_interp_cart_state *out)
 {
+    const kc_interp_line *plan = line;
     const kc_profile_state u = *u_state;
     /* The speed law's own variable: path length, or the angle when there
      * is no path. */
@@ -573,11 +603,7 @@ static kc_status line_at(const kc_interp_line *plan, kc_status st, const kc_prof
     line_rotation(plan, u.p, &out->q, &wl);
     kc_vec3_scale(&wl, u.v, &wl);
     kc_mat3_mul_vec(&plan->R1, &wl, &out->w);
-    out->s = D * u.p;
-    out->sd = D * u.v;
-    out->sdd = D * u.a;
-    out->u = u.p;
-    out->phase = u.phase;
+    state_law(out, D, &u);
     return KC_OK;
 }
 
@@ -589,14 +615,7 @@ kc_status kc_interp_line_eval(const kc_interp_line *plan, int64_t k, kc_interp_c
 kc_status kc_interp_line_eval_profile(const kc_interp_line *plan, const kc_profile *prof, int64_t k,
                                       kc_interp_cart_state *out)
 {
-    kc_profile_state u;
-    kc_status end;
-    if (plan == NULL || prof == NULL || out == NULL)
-        return KC_E_ARG;
-    kc_status st = u_state(prof, k, &u, &end);
-    if (st >= 0)
-        line_at(plan, end, &u, out);
-    return st;
+    return cart_eval(plan, prof, k, line_at, out);
 }
 
 /* ---- arc ---- */
@@ -669,9 +688,10 @@ kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_
 }
 
 /* The arc's state for one state of a u profile. */
-static kc_status arc_at(const kc_interp_arc *plan, kc_status st, const kc_profile_state *u_state,
+static kc_status arc_at(const void *arc, kc_status st, const kc_profile_state *u_state,
                         kc_interp_cart_state *out)
 {
+    const kc_interp_arc *plan = arc;
     const kc_profile_state u = *u_state;
     if (st == KC_DONE) {
         state_done(out, &plan->p3, &plan->q3, plan->length);
@@ -692,11 +712,7 @@ static kc_status arc_at(const kc_interp_arc *plan, kc_status st, const kc_profil
     }
     kc_quat turn = {ch, sh * n[0], sh * n[1], sh * n[2]};
     kc_quat_mul(&turn, &plan->q1, &out->q);
-    out->s = plan->length * u.p;
-    out->sd = plan->length * u.v;
-    out->sdd = plan->length * u.a;
-    out->u = u.p;
-    out->phase = u.phase;
+    state_law(out, plan->length, &u);
     return KC_OK;
 }
 
@@ -708,12 +724,5 @@ kc_status kc_interp_arc_eval(const kc_interp_arc *plan, int64_t k, kc_interp_car
 kc_status kc_interp_arc_eval_profile(const kc_interp_arc *plan, const kc_profile *prof, int64_t k,
                                      kc_interp_cart_state *out)
 {
-    kc_profile_state u;
-    kc_status end;
-    if (plan == NULL || prof == NULL || out == NULL)
-        return KC_E_ARG;
-    kc_status st = u_state(prof, k, &u, &end);
-    if (st >= 0)
-        arc_at(plan, end, &u, out);
-    return st;
+    return cart_eval(plan, prof, k, arc_at, out);
 }

@@ -30,6 +30,26 @@ int64_t kc_profile_ticks(kc_real T, kc_real dt)
     return n > KC_PROFILE_MAX_TICKS ? -1 : n;
 }
 
+/* profile_internal.h */
+kc_status kc_profile_tick(int64_t k, int64_t ticks, kc_real dt, kc_real *t)
+{
+    if (k < 0)
+        return KC_E_ARG;
+    if (k >= ticks)
+        return KC_DONE;
+    /* k < ticks <= 2^24: exact in both precisions, and k dt < T. */
+    *t = (kc_real)k * dt;
+    return KC_OK;
+}
+
+/* profile_internal.h */
+kc_status kc_profile_time(kc_real t, kc_real T)
+{
+    if (!(t >= KC_R(0.0)))
+        return KC_E_ARG;
+    return t >= T ? KC_DONE : KC_OK;
+}
+
 /* Fills the phases from the approach side s (+-1), the start speed v' = s v0
  * along it, the approach speed vc' > 0, phase 1's acceleration a1' (+-amax
  * along s) and the cruise time. */
@@ -235,27 +255,28 @@ static void state_done(const kc_profile *prof, kc_profile_state *out)
     out->phase = 4;
 }
 
+/* The state the tick rule's verdict st names: the end, or the law at t. */
+static kc_status state_for(const kc_profile *prof, kc_status st, kc_real t, kc_profile_state *out)
+{
+    if (st == KC_DONE)
+        state_done(prof, out);
+    else if (st == KC_OK)
+        state_at(prof, t, out);
+    return st;
+}
+
 kc_status kc_profile_eval(const kc_profile *prof, int64_t k, kc_profile_state *out)
 {
-    if (prof == NULL || out == NULL || k < 0)
+    kc_real t = KC_R(0.0);
+    if (prof == NULL || out == NULL)
         return KC_E_ARG;
-    if (k >= prof->ticks) {
-        state_done(prof, out);
-        return KC_DONE;
-    }
-    /* k < ticks <= 2^24: exact in both precisions, and k dt < T. */
-    state_at(prof, (kc_real)k * prof->dt, out);
-    return KC_OK;
+    kc_status st = kc_profile_tick(k, prof->ticks, prof->dt, &t);
+    return state_for(prof, st, t, out);
 }
 
 kc_status kc_profile_eval_time(const kc_profile *prof, kc_real t, kc_profile_state *out)
 {
-    if (prof == NULL || out == NULL || !(t >= KC_R(0.0)))
+    if (prof == NULL || out == NULL)
         return KC_E_ARG;
-    if (t >= prof->T) {
-        state_done(prof, out);
-        return KC_DONE;
-    }
-    state_at(prof, t, out);
-    return KC_OK;
+    return state_for(prof, kc_profile_time(t, prof->T), t, out);
 }

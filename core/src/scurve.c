@@ -632,27 +632,28 @@ static void state_done(const kc_scurve *prof, kc_scurve_state *out)
     out->phase = 4;
 }
 
+/* The state the tick rule's verdict st names: the end, or the law at t. */
+static kc_status state_for(const kc_scurve *prof, kc_status st, kc_real t, kc_scurve_state *out)
+{
+    if (st == KC_DONE)
+        state_done(prof, out);
+    else if (st == KC_OK)
+        state_at(prof, t, out);
+    return st;
+}
+
 kc_status kc_scurve_eval(const kc_scurve *prof, int64_t k, kc_scurve_state *out)
 {
-    if (prof == NULL || out == NULL || k < 0)
+    kc_real t = KC_R(0.0);
+    if (prof == NULL || out == NULL)
         return KC_E_ARG;
-    if (k >= prof->ticks) {
-        state_done(prof, out);
-        return KC_DONE;
-    }
-    /* k < ticks <= 2^24: exact in both precisions, and k dt < T. */
-    state_at(prof, (kc_real)k * prof->dt, out);
-    return KC_OK;
+    kc_status st = kc_profile_tick(k, prof->ticks, prof->dt, &t);
+    return state_for(prof, st, t, out);
 }
 
 kc_status kc_scurve_eval_time(const kc_scurve *prof, kc_real t, kc_scurve_state *out)
 {
-    if (prof == NULL || out == NULL || !(t >= KC_R(0.0)))
+    if (prof == NULL || out == NULL)
         return KC_E_ARG;
-    if (t >= prof->T) {
-        state_done(prof, out);
-        return KC_DONE;
-    }
-    state_at(prof, t, out);
-    return KC_OK;
+    return state_for(prof, kc_profile_time(t, prof->T), t, out);
 }

@@ -12,7 +12,11 @@
 # whose source a script may fetch first (ruckig_src, or ruckig_note saying
 # why not).
 #
-# Expects root (the repository), build and venv; sets pin_note, pin_prefix.
+# Expects root (the repository); build (default $BUILD_DIR, else
+# build-bench) and venv (default .venv) unless the script set them; sets
+# pin_note, pin_prefix.
+build=${build:-${BUILD_DIR:-$root/build-bench}}
+venv=${venv:-$root/.venv}
 ruckig_src=${ruckig_src:-}
 ruckig_note=${ruckig_note:-}
 

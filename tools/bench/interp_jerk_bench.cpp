@@ -94,6 +94,38 @@ struct Walk {
     }
 };
 
+// Walks every tick of a joint move p of duration T within lim; returns the
+// violations over all its joints.
+template <size_t N> long long walk_move(const kc_interp_joint &p, const Limits &lim, double T)
+{
+    Walk w[N];
+    kc_interp_joint_state s;
+    for (long long t = 0; t <= p.ticks; t++) {
+        kc_interp_joint_eval(&p, t, &s);
+        for (size_t j = 0; j < N; j++)
+            w[j].step(t, s.qd[j], s.qdd[j], lim.V[j], lim.A[j], lim.J[j], T);
+    }
+    long long bad = 0;
+    for (size_t j = 0; j < N; j++)
+        bad += w[j].bad;
+    return bad;
+}
+
+// Times kc_interp_joint_eval on a batch of random ticks of p (c.frac);
+// returns the time per call, adding the positions to sum so that the calls
+// stay.
+double time_ticks(const kc_interp_joint &p, const Case &c, double &sum)
+{
+    kc_interp_joint_state es;
+    double t0 = bench_now_ns();
+    for (int i = 0; i < BENCH_BATCH; i++) {
+        kc_interp_joint_eval(&p, bench_interp_tick(c.frac[i], p.ticks), &es);
+        sum += es.q[0];
+    }
+    double t1 = bench_now_ns();
+    return (t1 - t0) / BENCH_BATCH;
+}
+
 struct Row {
     std::string what;
     Stats st;
@@ -128,6 +160,20 @@ template <size_t N> struct ModelBench {
             in.max_jerk[j] = lim.J[j];
         }
         in.synchronization = sync;
+        return in;
+    }
+
+    // Ruckig's input for joint j alone: from q0 moving at v0, a0 to rest at q1.
+    ruckig::InputParameter<1> input1(double q0, double v0, double a0, double q1, size_t j) const
+    {
+        ruckig::InputParameter<1> in;
+        in.current_position[0] = q0;
+        in.current_velocity[0] = v0;
+        in.current_acceleration[0] = a0;
+        in.target_position[0] = q1;
+        in.max_velocity[0] = lim.V[j];
+        in.max_acceleration[0] = lim.A[j];
+        in.max_jerk[0] = lim.J[j];
         return in;
     }
 
@@ -209,25 +255,10 @@ template <size_t N> struct ModelBench {
             mean_phase += Tk / Tp - 1.0;
             off += std::fabs(Tk - Tp) > 1e-3 * Tp + DT;
             // Every tick within every joint's limits.
-            Walk w[N];
-            kc_interp_joint_state s;
-            for (long long t = 0; t <= p.ticks; t++) {
-                kc_interp_joint_eval(&p, t, &s);
-                for (size_t j = 0; j < N; j++)
-                    w[j].step(t, s.qd[j], s.qdd[j], lim.V[j], lim.A[j], lim.J[j], Tk);
-            }
-            for (size_t j = 0; j < N; j++)
-                bad += w[j].bad;
+            bad += walk_move<N>(p, lim, Tk);
             // Evaluation: a batch of random ticks on this plan, once the
             // ring of plans is full (every plan in it is fresh).
-            kc_interp_joint_state es;
-            t0 = bench_now_ns();
-            for (int i = 0; i < BENCH_BATCH; i++) {
-                kc_interp_joint_eval(&p, bench_interp_tick(c.frac[i], p.ticks), &es);
-                sum += es.q[0];
-            }
-            t1 = bench_now_ns();
-            ktick.ns.push_back((t1 - t0) / BENCH_BATCH);
+            ktick.ns.push_back(time_ticks(p, c, sum));
             std::array<double, N> pos, vel, acc;
             t0 = bench_now_ns();
             for (int i = 0; i < BENCH_BATCH; i++) {
@@ -304,39 +335,17 @@ template <size_t N> struct ModelBench {
             for (size_t j = 0; j < N; j++) {
                 T1 = std::max(T1, (double)prof[j].T);
                 gap += prof[j].gap;
-                ruckig::InputParameter<1> in1;
-                in1.current_position[0] = c.q0[j];
-                in1.current_velocity[0] = c.v0[j];
-                in1.current_acceleration[0] = c.a0[j];
-                in1.target_position[0] = c.q1[j];
-                in1.max_velocity[0] = lim.V[j];
-                in1.max_acceleration[0] = lim.A[j];
-                in1.max_jerk[0] = lim.J[j];
+                auto in1 = input1(c.q0[j], c.v0[j], c.a0[j], c.q1[j], j);
                 if (one.calculate(in1, t1d) == ruckig::Result::Working)
                     ratio.push_back((double)prof[j].T / t1d.get_duration());
             }
-            Walk w[N];
-            kc_interp_joint_state s;
-            for (long long t = 0; t <= p.ticks; t++) {
-                kc_interp_joint_eval(&p, t, &s);
-                for (size_t j = 0; j < N; j++)
-                    w[j].step(t, s.qd[j], s.qdd[j], lim.V[j], lim.A[j], lim.J[j], Tk);
-            }
-            for (size_t j = 0; j < N; j++)
-                bad += w[j].bad;
+            bad += walk_move<N>(p, lim, Tk);
             worst_t = std::max(worst_t, Tk / Tt - 1.0);
             best_t = std::min(best_t, Tk / Tt - 1.0);
             worst_p = std::max(worst_p, Tk / Tp - 1.0);
             worst_1 = std::max(worst_1, Tk / T1 - 1.0);
             off += std::fabs(Tk - Tt) > 1e-3 * Tt + DT;
-            kc_interp_joint_state es;
-            t0 = bench_now_ns();
-            for (int i = 0; i < BENCH_BATCH; i++) {
-                kc_interp_joint_eval(&p, bench_interp_tick(c.frac[i], p.ticks), &es);
-                sum += es.q[0];
-            }
-            t1 = bench_now_ns();
-            ktick.ns.push_back((t1 - t0) / BENCH_BATCH);
+            ktick.ns.push_back(time_ticks(p, c, sum));
         }
         for (Stats *x : {&kplan, &kplan1, &rplan, &ktick})
             x->done();
@@ -384,14 +393,7 @@ template <size_t N> struct ModelBench {
                     continue;
                 }
                 gap += prof.gap;
-                ruckig::InputParameter<1> in1;
-                in1.current_position[0] = c.q0[j];
-                in1.current_velocity[0] = c.v0x[j];
-                in1.current_acceleration[0] = c.a0x[j];
-                in1.target_position[0] = c.q1[j];
-                in1.max_velocity[0] = lim.V[j];
-                in1.max_acceleration[0] = lim.A[j];
-                in1.max_jerk[0] = lim.J[j];
+                auto in1 = input1(c.q0[j], c.v0x[j], c.a0x[j], c.q1[j], j);
                 if (one.calculate(in1, t1d) == ruckig::Result::Working)
                     ratio.push_back((double)prof.T / t1d.get_duration());
                 Walk w;

@@ -12,9 +12,7 @@
 set -euo pipefail
 
 root=$(cd "$(dirname "$0")/../.." && pwd)
-build=${BUILD_DIR:-$root/build-bench}
-venv=$root/.venv
-. "$root/tools/bench/bench_setup.sh"
+. "$root/tools/bench/bench_setup.sh" # build, venv
 
 bench_setup ik_bench
 

@@ -22,9 +22,7 @@ only=${1:-}
 [[ -z $only || $only == jerk ]] || { echo "usage: $0 [jerk]" >&2; exit 2; }
 
 root=$(cd "$(dirname "$0")/../.." && pwd)
-build=${BUILD_DIR:-$root/build-bench}
-venv=$root/.venv
-. "$root/tools/bench/bench_setup.sh"
+. "$root/tools/bench/bench_setup.sh" # build, venv
 
 # ---- Ruckig's C++ source (optional) ----
 mkdir -p "$build/ruckig"

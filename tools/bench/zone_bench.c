@@ -20,34 +20,15 @@
 #include <stdlib.h>
 #include <time.h>
 
+#include "bench_common.h"
 #include "kinctl/kinctl.h"
 
 #define CONFIGS 1024
 #define BATCH 64 /* calls = batches x BATCH */
 #define WARMUP 100
 
-static double now_ns(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec * 1e9 + (double)ts.tv_nsec;
-}
-
-static unsigned long long rng_state = 20240601ull;
-static double uniform(double lo, double hi)
-{
-    unsigned long long z = (rng_state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    z ^= z >> 31;
-    return lo + (hi - lo) * (double)(z >> 11) * (1.0 / 9007199254740992.0);
-}
-
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
+static uint64_t rng_state = BENCH_SEED;
+static double uniform(double lo, double hi) { return lo + (hi - lo) * bench_uniform01(&rng_state); }
 
 static void add(kc_zone_set *set, int kind, double x, double y, double z, double d0, double d1, double d2)
 {
@@ -82,20 +63,6 @@ static void ten_zones(kc_zone_set *set)
     add(set, KC_SHAPE_SPHERE, 0.2, 0.6, 1.1, 0.12, 0, 0);
     add(set, KC_SHAPE_CYLINDER, -0.6, -0.2, 0.6, 0.05, 0.6, 0);
     add(set, KC_SHAPE_CYLINDER, 0.6, -0.5, 0.4, 0.04, 0.4, 0);
-}
-
-typedef struct stats {
-    double median, p99, max;
-} stats;
-
-static stats summarize(double *ns, int n)
-{
-    stats s;
-    qsort(ns, (size_t)n, sizeof ns[0], cmp);
-    s.median = ns[n / 2];
-    s.p99 = ns[(99 * n + 99) / 100 - 1];
-    s.max = ns[n - 1];
-    return s;
 }
 
 int main(int argc, char **argv)
@@ -133,7 +100,7 @@ int main(int argc, char **argv)
             double sink = 0;
             for (int c = -WARMUP * BATCH; c < calls; c++) {
                 int k = (c + WARMUP * BATCH) % CONFIGS;
-                double t0 = now_ns();
+                double t0 = bench_now_ns();
                 if (what == 0) {
                     kc_zone_hit hit;
                     kc_zone_check(&chain, &set, q[k], NULL, &hit);
@@ -143,30 +110,30 @@ int main(int argc, char **argv)
                     kc_fk_frames(&chain, q[k], frames, NULL);
                     sink += (double)frames[0].t.v[0];
                 }
-                double t1 = now_ns();
+                double t1 = bench_now_ns();
                 if (c >= 0)
                     ns[c] = t1 - t0;
             }
             checksum += sink; /* keeps the calls from being optimised away */
-            stats s = summarize(ns, calls);
+            bench_stats s = bench_summarize(ns, calls);
             if (what == 0) {
                 static double best[CONFIGS];
                 for (int k = 0; k < CONFIGS; k++) {
                     best[k] = 1e30;
                     for (int r = 0; r < 30; r++) {
-                        double t0 = now_ns();
+                        double t0 = bench_now_ns();
                         kc_zone_check(&chain, &set, q[k], NULL, NULL);
-                        double t1 = now_ns();
+                        double t1 = bench_now_ns();
                         if (t1 - t0 < best[k])
                             best[k] = t1 - t0;
                     }
                 }
-                stats b = summarize(best, CONFIGS);
+                bench_stats b = bench_summarize(best, CONFIGS);
                 printf("%-8s %-7d %-11s %10.0f %10.0f %10.0f %11.2f%%\n", kc_model_name(models[m]), chain.n_volumes,
-                       "best_of_30", b.median, b.p99, b.max, b.p99 / 1e6 * 100.0);
+                       "best_of_30", b.median_ns, b.p99_ns, b.max_ns, b.p99_ns / 1e6 * 100.0);
             }
             printf("%-8s %-7d %-11s %10.0f %10.0f %10.0f %11.2f%%\n", kc_model_name(models[m]), chain.n_volumes,
-                   what == 0 ? "zone_check" : "fk_frames", s.median, s.p99, s.max, s.p99 / 1e6 * 100.0);
+                   what == 0 ? "zone_check" : "fk_frames", s.median_ns, s.p99_ns, s.max_ns, s.p99_ns / 1e6 * 100.0);
         }
         printf("%-8s configurations violating the margin: %d of %d\n", kc_model_name(models[m]), violating, CONFIGS);
     }

@@ -267,6 +267,17 @@ int req_real(calc_ctx *ctx, const json_t *req, const char *key, kc_real *out)
     return real_of(ctx, v, key, out);
 }
 
+int req_positive(calc_ctx *ctx, const json_t *req, const char *key, int required, const char *unit, kc_real *out)
+{
+    if (!required && json_object_get(req, key) == NULL)
+        return 0;
+    if (req_real(ctx, req, key, out) != 0)
+        return -1;
+    if (!(*out > KC_R(0.0)))
+        return calc_fail(ctx, "%s must be > 0 %s, not %g", key, unit, (double)*out);
+    return 0;
+}
+
 int req_reals(calc_ctx *ctx, const json_t *v, const char *what, kc_real *out, int max, int *n)
 {
     if (v == NULL)

@@ -124,6 +124,8 @@ int calc_check_keys(calc_ctx *ctx, const json_t *req, const calc_cmd *cmd);
 int req_string(calc_ctx *ctx, const json_t *req, const char *key, int required, const char **out);
 int req_bool(calc_ctx *ctx, const json_t *req, const char *key, int *out);
 int req_real(calc_ctx *ctx, const json_t *req, const char *key, kc_real *out);
+/* A finite number > 0 (unit names it in the message). */
+int req_positive(calc_ctx *ctx, const json_t *req, const char *key, int required, const char *unit, kc_real *out);
 /* An array of finite numbers; *n gets the count (at most max). */
 int req_reals(calc_ctx *ctx, const json_t *v, const char *what, kc_real *out, int max, int *n);
 /* The model: model (a built-in name) with optional param, or model_file. */

@@ -192,19 +192,7 @@ const calc_opt interp_opts[] = {
 
 /* ---- request getters ---- */
 
-/* A positive finite number: required, or optional (absent leaves *out). */
-static int positive(calc_ctx *ctx, const json_t *req, const char *key, int required, const char *unit, kc_real *out)
-{
-    if (!required && json_object_get(req, key) == NULL)
-        return 0;
-    if (req_real(ctx, req, key, out) != 0)
-        return -1;
-    if (!(*out > KC_R(0.0)))
-        return calc_fail(ctx, "%s must be > 0 %s, not %g", key, unit, (double)*out);
-    return 0;
-}
-
-static int dt_of(calc_ctx *ctx, const json_t *req, kc_real *dt) { return positive(ctx, req, "dt", 1, "s", dt); }
+static int dt_of(calc_ctx *ctx, const json_t *req, kc_real *dt) { return req_positive(ctx, req, "dt", 1, "s", dt); }
 
 /* A pose from 7 numbers x,y,z,qw,qx,qy,qz (the quaternion normalised) or 16
  * (row-major 4x4); *q gets the quaternion as given (normalised), so that
@@ -252,9 +240,9 @@ static int point_of(calc_ctx *ctx, const json_t *req, const char *key, kc_vec3 *
 static int cart_limits_of(calc_ctx *ctx, const json_t *req, kc_interp_limits *lim)
 {
     *lim = kc_interp_limits_default();
-    if (positive(ctx, req, "v", 1, "m/s", &lim->v) != 0 || positive(ctx, req, "a", 1, "m/s^2", &lim->a) != 0 ||
-        positive(ctx, req, "omega", 0, "rad/s", &lim->w) != 0 ||
-        positive(ctx, req, "epsilon", 0, "rad/s^2", &lim->dw) != 0)
+    if (req_positive(ctx, req, "v", 1, "m/s", &lim->v) != 0 || req_positive(ctx, req, "a", 1, "m/s^2", &lim->a) != 0 ||
+        req_positive(ctx, req, "omega", 0, "rad/s", &lim->w) != 0 ||
+        req_positive(ctx, req, "epsilon", 0, "rad/s^2", &lim->dw) != 0)
         return -1;
     return 0;
 }
@@ -428,11 +416,17 @@ static int run_interp_joint(const json_t *req, calc_ctx *ctx)
 
 static const char *const cart_names[11] = {"t", "x", "y", "z", "qw", "qx", "qy", "qz", "s", "sd", "sdd"};
 
-/* Rows of a Cartesian segment; quaternions signed like the start the user
- * gave (user_q), the sign kinctl keeps continuous along the segment. */
-static void cart_rows(calc_ctx *ctx, const void *plan, kc_status (*eval)(const void *, int64_t, kc_interp_cart_state *),
-                      const kc_profile *prof, const kc_quat *plan_q1, const kc_quat *user_q)
+/* Rows of a Cartesian segment (what: its name) once its planning returned
+ * st; quaternions signed like the start the user gave (user_q), the sign
+ * kinctl keeps continuous along the segment. */
+static int cart_rows(calc_ctx *ctx, const char *what, kc_status st, const void *plan,
+                     kc_status (*eval)(const void *, int64_t, kc_interp_cart_state *), const kc_profile *prof,
+                     const kc_quat *plan_q1, const kc_quat *user_q)
 {
+    if (st != KC_OK)
+        return plan_failed(ctx, what, st);
+    if (too_many_rows(ctx, prof) != 0)
+        return -1;
     kc_real sign = plan_q1->w * user_q->w + plan_q1->x * user_q->x + plan_q1->y * user_q->y + plan_q1->z * user_q->z <
                            KC_R(0.0)
                        ? KC_R(-1.0)
@@ -455,6 +449,7 @@ static void cart_rows(calc_ctx *ctx, const void *plan, kc_status (*eval)(const v
         calc_rows_add(ctx, 11, row);
     }
     calc_rows_end(ctx);
+    return 0;
 }
 
 static kc_status line_eval(const void *p, int64_t k, kc_interp_cart_state *out)
@@ -491,12 +486,7 @@ static int run_interp_line(const json_t *req, calc_ctx *ctx)
         !kc_isfinite(lim.dw))
         return calc_fail(ctx, "a pure rotation (from and to at the same position) runs its speed law on the angle: "
                               "give --omega and --epsilon");
-    if (st != KC_OK)
-        return plan_failed(ctx, "line", st);
-    if (too_many_rows(ctx, &plan.prof) != 0)
-        return -1;
-    cart_rows(ctx, &plan, line_eval, &plan.prof, &plan.q1, &qf);
-    return 0;
+    return cart_rows(ctx, "line", st, &plan, line_eval, &plan.prof, &plan.q1, &qf);
 }
 
 static int run_interp_arc(const json_t *req, calc_ctx *ctx)
@@ -514,12 +504,7 @@ static int run_interp_arc(const json_t *req, calc_ctx *ctx)
     if (st == KC_E_SINGULAR)
         return calc_fail(ctx, "the start, via and end points are collinear or two of them coincide: no unique "
                               "circle passes through them");
-    if (st != KC_OK)
-        return plan_failed(ctx, "arc", st);
-    if (too_many_rows(ctx, &plan.prof) != 0)
-        return -1;
-    cart_rows(ctx, &plan, arc_eval, &plan.prof, &plan.q1, &qf);
-    return 0;
+    return cart_rows(ctx, "arc", st, &plan, arc_eval, &plan.prof, &plan.q1, &qf);
 }
 
 /* ---- path (interp_path.c) ---- */

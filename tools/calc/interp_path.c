@@ -65,14 +65,18 @@ static int points_of(calc_ctx *ctx, const json_t *req, const char *key, int coun
     return 0;
 }
 
-static int positive_real(calc_ctx *ctx, const json_t *req, const char *key, const char *unit, kc_real *out)
+/* Knot derivatives under key: one row of vw numbers for each of the R.n
+ * points, into d. */
+static int derivs_of(calc_ctx *ctx, const json_t *req, const char *key, int vw,
+                     kc_real d[KC_PATH_MAX_KNOTS][KC_MAX_JOINTS])
 {
-    if (json_object_get(req, key) == NULL)
-        return 0;
-    if (req_real(ctx, req, key, out) != 0)
+    static kc_real tmp[KC_PATH_MAX_KNOTS][KC_MAX_JOINTS > 7 ? KC_MAX_JOINTS : 7];
+    int w = vw;
+    if (points_of(ctx, req, key, R.n, &w, KC_MAX_JOINTS, tmp, NULL) != 0)
         return -1;
-    if (!(*out > KC_R(0.0)))
-        return calc_fail(ctx, "%s must be > 0 %s, not %g", key, unit, (double)*out);
+    for (int i = 0; i < R.n; i++)
+        for (int j = 0; j < vw; j++)
+            d[i][j] = tmp[i][j];
     return 0;
 }
 
@@ -165,32 +169,22 @@ static int read_request(calc_ctx *ctx, const json_t *req)
     if (json_object_get(req, "velocities") != NULL) {
         if (R.method != KC_PATH_SPLINE && R.method != KC_PATH_QUINTIC)
             return calc_fail(ctx, "--velocities is for spline and quintic (%s computes its own)", methods[method]);
-        static kc_real tmp[KC_PATH_MAX_KNOTS][KC_MAX_JOINTS > 7 ? KC_MAX_JOINTS : 7];
-        int w = vw;
-        if (points_of(ctx, req, "velocities", R.n, &w, KC_MAX_JOINTS, tmp, NULL) != 0)
+        if (derivs_of(ctx, req, "velocities", vw, R.v) != 0)
             return -1;
-        for (int i = 0; i < R.n; i++)
-            for (int j = 0; j < vw; j++)
-                R.v[i][j] = tmp[i][j];
         R.have_v = 1;
     }
     if (json_object_get(req, "accelerations") != NULL) {
         if (R.method != KC_PATH_QUINTIC)
             return calc_fail(ctx, "--accelerations is for quintic only");
-        static kc_real tmp[KC_PATH_MAX_KNOTS][KC_MAX_JOINTS > 7 ? KC_MAX_JOINTS : 7];
-        int w = vw;
-        if (points_of(ctx, req, "accelerations", R.n, &w, KC_MAX_JOINTS, tmp, NULL) != 0)
+        if (derivs_of(ctx, req, "accelerations", vw, R.a) != 0)
             return -1;
-        for (int i = 0; i < R.n; i++)
-            for (int j = 0; j < vw; j++)
-                R.a[i][j] = tmp[i][j];
         R.have_a = 1;
     }
     /* Blend time and limits. */
     if (json_object_get(req, "tacc") != NULL) {
         if (R.method != KC_PATH_BLEND)
             return calc_fail(ctx, "--tacc is the blend time of the blend method");
-        if (positive_real(ctx, req, "tacc", "s", &R.tacc) != 0)
+        if (req_positive(ctx, req, "tacc", 0, "s", &R.tacc) != 0)
             return -1;
     }
     if (limits_of(ctx, req, "v", R.cartesian ? 1 : R.dim, R.vmax, &R.n_vmax) != 0 ||
@@ -199,8 +193,8 @@ static int read_request(calc_ctx *ctx, const json_t *req)
     if (json_object_get(req, "omega") != NULL || json_object_get(req, "epsilon") != NULL) {
         if (!R.cartesian)
             return calc_fail(ctx, "--omega and --epsilon are angular limits of a cartesian path");
-        if (positive_real(ctx, req, "omega", "rad/s", &R.omega) != 0 ||
-            positive_real(ctx, req, "epsilon", "rad/s^2", &R.epsilon) != 0)
+        if (req_positive(ctx, req, "omega", 0, "rad/s", &R.omega) != 0 ||
+            req_positive(ctx, req, "epsilon", 0, "rad/s^2", &R.epsilon) != 0)
             return -1;
         if (!(R.omega > KC_R(0.0)) || !(R.epsilon > KC_R(0.0)))
             return calc_fail(ctx, "give both --omega and --epsilon (or neither)");

@@ -206,15 +206,20 @@ static json_t *conv_axis_number(const char *arg, const char *name, char *err, si
 
 static json_t *wrap(const char *op, json_t *v) { return v != NULL ? json_pack("{s:o}", op, v) : NULL; }
 
-static json_t *conv_translate(const char *arg, char *err, size_t errlen)
+/* Three numbers (form names them in the message: "X,Y,Z"). */
+static json_t *conv_vec3(const char *arg, const char *form, char *err, size_t errlen)
 {
     json_t *v = calc_conv_reals(arg, err, errlen);
     if (v != NULL && json_array_size(v) != 3) {
-        snprintf(err, errlen, "expected DX,DY,DZ, not \"%s\"", arg);
+        snprintf(err, errlen, "expected %s, not \"%s\"", form, arg);
         json_decref(v);
         return NULL;
     }
-    return wrap("translate", v);
+    return v;
+}
+static json_t *conv_translate(const char *arg, char *err, size_t errlen)
+{
+    return wrap("translate", conv_vec3(arg, "DX,DY,DZ", err, errlen));
 }
 static json_t *conv_rotate(const char *arg, char *err, size_t errlen)
 {
@@ -230,13 +235,7 @@ static json_t *conv_perspective(const char *arg, char *err, size_t errlen)
 }
 static json_t *conv_point(const char *arg, char *err, size_t errlen)
 {
-    json_t *v = calc_conv_reals(arg, err, errlen);
-    if (v != NULL && json_array_size(v) != 3) {
-        snprintf(err, errlen, "expected X,Y,Z, not \"%s\"", arg);
-        json_decref(v);
-        return NULL;
-    }
-    return v;
+    return conv_vec3(arg, "X,Y,Z", err, errlen);
 }
 
 static const calc_opt transform_opts[] = {

@@ -7,6 +7,13 @@ register() adds them to the CLI; each runs its module's run(args).
 from kinctl.argtypes import add_command, nonneg, positive
 
 
+def add_drive_bus(p):
+    """The options every drive simulator (drivesim, drive402) takes: the
+    interface and the drives' node ids."""
+    p.add_argument("--interface", default="vcan0", help="SocketCAN interface (default vcan0)")
+    p.add_argument("--nodes", default="1-6", help="drive node ids: 1-6 or 1,2,5 (default 1-6)")
+
+
 def register(sub, parents):
     ds = add_command(sub, "drivesim", "simulate CiA 402 drives (cyclic synchronous position) on a CAN interface: "
                                       "they follow kinctld's RPDOs at each SYNC and answer with TPDOs and "
@@ -14,8 +21,7 @@ def register(sub, parents):
                                       "vmax N C, quit",
                      "kinctl drivesim --interface vcan0 --nodes 1-6 --period-ms 1 --lag 0.02\n"
                      "  (then type: fault 3, clear 3, silent 2, talk 2, lag 1 0.5, quit)", parents)
-    ds.add_argument("--interface", default="vcan0", help="SocketCAN interface (default vcan0)")
-    ds.add_argument("--nodes", default="1-6", help="drive node ids: 1-6 or 1,2,5 (default 1-6)")
+    add_drive_bus(ds)
     ds.add_argument("--period-ms", type=positive, default=1.0, metavar="MS",
                     help="bus cycle: kinctld's period times sync_every (default 1 ms)")
     ds.add_argument("--heartbeat-ms", type=nonneg, default=100.0, metavar="MS",

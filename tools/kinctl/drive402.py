@@ -54,7 +54,6 @@ answered "ok <command>" once applied, or "error <why>":
 """
 import os
 import struct
-import sys
 import threading
 import time
 
@@ -238,12 +237,22 @@ class Drive:
         elif index == 0x6060:
             if SUPPORTED_MODE_BITS.get(value, 0) & self.od(0x6502) == 0:
                 raise SdoAbortedError(0x06090030)
-        elif index == 0x6040:
+        else:
+            self._act_on(index, value)
+
+    def _act_on(self, index, value):
+        """What the drive does when one of the objects it acts on is written
+        (by SDO or by RPDO): the controlword, the target position, the
+        velocity offset. False for any other object."""
+        if index == 0x6040:
             self._controlword(value)
         elif index == 0x607A:
             self.target = value
         elif index == 0x60B1:
             self.vel_offset = value
+        else:
+            return False
+        return True
 
     def _mappable(self, entry):
         index, sub, bits = entry >> 16, (entry >> 8) & 0xFF, entry & 0xFF
@@ -379,13 +388,7 @@ class Drive:
             obj = self.node.object_dictionary[index]
             var = obj[sub] if hasattr(obj, "subindices") and obj.subindices else obj
             value = var.decode_raw(raw)
-            if index == 0x6040:
-                self._controlword(value)
-            elif index == 0x607A:
-                self.target = value
-            elif index == 0x60B1:
-                self.vel_offset = value
-            else:
+            if not self._act_on(index, value):
                 self.node.data_store.setdefault(index, {})[sub] = bytes(raw)
                 self._cache = {}
 
@@ -517,19 +520,11 @@ class Drives:
     def command(self, line):
         """One control line (the module's text); returns the reply.
         ValueError for a bad line."""
-        words = line.split()
-        if not words:
-            raise ValueError("empty command")
-        verb, args = words[0], words[1:]
-        if verb == "quit":
-            self.running = False
+        from kinctl.drivesim import control_line
+        verb, args, d = control_line(self, line, ("fault", "silent", "talk", "lag", "reboot", "state"),
+                                     "fault N [CODE], silent/talk/reboot/state N, lag N S, quit")
+        if d is None:
             return "ok quit"
-        if verb not in ("fault", "silent", "talk", "lag", "reboot", "state") or not args:
-            raise ValueError(f"unknown command {line!r} (fault N [CODE], silent/talk/reboot/state N, lag N S, quit)")
-        node = int(args[0])
-        if node not in self.drives:
-            raise ValueError(f"no drive with node id {node}")
-        d = self.drives[node]
         with self.lock:
             if verb == "fault":
                 d.fault(int(args[1], 0) if len(args) > 1 else EMCY_DEFAULT_FAULT)
@@ -549,9 +544,9 @@ class Drives:
                 d._reset_application()
                 d.boot()
             else:
-                return (f"ok state {node} {d.nmt} {d.state.replace(' ', '_')} 0x{d.statusword():04x} "
+                return (f"ok state {d.id} {d.nmt} {d.state.replace(' ', '_')} 0x{d.statusword():04x} "
                         f"{int(round(d.pos))}")
-        return "ok " + " ".join(words)
+        return "ok " + " ".join(line.split())
 
     def close(self):
         self.running = False
@@ -579,13 +574,13 @@ def parse_starts(text, nodes):
 def register(sub, parents):
     """`kinctl drive402` (the CLI's command modules register themselves)."""
     from kinctl.argtypes import add_command, nonneg
+    from kinctl.cancmds import add_drive_bus
     p = add_command(sub, "drive402", "simulate CiA 402 drives on a CANopen stack (python canopen, an EDS): boot-up, "
                                      "SDO, NMT, heartbeat, EMCY, PDO mapping, SYNC, the power state machine; control "
                                      "lines on stdin: fault N [CODE], silent/talk/reboot/state N, lag N S, quit",
                     "kinctl drive402 --interface vcan0 --nodes 1-6 --start 1=1000,2=-20000\n"
                     "  (then type: fault 3, state 3, reboot 2, quit)", parents)
-    p.add_argument("--interface", default="vcan0", help="SocketCAN interface (default vcan0)")
-    p.add_argument("--nodes", default="1-6", help="drive node ids: 1-6 or 1,2,5 (default 1-6)")
+    add_drive_bus(p)
     p.add_argument("--eds", default=None, help="the drives' EDS (default: kinctl's data/kinctl-drive.eds)")
     p.add_argument("--start", default="", metavar="N=COUNTS,...",
                    help="actual positions at power-on (default 1000 N + 123 counts)")
@@ -597,7 +592,7 @@ def register(sub, parents):
 
 def run(args):
     """`kinctl drive402`: serve until stdin says quit or closes, or SIGINT."""
-    from kinctl.drivesim import parse_nodes
+    from kinctl.drivesim import parse_nodes, serve_control
     nodes = parse_nodes(args.nodes)
     try:
         sim = Drives(args.interface, nodes, eds=args.eds, start_counts=parse_starts(args.start, nodes),
@@ -606,20 +601,7 @@ def run(args):
         raise OSError(f"cannot open CAN interface {args.interface!r}: {e}") from e
     print(f"ready {args.interface} nodes {args.nodes}", flush=True)
     try:
-        if args.no_stdin:
-            while sim.running:
-                time.sleep(0.5)
-            return 0
-        for line in sys.stdin:
-            line = line.strip()
-            if not line:
-                continue
-            try:
-                print(sim.command(line), flush=True)
-            except ValueError as e:
-                print(f"error {e}", flush=True)
-            if not sim.running:
-                break
+        serve_control(sim, args.no_stdin, lambda: sim.running)
     finally:
         sim.close()
     return 0

@@ -119,19 +119,10 @@ class DriveSim:
     def command(self, line):
         """Applies one control line (see the module's text); returns the
         reply. ValueError for a bad line."""
-        words = line.split()
-        if not words:
-            raise ValueError("empty command")
-        verb, args = words[0], words[1:]
-        if verb == "quit":
-            self.running = False
+        verb, args, d = control_line(self, line, ("fault", "clear", "silent", "talk", "lag", "vmax"),
+                                     "fault/clear/silent/talk N, lag N S, vmax N C, quit")
+        if d is None:
             return "ok quit"
-        if verb not in ("fault", "clear", "silent", "talk", "lag", "vmax") or not args:
-            raise ValueError(f"unknown command {line!r} (fault/clear/silent/talk N, lag N S, vmax N C, quit)")
-        node = int(args[0])
-        if node not in self.drives:
-            raise ValueError(f"no drive with node id {node}")
-        d = self.drives[node]
         with self.lock:
             if verb == "fault":
                 d.faulted = True
@@ -151,7 +142,7 @@ class DriveSim:
                     d.lag_s = value
                 else:
                     d.vmax = value
-        return "ok " + " ".join(words)
+        return "ok " + " ".join(line.split())
 
     # -- serving ------------------------------------------------------------
     def _send(self, can_id, data):
@@ -231,6 +222,47 @@ def parse_nodes(text):
     return nodes
 
 
+def control_line(sim, line, verbs, usage):
+    """One control line of a drive simulator sim (this module's DriveSim,
+    drive402's Drives): (verb, arguments, drive) for one of verbs followed
+    by the node id of one of sim.drives, or ("quit", [], None) once quit has
+    stopped sim (sim.running). ValueError otherwise; usage lists the
+    commands."""
+    words = line.split()
+    if not words:
+        raise ValueError("empty command")
+    verb, args = words[0], words[1:]
+    if verb == "quit":
+        sim.running = False
+        return verb, args, None
+    if verb not in verbs or not args:
+        raise ValueError(f"unknown command {line!r} ({usage})")
+    node = int(args[0])
+    if node not in sim.drives:
+        raise ValueError(f"no drive with node id {node}")
+    return verb, args, sim.drives[node]
+
+
+def serve_control(sim, no_stdin, alive):
+    """Answers control lines on stdin with sim.command's replies (or
+    "error ...") until quit or the end of input; with no_stdin, waits while
+    alive() holds instead."""
+    if no_stdin:
+        while alive():
+            time.sleep(0.5)
+        return
+    for line in sys.stdin:
+        line = line.strip()
+        if not line:
+            continue
+        try:
+            print(sim.command(line), flush=True)
+        except ValueError as e:
+            print(f"error {e}", flush=True)
+        if not sim.running:
+            break
+
+
 def run(args):
     """`kinctl drivesim`: serve until stdin says quit or closes, or SIGINT."""
     try:
@@ -242,20 +274,7 @@ def run(args):
     sim.start()
     print(f"ready {args.interface} nodes {args.nodes}", flush=True)
     try:
-        if args.no_stdin:
-            while sim.thread.is_alive():
-                time.sleep(0.5)
-            return 0
-        for line in sys.stdin:
-            line = line.strip()
-            if not line:
-                continue
-            try:
-                print(sim.command(line), flush=True)
-            except ValueError as e:
-                print(f"error {e}", flush=True)
-            if not sim.running:
-                break
+        serve_control(sim, args.no_stdin, sim.thread.is_alive)
     finally:
         sim.stop()
     return 0
