@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # CMake toolchain file: bare-metal Cortex-M3 (ARMv7-M, no FPU: float and
 # double are libgcc's soft float), Debian's gcc-arm-none-eabi with newlib.
 #   cmake -S mcu -B build-mcu-m3 -DCMAKE_TOOLCHAIN_FILE=cmake/arm-none-eabi-cortex-m3.cmake

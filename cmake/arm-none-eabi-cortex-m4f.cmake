@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # CMake toolchain file: bare-metal Cortex-M4F (ARMv7E-M with the single-
 # precision FPv4-SP-D16 unit), Debian's gcc-arm-none-eabi with newlib.
 #   cmake -S mcu -B build-mcu -DCMAKE_TOOLCHAIN_FILE=cmake/arm-none-eabi-cortex-m4f.cmake

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # What `cmake --install` puts where, below CMAKE_INSTALL_PREFIX (GNUInstallDirs):
 #
 #   bin/kinctld, bin/kinctl-calc          daemon/ and tools/ hold their own rules

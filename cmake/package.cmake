@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # CPack: `cpack -G DEB` in a build directory makes kinctl_<version>_<arch>.deb
 # of what `cmake --install` installs, below /usr. One package: the daemon, the
 # calculator, the core library with its headers and CMake package, the

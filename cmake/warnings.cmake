@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # The warning set for everything kinctl writes, shared by the host build and
 # the bare-metal build (mcu/); -ffp-contract=off keeps results identical
 # across compilers and machines that could fuse a*b+c.

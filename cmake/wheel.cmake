@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # The Python tools as one wheel, for a controller PC: dist/kinctl-<version>-
 # py3-none-any.whl in the build directory holds the `kinctl` CLI and Python
 # API (tools/kinctl) and the message classes `kinctl_msgs` that lcm-gen

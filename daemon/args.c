@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* args.c - kinctld's command line (config_internal.h): getopt_long over
  * the options --help lists; applied over the file in config.c. */
 #include "kinctl/version.h"

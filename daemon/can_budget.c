@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* can_budget.c - bus time of a bus cycle (can_budget.h). */
 #include "can_budget.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* can_budget.h - the bus time of kinctld's bus cycle on classic CAN, worst
  * case, against a share of the bus cycle's period. Pure arithmetic, for the
  * start-up check; no frame, no clock.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* can_config.c - controller.can: read, then checked against the arm
  * (can_config.h). */
 #include "can_config.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* can_config.h - the configuration of kinctld's CAN output (can_io.h):
  * what controller.can says, read and checked here, beside the CAN code.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* can_frame.c - encoding and decoding kinctld's CAN frames (can_frame.h). */
 #include "can_frame.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* can_frame.h - the CAN frames of kinctld's output (can_io.h), encoded and
  * decoded: pure functions of their arguments, no socket, no clock, so
  * that a test or a future CANopen master calls them alike.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* can_io.c - the CAN output (can_io.h). */
 #define _GNU_SOURCE /* sendmmsg */
 #include "can_io.h"

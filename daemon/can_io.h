@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* can_io.h - kinctld's optional CAN output, shaped after CiA 402 cyclic
  * synchronous position (mode 8), on a SocketCAN interface.
  *

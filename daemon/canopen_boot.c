@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* canopen_boot.c - a drive's boot and configuration (canopen_boot.h). */
 #include "canopen_boot.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* canopen_boot.h - bringing one CiA 402 drive from power-on to NMT
  * operational as its CANopen master: boot-up, identity checks, then the
  * configuration as a table of expedited SDO writes, each read back, then

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* canopen_sdo.c - the expedited SDO client (canopen_sdo.h): CiA 301
  * 7.2.4.3.3 (initiate SDO download), 7.2.4.3.5 (initiate SDO upload),
  * 7.2.4.3.17 (abort SDO transfer) and table 22 (abort codes). */

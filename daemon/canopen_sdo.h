@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* canopen_sdo.h - an expedited SDO client (CiA 301 7.2.4): one transfer at
  * a time to one server (a drive's node id), up to 4 bytes, no segmented or
  * block transfer. Caller-owned, pure: frames come in through

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* checker.c - the checker thread and the goals' answers in order
  * (checker.h). */
 #define _GNU_SOURCE /* syscall(SYS_gettid) */

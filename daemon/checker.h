@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* checker.h - kinctld's checker thread: the goals' dry runs, apart from the
  * receive path, and the goals' answers in arrival order.
  *

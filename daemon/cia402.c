@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* cia402.c - the CiA 402 state machine seen from the master (cia402.h):
  * CiA 402-2 figure "state machine", table "statusword bits" and table
  * "device control commands". */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* cia402.h - the CiA 402 power state machine as a master sees it: the
  * statusword (0x6041) decoded into a state with the standard's masks, and
  * the controlword (0x6040) of the next transition towards a wanted state.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* clock.h - kinctld's time base: CLOCK_MONOTONIC in integer ns, for
  * deadlines, staleness and durations alike (never the sender's clock).
  *

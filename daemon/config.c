@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* config.c - kinctld's configuration (config.h): the defaults, then the
  * file (config_file.c), then the command line (args.c) over it, and the
  * checks that need them all (the robot, the home joints, CAN, zones, the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* config.h - kinctld's configuration: the robot, the controller section and
  * the command line (config.c puts them together: the file is read in
  * config_file.c, the command line in args.c, controller.can in

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* config_file.c - kinctld's configuration file (config.h), parsed once:
  * the top level, the controller section (its can group: can_config.c), and
  * through the description library (kinctl/desc_tree.h) controller.zones

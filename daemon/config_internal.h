@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* config_internal.h - what the rooms of kinctld's configuration share:
  * the command line (args.c), the file (config_file.c) and the whole that
  * config.c makes of them with the defaults. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* cycle.c - the cycle thread (cycle.h). */
 #define _GNU_SOURCE /* pthread_setaffinity_np, CPU_SET */
 #include "cycle.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* cycle.h - kinctld's cycle thread: kc_ctrl_step once per period on
  * absolute deadlines.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* goal.c - goal messages into kc_goal (goal.h). */
 #include "goal.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* goal.h - client goal messages (decoded and validated by daemon/msg) turned
  * into the controller's kc_goal.
  *

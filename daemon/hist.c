@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* hist.c - log-linear histogram (hist.h). */
 #include "hist.h"
 

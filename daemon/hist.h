@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* hist.h - a fixed-size log-linear histogram of durations in ns, for the
  * cycle thread's wake-up latency and compute time.
  *

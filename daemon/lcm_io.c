@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* lcm_io.c - the I/O thread (lcm_io.h). */
 #define _GNU_SOURCE /* ppoll */
 #include "lcm_io.h"

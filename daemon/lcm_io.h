@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* lcm_io.h - kinctld's I/O thread: everything LCM, on one thread.
  *
  * In: the client channels

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* lcm_rx.c - client messages off LCM's multicast group (lcm_rx.h). */
 #define _GNU_SOURCE /* SO_RCVBUFFORCE */
 #include "lcm_rx.h"

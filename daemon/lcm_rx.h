@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* lcm_rx.h - kinctld's receiver: client messages off LCM's UDP multicast
  * group, read into one fixed buffer, never a size a datagram claims.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* main.c - kinctld: configuration, the threads (cycle, I/O, checker), and a
  * controlled stop.
  *

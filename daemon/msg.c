@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* msg.c - decode-with-validation and encode for kinctl's LCM types (msg.h).
  *
  * Why a wrapper at all: the generated kinctl_*_decode() checks the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* msg.h - kinctld's message layer: the only path by which the daemon turns an
  * LCM datagram into a message, and a message into a datagram.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* plant.c - the simulated arm (plant.h). */
 #include "plant.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* plant.h - the simulated arm kinctld drives when there is no hardware.
  *
  * Measured = commanded, or with lag_s > 0 a first-order lag per joint,

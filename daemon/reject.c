@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* reject.c - reasons' tokens and codes, and a goal's rejection text from
  * the core's verdict (reject.h). */
 #include "reject.h"

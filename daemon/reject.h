@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* reject.h - the daemon's answers that refuse or report: a reason's token
  * and code, and the one place a goal's rejection text is formed, from the
  * core's verdict (kinctl/ctrl.h kc_verdict).

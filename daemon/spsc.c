@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* spsc.c - the single-producer single-consumer ring (spsc.h). */
 #include "spsc.h"
 

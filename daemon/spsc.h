@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* spsc.h - a lock-free single-producer single-consumer ring of fixed-size
  * elements, the only way data crosses between kinctld's threads.
  *

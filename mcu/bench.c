@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * bench.c - what the core costs per call on the board, and the same
  * workload on the host for callgrind (tools/bench/run_mcu_bench.sh).

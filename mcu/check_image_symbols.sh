@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # Proves what the float core costs on a single-precision FPU: in an image
 # that holds the whole core and nothing else (core_only.c), every function
 # that is not the core's own must be a float libm function (with newlib's

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # Proves the fixed-point kinematics integer-only: the objects given (fx.c's
 # and fx_interp.c's, for a Cortex-M3 and a Cortex-M4F) import no float or
 # double helper and no libm function, and contain no floating-point

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * core_only.c - the image that holds the whole core and nothing else: the
  * vector table's two words point at a reset that only spins. Never run; it

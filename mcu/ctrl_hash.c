@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * ctrl_hash.c - the determinism program: runs every goal kind of
  * scenario.h through kc_ctrl_step from rest until the controller is idle

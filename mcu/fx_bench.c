@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * fx_bench.c - instructions per call of the fixed-point FK and Jacobian
  * (kinctl/fx.h) beside the floating-point ones of the same core, on a PUMA

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * fx_test.c - the fixed-point kinematics (kinctl/fx.h) against the double
  * build: for every built-in arm, FK and the Jacobian at random

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* scenario.c - the shared goals of the bare-metal programs (scenario.h).
  * Moves of 0.1-0.2 m or 0.2 rad, all well inside the PUMA 560's reach. */
 #include "scenario.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * scenario.h - one goal of every kind for a PUMA 560 starting at rest at
  * scn_q0: the workload the bare-metal programs share (the determinism hash

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # The demo: kinctld on the built-in puma560 (simulated, --no-rt, a private LCM
 # URL with ttl=0) driven by the kinctl CLI: a joint move, a line, an arc, a
 # blended multi-point path, a goal preempted by a --replace goal mid-motion,

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Installs what kinctl needs on a Debian 12 machine and builds it. Idempotent:
 # a second run installs nothing and rebuilds only what changed.
 #   scripts/setup.sh [BUILD_DIR [extra cmake args...]]

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Runs every test suite: the gcc build, then a clang build with AddressSanitizer
 # and UndefinedBehaviorSanitizer, then the vcan suite in a UBSan-only clang
 # build. Installs and builds what it needs first.

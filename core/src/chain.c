@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* chain.c - building and checking robot models (seed 003's coded chains,
  * seed 000's DH rows) and the built-in arms. */
 #include "kinctl/chain.h"

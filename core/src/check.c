@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* check.c - the dry run of a goal and where the controller's queue ends
  * (kinctl/check.h). The goal runs through kc_ctrl_step on the check's own
  * controller, put back at rest at the start of each run (kc_ctrl_restart):

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* ctrl.c - the controller: configuration, init, commands and the step
  * (the final limit check, the setpoint). Behaviour documented in
  * kinctl/ctrl.h; the rooms it calls are listed in ctrl_internal.h. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* ctrl_goal.c - the cheap checks of a goal, as a verdict naming the field,
  * knot and joint at fault, and the texts of the reasons (kinctl/ctrl.h). */
 #include "ctrl_internal.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* ctrl_internal.h - what the rooms of the controller share (kinctl/ctrl.h
  * is the behaviour): ctrl.c (configuration, init, commands, the step),
  * ctrl_goal.c (goal checks and verdicts), ctrl_zone.c (forbidden zones), ctrl_queue.c

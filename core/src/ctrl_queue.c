@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* ctrl_queue.c - events, the goal queue, and a goal taken in a tick:
  * servo updates, refusals, queueing, preemption and the retarget of a joint
  * move (kinctl/ctrl.h). */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* ctrl_seg.c - segments: a goal planned when it starts (joint move, line,
  * arc, path, servo), the motion it asks for at each tick, and the setpoint
  * that follows it (Cartesian: one IK step) (kinctl/ctrl.h). */

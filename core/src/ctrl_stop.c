@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* ctrl_stop.c - stopping: on the path (interpolated segments by their
  * path parameter, paths by their plan time), in joint space, resuming, and
  * faults (kinctl/ctrl.h). */

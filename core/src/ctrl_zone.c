@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* ctrl_zone.c - forbidden zones in the controller: the servo's braking
  * toward a zone and the final check of every setpoint (kinctl/ctrl.h,
  * kinctl/zone.h). */

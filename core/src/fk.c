@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* fk.c - forward kinematics over elementary transforms, and the geometric
  * Jacobian (seed 000, seed 003).
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* fx.c - fixed-point FK and Jacobian (kinctl/fx.h): integer arithmetic
  * only, the walk of fk.c over elementary transforms. No float type or
  * operation may appear here (mcu/check_integer_only.sh). */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* fx_chain.c - conversions between kinctl's floating-point types and the
  * fixed-point formats of kinctl/fx.h: done once when a chain is set up,
  * outside the cycle. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* fx_interp.c - joint moves and lines evaluated at integer ticks in fixed
  * point (kinctl/fx.h): integer arithmetic only, like fx.c. */
 #include "kinctl/fx.h"

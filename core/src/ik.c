@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* ik.c - inverse kinematics by integrating qdot = J^+ U with the dual
  * quaternion feedback law of seed 002; damping, limits and redundancy as
  * documented in kinctl/ik.h. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* interp.c - joint move (seed 001 lab 4), straight line with the
  * two-rotations method or slerp (lab 5) and arc through three points
  * (lab 6). The formulas and the seed's typos are in kinctl/interp.h. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* linalg_internal.h - the small dense linear algebra the solvers need: a
  * Cholesky factorisation of an r x r symmetric positive definite matrix
  * (r <= 6) and the solve with it. Private to the core. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* orient.c - roll-pitch-yaw, Z-Y-Z Euler and axis-angle (seed 001 lab 2).
  * Conventions and singular branches are documented in kinctl/orient.h. */
 #include "kinctl/orient.h"

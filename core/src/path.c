@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* path.c - multi-point paths of seed 001 lab 7 (blends, Lagrange, cubic and
  * quintic splines) in joint space, and the planning passes Cartesian paths
  * (path_cart.c) share through path_internal.h; the formulas and rules are

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* path_cart.c - Cartesian multi-point paths (seed 001 lab 7): the position
  * as a 3-D path of path.c's methods, the orientation through rotation knots
  * in the tangent spaces of the knot orientations, and the path-length

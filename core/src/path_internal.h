@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* path_internal.h - what joint paths (path.c) and Cartesian paths
  * (path_cart.c) share: the knot-level data every method is built from, the
  * one-dimensional building blocks, and the planning passes (times, the

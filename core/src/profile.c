@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* profile.c - trapezoidal motion laws evaluated at integer ticks (seed 001
  * lab 4, eqs. 4.6-4.12 with the corrections listed in kinctl/profile.h). */
 #include "kinctl/profile.h"

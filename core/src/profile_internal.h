@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* profile_internal.h - what the motion laws of profile.c and scurve.c
  * share: the tick rule of kinctl/profile.h and the evaluation's rule of
  * ticks and times. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* scurve.c - jerk-limited (double S) motion laws evaluated at integer
  * ticks. The phase equations and their sources are in kinctl/scurve.h. */
 #include "kinctl/scurve.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* se3.c - vectors, rotations, poses, homogeneous transforms, (dual)
  * quaternions. See kinctl/se3.h for conventions. */
 #include "kinctl/se3.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* shape.c - the seed's volume primitives (seed 003, module 6) and the
  * distance between two of them. Behaviour documented in kinctl/shape.h.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* shape_internal.h - the parts of a shape distance (shape.c) that the zone
  * check (zone.c) runs itself, to stop early on pairs farther than the
  * closest so far. Private to the core. */

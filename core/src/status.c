@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* status.c - readable texts for kc_status. */
 #include "kinctl/status.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* vec3_internal.h - vectors by value, for formulas that read better as
  * expressions (the rotation knots of path_cart.c, GJK in zone.c). Each one
  * is se3's own operation (kinctl/se3.h), so every result is the same to the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* zone.c - link volumes against forbidden zones (seed 003, module 6): zone
  * sets, the check of a chain's volumes at q, and the bound on the travel of
  * a volume between two samples. Behaviour documented in kinctl/zone.h;

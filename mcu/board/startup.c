@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * startup.c - reset for QEMU's MPS2 boards (mps2-an386 Cortex-M4F,
  * mps2-an385 Cortex-M3) under newlib's semihosting runtime.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * systick.h - instruction counts on QEMU's MPS2 boards. Under -icount
  * shift=0 QEMU advances its virtual clock one nanosecond per instruction;

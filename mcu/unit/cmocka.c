@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* cmocka.c - the runner and assertions of the bare-metal cmocka subset
  * (cmocka.h), with cmocka's output format.
  *

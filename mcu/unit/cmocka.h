@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * cmocka.h - the part of cmocka's API that kinctl's unit tests use, for
  * bare metal, where cmocka itself (signals, its allocator wrappers) does

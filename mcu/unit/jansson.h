@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * jansson.h - the part of jansson's API that kinctl's unit tests use to read
  * the reference vectors, for bare metal (jansson is not built for it). On

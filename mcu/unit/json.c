@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* json.c - a recursive-descent JSON reader behind the jansson subset of
  * jansson.h. The document is read into one buffer and parsed in place:
  * strings are unescaped where they stand (never longer than their source)

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* vectors_env.c - tells the unit tests on the board where the reference
  * vectors are, as ctest's KINCTL_VECTORS does on the host: the board has no
  * environment of its own, so the directory (read through semihosting) is

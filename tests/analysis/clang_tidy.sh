@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # clang-tidy over kinctl's own C code with the repository's .clang-tidy
 # (tests/.clang-tidy for the test harnesses); fails on any finding.
 #   tests/analysis/clang_tidy.sh SOURCE_DIR BUILD_DIR [CLANG_TIDY]

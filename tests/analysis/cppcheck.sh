@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # cppcheck over kinctl's own C code (warning, performance and portability
 # checks, each file with its flags from BUILD_DIR's compile_commands.json,
 # the core in both precisions); fails on any finding. An exception is

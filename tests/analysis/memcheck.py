@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Runs C test programs under valgrind memcheck; fails on any error or leak.
 The programs, their arguments, environment and working directory are the
 ctest tests of BUILD_DIR whose names match REGEX (ctest --show-only), so

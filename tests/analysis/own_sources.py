@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Writes OUT_DIR/compile_commands.json with the entries of BUILD_DIR's that
 compile kinctl's own C code (core, desc, daemon, kinctl-calc, the C test
 harnesses), not the code lcm-gen generates into the build tree, and

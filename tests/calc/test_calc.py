@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Black-box tests of kinctl-calc: its JSON answers against tests/vectors,
 batch mode, and every kind of bad input.
 

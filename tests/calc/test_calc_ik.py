@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctl-calc ik (and the ik batch op) against tests/vectors/ik.json, the
 target forms, masks, --deg, and bad input.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Black-box tests of `kinctl-calc interp`: its CSV rows against
 tests/vectors (joint_trapezoid, cartesian_line, circle: every case), batch
 rows equal to CSV rows, and bad input.

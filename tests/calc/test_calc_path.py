@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Black-box tests of `kinctl-calc interp path`: every smoothing.json case
 (tables 7.1 quartic and parabolic blends, 7.2 Lagrange, 7.3 cubic Hermite)
 through the CLI's CSV rows, batch rows equal to CSV rows, joint paths from

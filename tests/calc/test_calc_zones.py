@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctl-calc zones (and the zones batch op): distances of the built-in
 arms' capsules to every zone kind against an independent computation here,
 the world geometry moving rigidly with the frames, and bad input.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """controller.can: read and checked at start-up (no interface needed for
 --check), each problem one line naming the file and line, exit 2; an
 interface that cannot be opened is a run-time failure, exit 1. And the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctld against real LCM: setpoints, a goal's life, rejections, hostile
 datagrams, shutdown, configuration. Fixtures and helpers: tests/pylib/kinctl_testing.py."""
 import math

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """A flood of goals: 10,000 joint goals in about a second. The setpoint
 stream stays unbroken (a setpoint every cycle, consecutive counters, within
 the limits) and every goal is answered exactly once, accepted or rejected."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctld: every goal kind, preemption, commands and stalls, through LCM.
 
 The arm first goes to puma560's nominal pose QN (elbow bent, wrist not

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctld with forbidden zones (controller.zones): goals that cross a zone
 are rejected naming the zone and the link volume, ones that pass near it
 run, a servo stream driven into a wall stops at the margin, and bad zone

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_cfgread.c - the libconfig lookups shared by the description library
  * and kinctld (kinctl/cfgread.h): values, absent keys left alone, and each
  * problem's "<file>:<line>: <problem>" in both naming styles; and the

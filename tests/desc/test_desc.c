@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_desc.c - the robot description reader (kinctl/desc.h): every example
  * file in models/ against its built-in model, and every kind of bad file
  * with the line and message it must report. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* clockshift.c - an LD_PRELOAD library for the fault tests that moves the
  * wall clock of one process while it runs: CLOCK_REALTIME (clock_gettime,
  * gettimeofday, time) reads the real clock plus an offset in nanoseconds

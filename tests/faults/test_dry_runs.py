@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Goals' dry runs apart from the receive path (daemon/checker.h), against a
 running kinctld: a goal whose dry run takes long (a line at a crawl, as
 long as check_max_s allows) delays neither an ESTOP sent right behind it

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Fault injection (issue: hardening): the real daemon over real LCM, killed
 and restarted, frozen, its I/O thread blocked, its wall clock moved, its
 servo publisher killed, both CPUs loaded. Each test asserts the reaction the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Forged LCM fragment headers against a running kinctld (docs/hostile-inputs.md).
 
 Each datagram is the first fragment of a message that claims 256 MiB in two

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Hostile goal ids and timestamps through the real daemon (the catalogue in
 docs/hostile-inputs.md): an id in flight is refused, an ended id may be used
 again, the sender's utime is never trusted (a goal stamped a day ago or a

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* fuzz_calc.c - `kinctl-calc batch` on arbitrary request lines: the
  * calculator's own sources, built with main renamed (CMake), run with the
  * input as standard input and the answers written to a memory buffer.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* fuzz_check.h - invariant checks of the fuzz harnesses: active in every
  * build type (assert() is compiled out with NDEBUG), abort() so that
  * libFuzzer saves the input and the replay runner fails. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 #define _GNU_SOURCE /* memmem */
 /* fuzz_config.c - kinctld's configuration reader (daemon/config.c: the
  * controller section and the robot it names) on arbitrary file contents,

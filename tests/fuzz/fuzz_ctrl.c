@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* fuzz_ctrl.c - the planner and controller step: random sequences of goals
  * (finite and not), commands and ticks through kc_ctrl_step on puma560.
  * External faults (a drive, the bus) come now and then too.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* fuzz_desc.c - the robot description reader (core/desc) on arbitrary text.
  * Invariants: no crash or sanitizer report; a refusal names a line and a
  * problem; an accepted chain passes kc_chain_check and its forward

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* fuzz_msg.c - the daemon's decode-and-validate path for every type a client
  * sends: a raw datagram through kd_msg_decode, then kd_goal_from_msg and
  * kc_ctrl_goal_check for the goals, as lcm_io.c does (its dry run starts

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Writes the seed corpora of the message and controller harnesses.
 
   PYTHONPATH=build/lcmtypes/python:tools .venv/bin/python tests/fuzz/make_seeds.py

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* replay_main.c - the plain regression runner of a fuzz harness: feeds every
  * file of the corpus directories (or files) named on the command line to
  * LLVMFuzzerTestOneInput once, so that ctest replays the corpus on every run

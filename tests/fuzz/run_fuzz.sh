@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Builds the libFuzzer harnesses (clang, ASan + UBSan, coverage) in
 # build-fuzz and runs each one, then prints executions, coverage and
 # findings per harness.
@@ -27,7 +28,7 @@ while (($#)); do
     --max-seconds) max_seconds=$2; shift 2 ;;
     --merge) merge=1; shift ;;
     --fast) fast=1; shift ;;
-    -h|--help) sed -n '2,/^set /{/^#/p}' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '3,/^set /{/^#/p}' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     msg|config|desc|ctrl|calc) harnesses+=("$1"); shift ;;
     *) echo "run_fuzz.sh: unknown argument '$1' (see --help)" >&2; exit 2 ;;
     esac

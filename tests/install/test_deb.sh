@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # install.deb: `cpack -G DEB` of this build (into a temporary directory, not
 # the build tree), then dpkg-deb -c and -f: the package holds what
 # `cmake --install` installs, below /usr, and its Depends (dpkg-shlibdeps)

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # install.consumer: `cmake --install` of this build into a staging prefix,
 # then, from that prefix only:
 #   - a consumer program configured and built with CMake against

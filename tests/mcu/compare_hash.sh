@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # Runs the determinism program on the host and on the board; both must end
 # every goal as expected (exit 0) and print the same final hash.
 # Usage: compare_hash.sh HOST_PROGRAM QEMU_COMMAND...

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 // JavaRoundTrip: the Java side of test_msg_python.py. Reads lines
 // "<type> <hex datagram>" on stdin; for each, decodes the datagram with the
 // generated class kinctl.<type> from kinctl_lcmtypes.jar (the classes lcm-spy

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* msg_sample.c - see msg_sample.h. */
 #include "msg_sample.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* msg_sample.h - valid kinctl messages with pseudo-random contents, the same
  * for a given seed on every machine, for the message tests (test_msg.c and
  * the msgtool behind test_msg_python.py). */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* msgtool.c - the C side of test_msg_python.py: puts the daemon's message
  * layer (daemon/msg.h) behind stdin and stdout so that the Python bindings
  * can be checked against it.

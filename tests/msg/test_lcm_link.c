@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_lcm_link.c - an executable linking the LCM wheel's shared liblcm runs
  * (the build tree's rpath finds it) and carries a kinctl datagram through
  * LCM's in-process memq:// provider into kd_msg_decode, the way kinctld

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_lcm_rx.c - kinctld's LCM receiver (daemon/lcm_rx.h) on a real
  * multicast group: what real LCM publishes arrives whole; fragments, forged
  * fragment headers claiming 256 MiB and datagrams over the limit never reach

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_msg.c - the daemon's message layer (daemon/msg.h): every type round
  * trips through kd_msg_encode and kd_msg_decode (status_t through the
  * generated decoder, which the daemon never uses); every way a datagram can

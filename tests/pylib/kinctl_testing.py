@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """What the Python suites that drive a real kinctld share (tests/daemon,
 faults, tools, viz, vcan): the multicast check, the daemon, the CLI runner,
 and the motion helpers of puma560 at its nominal pose. On PYTHONPATH through

@@ -1,4 +1,5 @@
 #!/bin/sh
+# SPDX-License-Identifier: BSD-3-Clause
 # Proves "libm only" for the core: every undefined symbol of the static
 # library must be a libm function or memcpy/memset/memmove. Anything else
 # (malloc, printf, pthread_*, clock_gettime...) fails with its name.

@@ -1,4 +1,5 @@
 #!/bin/bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Runs inside the booted root as kinctl-probe.service (test_unit.sh): the
 # deployment path of docs/deploy.md with what the packages installed, then
 # what /proc says of the running service, into OUT (a directory of the host):

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # systemd.unit: the deployment path of docs/deploy.md on a fresh Debian 12
 # root, with the shipped kinctld.service started by a real systemd, and what
 # it gives kinctld checked from the process itself.

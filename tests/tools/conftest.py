@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Fixtures for the kinctl CLI tests: a kinctld of the test's own (a
 kinctl.local.Kinctld, the launcher the demo uses too) and a runner for
 `kinctl`, from the suites' shared module tests/pylib/kinctl_testing.py.

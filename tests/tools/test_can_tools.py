@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The CAN tools that need no CAN interface: the DBC shipped with the package
 is make_dbc()'s and decodes kinctld's frames as can_io.h lays them out,
 `kinctl candecode` on candump logs, `kinctl drivesim`'s drive model and its

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The kinctl CLI against a real kinctld over real LCM."""
 import csv
 import math

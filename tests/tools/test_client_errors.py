@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The Python API (kinctl.client) refuses bad arguments in its own terms:
 each ValueError names the parameter as the API spells it, never a flag of
 the command line."""

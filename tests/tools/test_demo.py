@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The demo (what scripts/demo.sh runs) to its end: summary, CSV and plot."""
 import os
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctl import-urdf: robot descriptions from real URDFs (the ones the
 pybullet wheel ships in pybullet_data) and from a URDF written here with
 every joint kind, rpy origins and oblique axes. Each description is read by

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The kinctl package's imports point downwards only: no import circle
 between its modules (counting the imports inside functions too), nothing
 imports the CLI's entry point (kinctl.cli), the argument types

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """`kinctl log` and `kinctl record` share the network with kinctld: under
 the floods that kinctld shrugs off (forged LCM fragments claiming 256 MiB,
 garbage on its channels) they keep every setpoint, or say exactly how many

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctl.programs.find: the environment variable, else the checkout's
 build/, else PATH; the first executable one."""
 import os

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """docs/python-api.md's example, run as written against a real kinctld
 (the built-in puma560): the page's ```python block, extracted, in a
 subprocess with $LCM_DEFAULT_URL naming the daemon's URL."""

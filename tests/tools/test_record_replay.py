@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctl record / play / replay against a real kinctld over real LCM."""
 import os
 import signal

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctl spy's jar, and --help of the data commands."""
 import glob
 import os

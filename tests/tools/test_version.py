@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """`--version` on every program prints the one version of the project (the
 CMake project's, CMakeLists.txt), and `kinctl` without its generated message
 classes says how to get them instead of ending in a traceback."""

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_can_budget.c - the worst-case bus time of a bus cycle
  * (daemon/can_budget.h) with figures computed by hand from Davis et al.
  * 2007 eq. 1, bits(n) = 47 + 8 n + floor((33 + 8 n) / 4):

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_can_frame.c - kinctld's CAN frames (daemon/can_frame.h) byte by
  * byte against tools/kinctl/kinctl.dbc: SYNC (0x080, counter 1..240),
  * RPDO1 (0x200 + node: TargetPosition_607A int32 LE at bit 0,

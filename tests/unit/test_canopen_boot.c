@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_canopen_boot.c - a drive's boot and configuration
  * (daemon/canopen_boot.h) played against a drive written here from CiA 301:
  * an object dictionary with an expedited SDO server that answers 0x600 +

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_canopen_sdo.c - the expedited SDO client (daemon/canopen_sdo.h)
  * frame by frame against CiA 301 7.2.4.3: requests written out by hand
  * (command byte, index little-endian, subindex, data), answers of a

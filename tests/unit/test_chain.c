@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_chain.c - coded chains (seed 003, vectors/code_chain.json), the chain
  * builders' error handling, validation and the built-in models. */
 #include "testutil.h"

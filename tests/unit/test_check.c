@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_check.c - a goal judged once (kinctl/ctrl.h kc_verdict,
  * kinctl/check.h): every reason of the goal check names the field, knot
  * and joint at fault; the dry run names the tick, where along the motion,

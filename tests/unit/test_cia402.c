@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_cia402.c - the master's view of the CiA 402 state machine
  * (daemon/cia402.h): statuswords of every state, with the don't-care bits
  * set and clear, against the masks of CiA 402-2; and the controlwords the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_ctrl.c - the controller step (kinctl/ctrl.h) over thousands of
  * cycles: every goal kind to its end, the queue, preemption, stop, pause,
  * resume, e-stop, reset, rejections, servo and its timeout, the dry run,

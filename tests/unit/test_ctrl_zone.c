@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_ctrl_zone.c - forbidden zones in the controller (kinctl/ctrl.h):
  * the planning-time dry run rejects goals that cross a zone and accepts
  * ones that pass near it; kc_ctrl_step stops the arm on a violation and

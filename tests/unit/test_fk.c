@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_fk.c - forward kinematics and the geometric Jacobian (seed 000,
  * seed 003; vectors/fk.json).
  *

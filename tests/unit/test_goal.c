@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_goal.c - the daemon's goal conversion (daemon/goal.h: a wire message
  * in, a kc_goal out, for each goal kind, and what it cannot convert), the
  * goal_id read from a raw datagram (daemon/msg.h kd_msg_goal_id), and the

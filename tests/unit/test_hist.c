@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_hist.c - the daemon's log-linear histogram (daemon/hist.h):
  * percentiles against the same percentile computed on the sorted values,
  * within the documented resolution (exact below 128 ns, half a bin above:

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_ik.c - inverse kinematics (seed 002's law, kinctl/ik.h) against
  * vectors/ik.json and on random reachable targets. */
 #include <string.h>

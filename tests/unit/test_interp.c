@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_interp.c - single-segment interpolators (seed 001 labs 4, 5, 6;
  * kinctl/interp.h): every case of vectors/joint_trapezoid.json,
  * cartesian_line.json and circle.json, then properties on random segments,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_orient.c - roll-pitch-yaw, Z-Y-Z Euler and axis-angle (seed 001 lab 2,
  * vectors/orientation.json). */
 #include "testutil.h"

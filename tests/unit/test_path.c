@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_path.c - multi-point paths of seed 001 lab 7 (kinctl/path.h):
  * every case of vectors/smoothing.json (tables 7.1 blends, quartic and
  * parabolic; 7.2 Lagrange; 7.3 cubic Hermite), properties of random joint

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_profile.c - one-dimensional motion laws (seed 001 lab 4 eqs.
  * 4.6-4.12; kinctl/profile.h): the leading joint of every case of
  * vectors/joint_trapezoid.json, then properties on random profiles (rest to

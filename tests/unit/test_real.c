@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_real.c - the scalar layer: kc_sincos against libm, angle wrapping. */
 #include "testutil.h"
 

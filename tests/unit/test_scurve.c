@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_scurve.c - jerk-limited motion laws (kinctl/scurve.h): the
  * textbook's worked examples and hand-derived cases, then properties on
  * thousands of seeded random profiles (rest to rest against an independent

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_se3.c - homogeneous transforms (seed 001 lab 1, vectors/transforms.json),
  * rigid poses, quaternions and dual quaternions (seed 002). */
 #include "testutil.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_spsc.c - the daemon's single-producer single-consumer ring
  * (daemon/spsc.h): capacities, empty and full, order through many
  * wrap-arounds of the slots and of the head and tail counters themselves,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* test_zone.c - link volumes against forbidden zones (kinctl/zone.h).
  *
  * The reference is computed here, in double, independently of zone.c:

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * testutil.h - shared helpers of the kinctl unit tests: reference-vector
  * loading (tests/vectors, found through $KINCTL_VECTORS), comparisons with an

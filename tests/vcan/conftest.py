@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Fixtures of the vcan suite: kinctld with its CAN output on vcan0, the
 simulated drives (kinctl drivesim) attached, and a recorder of every frame
 on the bus. Run by tests/vcan/uml_run.sh: on this host's vcan0, or inside

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """`kinctl drive402` (tools/kinctl/drive402.py) met by a CANopen master it
 did not come with: python canopen's own RemoteNode and BaseNode402, on a
 real SocketCAN interface (vcan0, inside User Mode Linux where the host has

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctld's CAN output on a real SocketCAN interface (vcan0), with the
 simulated drives attached: frames against the LCM setpoints, feedback, and
 each failure's reaction. See conftest.py for the fixtures and checks."""

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Runs the vcan suite (pytest on tests/vcan) on a real SocketCAN interface:
 #   1. directly, where this kernel has AF_CAN and vcan0 exists or can be made
 #      (root: modprobe vcan, ip link add vcan0 type vcan);

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Runs a command (User Mode Linux's `linux`) with PTRACE_GETREGSET of
 NT_X86_XSTATE refused (EIO) by a seccomp filter.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Fixtures for kinctl plot and kinctl view: one real run, recorded once.
 
 `recorded` starts a kinctld of its own (kinctl.local.Kinctld, on a private

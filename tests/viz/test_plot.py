@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctl plot from a real run: the CSV of kinctl log and the LCM log of
 lcm-logger, to PNG and SVG, checked against the logged data."""
 import xml.etree.ElementTree as ET

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctl.projection against tests/vectors/projections.json (seed 001 lab 3)."""
 import json
 import os

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctl view, headless: the arm drawn from a real run's setpoints (a recorded
 log and live LCM) to PNG, GIF and MP4, checked against the setpoints."""
 import os

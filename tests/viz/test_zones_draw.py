@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Forbidden zones and link volumes drawn by kinctl view and kinctl plot
 (kinctl.zonedraw), from a real run's setpoints: the drawn wireframes checked
 numerically against the zones' sizes, lab 3's projections and the core's

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * bench_common.h - what the kinctl helpers (C99, one per precision) and the
  * driver (C++, KDL and Pinocchio) must agree on, so that every library is

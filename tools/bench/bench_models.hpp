@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 // bench_models.hpp - the pieces the benchmark drivers (fk_bench, ik_bench)
 // share, so each exists once: the puma560 and panda models written
 // independently of kinctl from the tables in tests/vectors/fk.json, built

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # bench_setup.sh - sourced by run_fk_bench.sh, run_ik_bench.sh and
 # run_interp_bench.sh: installs what the benchmarks need, configures
 # build-bench and builds the given targets, so all scripts set up the same

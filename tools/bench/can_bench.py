@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctld's CAN output on a SocketCAN interface: frames per second sustained,
 the CAN path's cost per bus cycle, and cycle deadline to frame on the bus.
 

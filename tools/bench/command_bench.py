@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """command_bench.py - how long a command takes to reach kinctld's cycle,
 idle and under load (issue 17's benchmark).
 

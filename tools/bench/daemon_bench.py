@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """daemon_bench.py - one kinctld run under continuous Cartesian motion.
 
 Started by run_daemon_bench.sh, once per period. Starts kinctld (puma560,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 // fk_bench.cpp - FK and Jacobian time per call: kinctl against Orocos KDL and
 // Pinocchio on the same DH tables and the same configurations (issue 2).
 //

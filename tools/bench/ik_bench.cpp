@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 // ik_bench.cpp - inverse kinematics: success rate and solve time of
 // kinctl's kc_ik_solve beside Orocos KDL (ChainIkSolverPos_LMA,
 // ChainIkSolverPos_NR_JL), Pinocchio's damped CLIK loop and the Robotics

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """ik_bench_rtb.py - the Robotics Toolbox for Python's C++ ik_LM for ik_bench.
 
 ik_bench runs this once per timed block, interleaved with the other

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 // interp_bench.cpp - planning cost and per-tick cost of kinctl's motion
 // planners (joint move, line, arc, multi-point paths in joint and Cartesian
 // space), beside Orocos KDL's VelocityProfile_Trap and Ruckig on the same

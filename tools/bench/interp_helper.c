@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * interp_helper.c - kinctl's motion planners and tick evaluation in one
  * precision, for interp_bench (issue 4).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 // interp_jerk_bench.cpp - kinctl's jerk-limited profiles (kinctl/scurve.h)
 // beside Ruckig (issue 19): the puma560 (6 joints) and the panda (7 joints)
 // with kinctl's model limits (qd_max, qdd_max, qddd_max), BENCH_JERK_CASES

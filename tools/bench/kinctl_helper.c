@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl_helper.c - kinctl's FK, Jacobian and IK in one precision, for
  * fk_bench and ik_bench.

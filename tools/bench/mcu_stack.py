@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Worst-case stack per function from GCC's call graphs.
 
 Reads every .ci file (gcc -fcallgraph-info=su: one VCG graph per object,

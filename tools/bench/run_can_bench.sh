@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # kinctld's CAN output (issue 6's benchmark): frames per second sustained on
 # vcan at 1 kHz for 6 and 12 joints, the CAN path's compute per bus cycle
 # (p50, p99, max) and cycle deadline to frame on the bus (p50, p99, max).
@@ -22,7 +23,7 @@ while (($#)); do
     case $1 in
     --duration) duration=$2; shift 2 ;;
     --period-us) period=$2; shift 2 ;;
-    -h | --help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) sed -n '3,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
     *) echo "run_can_bench: unknown argument $1 (--help)" >&2; exit 2 ;;
     esac
 done

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Command latency of kinctld idle and under load (issue 17's benchmark):
 # tools/bench/command_bench.py against the build's kinctld, with the
 # generated message classes and the kinctl package on PYTHONPATH. Real-time

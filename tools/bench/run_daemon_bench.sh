@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # kinctld under load against the machine's own floor (issue 5's benchmark).
 #
 # For each period (1 kHz and 4 kHz by default), with the other CPUs loaded
@@ -59,7 +60,7 @@ while (($#)); do
     --no-load) load=0; shift ;;
     --default-system) pm_qos=0; shift ;;
     --apart) together=0; shift ;;
-    -h | --help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
+    -h | --help) sed -n '3,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
     *) bench_log "unknown argument $1 (--help)"; exit 2 ;;
     esac
 done

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Builds and runs fk_bench: kinctl's FK and Jacobian against Orocos KDL and
 # Pinocchio (issue 2), one table in one run.
 #

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Builds and runs ik_bench: kinctl's kc_ik_solve against Orocos KDL (LMA,
 # NR_JL), Pinocchio's CLIK loop and the Robotics Toolbox's ik_LM on the same
 # 1000 targets per arm, plus the cost of kc_ik_step (issue 3); one table.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Builds and runs interp_bench: planning and per-tick cost of kinctl's joint
 # move, lines, arcs and multi-point paths, beside Orocos KDL's
 # VelocityProfile_Trap and Ruckig on the same 6-joint moves (issue 4); one

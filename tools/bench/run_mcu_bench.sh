@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # The core's budgets on a Cortex-M4F, printed beside their targets (issue
 # 20): code size per module, worst-case stack per public entry point (from
 # GCC's call graphs, checked against the high-water mark measured on the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """soak.py - kinctld under a random goal stream for a long time, then the
 books: every goal answered, every accepted goal ended, a setpoint for every
 cycle, memory flat. Started by soak.sh (which loads the other CPU).

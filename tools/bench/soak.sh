@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
 # Soak: kinctld (built in build/) for a long time under a random goal stream
 # with the other CPU loaded by stress-ng, then the books (tools/bench/soak.py).
 #   tools/bench/soak.sh [--duration S] [--seed N] [--no-rt] [--json FILE]
@@ -10,7 +11,7 @@ args=() rt=1
 while (($#)); do
     case "$1" in
     --no-rt) rt=0; shift ;;
-    -h|--help) sed -n '2,6p' "$0" | sed 's/^# \{0,1\}//'; exec .venv/bin/python tools/bench/soak.py --help ;;
+    -h|--help) sed -n '3,7p' "$0" | sed 's/^# \{0,1\}//'; exec .venv/bin/python tools/bench/soak.py --help ;;
     *) args+=("$1"); shift ;;
     esac
 done

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* zone_bench - cost of the per-cycle zone check (kc_zone_check with the
  * frames computed inside, as kc_ctrl_step calls it) for the PUMA 560 and the
  * Panda with 10 zones, against the 1 ms budget of a 1 kHz cycle.

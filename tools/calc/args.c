@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* args.c - command-line arguments to request objects, and the typed getters
  * every subcommand reads its request with (the same for the command line and
  * for batch lines). */

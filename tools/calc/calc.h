@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * calc.h - the pieces kinctl-calc's subcommands share.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* ik.c - `kinctl-calc ik`: inverse kinematics to a target pose with the
  * solver of kinctl/ik.h (seed 002's dual-quaternion law). */
 #include <string.h>

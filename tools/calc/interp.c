@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* interp.c - `kinctl-calc interp KIND`: sampled motions of kinctl/interp.h
  * (joint move, straight line, arc), one row per tick, as CSV on the command
  * line or JSON rows in batch. How KIND dispatches, and how the path kind of

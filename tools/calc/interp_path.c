@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* interp_path.c - `kinctl-calc interp path`: multi-point paths of
  * kinctl/path.h (seed 001 lab 7) in joint or Cartesian space, one row per
  * tick. The options are interp_path_opts (interp.c); how the kind plugs in

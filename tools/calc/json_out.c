@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* json_out.c - a small JSON writer for kinctl-calc's answers. Values are
  * printed with every significant digit so that they read back exactly. */
 #include <stdarg.h>

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* kinctl-calc - the command-line calculator: forward kinematics, Jacobians,
  * orientation conversions and lab 1 transforms for built-in arms or arms
  * described in a file, one answer as JSON, or many from JSON lines (batch).

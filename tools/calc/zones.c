@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* zones.c - kinctl-calc zones: the distance of every link volume of an arm
  * to every forbidden zone at one configuration (kinctl/zone.h), and
  * optionally the world geometry of both as JSON for plotting. */

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctl: the client of kinctld (command line `kinctl`, Python API `kinctl.Client`).
 
 The modules (no import circle among them; none but __main__ imports cli:

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """`python -m kinctl ...` is the `kinctl` command."""
 import sys
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """What every command module of the `kinctl` CLI shares: the argument types
 (value parsers for argparse), the subcommand helper and the messages to the
 user. A leaf: it imports nothing from kinctl, so every command module may

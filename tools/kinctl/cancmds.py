@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The CAN commands of `kinctl`: drivesim (simulated CiA 402 drives,
 kinctl.drivesim) and candecode (frames decoded with kinctl's DBC,
 kinctl.candecode).

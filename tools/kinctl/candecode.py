@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """`kinctl candecode`: CAN frames decoded with kinctl's DBC (kinctl.dbc).
 
 Reads a candump log (`candump -L` lines "(t) iface ID#DATA", or candump's

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Reading a SocketCAN interface through a raw socket: one place for the
 receive side of `kinctl candecode --interface`, the vcan suite and the CAN
 benchmark.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """`kinctl`: send goals and commands to kinctld, read its status, log its setpoints.
 
 The entry point: the top-level parser, built from the command modules (each

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctl's Python API: talk to a running kinctld over LCM.
 
     from kinctl import Client

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """How a `kinctl` command reaches kinctld: the connection options every
 command takes (--lcm-url, --prefix, --deg, --connect-timeout) and the client
 a live command opens with them.

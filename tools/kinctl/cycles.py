@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Setpoints counted by cycle number: how many came, and which cycles are
 missing and when their gap was seen, so that a logger or recorder that loses
 setpoints (its own socket buffer overflowing under a flood, a stall) says

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The data commands of the kinctl CLI: record, play, replay, spy, import-urdf.
 
 register() adds them to the CLI. Bad input raises UsageError or ValueError

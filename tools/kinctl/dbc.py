@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctld's CAN frames (daemon/can_io.h) as a DBC database.
 
 The repository's kinctl.dbc (beside this file) is `make_dbc()` for drive

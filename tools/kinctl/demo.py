@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """kinctl's demo: the real daemon, driven by the real CLI.
 
     python -m kinctl.demo [--out out] [--kinctld build/daemon/kinctld]

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """CiA 402 drives in cyclic synchronous position on a real CANopen stack.
 
 Each drive is a python `canopen` LocalNode made from an EDS (by default

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """A CiA 402-style drive simulator on a SocketCAN interface (python-can).
 
 Any number of drives (node ids), each in cyclic synchronous position mode as

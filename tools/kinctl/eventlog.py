@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """LCM event logs of kinctl channels: `kinctl record` and `kinctl play`.
 
 The files are LCM's own event log format (lcm.EventLog, what lcm-logger

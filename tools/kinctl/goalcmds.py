@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """`kinctl goal`: joint moves, lines, arcs, multi-point paths and servo
 streams sent to kinctld, each waited for as the options ask.
 

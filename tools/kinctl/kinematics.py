@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Every link frame of an arm, from the core's own forward kinematics: the
 calculator `kinctl-calc fk --frames` (tools/calc, which links the core and
 reads robot description files), run as one `kinctl-calc batch` process; and

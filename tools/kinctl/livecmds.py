@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The `kinctl` commands that talk to a running kinctld besides goals: the
 commands (stop, estop, pause, resume, reset), status and log.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """A kinctld of one's own on this machine: a private LCM URL, start, stop.
 
 The one daemon launcher: the demo (kinctl.demo), the benchmarks and every

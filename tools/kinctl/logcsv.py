@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The setpoint CSV of `kinctl log` and the demo, and its status-event CSV.
 
 Setpoints: utime,cycle,goal_id,state,q1..qn,qd1..qdn,qdd1..qddn,x,y,z,qw,qx,qy,qz

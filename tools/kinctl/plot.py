@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The graphs of seed 001 labs 4-7 from a run's setpoints: q, qd, qdd of every
 joint against time (goal boundaries marked, each goal's leading joint drawn
 bold: see leading_joints), the tool's speed along its path, and the tool path

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """`kinctl plot`: a run's setpoints drawn to a PNG or SVG file (kinctl.plot).
 
 register() adds the subcommand to the CLI.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Where kinctl's built programs are: kinctld, kinctl-calc, kinctl-replay.
 
     from kinctl import programs

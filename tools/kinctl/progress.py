@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Progress bars (tqdm) for what takes more than a second: reading long logs,
 computing and writing animations. Shown on stderr when it is a terminal,
 silent otherwise (pipes, tests), unless forced with KINCTL_PROGRESS=1."""

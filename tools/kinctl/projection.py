@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Screen projections of seed 001 lab 3: 3-D points (X, Y, Z) to screen (u, v).
 
     from kinctl import projection as pj

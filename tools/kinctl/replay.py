@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """`kinctl replay`: runs kinctl-replay (tools/replay, C) on a recorded log.
 
 kinctl-replay feeds the goals and commands of the log through kc_ctrl_step

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """A run's setpoints (and status events) from either kind of log:
 
 - the CSV of `kinctl log` (kinctl.logcsv), with its events CSV beside it if given;

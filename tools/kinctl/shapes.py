@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Extra 3-D geometry drawn by kinctl plot and kinctl view beside the arm
 and the tool path (link volumes, forbidden zones, targets...).
 

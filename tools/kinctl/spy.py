@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """`kinctl spy`: lcm-spy with kinctl's message classes on its CLASSPATH.
 
 lcm-spy decodes a channel field by field when a class of the message's

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """`kinctl import-urdf`: a robot description file (models/README.md, read by
 core/desc) from a URDF, parsed with yourdfpy.
 

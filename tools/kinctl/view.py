@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The arm's skeleton and every link frame, drawn from kinctld's setpoints, in
 seed 001 lab 3's three projections (frontal dimetric, horizontal isometric,
 orthographic; kinctl.projection) and a free 3-D view: the drawing of

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """`kinctl view`: the arm drawn from kinctld's setpoints (kinctl.view) in a
 live matplotlib window that follows <prefix>SETPOINT on LCM, or with --save
 to a file: FILE.png a still, FILE.gif or FILE.mp4 an animation of --duration

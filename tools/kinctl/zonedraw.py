@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Link volumes and forbidden zones (core/include/kinctl/zone.h) as polylines
 for kinctl plot and kinctl view (kinctl.shapes).
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* kinctl-replay - feeds the goals and commands of a recorded LCM event log
  * through kc_ctrl_step offline and checks that every setpoint reproduces
  * bit for bit.

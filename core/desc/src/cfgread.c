@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* cfgread.c - typed lookups in a parsed libconfig file (kinctl/cfgread.h). */
 #include "kinctl/cfgread.h"
 

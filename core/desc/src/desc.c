@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* desc.c - reads the robot section of description files and builds
  * chains with the core's builders (format: kinctl/desc.h, examples:
  * models/; shapes of link volumes: shape.c; zones: zones.c). */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* desc_internal.h - what the description library's readers share: the
  * state of one reading, and the shapes and names that link volumes
  * (desc.c) and forbidden zones (zones.c) are written with. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* shape.c - the shapes of link volumes and forbidden zones in description
  * files (kinctl/desc.h, kinctl/zone.h), and the names they carry. */
 #include "desc_internal.h"

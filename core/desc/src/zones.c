@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* zones.c - forbidden zones from a file's controller.zones section
  * (format: kinctl/desc.h; shapes: shape.c). kinctld reads them from its
  * configuration (kinctl/desc_tree.h), kinctl-calc from --zones-file. */

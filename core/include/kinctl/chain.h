@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/chain.h - the robot model: an open chain of elementary transforms.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/check.h - the dry run: a goal judged before it is accepted, by
  * stepping it through the controller's own step code from where it will

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/ctrl.h - the controller step: goals in, one joint setpoint out per
  * tick. Pure and deterministic: no I/O, no clock, no allocation; the daemon

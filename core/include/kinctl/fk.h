@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/fk.h - forward kinematics and the geometric Jacobian.
  *

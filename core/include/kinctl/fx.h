@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/fx.h - forward kinematics, the geometric Jacobian, and joint moves
  * and lines evaluated at integer ticks, in fixed point: for cores without

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/ik.h - inverse kinematics by integrating the kinematic equations
  * (seed 002), with damping, joint limits and redundancy (seed 003).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/interp.h - single-segment interpolators, planned once and evaluated
  * at integer ticks: the joint move of seed 001 lab 4, the Cartesian straight

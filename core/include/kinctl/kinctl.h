@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* kinctl/kinctl.h - the whole core library in one include. */
 #ifndef KINCTL_KINCTL_H
 #define KINCTL_KINCTL_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/orient.h - descriptions of orientation and the conversions between
  * them (seed 001 lab 2; seed 000's "Euler angles of R").

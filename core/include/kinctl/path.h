@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/path.h - multi-point paths through knots (seed 001 lab 7,
  * "Планирование сглаженных траекторий") in joint space, planned once and

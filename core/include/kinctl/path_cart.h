@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/path_cart.h - Cartesian multi-point paths (seed 001 lab 7): a tool
  * pose through knot poses, planned once and evaluated at integer ticks.

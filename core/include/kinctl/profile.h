@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/profile.h - one-dimensional motion laws, planned once and evaluated
  * at integer ticks (seed 001 lab 4, eqs. 4.6-4.12; labs 5 and 6 reuse them).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/real.h - the scalar type, the math it may use, and its tolerances.
  *

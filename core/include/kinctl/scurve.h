@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/scurve.h - jerk-limited one-dimensional motion ("double S"),
  * planned once and evaluated at integer ticks like kinctl/profile.h's

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/se3.h - vectors, rotations, rigid poses, homogeneous transforms,
  * quaternions and dual quaternions.

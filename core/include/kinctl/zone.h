@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/zone.h - forbidden zones: a chain's link volumes checked against
  * a set of zones at joints q.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /* consumer.c - an installed kinctl's user: FK of the built-in puma560 and
  * of the same arm read from a description file, printed as one JSON line.
  *

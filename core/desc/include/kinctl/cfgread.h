@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/cfgread.h - reading a parsed libconfig file: typed lookups whose
  * problems name the file and the line, "<file>:<line>: <problem>".

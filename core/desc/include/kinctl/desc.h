@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/desc.h - robot description files (libkinctl_desc).
  *

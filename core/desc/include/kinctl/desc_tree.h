@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
 /*
  * kinctl/desc_tree.h - the description readers over a file already parsed
  * (kinctl/cfgread.h), for a program whose file holds the robot beside
