@@ -154,7 +154,9 @@ static kc_status run_all(kc_check *k, kc_status st, kc_verdict *v)
     return st == KC_MORE ? kc_check_run(k, k->max_ticks, v) : st;
 }
 
-kc_status kc_check_from(kc_check *k, const kc_real *q_start, const kc_goal *goal, kc_verdict *v)
+/* A judgement's opening: the verdict cleared, the arguments checked, no
+ * run under way. KC_OK, or the status to return (the verdict refusing). */
+static kc_status opening(kc_check *k, const kc_goal *goal, kc_verdict *v)
 {
     if (v == NULL)
         return KC_E_ARG;
@@ -162,7 +164,13 @@ kc_status kc_check_from(kc_check *k, const kc_real *q_start, const kc_goal *goal
     if (k == NULL || k->chain == NULL || goal == NULL)
         return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, -1, KC_R(0.0));
     k->running = 0;
-    return run_all(k, begin_from(k, q_start, goal, v), v);
+    return KC_OK;
+}
+
+kc_status kc_check_from(kc_check *k, const kc_real *q_start, const kc_goal *goal, kc_verdict *v)
+{
+    kc_status st = opening(k, goal, v);
+    return st != KC_OK ? st : run_all(k, begin_from(k, q_start, goal, v), v);
 }
 
 kc_status kc_check_goal(kc_check *k, const kc_goal *goal, kc_verdict *v)
@@ -173,12 +181,9 @@ kc_status kc_check_goal(kc_check *k, const kc_goal *goal, kc_verdict *v)
 
 kc_status kc_check_begin(kc_check *k, const kc_goal *goal, kc_verdict *v)
 {
-    if (v == NULL)
-        return KC_E_ARG;
-    kc_ctrl_verdict_init(v);
-    if (k == NULL || k->chain == NULL || goal == NULL)
-        return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, -1, KC_R(0.0));
-    k->running = 0;
+    kc_status st = opening(k, goal, v);
+    if (st != KC_OK)
+        return st;
     int n = k->chain->n_joints;
     memcpy(k->q_from, goal->replace ? k->q_now : k->q_end, sizeof k->q_from);
     if (kc_ctrl_goal_check(k->chain, goal, v) != KC_OK)
