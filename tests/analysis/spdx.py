@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """Every source file of the project carries its license's SPDX identifier
 in its first lines (LICENSE: BSD-3-Clause). Source files are the ones git
 tracks with a source ending (C, C++, Python, shell, CMake, LCM, Java, and

@@ -159,6 +159,24 @@ class Bus:
                     raise AssertionError(f"timed out after {timeout * SLOW:.1f} s waiting for {what}")
                 self.lock.wait(min(left, 0.05))
 
+    def wait_count(self, count, target, stall=10.0, what="answers"):
+        """Waits until count() (called under the lock) reaches target, for as
+        long as it keeps rising: fails only when it has not risen for stall
+        s (times the slowdown), saying how far it got. For a flood whose
+        throughput is the machine's, not the property under test."""
+        last, since = count(), time.monotonic()
+        with self.lock:
+            while True:
+                n = count()
+                if n >= target:
+                    return n
+                now = time.monotonic()
+                if n > last:
+                    last, since = n, now
+                elif now - since > stall * SLOW:
+                    raise AssertionError(f"{what}: {n} of {target}, none more for {stall * SLOW:.0f} s")
+                self.lock.wait(0.05)
+
     def wait_setpoints(self, count, timeout=5.0):
         """Waits for count setpoints more than have arrived so far; returns them."""
         with self.lock:
