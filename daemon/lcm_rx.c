@@ -67,7 +67,8 @@ static int parse_url(const char *url, rx_url *u, char *why, size_t why_size)
             long v = strtol(opts + sizeof key - 1, &end, 10);
             if ((*end != '\0' && *end != '&') || v <= 0 || v > (1L << 30))
                 return fail(why, why_size, "%s", "has a recv_buf_size that is not a size in bytes (1 to 2^30)");
-            u->recv_buf = (int)v;
+            if (v > u->recv_buf)
+                u->recv_buf = (int)v;
         }
         opts = strchr(opts, '&');
     }

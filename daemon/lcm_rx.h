@@ -40,8 +40,9 @@
  *
  * URLs: LCM's UDP multicast ones, udpm://[GROUP[:PORT]][?OPTIONS] (default
  * group 239.255.76.67, port 7667); of the options only recv_buf_size acts on
- * receiving (bytes; default KD_RX_RECV_BUF). Any other provider is refused
- * at start with a reason.
+ * receiving: the socket's receive buffer is the larger of it and
+ * KD_RX_RECV_BUF (bytes). Any other provider is refused at start with a
+ * reason.
  *
  * Threads: one reader (the I/O thread); open and close on the main thread.
  */
@@ -59,9 +60,12 @@
 #define KD_RX_CHANNEL_MAX 63
 /* The largest payload kd_rx_open accepts as its limit. */
 #define KD_RX_PAYLOAD_MAX 16384
-/* Socket receive buffer asked for unless the URL says otherwise (bytes):
- * a burst of goals waits in the socket instead of being dropped. */
-#define KD_RX_RECV_BUF (4 << 20)
+/* The least socket receive buffer asked for (bytes): a burst of goals waits
+ * in the socket while the I/O thread publishes, instead of being dropped by
+ * the kernel. 10,000 goals sent at once (tests/daemon/test_flood.py) take
+ * about 12 MiB of socket memory at ~1.2 KiB per small datagram; with 4 MiB
+ * a slow (sanitizer) build lost some of them. */
+#define KD_RX_RECV_BUF (16 << 20)
 
 typedef struct kd_rx {
     int fd;
