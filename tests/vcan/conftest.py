@@ -342,7 +342,9 @@ def assert_configured(sim, n, can, writes=()):
     value, index = od(0x60C2, 1), od(0x60C2, 2)
     assert math.isclose(value * 10.0 ** index, period_s, rel_tol=1e-9), \
         f"node {n}: 0x60C2 = {value} x 10^{index} s, the bus cycle is {period_s} s"
-    assert od(0x1006) == PERIOD_US * sync_every, f"node {n}: communication cycle period"
+    # 0x1006 only with cycle_period (else the EDS's 0: not checked)
+    assert od(0x1006) == (PERIOD_US * sync_every if can.get("cycle_period") else 0), \
+        f"node {n}: communication cycle period {od(0x1006)}"
     assert od(0x1019) == can.get("sync_counter", 0), f"node {n}: synchronous counter overflow"
     assert od(0x1017) == can["drive_heartbeat_ms"], f"node {n}: producer heartbeat"
     if can["master_timeout_ms"]:

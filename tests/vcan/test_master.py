@@ -128,7 +128,7 @@ def test_boot_configures_and_enables(can_daemon, drives, recorder, q_start, tpdo
     sim = drives(starts=starts)
     for n in NODES:
         assert sim.state(n)[:2] == (NMT_STATE["pre-operational"], drive402.SWITCH_ON_DISABLED)
-    d, st = enabled_daemon(can_daemon, writes=WRITES, tpdo_every=tpdo_every)
+    d, st = enabled_daemon(can_daemon, writes=WRITES, tpdo_every=tpdo_every, cycle_period=True)
     d.bus.wait_setpoints(20)
     for j, n in enumerate(NODES):
         assert_enabled(sim, n, starts[n])
@@ -243,13 +243,14 @@ def test_joint_goal_and_line_move_the_drives(can_daemon, drives, recorder):
 
 # ---- faults -----------------------------------------------------------------
 
-def assert_stopped_in_fault(d, goal_id):
+def assert_stopped_in_fault(d, goal_id, state="FAULT"):
+    """The goal aborted, the arm at rest in state; then a few bus cycles, so
+    that the drives have taken the last target."""
     ab = d.bus.wait_event(goal_id, ["ABORTED", "COMPLETED"])
     assert ab.event == EVENTS["ABORTED"]
-    d.bus.wait(lambda: d.bus.setpoints[-1].state in (STATES["FAULT"], STATES["ESTOP"]), timeout=10,
-               what="state FAULT")
-    last = d.bus.last_setpoint()
-    assert all(v == 0.0 for v in last.qd[:6]), "at rest"
+    d.bus.wait(lambda: d.bus.setpoints[-1].state == STATES[state] and not any(d.bus.setpoints[-1].qd[:6]),
+               timeout=10, what=f"state {state} at rest")
+    d.bus.wait_setpoints(5)
 
 
 def assert_goal_refused(d, goal_id):
@@ -318,7 +319,7 @@ def test_quick_stop_on_estop(can_daemon, drives, recorder):
     wait_moving(d)
     d.bus.send_command("ESTOP")
     wait_drives(d, "DISABLED")
-    assert_stopped_in_fault(d, 31)
+    assert_stopped_in_fault(d, 31, "ESTOP")
     for n in NODES:
         nmt, state, sw, _ = sim.state(n)
         if n % 2:
@@ -469,14 +470,17 @@ def test_shutdown_leaves_no_drive_enabled(can_daemon, drives, recorder, shutdown
         assert state == drive402.SWITCH_ON_DISABLED and sw & 0x4F == 0x40, f"node {n}: {state}, 0x{sw:04x}"
         assert got == NMT_STATE[nmt_state], f"node {n}: NMT state 0x{got:02x}"
     frames = recorder.snapshot()
+    last = setpoints_of(d)[-1]
+    assert not any(last.qd[:6]) and last.state != STATES["MOVING"], "the arm at rest at the end"
     last_nmt = max(i for i, (_, cid, data) in enumerate(frames) if cid == 0x000)
-    for n in NODES:
+    for j, n in enumerate(NODES):
         cmds = nmt_commands(frames, n)
         assert cmds[-1][1] == nmt, f"node {n}: NMT commands {cmds}"
         rpdos = [(cw, t) for kind, cw, t in per_node(frames, n) if kind == "rpdo"]
         assert rpdos[-1][0] == CW_DISABLE_VOLTAGE, f"node {n}: the last controlword 0x{rpdos[-1][0]:02x}"
         enabled = [t for cw, t in rpdos if cw == CW_ENABLE]
-        assert enabled[-1] == enabled[-2], f"node {n}: still moving when disabled"
+        assert enabled[-1] == expected(last)[j] == sim.state(n)[3], \
+            f"node {n} disabled at {enabled[-1]}, {sim.state(n)[3]}, not at rest at {expected(last)[j]}"
         last_rpdo = max(i for i, f in enumerate(frames) if f[1] == 0x200 + n)
         assert cmds[-1][0] > last_rpdo
     assert not [f for f in frames[last_nmt + 1:] if f[1] == 0x080 or 0x200 < f[1] < 0x280]

@@ -17,7 +17,9 @@ from conftest import (EVENTS, IFACE, MASTER, NODES, SCALING, SLOW, STATES, align
                       assert_setpoints_unbroken, bus_cycles, counts_to_q, enabled_daemon, pos_counts, runs,
                       setpoints_of, statuses, tpdo1, wait_fault, wait_status)
 
-Q_A = [0.3, 0.5, -2.8, 0.4, 0.6, -0.5]
+# From the drives' positions at power-on (conftest.Q_START), every joint
+# moves by 0.9 rad or more.
+Q_A = [1.2, 0.0, -1.8, 1.2, -0.6, 1.0]
 END = ["COMPLETED", "ABORTED", "REJECTED"]
 
 
@@ -39,9 +41,8 @@ def run_to_fault(d, sim, drives_cmd, token, goal_id):
 def assert_stopped_in_fault(d, goal_id):
     ab = d.bus.wait_event(goal_id, ["ABORTED", "COMPLETED"])
     assert ab.event == EVENTS["ABORTED"]
-    d.bus.wait(lambda: d.bus.setpoints[-1].state == STATES["FAULT"], timeout=10, what="state FAULT")
-    last = d.bus.last_setpoint()
-    assert all(v == 0.0 for v in last.qd[:6]), "at rest"
+    d.bus.wait(lambda: d.bus.setpoints[-1].state == STATES["FAULT"] and not any(d.bus.setpoints[-1].qd[:6]),
+               timeout=10, what="state FAULT at rest")
 
 
 def test_feedback_closes_the_loop(can_daemon, drives, recorder):
@@ -157,8 +158,9 @@ def test_interface_down_and_up_stop(can_daemon, drives, recorder, link_restored)
     wait_status(d.bus, lambda s: s.can_state == 2, what="a status with can_state LOST")
     assert "CAN output lost" in st.reason
     assert_stopped_in_fault(d, 61)
+    # the write that met ENETDOWN is an error; the bus cycle then pauses
     stats = d.bus.wait_stats(lambda s: s.can_link_down >= 1 and s.can_state == 2, timeout=5)
-    assert stats.can_errors >= 1 and stats.can_tx_dropped >= 1
+    assert stats.can_errors >= 1
     cli = subprocess.run([sys.executable, "-m", "kinctl", "--lcm-url", d.url, "status", "--json"],
                          capture_output=True, text=True, timeout=30)
     assert cli.returncode == 0, cli.stderr
@@ -264,8 +266,9 @@ def test_sync_every_two_cycles(can_daemon, drives, recorder):
     matched = align(cycles, sps, sync_every=2)
     assert len(matched) == len(cycles)
     assert all(b - a == 2 for a, b in zip(matched, matched[1:]))
-    by_cycle = {sp.cycle: sp for sp in sps}
-    assert len([k for k in matched if any(by_cycle[k].qd[:6])]) > 50, "the motion went out on CAN"
+    moving = [sp.cycle for sp in sps if any(sp.qd[:6])]
+    assert len(moving) > 40
+    assert len([k for k in matched if k in set(moving)]) >= len(moving) // 2, "the motion went out on CAN"
 
 
 @pytest.fixture
