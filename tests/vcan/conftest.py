@@ -175,6 +175,12 @@ class Recorder(canraw.FrameRecorder):
         return self.settle(quiet_s * SLOW, longest_s * SLOW, counted=lambda cid: cid == 0x080 or 0x200 < cid < 0x280)
 
 
+    def so_far(self):
+        """The frames received so far (the bus still running)."""
+        with self.lock:
+            return list(self.frames)
+
+
 @pytest.fixture
 def recorder(vcan):
     r = Recorder(IFACE)

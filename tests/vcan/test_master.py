@@ -292,7 +292,11 @@ def test_emcy_and_fault_reset(can_daemon, drives, recorder):
     assert st.code < 0
     wait_drives(d, "DISABLED")
     assert_stopped_in_fault(d, 21)
-    assert sim.state(3)[1] == drive402.FAULT
+    before_reset = recorder.so_far()
+    cws = [cw for kind, cw, _ in per_node(before_reset, 3) if kind == "rpdo"]
+    assert not [cw for cw in cws if cw & CW_FAULT_RESET], \
+        f"node 3 got a fault reset before RESET: controlwords {[hex(c) for c in cws[-12:]]}"
+    assert sim.state(3)[1] == drive402.FAULT, "node 3 left its fault before RESET"
     assert_goal_refused(d, 22)
     reset_and_move(d, sim, 23)
     assert sim.od(3, 0x603F) == 0 and sim.od(3, 0x1001) == 0
@@ -300,9 +304,10 @@ def test_emcy_and_fault_reset(can_daemon, drives, recorder):
     frames = recorder.snapshot()
     emcy = [f[2] for f in frames if f[1] == 0x083]
     assert emcy[0][:3] == bytes([0x10, 0x23, 0x01]), emcy
-    cws = [cw for kind, cw, _ in per_node(frames, 3) if kind == "rpdo"]
+    cws = [cw for kind, cw, _ in per_node(frames[len(before_reset):], 3) if kind == "rpdo"]
     resets = [i for i, cw in enumerate(cws) if cw & CW_FAULT_RESET]
-    assert resets and not cws[resets[0] - 1] & CW_FAULT_RESET, "fault reset: bit 7 rising"
+    assert resets and cws[resets[0] - 1] == CW_DISABLE_VOLTAGE, \
+        f"fault reset (0x00 then 0x80) after RESET: {[hex(c) for c in cws[:12]]}"
     enablings = assert_no_jump(frames)
     assert enablings[3] == 2
     assert re.search(r"kinctld: drive: .*joint 3 \(node 3\).*0x2310", d.stderr, re.IGNORECASE), d.stderr
@@ -326,7 +331,7 @@ def test_quick_stop_on_estop(can_daemon, drives, recorder):
             assert state == drive402.QUICK_STOP and sw & 0x6F == 0x07, f"node {n}: {state}, 0x{sw:04x}"
         else:
             assert state == drive402.SWITCH_ON_DISABLED and sw & 0x4F == 0x40, f"node {n}: {state}, 0x{sw:04x}"
-    frames = recorder.snapshot()
+    frames = recorder.so_far()
     for n in NODES:
         cws = [cw for kind, cw, _ in per_node(frames, n) if kind == "rpdo"]
         assert CW_QUICK_STOP in cws, f"node {n}: no quick stop; controlwords {sorted(set(cws))}"
