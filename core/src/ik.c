@@ -34,7 +34,9 @@ kc_ik_cfg kc_ik_cfg_default(void)
     return c;
 }
 
-static int positive(kc_real x) { return kc_isfinite(x) && x > KC_R(0.0); }
+/* Inlined: kc_ik_step checks the configuration every tick, and fourteen
+ * calls cost more than the tests. */
+KC_ALWAYS_INLINE int positive(kc_real x) { return kc_isfinite(x) && x > KC_R(0.0); }
 
 kc_status kc_ik_cfg_check(const kc_ik_cfg *cfg, const kc_chain *chain)
 {
@@ -149,7 +151,10 @@ typedef struct ik_problem {
     const kc_ik_cfg *cfg;
     int n, r;
     int singular_damping; /* add the Nakamura-Hanafusa term (online step) */
-    kc_real lo[KC_MAX_JOINTS], hi[KC_MAX_JOINTS], rest[KC_MAX_JOINTS], range[KC_MAX_JOINTS];
+    kc_real lo[KC_MAX_JOINTS], hi[KC_MAX_JOINTS];
+    /* The redundancy objective's, set only when the task leaves a null
+     * space (n > r): nothing else reads them. */
+    kc_real rest[KC_MAX_JOINTS], range[KC_MAX_JOINTS];
 } ik_problem;
 
 static void problem_init(ik_problem *p, const kc_chain *chain, const kc_ik_cfg *cfg)
@@ -163,6 +168,8 @@ static void problem_init(ik_problem *p, const kc_chain *chain, const kc_ik_cfg *
         const kc_joint_limits *l = &chain->joints[j].limits;
         p->lo[j] = l->q_min;
         p->hi[j] = l->q_max;
+        if (p->n <= p->r)
+            continue;
         int bounded = kc_isfinite(l->q_min) && kc_isfinite(l->q_max);
         p->range[j] = bounded && l->q_max > l->q_min ? l->q_max - l->q_min : KC_R(2.0) * KC_PI;
         if (cfg->use_rest)
@@ -404,7 +411,7 @@ static void random_q(const ik_problem *p, uint64_t *state, kc_real *q)
     }
 }
 
-static int q_valid(const kc_chain *chain, const kc_real *q)
+KC_ALWAYS_INLINE int q_valid(const kc_chain *chain, const kc_real *q)
 {
     for (int j = 0; j < chain->n_joints; j++)
         if (!kc_isfinite(q[j]))
@@ -636,9 +643,10 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
     for (int i = 0; i < p.r; i++)
         u[i] = ff[i] + (i < 3 ? cfg->gain_pos : cfg->gain_rot) * e[i];
     kc_real(*jt)[KC_MAX_JOINTS] = task_jacobian(cfg->mask, &jac, &cur, n);
-    /* The null-space velocity stays below half the slowest joint's limit. */
+    /* The null-space velocity stays below half the slowest joint's limit
+     * (only a redundant task has one). */
     kc_real null_bound = KC_REAL_MAX;
-    for (int j = 0; j < n; j++)
+    for (int j = 0; j < n && n > p.r; j++)
         null_bound = kc_min(null_bound, chain->joints[j].limits.qd_max);
     kc_real w = limited_step(&p, jt, u, KC_R(0.0), cfg->null_gain, null_bound, q, qd_des, NULL);
 
