@@ -129,12 +129,14 @@ static kc_real mat3_det(const kc_mat3 *a)
 
 kc_real kc_mat3_rotation_error(const kc_mat3 *a)
 {
-    kc_mat3 ata;
-    kc_mat3_tmul(a, a, &ata);
     kc_real err = kc_fabs(mat3_det(a) - KC_R(1.0));
+    /* The entries of A^T A on and above the diagonal: column i dotted with
+     * column j, the same products summed in the same order as the entry
+     * below it, so the same number (every goal and plan checks a pose). */
     for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
-            kc_real e = kc_fabs(ata.m[i][j] - (i == j ? KC_R(1.0) : KC_R(0.0)));
+        for (int j = i; j < 3; j++) {
+            kc_real d = a->m[0][i] * a->m[0][j] + a->m[1][i] * a->m[1][j] + a->m[2][i] * a->m[2][j];
+            kc_real e = kc_fabs(d - (i == j ? KC_R(1.0) : KC_R(0.0)));
             /* Written so that a NaN entry propagates to the result: a NaN e
              * replaces err, and once err is NaN (err != err) it stays, where
              * "!(e <= err)" alone let the next finite entry overwrite it
