@@ -266,9 +266,12 @@ KC_ALWAYS_INLINE kc_real dls_kernel(const ik_problem *p, kc_real jt[6][KC_MAX_JO
     if (p->singular_damping) {
         /* Manipulability sqrt(det(J J^T)) from an undamped factorisation. */
         kc_real l[KC_LINALG_MAX][KC_LINALG_MAX], det = KC_R(0.0);
-        for (int i = 0; i < r; i++)
+        KC_UNROLL
+        for (int i = 0; i < r; i++) {
+            KC_UNROLL
             for (int k = 0; k <= i; k++)
                 l[i][k] = a[i][k];
+        }
         kc_cholesky(l, r, &det);
         w = kc_sqrt(kc_max(det, KC_R(0.0)));
         if (w < p->cfg->manip_threshold) {
