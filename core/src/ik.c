@@ -236,8 +236,10 @@ KC_ALWAYS_INLINE kc_real dls_kernel(const ik_problem *p, kc_real jt[6][KC_MAX_JO
     }
     /* A = Jt Jt^T and Jt z, column by column: the r x r work inside is of
      * constant size and unrolls. */
+    KC_UNROLL
     for (int i = 0; i < r; i++) {
-        for (int k = 0; k < r; k++)
+        KC_UNROLL
+        for (int k = 0; k <= i; k++)
             a[i][k] = KC_R(0.0);
         y[i] = u[i];
         yz[i] = KC_R(0.0);
@@ -596,9 +598,13 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
     kc_dquat_from_pose(target, &target_dq);
     kc_jacobian jac;
     kc_pose cur;
-    /* task_error fills the p.r rows of e that the mask uses */
-    kc_real e[6] = {KC_R(0.0)}, pos_err, rot_err, qd_des[KC_MAX_JOINTS];
+    /* task_error fills the p.r rows of e that the mask uses. The small
+     * arrays here are cleared by unrolled stores: a memset call costs more. */
+    kc_real e[6], ff[6], pos_err, rot_err, qd_des[KC_MAX_JOINTS];
     int n = p.n;
+    KC_UNROLL
+    for (int i = 0; i < 6; i++)
+        e[i] = ff[i] = KC_R(0.0);
 
     kc_fk_jacobian(chain, q, &jac, &cur);
     task_error(cfg->mask, &cur, &target_dq, target, e, &pos_err, &rot_err);
@@ -608,7 +614,6 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
     res->rot_err = rot_err;
 
     /* The feed-forward twist in the task's rows (as task_jacobian). */
-    kc_real ff[6] = {KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(0.0)};
     int moving_target = 0;
     if (twist_ff != NULL) {
         for (int i = 0; i < 6; i++) {
