@@ -4,6 +4,7 @@
  * documented in kinctl/ik.h. */
 #include "kinctl/ik.h"
 
+#include "fk_internal.h"
 #include "linalg_internal.h"
 
 kc_ik_cfg kc_ik_cfg_default(void)
@@ -436,7 +437,7 @@ static kc_status classify_miss(const ik_problem *p, const kc_dquat *target_dq, c
     uint8_t frozen[KC_MAX_JOINTS] = {0};
     ik_problem probe = *p;
     probe.singular_damping = 1; /* to get the manipulability back */
-    kc_fk_jacobian(p->chain, q, &jac, &cur);
+    kc_fk_jacobian_checked(p->chain, q, &jac, &cur);
     task_error(p->cfg->mask, &cur, target_dq, target, e, &pos_err, &rot_err);
     kc_real(*jt)[KC_MAX_JOINTS] = task_jacobian(p->cfg->mask, &jac, &cur, p->n);
     kc_real w = dls_solve(&probe, jt, e, KC_R(0.0), KC_R(0.0), KC_R(0.0), q, frozen, dq);
@@ -514,7 +515,7 @@ kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose
             history[i] = KC_REAL_MAX;
         for (int s = 0; s < cfg->max_steps; s++) {
             kc_real e[6], pos_err, rot_err;
-            kc_fk_jacobian(chain, q, &jac, &cur);
+            kc_fk_jacobian_checked(chain, q, &jac, &cur);
             steps++;
             task_error(cfg->mask, &cur, &target_dq, target, e, &pos_err, &rot_err);
             kc_real cost = KC_R(0.0);
@@ -606,7 +607,7 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
     for (int i = 0; i < 6; i++)
         e[i] = ff[i] = KC_R(0.0);
 
-    kc_fk_jacobian(chain, q, &jac, &cur);
+    kc_fk_jacobian_checked(chain, q, &jac, &cur);
     task_error(cfg->mask, &cur, &target_dq, target, e, &pos_err, &rot_err);
     res->steps = 1;
     res->restarts = 0;
