@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
 # The core's budgets on a Cortex-M4F, printed beside their targets (issue
-# 20): code size per module, worst-case stack per public entry point (from
+# 20): code size per module (and what an image links of it, from its map
+# with mcu_linked.py), worst-case stack per public entry point (from
 # GCC's call graphs, checked against the high-water mark measured on the
 # board), and instructions per call on QEMU's mps2-an386 with -icount
 # shift=0 beside callgrind's count of the same program on this host.
@@ -65,6 +66,14 @@ for cfg in default small; do
         "$(verdict "$total" "$text_target")"
     printf '%-10s %-10s %8d   fixed point (fx, fx_chain, fx_interp), for cores without an FPU; with them %d\n' \
         "$cfg" fx_all "$fx_total" "$((total + fx_total))"
+    # What a firmware carries: the core's sections kept in the bench image,
+    # which calls FK, the Jacobian, the IK step, the controller with every
+    # goal kind and the dry run (the totals above count every function of
+    # every module, e.g. the jerk-limited profiles the controller never
+    # plans).
+    linked=$("$here/mcu_linked.py" "${image[$cfg]%.elf}.map" | awk '$2 == "total" {print $3}')
+    printf '%-10s %-10s %8d   linked into %s (--gc-sections): what a firmware running the controller carries\n' \
+        "$cfg" linked "$linked" "$(basename "${image[$cfg]}")"
 done
 
 echo
