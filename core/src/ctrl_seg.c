@@ -95,7 +95,10 @@ kc_status kc_ctrl_plan_goal(kc_ctrl *c)
     kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS];
     kc_pose from;
     kc_interp_limits lim = kc_ctrl_cart_limits(c, g);
-    kc_fk_eval(c->chain, c->q, &from);
+    /* The tool pose where the segment starts: the kinds that start from it
+     * (a Cartesian path takes it in plan_path). */
+    if (g->kind == KC_GOAL_LINE || g->kind == KC_GOAL_ARC || g->kind == KC_GOAL_SERVO)
+        kc_fk_eval(c->chain, c->q, &from);
     c->path_length = KC_R(0.0);
     switch (g->kind) {
     case KC_GOAL_JOINT:
