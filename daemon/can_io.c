@@ -359,6 +359,7 @@ static void recover(kd_can *c, int64_t now)
         close(fd);
     c->state = KD_CAN_OK;
     c->state_changed = 1;
+    c->recoveries++;
     c->next_heartbeat_ns = now;
     atomic_store_explicit(&c->bus->link_errno, 0, memory_order_relaxed);
     atomic_store_explicit(&c->bus->paused, 0, memory_order_release);

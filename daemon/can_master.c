@@ -361,6 +361,15 @@ void kd_master_step(kd_master *m, int64_t now)
     if (elapsed_us == 0 && now > m->last_ns)
         return; /* less than a microsecond: the timers wait for more */
     m->last_ns = now;
+    if (m->can->recoveries != m->recoveries) {
+        m->recoveries = m->can->recoveries;
+        if (m->phase == P_READ || m->phase == P_SEAT || m->phase == P_ENABLE || m->phase == P_RUN) {
+            stop_with(m, HOLD_QUICK_STOP, now,
+                      "the bus was lost with the drives enabled: quick stop to every drive (RESET enables them "
+                      "again where they are)");
+            return;
+        }
+    }
     switch (m->phase) {
     case P_BOOT:
         for (j = 0; j < m->n && m->phase == P_BOOT; j++) {
