@@ -140,7 +140,10 @@ static void start_enable(kd_master *m, int64_t now)
         m->tpdos_phase[j] = m->can->tpdos[j];
     }
     kd_can_watch(m->can, 0, now);
-    atomic_store_explicit(&m->bus->active, 1, memory_order_release);
+    if (!atomic_load(&m->bus->active)) {
+        kd_can_rebase(m->can, -1); /* the first SYNC of the bus cycle is the one the first TPDOs answer */
+        atomic_store_explicit(&m->bus->active, 1, memory_order_release);
+    }
 }
 
 /* Each drive's next controlword, once per TPDO that answers the last one. */
@@ -255,6 +258,7 @@ static void boot_result(kd_master *m, int j, int r, int64_t now)
         m->booting[j] = 0;
         m->booted[j] = 1;
         m->bootups[j] = m->can->bootups[j];
+        kd_can_rebase(m->can, j); /* started: it answers the next SYNC */
     } else if (r < 0) {
         char why[KD_CAN_TEXT];
         const char *rest;
