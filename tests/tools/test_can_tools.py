@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """The CAN tools that need no CAN interface: the DBC shipped with the package
 is make_dbc()'s and decodes kinctld's frames as can_io.h lays them out,
-`kinctl candecode` on candump logs, `kinctl drivesim`'s drive model and its
-errors. On a real interface they run in tests/vcan."""
+`kinctl candecode` on candump logs, `kinctl drivesim`'s command line (its
+drives: test_drivesim.py). On a real interface they run in tests/vcan."""
 import json
 import struct
 import subprocess
@@ -11,8 +11,8 @@ import sys
 import pytest
 
 from kinctl import dbc
+from kinctl.argtypes import parse_nodes
 from kinctl.candecode import parse_line
-from kinctl.drivesim import Drive, parse_nodes
 
 
 def run(*args, stdin=None):
@@ -66,27 +66,6 @@ def test_candecode_log_formats(tmp_path):
     assert parse_line("(1.0) can0 7FF#") == (1.0, "can0", 0x7FF, b"")
 
 
-def test_drive_model():
-    d = Drive(3, vmax=1000.0)
-    assert d.step(0.001) is None  # no target yet: no answer
-    d.pending = 5000
-    pos, sw = d.step(0.001)  # starts where its first target puts it
-    assert (pos, sw) == (5000, 0x1237)
-    d.pending = 6000
-    pos, sw = d.step(0.001)  # 1000 counts/s for 1 ms
-    assert pos == 5001 and sw == 0x1237
-    d.window = 100
-    assert d.step(0.001)[1] & (1 << 13)  # beyond the window: following error
-    d.faulted = True
-    assert d.step(0.001)[1] == 0x0208
-    lag = Drive(1, lag_s=0.01)
-    lag.pending = 0
-    lag.step(0.001)
-    lag.pending = 1000
-    pos, _ = lag.step(0.001)
-    assert pos == 100  # a tenth of the way in a tenth of the time constant
-
-
 def test_drivesim_bad_input():
     with pytest.raises(ValueError):
         parse_nodes("0-3")
@@ -95,7 +74,12 @@ def test_drivesim_bad_input():
     assert parse_nodes("1-3,7") == [1, 2, 3, 7]
     r = run("drivesim", "--nodes", "x")
     assert r.returncode == 2 and "node" in r.stderr
+    r = run("drivesim", "--period-ms", "0.0005", "--interface", "no-such-can")
+    assert r.returncode == 2 and "0x60C2" in r.stderr
+    r = run("drivesim", "--start", "9=5", "--nodes", "1-3", "--interface", "no-such-can")
+    assert r.returncode == 2 and "not in --nodes" in r.stderr
     r = run("drivesim", "--help")
-    assert r.returncode == 0 and "kinctl drivesim --interface vcan0" in r.stdout
+    assert r.returncode == 0 and "kinctl drivesim --interface vcan0" in r.stdout and "--configured" in r.stdout
+    assert run("drive402", "--help").returncode == 2  # one simulator, one name
     r = run("candecode", "--help")
     assert r.returncode == 0 and "candump -L vcan0 | kinctl candecode" in r.stdout

@@ -85,7 +85,7 @@ def live_frames(interface, count=None, duration=None):
 
 def run(args):
     if args.nodes is not None or args.master is not None:
-        from kinctl.drivesim import parse_nodes
+        from kinctl.argtypes import parse_nodes
         db = dbc.load(nodes=parse_nodes(args.nodes) if args.nodes else None, master=args.master)
     else:
         db = dbc.load(args.dbc)

@@ -79,6 +79,22 @@ def load(path=None, nodes=None, master=None):
     return cantools.database.load_file(path or repo_dbc_path())
 
 
+# CiA 402-2's statusword masks: (mask, value, state), the first that matches.
+STATUSWORD_STATES = ((0x4F, 0x00, "not_ready_to_switch_on"), (0x4F, 0x40, "switch_on_disabled"),
+                     (0x6F, 0x21, "ready_to_switch_on"), (0x6F, 0x23, "switched_on"),
+                     (0x6F, 0x27, "operation_enabled"), (0x6F, 0x07, "quick_stop_active"),
+                     (0x4F, 0x0F, "fault_reaction_active"), (0x4F, 0x08, "fault"))
+
+
+def statusword_state(sw):
+    """The CiA 402 power state a statusword shows ('operation_enabled'),
+    or None for a pattern the standard does not define."""
+    for mask, value, name in STATUSWORD_STATES:
+        if sw & mask == value:
+            return name
+    return None
+
+
 STATUSWORD_BITS = ((3, "fault"), (12, "follows"), (13, "following_error"))
 
 

@@ -35,8 +35,14 @@ CANopenNode-based firmware behaves:
     error beyond 0x6065. 0x6060 takes only the modes in 0x6502 (CSP).
   - Motion: in operation enabled and mode 8 the actual position (0x6064)
     goes to the target (0x607A) at each SYNC: exactly, or a first-order lag
-    of lag_s. Elsewhere it stays; the target follows the actual position
-    while not enabled, so that enabling never jumps.
+    of lag_s (the interpolation period 0x60C2 the step). Elsewhere it stays;
+    the target follows the actual position while not enabled, so that
+    enabling never jumps. A target beyond the software position limits
+    (0x607D, where min <= max) is held at the limit, with statusword bit 11
+    (internal limit active). The velocity offset (0x60B1, in RPDO2 where
+    mapped) is taken and read back, not acted on; 0x1006 (the SYNC period)
+    is kept, not watched: a Python process on a loaded machine cannot time
+    a 1 ms SYNC without false alarms.
   - Heartbeat consumer 0x1016 (node << 16 | ms): once a watched node's
     heartbeat has been seen, its silence longer than the time is a lost
     master: EMCY 0x8130, then 0x6007's reaction (0 none, 1 fault 0x8130,
@@ -44,7 +50,13 @@ CANopenNode-based firmware behaves:
   - Faults on command: state fault, 0x603F and error register 0x1001 set,
     EMCY with the code; a fault reset clears them and sends EMCY 0x0000.
 
-Control (stdin of `kinctl drive402`, or Drives.command): one command a line,
+Power-on values (what the drive's non-volatile memory holds: the EDS's
+defaults, or Drives' presets for the period, heartbeat, following-error
+window and, with configured=True, the PDOs and mode kinctld's boot writes,
+so a master that does not configure the drives (kinctld's `boot = false`)
+finds them ready) come back at each reset.
+
+Control (stdin of `kinctl drivesim`, or Drives.command): one command a line,
 answered "ok <command>" once applied, or "error <why>":
     fault N [CODE]     node N faults with CODE (hex or decimal; 0x5530)
     silent N | talk N  node N stops or resumes sending anything
@@ -54,7 +66,7 @@ answered "ok <command>" once applied, or "error <why>":
     quit
 """
 import os
-import struct
+import sys
 import threading
 import time
 
@@ -78,12 +90,49 @@ STATE_BITS = {NOT_READY: 0x0000, SWITCH_ON_DISABLED: 0x0040, READY: 0x0021, SWIT
 SW_VOLTAGE_ENABLED = 1 << 4
 SW_QUICK_STOP = 1 << 5
 SW_REMOTE = 1 << 9
+SW_INTERNAL_LIMIT = 1 << 11
 SW_TARGET_FOLLOWED = 1 << 12
 SW_FOLLOWING_ERROR = 1 << 13
 
 
 def default_eds():
     return os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "kinctl-drive.eds")
+
+
+def interpolation_period(period_s):
+    """0x60C2's (value, index): period_s = value x 10^index, value 1..255,
+    the largest index that holds it exactly to the microsecond; ValueError
+    for a period it cannot hold."""
+    us = int(round(period_s * 1e6))
+    for index in (-3, -4, -5, -6):
+        unit = 10 ** (6 + index)  # microseconds per count
+        if us % unit == 0 and 1 <= us // unit <= 255:
+            return us // unit, index
+    raise ValueError(f"period {period_s} s: 0x60C2 holds 1..255 x 10^-3..10^-6 s")
+
+
+def presets(node_id, period_s=None, heartbeat_ms=None, window=None, configured=False):
+    """{(index, subindex): power-on value} of a drive at node_id: the
+    interpolation period 0x60C2 and SYNC period 0x1006, the heartbeat
+    producer 0x1017, the following-error window 0x6065 where given; with
+    configured, what kinctld's boot writes with its defaults (RPDO1 the
+    controlword and target position, TPDO1 the statusword and actual
+    position, both synchronous every SYNC; mode 8)."""
+    out = {}
+    if period_s is not None:
+        value, index = interpolation_period(period_s)
+        out.update({(0x60C2, 1): value, (0x60C2, 2): index, (0x1006, 0): int(round(period_s * 1e6))})
+    if heartbeat_ms is not None:
+        out[(0x1017, 0)] = int(heartbeat_ms)
+    if window is not None:
+        out[(0x6065, 0)] = int(window)
+    if configured:
+        out.update({(0x1400, 1): 0x200 + node_id, (0x1400, 2): 1,
+                    (0x1600, 0): 2, (0x1600, 1): 0x60400010, (0x1600, 2): 0x607A0020,
+                    (0x1800, 1): 0x180 + node_id, (0x1800, 2): 1,
+                    (0x1A00, 0): 2, (0x1A00, 1): 0x60410010, (0x1A00, 2): 0x60640020,
+                    (0x6060, 0): MODE_CSP})
+    return out
 
 
 def next_state(state, cw, prev_cw, quick_stop_option):
@@ -134,13 +183,17 @@ class Drive:
     """One CiA 402 node on a canopen.Network; its callbacks run on the
     network's receive thread, commands under Drives' lock."""
 
-    def __init__(self, network, node_id, eds, start_counts, lag_s=0.0):
+    def __init__(self, network, node_id, eds, start_counts, lag_s=0.0, power_on=None):
         import canopen
         self._cache = {}
         self.network = network
         self.id = node_id
         self.eds = eds
-        self.node = canopen.LocalNode(node_id, canopen.import_od(eds, node_id))
+        od = canopen.import_od(eds, node_id)
+        for (index, sub), value in (power_on or {}).items():
+            obj = od[index]
+            (obj[sub] if hasattr(obj, "subindices") and obj.subindices else obj).default = value
+        self.node = canopen.LocalNode(node_id, od)
         self.node.add_read_callback(self._on_read)
         self.node.add_write_callback(self._on_write)
         network.add_node(self.node)
@@ -148,6 +201,7 @@ class Drive:
         self.lag_s = lag_s
         self.silent = False
         self.pos = float(start_counts)
+        self.limited = False  # the target is beyond 0x607D: the demand is the limit
         self.sync_count = 0
         self.events = []  # (what, detail) for tests and the log: emcy, sync_error, ...
         self._reset_application()
@@ -273,10 +327,13 @@ class Drive:
             sw |= SW_VOLTAGE_ENABLED
         if self.state in (READY, SWITCHED_ON, ENABLED):
             sw |= SW_QUICK_STOP
+        if self.limited and self.state == ENABLED:
+            sw |= SW_INTERNAL_LIMIT
         if self.state == ENABLED and self.cached(0x6060, lambda: self.od(0x6060)) == MODE_CSP:
             sw |= SW_TARGET_FOLLOWED
             window = self.cached(0x6065, lambda: self.od(0x6065))
-            if window != 0xFFFFFFFF and abs(self.target - self.pos) > window:
+            demand = self.limit(self.target)
+            if window != 0xFFFFFFFF and abs(demand - self.pos) > window:
                 sw |= SW_FOLLOWING_ERROR
         return sw
 
@@ -439,15 +496,24 @@ class Drive:
         self._move()
         self._send_tpdos(at_sync=True)
 
+    def limit(self, target):
+        """target held within the software position limits (0x607D; none
+        where min > max)."""
+        lo, hi = self.cached(0x607D, lambda: (self.od(0x607D, 1), self.od(0x607D, 2)))
+        return min(max(target, lo), hi) if lo <= hi else target
+
     def _move(self):
         if self.state != ENABLED or self.cached(0x6060, lambda: self.od(0x6060)) != MODE_CSP:
             self.target = int(round(self.pos))
+            self.limited = False
             return
+        goal = self.limit(self.target)
+        self.limited = goal != self.target
         if self.lag_s <= 0:
-            self.pos = float(self.target)
+            self.pos = float(goal)
             return
         period = self.od(0x60C2, 1) * 10.0 ** self.od(0x60C2, 2)
-        self.pos += (self.target - self.pos) * min(1.0, period / self.lag_s)
+        self.pos += (goal - self.pos) * min(1.0, period / self.lag_s)
 
     # -- heartbeat consumer ----------------------------------------------------
     def check_consumers(self, now):
@@ -483,14 +549,18 @@ class Drive:
 class Drives:
     """Drives at node ids on a SocketCAN interface, one canopen.Network."""
 
-    def __init__(self, channel, nodes, eds=None, start_counts=None, lag_s=0.0, tick_s=0.005, interface="socketcan"):
+    def __init__(self, channel, nodes, eds=None, start_counts=None, lag_s=0.0, tick_s=0.005, interface="socketcan",
+                 **preset_args):
+        """preset_args: presets()'s power-on values (period_s, heartbeat_ms,
+        window, configured)."""
         import canopen
         self.network = canopen.Network()
         self.network.connect(interface=interface, channel=channel, receive_own_messages=False)
         self.lock = threading.RLock()
         eds = eds or default_eds()
         starts = start_counts or {}
-        self.drives = {n: Drive(self.network, n, eds, starts.get(n, 1000 * n + 123), lag_s) for n in nodes}
+        self.drives = {n: Drive(self.network, n, eds, starts.get(n, 1000 * n + 123), lag_s, presets(n, **preset_args))
+                       for n in nodes}
         for cid in range(0x000, 0x800):
             if cid == 0 or cid >= 0x080 and not 0x580 <= cid < 0x680:
                 self.network.subscribe(cid, self._dispatch)
@@ -521,7 +591,6 @@ class Drives:
     def command(self, line):
         """One control line (the module's text); returns the reply.
         ValueError for a bad line."""
-        from kinctl.drivesim import control_line
         verb, args, d = control_line(self, line, ("fault", "silent", "talk", "lag", "reboot", "state"),
                                      "fault N [CODE], silent/talk/reboot/state N, lag N S, quit")
         if d is None:
@@ -572,32 +641,58 @@ def parse_starts(text, nodes):
     return out
 
 
-def register(sub, parents):
-    """`kinctl drive402` (the CLI's command modules register themselves)."""
-    from kinctl.argtypes import add_command, nonneg
-    from kinctl.cancmds import add_drive_bus
-    p = add_command(sub, "drive402", "simulate CiA 402 drives on a CANopen stack (python canopen, an EDS): boot-up, "
-                                     "SDO, NMT, heartbeat, EMCY, PDO mapping, SYNC, the power state machine; control "
-                                     "lines on stdin: fault N [CODE], silent/talk/reboot/state N, lag N S, quit",
-                    "kinctl drive402 --interface vcan0 --nodes 1-6 --start 1=1000,2=-20000\n"
-                    "  (then type: fault 3, state 3, reboot 2, quit)", parents)
-    add_drive_bus(p)
-    p.add_argument("--eds", default=None, help="the drives' EDS (default: kinctl's data/kinctl-drive.eds)")
-    p.add_argument("--start", default="", metavar="N=COUNTS,...",
-                   help="actual positions at power-on (default 1000 N + 123 counts)")
-    p.add_argument("--lag", type=nonneg, default=0.0, metavar="S", help="first-order lag (s); 0: none (default)")
-    p.add_argument("--no-stdin", action="store_true", help="ignore stdin (run until SIGINT)")
-    p.set_defaults(run=run)
-    return p
+def control_line(sim, line, verbs, usage):
+    """One control line: (verb, arguments, drive) for one of verbs followed
+    by the node id of one of sim.drives, or ("quit", [], None) once quit has
+    stopped sim (sim.running). ValueError otherwise; usage lists the
+    commands."""
+    words = line.split()
+    if not words:
+        raise ValueError("empty command")
+    verb, args = words[0], words[1:]
+    if verb == "quit":
+        sim.running = False
+        return verb, args, None
+    if verb not in verbs or not args:
+        raise ValueError(f"unknown command {line!r} ({usage})")
+    node = int(args[0])
+    if node not in sim.drives:
+        raise ValueError(f"no drive with node id {node}")
+    return verb, args, sim.drives[node]
+
+
+def serve_control(sim, no_stdin, alive):
+    """Answers control lines on stdin with sim.command's replies (or
+    "error ...") until quit or the end of input; with no_stdin, waits while
+    alive() holds instead."""
+    if no_stdin:
+        while alive():
+            time.sleep(0.5)
+        return
+    for line in sys.stdin:
+        line = line.strip()
+        if not line:
+            continue
+        try:
+            print(sim.command(line), flush=True)
+        except ValueError as e:
+            print(f"error {e}", flush=True)
+        if not sim.running:
+            break
 
 
 def run(args):
-    """`kinctl drive402`: serve until stdin says quit or closes, or SIGINT."""
-    from kinctl.drivesim import parse_nodes, serve_control
+    """`kinctl drivesim` (registered by kinctl.cancmds): serve until stdin
+    says quit or closes, or SIGINT."""
+    from kinctl.argtypes import parse_nodes
     nodes = parse_nodes(args.nodes)
+    starts = parse_starts(args.start, nodes)
+    period_s = None if args.period_ms is None else args.period_ms / 1000.0
+    if period_s is not None:
+        interpolation_period(period_s)  # ValueError (exit 2) before the bus is opened
     try:
-        sim = Drives(args.interface, nodes, eds=args.eds, start_counts=parse_starts(args.start, nodes),
-                     lag_s=args.lag)
+        sim = Drives(args.interface, nodes, eds=args.eds, start_counts=starts, lag_s=args.lag, period_s=period_s,
+                     heartbeat_ms=args.heartbeat_ms, window=args.window, configured=args.configured)
     except OSError as e:
         raise OSError(f"cannot open CAN interface {args.interface!r}: {e}") from e
     print(f"ready {args.interface} nodes {args.nodes}", flush=True)
