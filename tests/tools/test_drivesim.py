@@ -8,7 +8,10 @@ enabled through RPDO1, the velocity offset through RPDO2, TPDO1 every N-th
 SYNC, the software position limits. The same drives on vcan under kinctld
 are tests/vcan's."""
 import itertools
+import json
 import struct
+import subprocess
+import sys
 import time
 
 import pytest
@@ -37,6 +40,10 @@ class Master:
     NODE and a recorder of every frame."""
 
     def __init__(self, channel):
+        import can
+        self.wire = can.Bus(interface="virtual", channel=channel, receive_own_messages=False)
+        self.log = can.BufferedReader()
+        self.notifier = can.Notifier(self.wire, [self.log])  # every frame, the master's too
         self.net = canopen.Network()
         self.net.connect(interface="virtual", channel=channel, receive_own_messages=False)
         self.frames = []
@@ -61,7 +68,15 @@ class Master:
     def sync(self, counter=None):
         self.net.send_message(0x080, b"" if counter is None else bytes([counter]))
 
+    def candump(self, path):
+        """Every frame on the bus so far as `candump -L` writes them."""
+        with open(path, "w", encoding="utf-8") as f:
+            while (msg := self.log.get_message(0.0)) is not None:
+                f.write(f"({msg.timestamp:.6f}) vcan0 {msg.arbitration_id:03X}#{bytes(msg.data).hex().upper()}\n")
+
     def close(self):
+        self.notifier.stop()
+        self.wire.shutdown()
         self.net.disconnect()
 
 
@@ -104,7 +119,7 @@ def tpdo1(m):
     return [struct.unpack("<Hi", d) for d in m.sent(0x180 + NODE)]
 
 
-def test_boot_configure_enable_move(bus):
+def test_boot_configure_enable_move(bus, tmp_path):
     m, sim = bus()
     d = sim.drives[NODE]
     assert wait_for(lambda: m.sent(0x700 + NODE)) == [b"\x00"]  # boot-up
@@ -155,6 +170,18 @@ def test_boot_configure_enable_move(bus):
     cycle(0x80, 100000, n=1)
     assert wait_for(lambda: struct.unpack_from("<H", m.sent(0x080 + NODE)[-1]) == (0x0000,))
     assert d.state == drive402.SWITCH_ON_DISABLED
+
+    # The whole sequence, as candump would log it, decodes with the DBC.
+    log = tmp_path / "boot.log"
+    m.candump(log)
+    r = subprocess.run([sys.executable, "-m", "kinctl", "candecode", "--strict", "--json", str(log)],
+                       capture_output=True, text=True, timeout=60)
+    assert r.returncode == 0, r.stdout + r.stderr
+    names = [json.loads(line)["name"] for line in r.stdout.splitlines()]
+    for kind in ("NMT", "SYNC", "SDORequest_Node3", "SDOResponse_Node3", "RPDO1_Node3", "RPDO2_Node3", "TPDO1_Node3",
+                 "EMCY_Node3", "Heartbeat_Node3"):
+        assert kind in names, kind
+    assert names.count("SDORequest_Node3") == names.count("SDOResponse_Node3")
 
 
 def test_sync_length_follows_0x1019(bus):
