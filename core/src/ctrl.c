@@ -152,6 +152,27 @@ static int at_rest(const kc_ctrl *c)
     return 1;
 }
 
+kc_status kc_ctrl_seat(kc_ctrl *c, const kc_real *q, int *bad_joint)
+{
+    kc_status st;
+    if (bad_joint != NULL)
+        *bad_joint = -1;
+    if (c == NULL || q == NULL)
+        return KC_E_ARG;
+    if (c->state != KC_CTRL_IDLE || !at_rest(c) || c->active || c->queue_len > 0 || c->jstop)
+        return KC_E_STATE;
+    st = kc_chain_check_q(c->chain, q, bad_joint);
+    if (st != KC_OK)
+        return st;
+    for (int j = 0; j < c->chain->n_joints; j++) {
+        c->q[j] = q[j];
+        c->qd[j] = KC_R(0.0);
+        c->qdd[j] = KC_R(0.0);
+    }
+    kc_ctrl_zone_init(c); /* the zones' distances from where the arm is */
+    return KC_OK;
+}
+
 static void command(kc_ctrl *c, kc_ctrl_command cmd, kc_ctrl_output *out)
 {
     switch (cmd) {

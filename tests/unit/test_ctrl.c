@@ -549,6 +549,52 @@ static void test_estop_and_reset(void **state)
     assert_int_equal(H.last[KC_EVENT_COMPLETED].goal_id, 42);
 }
 
+/* Seating at the drives' positions: only an idle controller at rest takes
+ * it, inside the limits; the cycle count goes on, and the arm holds at the
+ * seat and moves from there. */
+static void test_seat(void **state)
+{
+    (void)state;
+    const kc_real seat[6] = {KC_R(0.3), KC_R(0.5), KC_R(-2.0), KC_R(-0.2), KC_R(0.4), KC_R(-0.1)};
+    kc_real outside[6];
+    int bad = 99;
+    start_joint_move(51, 100);
+    assert_int_equal(kc_ctrl_seat(&H.ctrl, seat, &bad), KC_E_STATE); /* moving */
+    assert_int_equal(bad, -1);
+    run_until_state(KC_CTRL_IDLE, 20000);
+    memcpy(outside, seat, sizeof outside);
+    outside[2] = H.chain.joints[2].limits.q_min - KC_R(0.01);
+    kc_real before = H.ctrl.q[0];
+    assert_int_equal(kc_ctrl_seat(&H.ctrl, outside, &bad), KC_E_LIMIT);
+    assert_int_equal(bad, 2);
+    assert_true(H.ctrl.q[0] == before); /* unchanged on error */
+    int64_t cycle = H.out.cycle;
+    assert_int_equal(kc_ctrl_seat(&H.ctrl, seat, &bad), KC_OK);
+    tick(NULL, KC_CMD_NONE);
+    assert_true(H.out.cycle == cycle + 1);
+    assert_int_equal(H.out.state, KC_CTRL_IDLE);
+    for (int j = 0; j < 6; j++) {
+        kt_near((double)H.out.q[j], (double)seat[j], 0.0, "holds at the seat");
+        kt_near((double)H.out.qd[j], 0.0, 0.0, "at rest at the seat");
+    }
+    /* A move from the seat starts there: the first setpoint is within one
+     * tick's acceleration of it. */
+    kc_goal g = kt_joint_goal(52, PUMA_Q0, 6);
+    tick(&g, KC_CMD_NONE);
+    for (int j = 0; j < 6; j++) {
+        double step = 0.5 * (double)H.chain.joints[j].limits.qdd_max * (double)H.cfg.dt * (double)H.cfg.dt;
+        assert_true(fabs((double)H.out.q[j] - (double)seat[j]) <= step * (1.0 + 1e-6) + 1e-12);
+    }
+    run_until_state(KC_CTRL_IDLE, 20000);
+    assert_int_equal(H.last[KC_EVENT_COMPLETED].goal_id, 52);
+    /* ESTOP latches: no seat until RESET. */
+    tick(NULL, KC_CMD_ESTOP);
+    assert_int_equal(kc_ctrl_seat(&H.ctrl, seat, NULL), KC_E_STATE);
+    tick(NULL, KC_CMD_RESET);
+    assert_int_equal(kc_ctrl_seat(&H.ctrl, seat, NULL), KC_OK);
+    assert_int_equal(kc_ctrl_seat(NULL, seat, NULL), KC_E_ARG);
+}
+
 /* An external fault (a drive) in the middle of a joint move: FAULT and
  * ABORTED at once, a joint-space stop no longer than the slowest joint's
  * own braking time qd / qdd_max, latched in FAULT until RESET, goals
@@ -940,7 +986,7 @@ int main(void)
         cmocka_unit_test(test_joint_goal),        cmocka_unit_test(test_line_goal),
         cmocka_unit_test(test_arc_and_paths),     cmocka_unit_test(test_queue_and_preemption),
         cmocka_unit_test(test_stop_pause_resume), cmocka_unit_test(test_estop_and_reset),
-        cmocka_unit_test(test_external_fault),
+        cmocka_unit_test(test_external_fault),    cmocka_unit_test(test_seat),
         cmocka_unit_test(test_rejections),        cmocka_unit_test(test_servo),
         cmocka_unit_test(test_dry_run),           cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_path_pause_stop),   cmocka_unit_test(test_lagrange_path),

@@ -357,6 +357,14 @@ typedef struct kc_ctrl {
  * chain that fails kc_chain_check, or q0 not finite or outside the limits. */
 kc_status kc_ctrl_init(kc_ctrl *ctrl, const kc_chain *chain, const kc_ctrl_cfg *cfg, const kc_real *q0);
 
+/* The arm is where its drives say: puts an idle controller at rest at q
+ * (a drive's measured position, before it is enabled), keeping its cycle
+ * count. KC_E_STATE unless the controller is IDLE, at rest, with nothing
+ * active or queued; KC_E_ARG for NULL or q not finite; KC_E_LIMIT for q
+ * outside the joints' limits (*bad_joint, if not NULL, says which,
+ * 0-based). The controller is unchanged on error. Cycle-safe. */
+kc_status kc_ctrl_seat(kc_ctrl *ctrl, const kc_real *q, int *bad_joint);
+
 /* KC_OK for a usable cfg: positive rates, a valid IK cfg, finite joint rate
  * limits, and zones NULL or valid with a margin above
  * kc_zone_tick_travel(chain, dt) (when both zones and volumes exist). */
