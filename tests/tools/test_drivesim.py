@@ -97,8 +97,8 @@ def bus():
 
 
 def configure(m, sync_counter=0, tpdo_every=1, velocity_offset=True):
-    """What kinctld's boot writes (the contract, CiA 301 mapping order),
-    each write checked by reading it back."""
+    """What kinctld's boot writes (CiA 301's order for the mapping, 0x1019
+    while 0x1006 is 0), each write checked by reading it back."""
     writes = [(0x1400, 1, 0x80000200 + NODE, 4), (0x1400, 2, 1, 1), (0x1600, 0, 0, 1),
               (0x1600, 1, 0x60400010, 4), (0x1600, 2, 0x607A0020, 4), (0x1600, 0, 2, 1), (0x1400, 1, 0x200 + NODE, 4)]
     if velocity_offset:
@@ -106,8 +106,8 @@ def configure(m, sync_counter=0, tpdo_every=1, velocity_offset=True):
                    (0x1601, 1, 0x60B10020, 4), (0x1601, 0, 1, 1), (0x1401, 1, 0x300 + NODE, 4)]
     writes += [(0x1800, 1, 0x80000180 + NODE, 4), (0x1800, 2, tpdo_every, 1), (0x1A00, 0, 0, 1),
                (0x1A00, 1, 0x60410010, 4), (0x1A00, 2, 0x60640020, 4), (0x1A00, 0, 2, 1), (0x1800, 1, 0x180 + NODE, 4),
-               (0x6060, 0, 8, 1), (0x60C2, 1, 2, 1), (0x60C2, 2, -3, 1), (0x1006, 0, 2000, 4),
-               (0x1019, 0, sync_counter, 1), (0x1017, 0, 100, 2), (0x1016, 1, (127 << 16) | 300, 4),
+               (0x6060, 0, 8, 1), (0x60C2, 1, 2, 1), (0x60C2, 2, -3, 1), (0x1019, 0, sync_counter, 1),
+               (0x1006, 0, 2000, 4), (0x1017, 0, 100, 2), (0x1016, 1, (127 << 16) | 300, 4),
                (0x6007, 0, 3, 2), (0x6065, 0, 5000, 4), (0x607D, 1, -100000, 4), (0x607D, 2, 100000, 4),
                (0x605A, 0, 2, 2)]
     for index, sub, value, size in writes:
@@ -214,6 +214,12 @@ def test_reset_communication_restores_power_on_values(bus):
     m.net.send_message(0x000, bytes([0x82, NODE]))  # reset communication: boot-up, the power-on values
     assert wait_for(lambda: m.sent(0x700 + NODE).count(b"\x00") == 2)
     assert m.read(0x1017, 0) == 50 and d.nmt == drive402.NMT_PRE_OPERATIONAL
+    # 0x1019 only while 0x1006 is 0 (here 2500 us), and only 0 or 2..240 (CiA 301).
+    for value, code in ((4, 0x08000022), (1, 0x06090030), (241, 0x06090030)):
+        with pytest.raises(canopen.SdoAbortedError) as e:
+            m.node.sdo.download(0x1019, 0, bytes([value]))
+        assert e.value.code == code, value
+    assert m.write(0x1006, 0, 0, 4) == 0 and m.write(0x1019, 0, 4, 1) == 4
     # A valid PDO is not remapped (CiA 301): abort 0x06010000 (unsupported access).
     with pytest.raises(canopen.SdoAbortedError) as e:
         m.node.sdo.download(0x1600, 0, b"\x00")

@@ -13,7 +13,9 @@ CANopenNode-based firmware behaves:
     EDS's defaults); PDOs only in operational.
   - SYNC (0x080, COB-ID 0x1005): a SYNC whose length disagrees with 0x1019
     (0: empty, else one counter byte) is not processed and raises EMCY 0x8240
-    (as CANopenNode's CO_SYNC). At each SYNC the RPDOs received since the
+    (as CANopenNode's CO_SYNC). 0x1019 takes 0 or 2..240, and only while the
+    communication cycle period 0x1006 is 0 (CiA 301; abort 0x08000022, as
+    CANopenNode): a master writes 0x1019 before 0x1006. At each SYNC the RPDOs received since the
     last one are applied (synchronous RPDOs, transmission type 0..240), the
     drive moves, and each valid TPDO of transmission type N (1..240) is
     sent at every N-th SYNC, type 0 when its data changed; 254/255 whenever
@@ -292,6 +294,11 @@ class Drive:
         elif index == 0x6060:
             if SUPPORTED_MODE_BITS.get(value, 0) & self.od(0x6502) == 0:
                 raise SdoAbortedError(0x06090030)
+        elif index == 0x1019:
+            if value == 1 or value > 240:
+                raise SdoAbortedError(0x06090030)
+            if self.od(0x1006) != 0:
+                raise SdoAbortedError(0x08000022)  # CiA 301: only while 0x1006 is 0
         else:
             self._act_on(index, value)
 
