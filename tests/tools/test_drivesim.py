@@ -205,7 +205,7 @@ def test_reset_communication_restores_power_on_values(bus):
     m, sim = bus(period_s=0.0025, heartbeat_ms=50, window=300, configured=True)
     d = sim.drives[NODE]
     assert wait_for(lambda: m.sent(0x700 + NODE))
-    assert [m.read(0x60C2, 1), m.read(0x60C2, 2, signed=True), m.read(0x1006, 0)] == [25, -4, 2500]
+    assert [m.read(0x60C2, 1), m.read(0x60C2, 2, signed=True), m.read(0x1006, 0)] == [25, -4, 0]
     assert [m.read(0x1017, 0), m.read(0x6065, 0), m.read(0x6060, 0)] == [50, 300, 8]
     assert [m.read(0x1600, s) for s in range(3)] == [2, 0x60400010, 0x607A0020]
     assert [m.read(0x1A00, s) for s in range(3)] == [2, 0x60410010, 0x60640020]
@@ -214,7 +214,8 @@ def test_reset_communication_restores_power_on_values(bus):
     m.net.send_message(0x000, bytes([0x82, NODE]))  # reset communication: boot-up, the power-on values
     assert wait_for(lambda: m.sent(0x700 + NODE).count(b"\x00") == 2)
     assert m.read(0x1017, 0) == 50 and d.nmt == drive402.NMT_PRE_OPERATIONAL
-    # 0x1019 only while 0x1006 is 0 (here 2500 us), and only 0 or 2..240 (CiA 301).
+    # 0x1019 only while 0x1006 is 0, and only 0 or 2..240 (CiA 301).
+    assert m.write(0x1006, 0, 2500, 4) == 2500
     for value, code in ((4, 0x08000022), (1, 0x06090030), (241, 0x06090030)):
         with pytest.raises(canopen.SdoAbortedError) as e:
             m.node.sdo.download(0x1019, 0, bytes([value]))

@@ -28,8 +28,8 @@ def register(sub, parents):
     ds.add_argument("--lag", type=nonneg, default=0.0, metavar="S",
                     help="first-order lag of the actual position behind the target (s); 0: none (default)")
     ds.add_argument("--period-ms", type=positive, default=None, metavar="MS",
-                    help="power-on interpolation period 0x60C2 and SYNC period 0x1006 (default: the EDS's, 1 ms; "
-                         "kinctld's boot writes both)")
+                    help="power-on interpolation period 0x60C2 (default: the EDS's, 1 ms; "
+                         "kinctld's boot writes it)")
     ds.add_argument("--heartbeat-ms", type=nonneg, default=None, metavar="MS",
                     help="power-on heartbeat producer time 0x1017; 0: none (default: the EDS's, 0; kinctld's boot "
                          "writes drive_heartbeat_ms)")

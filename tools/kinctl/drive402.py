@@ -15,7 +15,8 @@ CANopenNode-based firmware behaves:
     (0: empty, else one counter byte) is not processed and raises EMCY 0x8240
     (as CANopenNode's CO_SYNC). 0x1019 takes 0 or 2..240, and only while the
     communication cycle period 0x1006 is 0 (CiA 301; abort 0x08000022, as
-    CANopenNode): a master writes 0x1019 before 0x1006. At each SYNC the RPDOs received since the
+    CANopenNode): a master writes 0x1019 before 0x1006 (0 at power-on and
+    after a reset communication). At each SYNC the RPDOs received since the
     last one are applied (synchronous RPDOs, transmission type 0..240), the
     drive moves, and each valid TPDO of transmission type N (1..240) is
     sent at every N-th SYNC, type 0 when its data changed; 254/255 whenever
@@ -115,7 +116,7 @@ def interpolation_period(period_s):
 
 def presets(node_id, period_s=None, heartbeat_ms=None, window=None, configured=False):
     """{(index, subindex): power-on value} of a drive at node_id: the
-    interpolation period 0x60C2 and SYNC period 0x1006, the heartbeat
+    interpolation period 0x60C2, the heartbeat
     producer 0x1017, the following-error window 0x6065 where given; with
     configured, what kinctld's boot writes with its defaults (RPDO1 the
     controlword and target position, TPDO1 the statusword and actual
@@ -123,7 +124,7 @@ def presets(node_id, period_s=None, heartbeat_ms=None, window=None, configured=F
     out = {}
     if period_s is not None:
         value, index = interpolation_period(period_s)
-        out.update({(0x60C2, 1): value, (0x60C2, 2): index, (0x1006, 0): int(round(period_s * 1e6))})
+        out.update({(0x60C2, 1): value, (0x60C2, 2): index})
     if heartbeat_ms is not None:
         out[(0x1017, 0)] = int(heartbeat_ms)
     if window is not None:
