@@ -55,7 +55,7 @@ from kinctl_msgs import goal_joint_t, stats_t, status_t
 
 PUMA_HOME = [0.0, 0.7854, -3.1416, 0.0, 0.7854, 0.0]  # rad (qn)
 COUNTS_PER_RAD = 100000.0
-DRIVES_ENABLED = 3  # status_t.drives (DRIVES_ENABLED)
+DRIVES_ENABLED = getattr(status_t, "DRIVES_ENABLED", 3)  # status_t.drives
 
 
 def chain(n):
@@ -109,7 +109,7 @@ def has_master(a):
         os.unlink(path)
     if r.returncode == 0:
         return True
-    if "boot" in r.stderr or "bitrate" in r.stderr:
+    if 'unknown key "bitrate" in controller.can' in r.stderr or 'unknown key "boot" in controller.can' in r.stderr:
         return False
     sys.exit(f"kinctld refuses this configuration: {r.stderr.strip()}")
 
