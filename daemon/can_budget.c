@@ -131,7 +131,8 @@ int kd_can_budget_check(const kd_can_budget *b, kd_can_budget_use *use, char *wh
                            (long long)every, (double)(every * b->period_ns) / 1e3);
         if (len >= 0 && (size_t)len < why_size) {
             if (tpdo_every)
-                snprintf(why + len, why_size - (size_t)len, ", or TPDOs every %d SYNCs", tpdo_every);
+                snprintf(why + len, why_size - (size_t)len, ", or TPDOs every %d SYNCs (tpdo_every = %d)", tpdo_every,
+                         tpdo_every);
             else
                 snprintf(why + len, why_size - (size_t)len, ", and TPDOs less often cannot make it fit");
         }

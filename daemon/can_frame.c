@@ -41,36 +41,66 @@ static int32_t get_i32(const uint8_t *p)
     return (int32_t)u;
 }
 
-void kd_can_encode_sync(int64_t bus_cycle, struct can_frame *f)
+double kd_can_pos_of_counts(const kd_can_joint *j, int32_t counts)
 {
-    memset(f, 0, sizeof *f);
-    f->can_id = KD_CAN_SYNC_ID;
-    f->len = 1;
-    f->data[0] = (uint8_t)(bus_cycle % KD_CAN_SYNC_COUNTER_MAX + 1);
+    return ((double)counts - (double)j->offset_counts) / ((double)j->sign * j->counts_per_unit);
 }
 
-void kd_can_encode_rpdo(const kd_can_joint *j, double q, double qd, struct can_frame *f)
+static void frame(struct can_frame *f, canid_t id, int len)
 {
     memset(f, 0, sizeof *f);
-    f->can_id = KD_CAN_RPDO_BASE + (canid_t)j->node;
-    f->len = 8;
-    put_i32(&f->data[0], kd_can_pos_counts(j, q));
-    put_i32(&f->data[4], kd_can_vel_counts(j, qd));
+    f->can_id = id;
+    f->len = (uint8_t)len;
+}
+
+void kd_can_encode_sync(int64_t bus_cycle, int overflow, struct can_frame *f)
+{
+    frame(f, KD_CAN_SYNC_ID, overflow > 0 ? 1 : 0);
+    if (overflow > 0)
+        f->data[0] = (uint8_t)(bus_cycle % overflow + 1);
+}
+
+void kd_can_encode_rpdo(const kd_can_joint *j, uint16_t controlword, double q, struct can_frame *f)
+{
+    frame(f, KD_CAN_RPDO_BASE + (canid_t)j->node, KD_CAN_RPDO_LEN);
+    f->data[0] = (uint8_t)(controlword & 0xffu);
+    f->data[1] = (uint8_t)(controlword >> 8);
+    put_i32(&f->data[2], kd_can_pos_counts(j, q));
+}
+
+void kd_can_encode_rpdo2(const kd_can_joint *j, double qd, struct can_frame *f)
+{
+    frame(f, KD_CAN_RPDO2_BASE + (canid_t)j->node, 4);
+    put_i32(&f->data[0], kd_can_vel_counts(j, qd));
 }
 
 void kd_can_encode_heartbeat(int node, uint8_t state, struct can_frame *f)
 {
-    memset(f, 0, sizeof *f);
-    f->can_id = KD_CAN_HEARTBEAT_BASE + (canid_t)node;
-    f->len = 1;
+    frame(f, KD_CAN_HEARTBEAT_BASE + (canid_t)node, 1);
     f->data[0] = state;
+}
+
+void kd_can_encode_nmt(uint8_t command, int node, struct can_frame *f)
+{
+    frame(f, KD_CAN_NMT_ID, 2);
+    f->data[0] = command;
+    f->data[1] = (uint8_t)node;
 }
 
 int kd_can_decode_tpdo(const kd_can_joint *j, const struct can_frame *f, double *q, uint16_t *statusword)
 {
-    if (f->len < 6)
+    if (f->len < KD_CAN_TPDO_LEN)
         return -1;
-    *q = ((double)get_i32(&f->data[0]) - (double)j->offset_counts) / ((double)j->sign * j->counts_per_unit);
-    *statusword = (uint16_t)(f->data[4] | f->data[5] << 8);
+    *statusword = (uint16_t)(f->data[0] | f->data[1] << 8);
+    *q = kd_can_pos_of_counts(j, get_i32(&f->data[2]));
+    return 0;
+}
+
+int kd_can_decode_emcy(const struct can_frame *f, uint16_t *code, uint8_t *error_register)
+{
+    if (f->len < 3)
+        return -1;
+    *code = (uint16_t)(f->data[0] | f->data[1] << 8);
+    *error_register = f->data[2];
     return 0;
 }

@@ -16,6 +16,7 @@ kd_boot_cfg kd_boot_cfg_default(int node)
     memset(&c, 0, sizeof c);
     c.node = node;
     c.reset_communication = 1;
+    c.configure = 1;
     c.device_type = 0x00000192u;
     c.device_type_mask = 0x0000FFFFu;
     c.n_rpdo = 1;
@@ -136,6 +137,8 @@ static int build(const kd_boot_cfg *c, kd_boot_step *steps)
     for (int i = 0; i < 4; i++)
         if (c->identity[i])
             add(&t, 0, 0x1018, (uint8_t)(i + 1), 4, c->identity[i], 0xFFFFFFFFu, identity_what[i]);
+    if (!c->configure)
+        return t.bad ? -1 : t.n;
     for (int k = 0; k < c->n_rpdo; k++)
         pdo_steps(&t, (uint16_t)(0x1400 + k), (uint16_t)(0x1600 + k), 0x200u + 0x100u * (uint32_t)k + node, &c->rpdo[k],
                   rpdo_what[k]);

@@ -50,6 +50,7 @@
 
 #define KD_NMT_ID 0x000u
 #define KD_NMT_START 0x01u
+#define KD_NMT_STOP 0x02u
 #define KD_NMT_ENTER_PRE_OPERATIONAL 0x80u
 #define KD_NMT_RESET_COMMUNICATION 0x82u
 #define KD_HEARTBEAT_BASE 0x700u
@@ -80,6 +81,7 @@ typedef struct kd_boot_pdo {
 typedef struct kd_boot_cfg {
     int node;                    /* 1 .. 127 */
     int reset_communication;     /* 1: NMT reset communication first */
+    int configure;               /* 1: steps 3 and 4; 0: the checks of step 2 only (a drive configured by other means) */
     uint32_t device_type;        /* 0x1000 expected under device_type_mask */
     uint32_t device_type_mask;
     uint32_t identity[4];        /* 0x1018:1..4 expected; 0: unchecked */
@@ -123,7 +125,7 @@ typedef struct kd_boot {
     uint32_t got;       /* KD_BOOT_E_MISMATCH: the value read */
 } kd_boot;
 
-/* The defaults for node: reset communication, device type 0x0192 under
+/* The defaults for node: reset communication, configure, device type 0x0192 under
  * 0x0000FFFF, no identity, RPDO1 = controlword + target position
  * (0x60400010, 0x607A0020, type 1), TPDO1 = statusword + position actual
  * (0x60410010, 0x60640020, type 1), 0x60C2 1 ms, heartbeat 100 ms, master

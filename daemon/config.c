@@ -4,6 +4,7 @@
  * checks that need them all (the robot, the home joints, CAN, zones, the
  * controller's own). */
 #include "config_internal.h"
+#include "can_budget.h"
 #include "lcm_rx.h"
 
 #include <math.h>
@@ -313,7 +314,7 @@ kd_config_result kd_config_load(kd_config *cfg, int argc, char **argv)
     /* The robot: scaled limits and the start joints; its drives. */
     scale_limits(&cfg->chain, cfg->vel_scale, cfg->acc_scale);
     if (place_home(cfg, &fc, robot_deg, a.config_path) != 0 ||
-        kd_can_cfg_check(&cfg->can, &cfg->chain, cfg->robot_name, a.config_path) != 0)
+        kd_can_cfg_check(&cfg->can, &cfg->chain, cfg->robot_name, a.config_path, cfg->period_ns) != 0)
         return KD_CONFIG_ERROR;
 
     /* The controller's configuration, checked by the core itself. */
@@ -340,12 +341,25 @@ void kd_config_describe(const kd_config *cfg, char *buf, int size)
         return;
     snprintf(buf, (size_t)size,
              "robot %s (%d joints%s), period %lld us, channels %s*, LCM %s (%s), queue %d, overrun policy %s, "
-             "rt %s, plant lag %g s, CAN %s, ",
+             "rt %s, plant lag %g s, CAN %s",
              cfg->robot_name, cfg->chain.n_joints, cfg->config_path[0] ? ", from the config file" : ", built-in",
              (long long)(cfg->period_ns / 1000), cfg->prefix, cfg->lcm_url, cfg->lcm_url_source, cfg->queue_size,
              cfg->overrun_missed > 0 ? (cfg->overrun_action == KC_CMD_ESTOP ? "estop" : "stop") : "off",
              cfg->rt_enable ? "on" : "off", cfg->plant_lag_s, cfg->can.enable ? cfg->can.interface : "off");
     size_t used = strlen(buf);
+    if (cfg->can.enable && used < (size_t)size) {
+        kd_can_budget b;
+        kd_can_budget_use use;
+        kd_can_budget_of(&cfg->can, cfg->period_ns, &b);
+        if (kd_can_budget_check(&b, &use, NULL, 0) >= 0)
+            snprintf(buf + used, (size_t)size - used, " (%d drives, %lld bit/s, bus %.0f %% of a %.0f us bus cycle)",
+                     cfg->can.n_joints, (long long)cfg->can.bitrate, 100.0 * use.mean_share,
+                     (double)use.cycle_ns / 1e3);
+        used = strlen(buf);
+    }
+    if (used < (size_t)size)
+        snprintf(buf + used, (size_t)size - used, ", ");
+    used = strlen(buf);
     if (cfg->zones.n_zones == 0)
         snprintf(buf + used, (size_t)size - used, "zones off");
     else

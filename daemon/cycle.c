@@ -84,8 +84,14 @@ static void tick(kd_cycle *c, int64_t deadline_ns, int64_t consecutive_missed, i
         t->policy_cmd = c->cfg->overrun_action;
         t->policy_missed = consecutive_missed;
     } else if (kd_spsc_pop(&c->cmds, &cmd) == 0) {
-        in.command = cmd.command;
         c->cmds_taken_total++;
+        if (cmd.seat) {
+            c->seat_status = kc_ctrl_seat(c->ctrl, cmd.q, &c->seat_joint);
+            if (c->seat_status == KC_OK)
+                kd_plant_seat(&c->plant, cmd.q);
+        } else {
+            in.command = cmd.command;
+        }
     }
     if (consecutive_missed == 0)
         *policy_latched = 0;
@@ -113,6 +119,10 @@ static void tick(kd_cycle *c, int64_t deadline_ns, int64_t consecutive_missed, i
     }
     q_cmd = t->out.q;
     qd_cmd = t->out.qd;
+    if (c->bus != NULL)
+        kd_bus_cycle(c->bus, t->out.cycle, q_cmd, qd_cmd);
+    t->seat_status = c->seat_status;
+    t->seat_joint = c->seat_joint;
     kd_plant_step(&c->plant, q_cmd, qd_cmd, t->q_meas, t->qd_meas);
     t->deadline_ns = deadline_ns;
     t->goals_taken = c->goals_taken_total;

@@ -7,8 +7,10 @@
  * take at most one goal and one command from the I/O thread's rings, step
  * the controller, step the simulated plant, and write the tick (setpoint,
  * events, timing) into the ring to the I/O thread, or drop and count it when
- * that ring is full. Nothing here allocates, locks, logs, decodes, publishes
- * or makes a system call other than reading the clock and sleeping.
+ * that ring is full; with drives on CAN, write the bus cycle right after the
+ * step (can_bus.h: one non-blocking sendmmsg). Nothing here allocates,
+ * locks, logs, decodes or publishes, and the only system calls are reading
+ * the clock, sleeping and that write.
  *
  * Stalls. When the thread wakes a whole period or more after its deadline
  * (the machine stalled it), the deadlines it slept through are missed: they
@@ -32,6 +34,7 @@
 #include <stdatomic.h>
 #include <stdint.h>
 
+#include "can_bus.h"
 #include "clock.h"
 #include "config.h"
 #include "hist.h"
@@ -56,11 +59,17 @@ typedef struct kd_tick {
     kc_ctrl_command in_command;
     int in_servo_stale;
     int in_fault; /* the step was given an external fault */
+    /* The last seat (kd_cmd.seat) the cycle took: kc_ctrl_seat's answer. */
+    int seat_status, seat_joint;
 } kd_tick;
 
-/* A command with what the I/O thread wants done about it. */
+/* A command with what the I/O thread wants done about it: a controller
+ * command, or (seat set) the controller seated at q before the step
+ * (kc_ctrl_seat: the drives' positions, can_master.h). */
 typedef struct kd_cmd {
     kc_ctrl_command command;
+    int seat;
+    kc_real q[KC_MAX_JOINTS];
 } kd_cmd;
 
 #define KD_TICK_RING 2048 /* ticks in flight to the I/O thread (2 s at 1 kHz) */
@@ -77,6 +86,10 @@ typedef struct kd_cycle {
     kc_ctrl *ctrl;
     kd_plant plant;
     int64_t period_ns;
+
+    /* The bus cycle to write after each step (can_bus.h), or NULL. */
+    kd_bus *bus;
+    int seat_status, seat_joint; /* the last seat's answer */
 
     /* Rings: goals and commands in (the I/O thread produces), ticks out. */
     kd_spsc goals, cmds, ticks;

@@ -101,6 +101,7 @@ static kinctl_status_t *fill_status(kd_io *io, int8_t event, int64_t goal_id, kc
             st->q_measured[j] = (double)io->cfg->home[j];
     }
     st->can_state = (int8_t)io->can.state;
+    st->drives = (int8_t)io->master.drives;
     st->event = event;
     st->event_goal_id = goal_id;
     st->code = (int32_t)code;
@@ -148,10 +149,9 @@ static void publish_stats(kd_io *io, const kd_cycle_stats *cs)
     s->msgs_dropped = io->msgs_dropped + atomic_load(&io->cycle->ticks_dropped) +
                       atomic_load(&io->cycle->events_dropped);
     s->rejections = io->rejections;
-    s->can_frames = io->can.frames;
-    s->can_errors = io->can.errors;
+    if (io->can.state != KD_CAN_OFF)
+        kd_can_totals(&io->can, &s->can_frames, &s->can_tx_dropped, &s->can_errors);
     s->can_state = (int8_t)io->can.state;
-    s->can_tx_dropped = io->can.tx_dropped;
     s->can_error_frames = io->can.error_frames;
     s->can_bus_off = io->can.bus_off;
     s->can_link_down = io->can.link_down;
@@ -213,7 +213,10 @@ static void drain_ticks(kd_io *io)
         kd_spsc_release(&io->cycle->ticks);
         t = &io->last;
         publish_setpoint(io, t);
-        kd_can_send(&io->can, t->out.cycle, t->out.q, t->out.qd);
+        if (io->seat_pending && t->cmds_taken >= io->seat_seq) {
+            io->seat_pending = 0;
+            kd_master_seated(&io->master, t->seat_status, t->seat_joint, kd_now_ns());
+        }
         for (i = 0; i < t->out.n_events && i < KC_CTRL_EVENTS_MAX; i++)
             publish_event(io, &t->out.events[i]);
         if (t->policy_cmd != KC_CMD_NONE) {
@@ -309,6 +312,17 @@ static void handle_servo(kd_io *io, const kc_goal *g, int64_t received_ns, int64
     io->goals_pushed++;
 }
 
+/* With drives on CAN, goals wait for every drive to be enabled: 1 with
+ * rej set when they are not. */
+static int drives_refuse(const kd_io *io, kd_reject *rej)
+{
+    const kd_master *m = &io->master;
+    if (m->drives == KD_DRIVES_NONE || m->drives == KD_DRIVES_ENABLED)
+        return 0;
+    kd_reject_set(rej, KD_REASON_DRIVE, "drives not enabled (%s: %s)", kd_master_drives_str(m->drives), m->text);
+    return 1;
+}
+
 static void handle_goal(kd_io *io, kd_msg_type type, int64_t received_ns)
 {
     kc_goal *g = &io->goal;
@@ -322,6 +336,13 @@ static void handle_goal(kd_io *io, kd_msg_type type, int64_t received_ns)
     if (kd_goal_from_msg(type, &io->msg, io->cfg->servo_timeout_s, g, &servo_timeout_ns, &v) != 0) {
         kd_reject_verdict(&rej, io->cfg, g, &v);
         refuse(io, g->id, &rej);
+        return;
+    }
+    if (drives_refuse(io, &rej)) {
+        if (g->kind == KC_GOAL_SERVO)
+            reject(io, g->id, &rej);
+        else
+            refuse(io, g->id, &rej);
         return;
     }
     if (g->kind == KC_GOAL_SERVO) {
@@ -340,6 +361,7 @@ static void handle_goal(kd_io *io, kd_msg_type type, int64_t received_ns)
 static void push_command(kd_io *io, kc_ctrl_command command)
 {
     kd_cmd c;
+    memset(&c, 0, sizeof c);
     c.command = command;
     if (kd_spsc_push(&io->cycle->cmds, &c) != 0) {
         io->msgs_dropped++;
@@ -347,6 +369,28 @@ static void push_command(kd_io *io, kc_ctrl_command command)
         return;
     }
     io->cmds_pushed++;
+    /* The drives follow: quick stop on ESTOP, enabled again on RESET. */
+    if (command == KC_CMD_ESTOP)
+        kd_master_estop(&io->master, kd_now_ns());
+    else if (command == KC_CMD_RESET)
+        kd_master_reset(&io->master, kd_now_ns());
+}
+
+/* The controller seated where the drives are, before the step of the
+ * tick that takes it. */
+static void push_seat(kd_io *io, const kc_real *q)
+{
+    kd_cmd c;
+    memset(&c, 0, sizeof c);
+    c.seat = 1;
+    memcpy(c.q, q, sizeof(kc_real) * (size_t)io->cfg->chain.n_joints);
+    if (kd_spsc_push(&io->cycle->cmds, &c) != 0) {
+        kd_master_seated(&io->master, KC_E_STATE, -1, kd_now_ns()); /* asked again later */
+        return;
+    }
+    io->cmds_pushed++;
+    io->seat_pending = 1;
+    io->seat_seq = io->cmds_pushed;
 }
 
 /* One client datagram's payload on the channel of type. */
@@ -383,19 +427,31 @@ static void on_message(kd_io *io, kd_msg_type type, const void *data, size_t len
 
 /* ---- CAN --------------------------------------------------------------- */
 
-/* Feedback in, timers, a lost or recovered bus told in a status, and a
- * drive or bus condition raised as the controller's external fault. */
+#define KD_CAN_RX_BURST 1024 /* CAN frames read per pass */
+
+static void raise_condition(kd_io *io);
+
+/* Frames in (the link's feedback, the master's answers), timers, a lost
+ * or recovered bus told in a status, a drive or bus condition raised as
+ * the controller's external fault, the drives' master a step on, and what
+ * it has to tell. */
 static void can_step(kd_io *io)
 {
     kd_can *c = &io->can;
+    struct can_frame f;
     int64_t now;
-    kc_ctrl_state s;
     kd_reject rej;
+    kc_real q_seat[KC_MAX_JOINTS];
+    const char *news;
+    int k;
     if (c->state == KD_CAN_OFF)
         return;
     now = kd_now_ns();
-    kd_can_receive(c, now);
+    for (k = 0; k < KD_CAN_RX_BURST && kd_can_read(c, &f, now); k++)
+        kd_master_rx(&io->master, &f, now);
     kd_can_timers(c, now);
+    if (kd_master_seat_wanted(&io->master, q_seat))
+        push_seat(io, q_seat);
     if (c->state_changed) {
         c->state_changed = 0;
         if (c->state == KD_CAN_LOST)
@@ -408,9 +464,24 @@ static void can_step(kd_io *io)
     }
     if (!io->have_last)
         return;
-    s = io->last.out.state;
-    /* Raised once; raised again when the controller has left FAULT (RESET)
-     * while the condition lasts. */
+    /* A condition is raised before the master takes it as its own (the
+     * arm stops on its path's joints, the drives hold or stop). */
+    raise_condition(io);
+    kd_master_step(&io->master, now);
+    if (kd_master_take_news(&io->master, &news)) {
+        kd_reject_set(&rej, KD_REASON_DRIVE, "%s", news);
+        fprintf(stderr, "kinctld: %s\n", rej.text);
+        publish_status(io, KINCTL_STATUS_T_NONE, 0, rej.code, rej.text);
+    }
+}
+
+/* A drive or bus condition as the controller's external fault: raised
+ * once; raised again when the controller has left FAULT (RESET) while the
+ * condition lasts. */
+static void raise_condition(kd_io *io)
+{
+    kd_can *c = &io->can;
+    kc_ctrl_state s = io->last.out.state;
     if (io->ext_raised && io->last.out.cycle > io->ext_raised_cycle + 1 && s != KC_CTRL_FAULT &&
         s != KC_CTRL_ESTOP && s != KC_CTRL_STOPPING)
         io->ext_raised = 0;
@@ -432,6 +503,7 @@ static void shutdown_step(kd_io *io)
         return;
     if (!io->stop_sent) {
         kd_cmd c;
+        memset(&c, 0, sizeof c);
         c.command = KC_CMD_STOP;
         if (kd_spsc_push(&io->cycle->cmds, &c) == 0) {
             io->cmds_pushed++;
@@ -442,8 +514,12 @@ static void shutdown_step(kd_io *io)
     }
     if (io->have_last && io->last.cmds_taken >= io->stop_seq) {
         kc_ctrl_state s = io->last.out.state;
-        if (s == KC_CTRL_IDLE || s == KC_CTRL_FAULT || s == KC_CTRL_ESTOP)
-            atomic_store(&io->stop_done, 1);
+        /* At rest: the drives are disabled, then NMT (can_master.h). */
+        if (s == KC_CTRL_IDLE || s == KC_CTRL_FAULT || s == KC_CTRL_ESTOP) {
+            kd_master_shutdown(&io->master, kd_now_ns());
+            if (kd_master_shutdown_done(&io->master))
+                atomic_store(&io->stop_done, 1);
+        }
     }
 }
 
@@ -511,6 +587,7 @@ static void *io_main(void *arg)
     wait.tv_nsec = (long)(io->cfg->period_ns % KD_NS);
     io->next_status_ns = now + io->status_period_ns;
     io->next_stats_ns = now + io->stats_period_ns;
+    kd_master_start(&io->master, now);
     while (atomic_load(&io->run)) {
         int burst;
         drain_ticks(io);
@@ -605,10 +682,27 @@ int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_check *check
             client_max = info->size;
     }
     io->rx.fd = -1;
-    if (kd_can_open(&io->can, &cfg->can, n, cfg->period_ns, kd_now_ns()) != 0)
+    io->bus.fd = -1;
+    if (cfg->can.enable) {
+        const char *what = "";
+        int rc = kd_bus_init(&io->bus, &cfg->can, n, &what);
+        if (rc != 0) {
+            fprintf(stderr, "kinctld: cannot open CAN interface \"%s\": %s: %s%s\n", cfg->can.interface, what,
+                    strerror(-rc),
+                    rc == -EAFNOSUPPORT ? " (this kernel has no SocketCAN: load the can and can-raw modules)" : "");
+            return -1;
+        }
+    }
+    if (kd_can_open(&io->can, &cfg->can, &io->bus, n, cfg->period_ns, kd_now_ns()) != 0) {
+        kd_bus_close(&io->bus);
         return -1;
+    }
+    kd_master_init(&io->master, &io->can, &io->bus, &cfg->chain, cfg->period_ns);
+    if (cfg->can.enable)
+        cycle->bus = &io->bus;
     if (kd_rx_open(&io->rx, cfg->lcm_url, client_max, why, sizeof why) != 0) {
         kd_can_close(&io->can);
+        kd_bus_close(&io->bus);
         fprintf(stderr, "kinctld: LCM URL \"%s\" (%s): %s\n", cfg->lcm_url, cfg->lcm_url_source, why);
         return -1;
     }
@@ -618,6 +712,7 @@ int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_check *check
     if (io->lcm == NULL) {
         kd_rx_close(&io->rx);
         kd_can_close(&io->can);
+        kd_bus_close(&io->bus);
         fprintf(stderr, "kinctld: cannot open LCM on \"%s\" (%s): check the URL and the network (multicast route)\n",
                 cfg->lcm_url, cfg->lcm_url_source);
         return -1;
@@ -656,6 +751,7 @@ void kd_io_destroy(kd_io *io)
 {
     kd_checker_destroy(&io->checker);
     kd_can_close(&io->can);
+    kd_bus_close(&io->bus);
     kd_rx_close(&io->rx);
     if (io->lcm != NULL)
         lcm_destroy(io->lcm);
@@ -687,14 +783,17 @@ void kd_io_summary(const kd_io *io, char *buf, int size)
         if (io->invalid_by[k] > 0)
             o += snprintf(buf + o, (size_t)(size - o), ", %s %lld", kd_msg_status_str((kd_msg_status)(-k)),
                           (long long)io->invalid_by[k]);
-    if (io->can.state != KD_CAN_OFF && o > 0 && o < size)
+    if (io->can.state != KD_CAN_OFF && o > 0 && o < size) {
+        int64_t frames, dropped, errors;
+        kd_can_totals(&io->can, &frames, &dropped, &errors);
         snprintf(buf + o, (size_t)(size - o),
                  "; CAN %s: frames %lld, dropped %lld, errors %lld, error frames %lld, bus-off %lld, link down %lld, "
-                 "received %lld; per bus cycle p50 %lld ns, p99 %lld ns, max %lld ns over %lld",
-                 io->cfg->can.interface, (long long)io->can.frames, (long long)io->can.tx_dropped,
-                 (long long)io->can.errors, (long long)io->can.error_frames, (long long)io->can.bus_off,
-                 (long long)io->can.link_down, (long long)io->can.rx_frames,
-                 (long long)kd_hist_percentile(&io->can.send_ns, 0.50),
-                 (long long)kd_hist_percentile(&io->can.send_ns, 0.99), (long long)io->can.send_ns.max,
-                 (long long)io->can.send_ns.count);
+                 "received %lld; drives %s; per bus cycle p50 %lld ns, p99 %lld ns, max %lld ns over %lld",
+                 io->cfg->can.interface, (long long)frames, (long long)dropped, (long long)errors,
+                 (long long)io->can.error_frames, (long long)io->can.bus_off, (long long)io->can.link_down,
+                 (long long)io->can.rx_frames, kd_master_drives_str(io->master.drives),
+                 (long long)kd_hist_percentile(&io->bus.send_ns, 0.50),
+                 (long long)kd_hist_percentile(&io->bus.send_ns, 0.99), (long long)io->bus.send_ns.max,
+                 (long long)io->bus.send_ns.count);
+    }
 }

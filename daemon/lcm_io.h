@@ -29,12 +29,16 @@
  *                     (event NONE, reason "shutdown: ...")
  *   <prefix>STATS     stats_t at stats_hz
  *
- * CAN (optional, can_io.h): each tick's setpoint also goes out as a bus
- * cycle; the CAN socket is drained on every pass of the loop; a drive or
+ * CAN (optional): the cycle writes the bus cycle (can_bus.h); here the
+ * link is drained on every pass of the loop (can_io.h) and the drives'
+ * master (can_master.h) boots and enables them, seating the controller at
+ * their positions through the command ring, and steers their controlwords
+ * (ESTOP: quick stop; RESET: boot and enable again; shutdown: disable,
+ * then NMT). Goals are refused until every drive is enabled. A drive or
  * bus condition is raised as the controller's external fault (cycle.h
  * ext_fault), again after a RESET while it lasts, and its text becomes the
- * FAULT's reason ("drive: ...", "can: ..."). With feedback on, status_t's
- * measured joints are the drives'.
+ * FAULT's reason ("drive: ...", "can: "). status_t says the drives' state
+ * (drives) and, with feedback on, their measured joints.
  *
  * The loop: drain the tick ring and publish (copying each tick to the
  * checker), answer the goals whose verdicts are back, then wait on the
@@ -51,7 +55,9 @@
 
 #include <lcm/lcm.h>
 
+#include "can_bus.h"
 #include "can_io.h"
+#include "can_master.h"
 #include "checker.h"
 #include "config.h"
 #include "cycle.h"
@@ -99,8 +105,14 @@ struct kd_io {
     char reason[KD_MSG_STATUS_REASON_MAX + 1];
     unsigned char buf[KD_MSG_MAX_SIZE];
 
-    /* CAN output, and the external fault raised from it. */
+    /* CAN: the bus cycle (the cycle writes it), the link, the drives'
+     * master, a seat on its way to the cycle, and the external fault
+     * raised from a condition. */
+    kd_bus bus;
     kd_can can;
+    kd_master master;
+    int seat_pending;
+    int64_t seat_seq;
     int ext_raised;
     int64_t ext_raised_cycle;
     kc_ctrl_reason ext_reason;

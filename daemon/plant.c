@@ -35,3 +35,11 @@ void kd_plant_step(kd_plant *p, const kc_real *q_cmd, const kc_real *qd_cmd, kc_
         qd_meas[j] = (kc_real)p->qd[j];
     }
 }
+
+void kd_plant_seat(kd_plant *p, const kc_real *q)
+{
+    for (int j = 0; j < p->n; j++) {
+        p->q[j] = (double)q[j];
+        p->qd[j] = 0.0;
+    }
+}

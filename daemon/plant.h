@@ -25,6 +25,9 @@ typedef struct kd_plant {
  * -1 for a bad argument. */
 int kd_plant_init(kd_plant *p, int n, const kc_real *q0, double dt, double lag_s);
 
+/* At rest at q (n joints), where the arm was found to be (can_master.h). */
+void kd_plant_seat(kd_plant *p, const kc_real *q);
+
 /* One tick with the commanded positions and velocities; fills q_meas and
  * qd_meas (n each). */
 void kd_plant_step(kd_plant *p, const kc_real *q_cmd, const kc_real *qd_cmd, kc_real *q_meas, kc_real *qd_meas);

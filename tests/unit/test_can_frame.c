@@ -1,11 +1,11 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* test_can_frame.c - kinctld's CAN frames (daemon/can_frame.h) byte by
- * byte against tools/kinctl/kinctl.dbc: SYNC (0x080, counter 1..240),
- * RPDO1 (0x200 + node: TargetPosition_607A int32 LE at bit 0,
- * VelocityOffset_60B1 int32 LE at bit 32), TPDO1 (0x180 + node:
- * PositionActual_6064 int32 LE at bit 0, Statusword_6041 uint16 LE at bit
- * 32) and heartbeats (0x700 + node), with the counts computed by hand:
- * scaling, sign, offset, rounding and saturation. */
+ * byte as CiA 301 and 402 lay them out: SYNC (0x080, empty or a counter
+ * 1..overflow), RPDO1 (0x200 + node: controlword 0x6040 uint16 LE, target
+ * position 0x607A int32 LE), RPDO2 (0x300 + node: velocity offset 0x60B1
+ * int32 LE), TPDO1 (0x180 + node: statusword 0x6041 uint16 LE, position
+ * actual 0x6064 int32 LE), EMCY, NMT and heartbeats, with the counts
+ * computed by hand: scaling, sign, offset, rounding and saturation. */
 #include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
@@ -40,43 +40,59 @@ static void test_sync(void **state)
 {
     static const struct {
         int64_t bus_cycle;
+        int overflow;
         uint8_t counter;
-    } cases[] = {{0, 1}, {1, 2}, {238, 239}, {239, 240}, {240, 1}, {479, 240}, {480, 1}, {1000000, 1000000 % 240 + 1}};
+    } cases[] = {{0, 240, 1},   {1, 240, 2},   {238, 240, 239}, {239, 240, 240},
+                 {240, 240, 1}, {479, 240, 240}, {480, 240, 1}, {1000000, 240, 1000000 % 240 + 1},
+                 {0, 2, 1},     {1, 2, 2},     {2, 2, 1},       {17, 10, 8}};
+    static const uint8_t empty[8] = {0};
+    struct can_frame f;
     (void)state;
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
-        struct can_frame f;
         uint8_t want[8] = {cases[i].counter, 0, 0, 0, 0, 0, 0, 0};
         memset(&f, 0xA5, sizeof f);
-        kd_can_encode_sync(cases[i].bus_cycle, &f);
+        kd_can_encode_sync(cases[i].bus_cycle, cases[i].overflow, &f);
         assert_bytes(&f, 0x080, 1, want);
     }
+    /* 0x1019 = 0: the SYNC is empty, whatever the bus cycle */
+    memset(&f, 0xA5, sizeof f);
+    kd_can_encode_sync(12345, 0, &f);
+    assert_bytes(&f, 0x080, 0, empty);
 }
 
 static void test_rpdo_scaling(void **state)
 {
     struct can_frame f;
     (void)state;
-    /* node 5, 10000 counts/rad: q 0.5 -> 5000 = 0x00001388, qd -0.25 ->
-     * -2500 = 0xFFFFF63C */
+    /* node 5, 10000 counts/rad: controlword 0x000F (enable operation), q
+     * 0.5 -> 5000 = 0x00001388; RPDO2: qd -0.25 -> -2500 = 0xFFFFF63C */
     kd_can_joint j = joint(5, 10000.0, 1, 0);
-    static const uint8_t w1[8] = {0x88, 0x13, 0x00, 0x00, 0x3C, 0xF6, 0xFF, 0xFF};
+    static const uint8_t w1[8] = {0x0F, 0x00, 0x88, 0x13, 0x00, 0x00, 0, 0};
+    static const uint8_t v1[8] = {0x3C, 0xF6, 0xFF, 0xFF, 0, 0, 0, 0};
     memset(&f, 0xA5, sizeof f);
-    kd_can_encode_rpdo(&j, 0.5, -0.25, &f);
-    assert_bytes(&f, 0x205, 8, w1);
+    kd_can_encode_rpdo(&j, 0x000F, 0.5, &f);
+    assert_bytes(&f, 0x205, 6, w1);
+    memset(&f, 0xA5, sizeof f);
+    kd_can_encode_rpdo2(&j, -0.25, &f);
+    assert_bytes(&f, 0x305, 4, v1);
 
-    /* sign -1, offset 1000: q -0.2 -> 2000 + 1000 = 3000 = 0x0BB8; qd 0.3
-     * -> -3000 = 0xFFFFF448 (the offset is a position's only) */
+    /* sign -1, offset 1000: q -0.2 -> 2000 + 1000 = 3000 = 0x0BB8,
+     * controlword 0x0080 (fault reset); qd 0.3 -> -3000 = 0xFFFFF448 (the
+     * offset is a position's only) */
     j = joint(127, 10000.0, -1, 1000);
-    static const uint8_t w2[8] = {0xB8, 0x0B, 0x00, 0x00, 0x48, 0xF4, 0xFF, 0xFF};
-    kd_can_encode_rpdo(&j, -0.2, 0.3, &f);
-    assert_bytes(&f, 0x27F, 8, w2);
+    static const uint8_t w2[8] = {0x80, 0x00, 0xB8, 0x0B, 0x00, 0x00, 0, 0};
+    static const uint8_t v2[8] = {0x48, 0xF4, 0xFF, 0xFF, 0, 0, 0, 0};
+    kd_can_encode_rpdo(&j, 0x0080, -0.2, &f);
+    assert_bytes(&f, 0x27F, 6, w2);
+    kd_can_encode_rpdo2(&j, 0.3, &f);
+    assert_bytes(&f, 0x37F, 4, v2);
 
     /* 4096 counts per m, offset -70000: q 1.25 -> 5120 - 70000 = -64880 =
-     * 0xFFFF0290; qd 0 -> 0 */
+     * 0xFFFF0290, a controlword with its high byte set */
     j = joint(1, 4096.0, 1, -70000);
-    static const uint8_t w3[8] = {0x90, 0x02, 0xFF, 0xFF, 0x00, 0x00, 0x00, 0x00};
-    kd_can_encode_rpdo(&j, 1.25, 0.0, &f);
-    assert_bytes(&f, 0x201, 8, w3);
+    static const uint8_t w3[8] = {0x06, 0x01, 0x90, 0x02, 0xFF, 0xFF, 0, 0};
+    kd_can_encode_rpdo(&j, 0x0106, 1.25, &f);
+    assert_bytes(&f, 0x201, 6, w3);
 }
 
 static void test_counts_rounding(void **state)
@@ -108,9 +124,12 @@ static void test_saturation(void **state)
     assert_int_equal(kd_can_pos_counts(&j, 647.0), INT32_MAX);
     assert_int_equal(kd_can_pos_counts(&j, 646.0), 2147483646);
     j = joint(3, 1e4, 1, 0);
-    static const uint8_t w[8] = {0xFF, 0xFF, 0xFF, 0x7F, 0x00, 0x00, 0x00, 0x80};
-    kd_can_encode_rpdo(&j, 1e6, -1e6, &f);
-    assert_bytes(&f, 0x203, 8, w);
+    static const uint8_t w[8] = {0x0F, 0x00, 0xFF, 0xFF, 0xFF, 0x7F, 0, 0};
+    static const uint8_t v[8] = {0x00, 0x00, 0x00, 0x80, 0, 0, 0, 0};
+    kd_can_encode_rpdo(&j, 0x000F, 1e6, &f);
+    assert_bytes(&f, 0x203, 6, w);
+    kd_can_encode_rpdo2(&j, -1e6, &f);
+    assert_bytes(&f, 0x303, 4, v);
 }
 
 static void test_heartbeat(void **state)
@@ -121,6 +140,43 @@ static void test_heartbeat(void **state)
     memset(&f, 0xA5, sizeof f);
     kd_can_encode_heartbeat(127, KD_CAN_NMT_OPERATIONAL, &f);
     assert_bytes(&f, 0x77F, 1, w);
+}
+
+static void test_nmt(void **state)
+{
+    struct can_frame f;
+    static const uint8_t start5[8] = {0x01, 0x05, 0, 0, 0, 0, 0, 0};
+    static const uint8_t preop_all[8] = {0x80, 0x00, 0, 0, 0, 0, 0, 0};
+    (void)state;
+    memset(&f, 0xA5, sizeof f);
+    kd_can_encode_nmt(0x01, 5, &f);
+    assert_bytes(&f, 0x000, 2, start5);
+    kd_can_encode_nmt(0x80, 0, &f);
+    assert_bytes(&f, 0x000, 2, preop_all);
+}
+
+static void test_emcy_decode(void **state)
+{
+    struct can_frame f;
+    uint16_t code = 0;
+    uint8_t reg = 0;
+    (void)state;
+    memset(&f, 0, sizeof f);
+    f.can_id = 0x083;
+    f.len = 8;
+    f.data[0] = 0x30; /* 0x5530 little-endian, register 0x01 */
+    f.data[1] = 0x55;
+    f.data[2] = 0x01;
+    f.data[3] = 0xEE;
+    assert_int_equal(kd_can_decode_emcy(&f, &code, &reg), 0);
+    assert_int_equal(code, 0x5530);
+    assert_int_equal(reg, 0x01);
+    f.len = 2; /* too short: untouched */
+    code = 7;
+    reg = 9;
+    assert_int_equal(kd_can_decode_emcy(&f, &code, &reg), -1);
+    assert_int_equal(code, 7);
+    assert_int_equal(reg, 9);
 }
 
 static struct can_frame tpdo(const uint8_t *data, int len)
@@ -138,21 +194,21 @@ static void test_tpdo_decode(void **state)
     double q = -7.0;
     uint16_t sw = 0;
     (void)state;
-    /* 5000 counts, statusword 0x1237 (operation enabled, target followed) */
-    static const uint8_t d1[6] = {0x88, 0x13, 0x00, 0x00, 0x37, 0x12};
+    /* statusword 0x1237 (operation enabled, target followed), 5000 counts */
+    static const uint8_t d1[6] = {0x37, 0x12, 0x88, 0x13, 0x00, 0x00};
     kd_can_joint j = joint(5, 10000.0, 1, 0);
     struct can_frame f = tpdo(d1, 6);
     assert_int_equal(kd_can_decode_tpdo(&j, &f, &q, &sw), 0);
     assert_true(q == 0.5);
     assert_int_equal(sw, 0x1237);
     /* -1000 counts = 0xFFFFFC18 */
-    static const uint8_t d2[6] = {0x18, 0xFC, 0xFF, 0xFF, 0x08, 0x00};
+    static const uint8_t d2[6] = {0x08, 0x00, 0x18, 0xFC, 0xFF, 0xFF};
     f = tpdo(d2, 6);
     assert_int_equal(kd_can_decode_tpdo(&j, &f, &q, &sw), 0);
     assert_true(q == -0.1);
     assert_int_equal(sw, 0x0008);
     /* sign -1, offset 1000: 3000 counts -> (3000 - 1000) / -10000 */
-    static const uint8_t d3[6] = {0xB8, 0x0B, 0x00, 0x00, 0x00, 0x80};
+    static const uint8_t d3[6] = {0x00, 0x80, 0xB8, 0x0B, 0x00, 0x00};
     j = joint(5, 10000.0, -1, 1000);
     f = tpdo(d3, 6);
     assert_int_equal(kd_can_decode_tpdo(&j, &f, &q, &sw), 0);
@@ -181,9 +237,9 @@ static void test_round_trip(void **state)
         double q = kt_uniform(&rng, -6.3, 6.3), back = 0.0;
         uint16_t sw = 0;
         struct can_frame rpdo, fb;
-        kd_can_encode_rpdo(&j, q, 0.0, &rpdo);
+        kd_can_encode_rpdo(&j, 0x000F, q, &rpdo);
         assert_int_equal(rpdo.can_id, 0x200u + (canid_t)j.node);
-        fb = tpdo(rpdo.data, 6); /* PositionActual_6064 sits where TargetPosition_607A does */
+        fb = tpdo(rpdo.data, 6); /* position actual sits where the target does, the statusword where the controlword */
         assert_int_equal(kd_can_decode_tpdo(&j, &fb, &back, &sw), 0);
         /* half a count, plus the rounding of counts near 1e6 (far below 1e-6) */
         assert_true(fabs(back - q) <= (0.5 + 1e-6) / cpu);
@@ -195,7 +251,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sync),       cmocka_unit_test(test_rpdo_scaling), cmocka_unit_test(test_counts_rounding),
         cmocka_unit_test(test_saturation), cmocka_unit_test(test_heartbeat),    cmocka_unit_test(test_tpdo_decode),
-        cmocka_unit_test(test_round_trip),
+        cmocka_unit_test(test_round_trip), cmocka_unit_test(test_nmt),          cmocka_unit_test(test_emcy_decode),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
