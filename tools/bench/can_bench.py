@@ -29,10 +29,9 @@ The SYNC is written by the cycle thread right after its step, so its jitter
 should be the wake-up latency's spread: the two columns side by side say
 whether the bus cycle adds to it.
 
-A kinctld without the CANopen master (one that refuses controller.can's
-`boot` key) is still measured: no boot (the drives stay pre-operational
-and ignore its RPDOs), feedback off, its SYNC as it writes it; the output
-says so.
+A configuration kinctld refuses (the bus budget: --joints, --sync-every,
+--tpdo-every, --bitrate) is reported with kinctld's own reason before
+anything runs (kinctld --check).
 
 Used by tools/bench/run_can_bench.sh, which runs it on this host's vcan or
 inside User Mode Linux (there it says that the figures are UML's).
@@ -72,24 +71,19 @@ def home(n):
     return PUMA_HOME if n == 6 else [0.0] * n
 
 
-def config(a, master):
-    """kinctld's configuration: with master, the CANopen master's keys
-    (booting on, the bus budget's figures); else only the keys a kinctld
-    without it reads, feedback off."""
+def config(a):
+    """kinctld's configuration: controller.can with the drives at nodes
+    1..n, booted by kinctld, the bus cycle's figures from the options."""
     joints = ", ".join(f"{{ node = {k + 1}; counts_per_unit = {COUNTS_PER_RAD}; }}" for k in range(a.joints))
-    can = f'interface = "{a.interface}"; sync_every = {a.sync_every}; joints = ( {joints} );'
-    if master:
-        can += (f" bitrate = {a.bitrate}; tpdo_every = {a.tpdo_every}; sync_counter = {a.sync_counter}; "
-                "boot = true;")
-    else:
-        can += " feedback = { enable = false; };"
+    can = (f'interface = "{a.interface}"; bitrate = {a.bitrate}; sync_every = {a.sync_every}; '
+           f"tpdo_every = {a.tpdo_every}; sync_counter = {a.sync_counter}; boot = true; joints = ( {joints} );")
     text = chain(a.joints) if a.joints != 6 else ""
     return text + f"controller = {{ period_us = {a.period_us}; stats_hz = 0.01;\n  can = {{ {can} }};\n}};\n"
 
 
-def write_config(a, master):
+def write_config(a):
     with tempfile.NamedTemporaryFile("w", suffix=".cfg", delete=False) as f:
-        f.write(config(a, master))
+        f.write(config(a))
         return f.name
 
 
@@ -97,21 +91,17 @@ def daemon_args(a):
     return ["--model", "puma560"] if a.joints == 6 else []
 
 
-def has_master(a):
-    """True when kinctld reads the CANopen master's keys (kinctld --check
-    accepts controller.can.boot); exits with kinctld's reason when it
-    refuses the configuration for another reason (the bus budget)."""
-    path = write_config(a, True)
+def check(a):
+    """kinctld --check on the configuration: exits with kinctld's reason
+    when it refuses it (the bus budget names what would fit)."""
+    path = write_config(a)
     try:
         r = subprocess.run([a.kinctld, "--check", "--config", path] + daemon_args(a), capture_output=True, text=True,
                            timeout=60)
     finally:
         os.unlink(path)
-    if r.returncode == 0:
-        return True
-    if 'unknown key "bitrate" in controller.can' in r.stderr or 'unknown key "boot" in controller.can' in r.stderr:
-        return False
-    sys.exit(f"kinctld refuses this configuration: {r.stderr.strip()}")
+    if r.returncode != 0:
+        sys.exit(f"kinctld refuses this configuration: {r.stderr.strip()}")
 
 
 def percentile(values, p):
@@ -129,6 +119,21 @@ def sync_jitter(frames, bus_period_us):
     return {"p50": percentile(dev, 0.5), "p99": percentile(dev, 0.99), "max": max(dev, default=float("nan")),
             "min": min(dev, default=float("nan")), "n": len(t),
             "late": sum(1 for d in dev if d >= 0.5 * bus_period_us)}
+
+
+def following(frames, n):
+    """(drives whose RPDO1 target changed during the run, drives whose last
+    TPDO1 actual position equals their last RPDO1 target): the drives
+    moved with the arm and ended where kinctld left them."""
+    def positions(base, node):
+        return [int.from_bytes(f[2][2:6], "little", signed=True) for f in frames
+                if f[1] == base + node and len(f[2]) == 6]
+    moved = at_target = 0
+    for node in range(1, n + 1):
+        targets, actuals = positions(0x200, node), positions(0x180, node)
+        moved += len(set(targets)) > 1
+        at_target += bool(targets and actuals) and targets[-1] == actuals[-1]
+    return moved, at_target
 
 
 def cyclictest(period_us, duration, rt):
@@ -183,9 +188,9 @@ class DriveSim:
             self.proc.communicate()
 
 
-def run(a, master):
+def run(a):
     url = local.unique_url(subnet=79, port_base=40000)
-    cfg_path = write_config(a, master)
+    cfg_path = write_config(a)
     lc = lcm.LCM(url)
     statuses, stats = [], []
     lc.subscribe("KINCTL_STATUS", lambda ch, data: statuses.append(status_t.decode(data)))
@@ -197,17 +202,15 @@ def run(a, master):
     daemon = local.Kinctld("--config", cfg_path, binary=a.kinctld, url=url, rt=a.rt, stderr=log.name,
                            extra_args=daemon_args(a))
     try:
-        enabled_s = None
         t0 = time.monotonic()
-        if master:
-            while time.monotonic() - t0 < a.boot_timeout:
-                lc.handle_timeout(50)
-                if any(s.drives == DRIVES_ENABLED for s in statuses) or daemon.proc.poll() is not None:
-                    break
-            if not any(s.drives == DRIVES_ENABLED for s in statuses):
-                reasons = sorted({s.reason for s in statuses if s.reason})
-                sys.exit(f"the drives were not enabled within {a.boot_timeout:g} s: {reasons}")
-            enabled_s = time.monotonic() - t0
+        while time.monotonic() - t0 < a.boot_timeout:
+            lc.handle_timeout(50)
+            if any(s.drives == DRIVES_ENABLED for s in statuses) or daemon.proc.poll() is not None:
+                break
+        if not any(s.drives == DRIVES_ENABLED for s in statuses):
+            reasons = sorted({s.reason for s in statuses if s.reason})
+            sys.exit(f"the drives were not enabled within {a.boot_timeout:g} s: {reasons}")
+        enabled_s = time.monotonic() - t0
         t_end = time.monotonic() + a.duration
         goal, next_goal = 0, time.monotonic() + 0.2
         while time.monotonic() < t_end:
@@ -234,7 +237,7 @@ def run(a, master):
     frames = rec.settle(quiet_s=0.5, longest_s=20.0)
     rec.close()
     rejected = [s.reason for s in statuses if s.event == status_t.REJECTED]
-    return {"sync": sync_jitter(frames, a.period_us * a.sync_every), "stats": stats[-1] if stats else None,
+    return {"sync": sync_jitter(frames, a.period_us * a.sync_every), "drives": following(frames, a.joints), "stats": stats[-1] if stats else None,
             "stats_messages": len(stats), "reader_lost": rec.lost, "enabled_s": enabled_s, "goals": goal,
             "rejected": rejected, "stderr": daemon.stderr, "returncode": daemon.proc.returncode}
 
@@ -243,18 +246,16 @@ def us(v):
     return "-" if v is None or v != v else f"{v:.1f}" if abs(v) < 1000 else f"{v:.0f}"
 
 
-def report(a, master, r, ct):
+def report(a, r, ct):
     bus_us = a.period_us * a.sync_every
     print(f"\nkinctld bus cycle on {a.interface}: {a.joints} drives (kinctl drivesim), period {a.period_us} us, "
           f"sync_every {a.sync_every} (SYNC every {bus_us} us), {a.duration:g} s of joint goals")
     if a.note:
         print(a.note)
-    if master:
-        print(f"CANopen master: drives booted, configured and enabled by kinctld in {r['enabled_s']:.1f} s; "
-              f"tpdo_every {a.tpdo_every}, sync_counter {a.sync_counter}, bitrate {a.bitrate} (bus budget)")
-    else:
-        print("kinctld WITHOUT the CANopen master (it refuses controller.can.boot): no boot, the drives stay "
-              "pre-operational and ignore its RPDOs; its SYNC as it writes it")
+    print(f"drives booted, configured and enabled by kinctld {r['enabled_s']:.1f} s after its start; "
+          f"tpdo_every {a.tpdo_every}, sync_counter {a.sync_counter}, bitrate {a.bitrate} (bus budget)")
+    print(f"drives moved with the arm: {r['drives'][0]} of {a.joints}; at their last target at the end "
+          f"(last TPDO1 = last RPDO1): {r['drives'][1]} of {a.joints}")
     s, st = r["sync"], r["stats"]
     print(f"{'':28} {'p50':>9} {'p99':>9} {'p99.9':>9} {'max':>9} {'min':>9}   count")
     print(f"{'SYNC interval - T (us)':28} {us(s['p50']):>9} {us(s['p99']):>9} {'':>9} {us(s['max']):>9} "
@@ -284,6 +285,9 @@ def report(a, master, r, ct):
         print(f"the reader lost {r['reader_lost']} frames at its own queue: SYNCs may be missing from the figures")
     if r["rejected"]:
         print(f"{len(r['rejected'])} goals rejected, e.g. {r['rejected'][0]!r}")
+    events = [line for line in r["stderr"].splitlines() if "kinctld: drive:" in line]
+    if events:
+        print("kinctld's drive events:\n  " + "\n  ".join(events[:12]) + ("\n  ..." if len(events) > 12 else ""))
     if r["returncode"] != 0:
         print(f"kinctld exited {r['returncode']}: {r['stderr'].strip()[-400:]}")
     if a.note:
@@ -309,11 +313,11 @@ def main(argv=None):
     p.add_argument("--cyclictest", action="store_true", help="cyclictest at the same period first (rt-tests)")
     p.add_argument("--note", default="", help="a line printed under the figures")
     a = p.parse_args(argv)
-    master = has_master(a)
+    check(a)
     ct = cyclictest(a.period_us, a.duration, a.rt) if a.cyclictest else None
     if a.cyclictest and ct is None:
         a.note = (a.note + "\n" if a.note else "") + "cyclictest: not installed or it failed (rt-tests)"
-    report(a, master, run(a, master), ct)
+    report(a, run(a), ct)
     return 0
 
 
