@@ -201,6 +201,31 @@ def test_sync_length_follows_0x1019(bus):
     assert len(tpdo1(m)) == 4
 
 
+def test_lost_master(bus):
+    """0x1016:1 = 127 << 16 | 300 ms: heartbeats of the master every 100 ms
+    keep the drive enabled; 300 ms without one raise EMCY 0x8130 and 0x6007
+    = 3's quick stop (0x605A = 2: switch on disabled)."""
+    m, sim = bus()
+    d = sim.drives[NODE]
+    configure(m, velocity_offset=False)
+    m.net.send_message(0x000, bytes([0x01, NODE]))
+    assert wait_for(lambda: d.nmt == drive402.NMT_OPERATIONAL)
+    for cw in (0x06, 0x07, 0x0F):
+        m.net.send_message(0x200 + NODE, struct.pack("<Hi", cw, START))
+        m.sync()
+        time.sleep(0.02)
+    assert wait_for(lambda: d.state == drive402.ENABLED)
+    for _ in range(8):  # 0.8 s of heartbeats every 100 ms
+        m.net.send_message(0x77F, b"\x05")
+        time.sleep(0.1)
+    assert m.sent(0x080 + NODE) == [] and d.state == drive402.ENABLED
+    silent_from = time.monotonic()
+    emcy = wait_for(lambda: m.sent(0x080 + NODE), timeout=2.0)
+    assert 0.2 < time.monotonic() - silent_from < 1.0
+    assert struct.unpack_from("<HB", emcy[0]) == (drive402.EMCY_HEARTBEAT, 0x10)
+    assert d.state == drive402.SWITCH_ON_DISABLED
+
+
 def test_reset_communication_restores_power_on_values(bus):
     m, sim = bus(period_s=0.0025, heartbeat_ms=50, window=300, configured=True)
     d = sim.drives[NODE]
