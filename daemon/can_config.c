@@ -28,7 +28,7 @@ kd_can_cfg kd_can_cfg_default(void)
     can.device_type = 0x0192u;
     can.device_type_mask = 0xFFFFu;
     can.drive_heartbeat_ms = 100;
-    can.master_timeout_ms = 300;
+    can.master_timeout_ms = 500;
     can.lost_master_reaction = 3;
     can.boot_timeout_ms = 5000.0;
     can.sdo_timeout_ms = 500.0;

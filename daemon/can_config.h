@@ -19,7 +19,7 @@
  *                             # drives are configured by other means
  *     device_type = 0x0192; device_type_mask = 0xFFFF;  # 0x1000 check
  *     drive_heartbeat_ms = 100;   # 0x1017
- *     master_timeout_ms = 300;    # 0x1016:1; 0: not written
+ *     master_timeout_ms = 500;    # 0x1016:1; 0: not written
  *     lost_master_reaction = 3;   # 0x6007; -1: not written
  *     cycle_period = false;       # write 0x1006
  *     boot_timeout_ms = 5000.0; sdo_timeout_ms = 500.0;

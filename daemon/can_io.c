@@ -287,9 +287,13 @@ static void on_frame(kd_can *c, const struct can_frame *f, int64_t now)
         c->fb_ns[j] = now;
         c->tpdos[j]++;
     } else if (base == KD_CAN_HEARTBEAT_BASE && f->len >= 1) {
+        /* A boot-up is the entry into state 0: a node that keeps sending
+         * heartbeats in state 0 (initialising) has booted once. */
+        int entered = f->data[0] == KD_CAN_NMT_BOOTUP &&
+                      (c->heartbeat_ns[j] == 0 || c->nmt_state[j] != KD_CAN_NMT_BOOTUP);
         c->heartbeat_ns[j] = now;
         c->nmt_state[j] = f->data[0];
-        if (f->data[0] == KD_CAN_NMT_BOOTUP) {
+        if (entered) {
             c->bootups[j]++;
             c->have_fb[j] = 0; /* a rebooted drive has not answered a SYNC yet */
             if (c->watch)

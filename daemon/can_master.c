@@ -82,9 +82,17 @@ static void fail(kd_master *m, int64_t now, const char *fmt, ...)
 
 /* ---- enabling ------------------------------------------------------------ */
 
-static void start_read(kd_master *m, int64_t now)
+/* Asks drive j for its position actual value. */
+static void read_position(kd_master *m, int j, int64_t now)
 {
     struct can_frame out[1];
+    m->sdo_tries[j]++;
+    if (kd_sdo_upload(&m->sdo[j], 0x6064, 0, &out[0]) == KD_SDO_WAITING)
+        send(m, out, 1, now);
+}
+
+static void start_read(kd_master *m, int64_t now)
+{
     int j;
     m->phase = P_READ;
     m->phase_ns = now;
@@ -92,9 +100,9 @@ static void start_read(kd_master *m, int64_t now)
         tell(m, KD_DRIVES_ENABLING, "enabling %d drives: reading their positions (0x6064)", m->n);
     for (j = 0; j < m->n; j++) {
         m->have_pos[j] = 0;
+        m->sdo_tries[j] = 0;
         (void)kd_sdo_init(&m->sdo[j], node_of(m, j), (uint32_t)(m->cfg->sdo_timeout_ms * 1000.0));
-        if (kd_sdo_upload(&m->sdo[j], 0x6064, 0, &out[0]) == KD_SDO_WAITING)
-            send(m, out, 1, now);
+        read_position(m, j, now);
     }
 }
 
@@ -372,9 +380,11 @@ void kd_master_step(kd_master *m, int64_t now)
             n_out = 0;
             r = kd_sdo_process(&m->sdo[j], elapsed_us, out, &n_out);
             send(m, out, n_out, now);
-            if (r == KD_SDO_E_TIMEOUT)
-                fail(m, now, "joint %d (node %d): SDO read 0x6064:00 (position actual value): no answer within %g ms",
-                     j + 1, node_of(m, j), m->cfg->sdo_timeout_ms);
+            if (r == KD_SDO_E_TIMEOUT && m->sdo_tries[j] < KD_MASTER_READ_TRIES)
+                read_position(m, j, now);
+            else if (r == KD_SDO_E_TIMEOUT)
+                fail(m, now, "joint %d (node %d): SDO read 0x6064:00 (position actual value): no answer within %g ms, "
+                             "%d times", j + 1, node_of(m, j), m->cfg->sdo_timeout_ms, m->sdo_tries[j]);
         }
         break;
     case P_SEAT:

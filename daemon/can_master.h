@@ -10,7 +10,9 @@
  *              mapping, 0x6060 = 8, 0x60C2, 0x1006, 0x1019, 0x1017, 0x1016,
  *              0x6007, the joint's own writes, each read back, NMT start;
  *              with boot = false the checks and NMT start only)
- *   enabling   each drive's position actual (0x6064) read by SDO,
+ *   enabling   each drive's position actual (0x6064) read by SDO (asked
+ *              up to KD_MASTER_READ_TRIES times when a drive does not
+ *              answer within sdo_timeout_ms: a busy drive may drop one),
  *              converted with the joint's scale, sign and offset and
  *              checked against its limits; the controller is seated there
  *              (kc_ctrl_seat, through the I/O thread: kd_master_seat_wanted
@@ -51,6 +53,8 @@
 #include "cia402.h"
 #include "kinctl/chain.h"
 
+#define KD_MASTER_READ_TRIES 3
+
 /* status_t.drives */
 enum { KD_DRIVES_NONE = 0, KD_DRIVES_BOOTING = 1, KD_DRIVES_ENABLING = 2, KD_DRIVES_ENABLED = 3, KD_DRIVES_DISABLED = 4 };
 
@@ -70,6 +74,7 @@ typedef struct kd_master {
     int booted[KC_MAX_JOINTS];       /* configured and started */
     int64_t bootups[KC_MAX_JOINTS];  /* the link's boot-ups when it was started */
     kd_sdo sdo[KC_MAX_JOINTS];
+    int sdo_tries[KC_MAX_JOINTS];    /* reads of 0x6064 sent */
     int have_pos[KC_MAX_JOINTS];
     int32_t pos_counts[KC_MAX_JOINTS];
     kc_real q_seat[KC_MAX_JOINTS];

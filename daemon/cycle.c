@@ -69,6 +69,7 @@ static void tick(kd_cycle *c, int64_t deadline_ns, int64_t consecutive_missed, i
     kc_status st;
     const kc_real *q_cmd;
     const kc_real *qd_cmd;
+    int seated = 0;
 
     if (!to_ring)
         t = &c->spare; /* the tick is dropped, but the controller still steps */
@@ -87,7 +88,8 @@ static void tick(kd_cycle *c, int64_t deadline_ns, int64_t consecutive_missed, i
         c->cmds_taken_total++;
         if (cmd.seat) {
             c->seat_status = kc_ctrl_seat(c->ctrl, cmd.q, &c->seat_joint);
-            if (c->seat_status == KC_OK)
+            seated = c->seat_status == KC_OK;
+            if (seated)
                 kd_plant_seat(&c->plant, cmd.q);
         } else {
             in.command = cmd.command;
@@ -104,6 +106,7 @@ static void tick(kd_cycle *c, int64_t deadline_ns, int64_t consecutive_missed, i
     t->in_command = in.command;
     t->in_servo_stale = in.servo_stale;
     t->in_fault = in.fault != KC_REASON_NONE;
+    t->in_seated = seated;
     st = kc_ctrl_step(c->ctrl, &in, &t->out);
     if (goal != NULL) {
         if (goal->kind == KC_GOAL_SERVO)

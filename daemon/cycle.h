@@ -59,6 +59,7 @@ typedef struct kd_tick {
     kc_ctrl_command in_command;
     int in_servo_stale;
     int in_fault; /* the step was given an external fault */
+    int in_seated; /* the controller was seated (kc_ctrl_seat) before the step */
     /* The last seat (kd_cmd.seat) the cycle took: kc_ctrl_seat's answer. */
     int seat_status, seat_joint;
 } kd_tick;

@@ -66,6 +66,7 @@ static void publish_setpoint(kd_io *io, const kd_tick *t)
     sp->input_command = (int8_t)t->in_command;
     sp->input_servo_stale = (int8_t)(t->in_servo_stale != 0);
     sp->input_fault = (int8_t)(t->in_fault != 0);
+    sp->input_seated = (int8_t)(t->in_seated != 0);
     publish(io, KD_MSG_SETPOINT, sp);
 }
 

@@ -153,6 +153,7 @@ void msg_sample(kd_msg_type type, uint32_t seed, kd_msg_any *m, char *reason_buf
         p->input_command = (int8_t)pick(s, 0, KINCTL_COMMAND_T_RESET);
         p->input_servo_stale = (int8_t)pick(s, 0, 1);
         p->input_fault = (int8_t)pick(s, 0, 1);
+        p->input_seated = (int8_t)pick(s, 0, 1);
         break;
     }
     case KD_MSG_STATUS: {
@@ -178,6 +179,7 @@ void msg_sample(kd_msg_type type, uint32_t seed, kd_msg_any *m, char *reason_buf
         p->joint_value = uniform(s, -7.0, 7.0);
         p->joint_lower = uniform(s, -3.2, 0.0);
         p->joint_upper = uniform(s, 0.0, 3.2);
+        p->drives = (int8_t)pick(s, KINCTL_STATUS_T_DRIVES_NONE, KINCTL_STATUS_T_DRIVES_DISABLED);
         break;
     }
     case KD_MSG_STATS: {

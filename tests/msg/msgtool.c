@@ -103,7 +103,7 @@ static void print_json(kd_msg_type t, const kd_msg_any *m)
         pd("position", p->position, 3, 1); pd("orientation", p->orientation, 4, 1);
         pi("input_goal_id", p->input_goal_id); pi("input_command", p->input_command);
         pi("input_servo_stale", p->input_servo_stale);
-        pi("input_fault", p->input_fault);
+        pi("input_fault", p->input_fault); pi("input_seated", p->input_seated);
         break;
     }
     case KD_MSG_STATUS: {
@@ -125,7 +125,7 @@ static void print_json(kd_msg_type t, const kd_msg_any *m)
         printf("\", ");
         pi("n", p->n); pd("q_measured", p->q_measured, 16, 1);
         pd("qd_measured", p->qd_measured, 16, 1);
-        pi("can_state", p->can_state);
+        pi("can_state", p->can_state); pi("drives", p->drives);
         pi("joint", p->joint); pi("joint_prismatic", p->joint_prismatic);
         pd("joint_value", &p->joint_value, 1, 0); pd("joint_lower", &p->joint_lower, 1, 0);
         pd("joint_upper", &p->joint_upper, 1, 0);

@@ -359,6 +359,32 @@ static void test_timeouts(void **state)
                              "protocol timed out");
 }
 
+/* configure = 0 (drives configured by other means): the checks, then NMT
+ * start, and not one write. */
+static void test_checks_only(void **state)
+{
+    (void)state;
+    drive d;
+    kd_boot b;
+    struct can_frame out[KD_BOOT_OUT_MAX], last;
+    int n;
+    drive_init(&d, 4);
+    kd_boot_cfg c = config(4);
+    c.configure = 0;
+    c.identity[0] = 0x4B494E43u;
+    assert_int_equal(kd_boot_init(&b, &c), 0);
+    assert_int_equal(b.n_steps, 2); /* 0x1000 and 0x1018:1, both reads */
+    for (int i = 0; i < b.n_steps; i++)
+        assert_int_equal(b.step[i].write, 0);
+    kd_boot_start(&b, out, &n);
+    assert_int_equal(run(&b, &d, &last), KD_BOOT_DONE);
+    assert_int_equal(d.n_writes, 0);
+    assert_int_equal(last.can_id, 0x000);
+    assert_int_equal(last.data[0], 0x01);
+    assert_int_equal(last.data[1], 4);
+    assert_int_equal(*obj(&d, 0x6060, 0), 0); /* untouched */
+}
+
 static void test_interpolation_and_args(void **state)
 {
     (void)state;
@@ -405,6 +431,7 @@ int main(void)
         cmocka_unit_test(test_device_type_and_identity),
         cmocka_unit_test(test_abort_and_readback),
         cmocka_unit_test(test_timeouts),
+        cmocka_unit_test(test_checks_only),
         cmocka_unit_test(test_interpolation_and_args),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

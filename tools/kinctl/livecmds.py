@@ -84,13 +84,18 @@ def cmd_command(args):
         return 0
 
 
+# status_t.drives (lcmtypes/status_t.lcm): the CiA 402 drives on CAN.
+DRIVES = {0: "none", 1: "booting", 2: "enabling", 3: "enabled", 4: "disabled"}
+
+
 def status_dict(st, sp):
     from kinctl.msgs import event_name, state_name
     d = {"state": state_name(st.state), "cycle": st.cycle, "active_goal_id": st.active_goal_id,
          "progress": st.progress, "queue_length": st.queue_length, "event": event_name(st.event),
          "event_goal_id": st.event_goal_id, "code": st.code, "reason": st.reason,
          "q": list(st.q_measured[:st.n]), "qd": list(st.qd_measured[:st.n]),
-         "can": {0: "off", 1: "ok", 2: "lost"}.get(st.can_state, str(st.can_state))}
+         "can": {0: "off", 1: "ok", 2: "lost"}.get(st.can_state, str(st.can_state)),
+         "drives": DRIVES.get(st.drives, str(st.drives))}
     if sp is not None:
         d["setpoint_cycle"] = sp.cycle
         d["position"] = list(sp.position)
@@ -117,7 +122,7 @@ def cmd_status(args):
     say(f"q         {_fmt(d['q'], args.deg)} {unit}")
     say(f"qd        {_fmt(d['qd'], args.deg)} {unit}/s")
     if d["can"] != "off":
-        say(f"can       {d['can']}")
+        say(f"can       {d['can']}, drives {d['drives']}")
     if "position" in d:
         say(f"tool      {_fmt(d['position'])} m   quat {_fmt(d['orientation'])}")
     return 0

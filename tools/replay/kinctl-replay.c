@@ -6,9 +6,10 @@
  *   kinctl-replay [--progress] LOG [kinctld options: --config F --model M --period-us N --prefix P]
  *
  * What makes it exact. Every setpoint_t carries the inputs its cycle's step
- * was given (input_goal_id, input_command, input_servo_stale, input_fault): the goals
- * that reached the cycle, at the cycle they reached it, after the daemon's
- * I/O thread had dry-run and perhaps rejected others. The goal itself is
+ * was given (input_goal_id, input_command, input_servo_stale, input_fault,
+ * input_seated): the goals that reached the cycle, at the cycle they
+ * reached it, after the daemon's I/O thread had dry-run and perhaps
+ * rejected others. The goal itself is
  * the message in the log with that goal_id (the next one not used yet, in
  * log order) that the daemon took: turned into a kc_goal by the daemon's
  * own kd_goal_from_msg (daemon/goal.c) and passing the core's goal check,
@@ -280,6 +281,18 @@ static int replay(recording *r, const kd_config *cfg, int progress)
             }
             in.goal = &goal;
             goals++;
+        }
+        if (sp->input_seated) {
+            /* Seated where the drives were: the step's q is that position. */
+            kc_real q[KC_MAX_JOINTS];
+            for (j = 0; j < n; j++)
+                q[j] = (kc_real)sp->q[j];
+            st = kc_ctrl_seat(&ctrl, q, NULL);
+            if (st != KC_OK) {
+                printf("DIFFERS at cycle %" PRId64 ": the controller refuses the seat the log shows (%s)\n", sp->cycle,
+                       kc_status_str(st));
+                return 1;
+            }
         }
         in.command = (kc_ctrl_command)sp->input_command;
         in.servo_stale = sp->input_servo_stale != 0;
