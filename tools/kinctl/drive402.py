@@ -574,9 +574,10 @@ class Drives:
         sock = getattr(self.network.bus, "socket", None)
         if sock is not None:
             # A busy host (or an emulated one) must find the frames waiting,
-            # not dropped by the kernel: 8 MiB, as kinctld's own socket.
-            import socket
-            sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 8 << 20)
+            # not dropped by the kernel: 8 MiB, as kinctld's own socket
+            # (beyond rmem_max when root).
+            from kinctl import canraw
+            canraw.size_receive_buffer(sock, 8 << 20)
         self.lock = threading.RLock()
         eds = eds or default_eds()
         starts = start_counts or {}
