@@ -229,13 +229,15 @@ def run(a):
             pass
         if daemon.hung:
             sys.exit(f"kinctld did not exit within 30 s of SIGTERM: {daemon.stderr.strip()}")
+        # The drives answer what is still queued for them (a busy host)
+        # before they are told to quit.
+        frames = rec.settle(quiet_s=0.5, longest_s=20.0)
     finally:
         daemon.stop(signal.SIGKILL)
         sim.close()
+        rec.close()
         os.unlink(cfg_path)
         os.unlink(log.name)
-    frames = rec.settle(quiet_s=0.5, longest_s=20.0)
-    rec.close()
     rejected = [s.reason for s in statuses if s.event == status_t.REJECTED]
     return {"sync": sync_jitter(frames, a.period_us * a.sync_every), "drives": following(frames, a.joints), "stats": stats[-1] if stats else None,
             "stats_messages": len(stats), "reader_lost": rec.lost, "enabled_s": enabled_s, "goals": goal,
