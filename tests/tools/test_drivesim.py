@@ -252,6 +252,47 @@ def test_reset_communication_restores_power_on_values(bus):
     assert e.value.code == 0x06010000
 
 
+def trimmed_eds(path, drop):
+    """The shipped EDS without the objects in drop (and their sub-indices)."""
+    import re
+    text = open(drive402.default_eds(), encoding="utf-8").read()
+    sections = re.split(r"(?m)^(?=\[)", text)
+    keep = [sec for sec in sections
+            if not any(sec.startswith(f"[{i:04X}]") or sec.startswith(f"[{i:04X}sub") for i in drop)]
+    path.write_text("".join(keep))
+    return str(path)
+
+
+def test_an_eds_without_the_optional_objects(bus, tmp_path):
+    """A drive whose EDS has only the objects CSP needs: the master's writes
+    to the others are refused (abort 0x06020000, no such object), and the
+    drive still boots, enables and moves with the standard's defaults."""
+    optional = (0x1006, 0x1016, 0x1019, 0x6007, 0x605A, 0x6065, 0x607D, 0x60C2, 0x6502)
+    m, sim = bus(eds=trimmed_eds(tmp_path / "bare.eds", optional))
+    d = sim.drives[NODE]
+    assert wait_for(lambda: m.sent(0x700 + NODE))
+    for index in optional:
+        with pytest.raises(canopen.SdoAbortedError) as e:
+            m.node.sdo.download(index, 1 if index in (0x1016, 0x607D, 0x60C2) else 0, b"\x00")
+        assert e.value.code == 0x06020000, hex(index)
+    for index, sub, value, size in [(0x1400, 1, 0x80000200 + NODE, 4), (0x1600, 0, 0, 1), (0x1600, 1, 0x60400010, 4),
+                                    (0x1600, 2, 0x607A0020, 4), (0x1600, 0, 2, 1), (0x1400, 1, 0x200 + NODE, 4),
+                                    (0x1400, 2, 1, 1), (0x1800, 1, 0x80000180 + NODE, 4), (0x1A00, 0, 0, 1),
+                                    (0x1A00, 1, 0x60410010, 4), (0x1A00, 2, 0x60640020, 4), (0x1A00, 0, 2, 1),
+                                    (0x1800, 2, 1, 1), (0x1800, 1, 0x180 + NODE, 4), (0x6060, 0, 8, 1)]:
+        assert m.write(index, sub, value, size) == value
+    m.net.send_message(0x000, bytes([0x01, NODE]))
+    assert wait_for(lambda: d.nmt == drive402.NMT_OPERATIONAL)
+    for cw, target in ((0x06, START), (0x07, START), (0x0F, START), (0x0F, START - 900)):
+        m.net.send_message(0x200 + NODE, struct.pack("<Hi", cw, target))
+        m.sync()
+        time.sleep(0.02)
+    assert wait_for(lambda: tpdo1(m) and tpdo1(m)[-1] == (0x1237, START - 900))
+    m.net.send_message(0x200 + NODE, struct.pack("<Hi", 0x02, START - 900))  # quick stop: 0x605A's default 2
+    m.sync()
+    assert wait_for(lambda: d.state == drive402.SWITCH_ON_DISABLED)
+
+
 def test_interpolation_period():
     assert drive402.interpolation_period(0.001) == (1, -3)
     assert drive402.interpolation_period(0.0005) == (5, -4)

@@ -222,6 +222,14 @@ class Drive:
             return obj.decode_raw(self.node.get_data(index, sub))
         return obj[sub].decode_raw(self.node.get_data(index, sub))
 
+    def opt(self, index, sub, default):
+        """od(index, sub), or default where the EDS has no such object (an
+        EDS without the optional objects this drive honours)."""
+        obj = self.node.object_dictionary.get(index)
+        if obj is None or (hasattr(obj, "subindices") and obj.subindices and sub not in obj.subindices):
+            return default
+        return self.od(index, sub)
+
     def _store(self, index, sub, value):
         obj = self.node.object_dictionary[index]
         var = obj[sub] if hasattr(obj, "subindices") and obj.subindices else obj
@@ -297,12 +305,12 @@ class Drive:
             if old & 0x80000000 == 0 and value & 0x80000000 == 0 and value & 0x7FF != old & 0x7FF:
                 raise SdoAbortedError(0x06090030)
         elif index == 0x6060:
-            if SUPPORTED_MODE_BITS.get(value, 0) & self.od(0x6502) == 0:
+            if SUPPORTED_MODE_BITS.get(value, 0) & self.opt(0x6502, 0, SUPPORTED_MODE_BITS[MODE_CSP]) == 0:
                 raise SdoAbortedError(0x06090030)
         elif index == 0x1019:
             if value == 1 or value > 240:
                 raise SdoAbortedError(0x06090030)
-            if self.od(0x1006) != 0:
+            if self.opt(0x1006, 0, 0) != 0:
                 raise SdoAbortedError(0x08000022)  # CiA 301: only while 0x1006 is 0
         else:
             self._act_on(index, value)
@@ -343,7 +351,7 @@ class Drive:
             sw |= SW_INTERNAL_LIMIT
         if self.state == ENABLED and self.cached(0x6060, lambda: self.od(0x6060)) == MODE_CSP:
             sw |= SW_TARGET_FOLLOWED
-            window = self.cached(0x6065, lambda: self.od(0x6065))
+            window = self.cached(0x6065, lambda: self.opt(0x6065, 0, 0xFFFFFFFF))
             demand = self.limit(self.target)
             if window != 0xFFFFFFFF and abs(demand - self.pos) > window:
                 sw |= SW_FOLLOWING_ERROR
@@ -351,9 +359,10 @@ class Drive:
 
     def _controlword(self, cw):
         before = self.state
-        self.state = next_state(self.state, cw, self.cw, self.od(0x605A))
+        quick_stop_option = self.opt(0x605A, 0, 2)
+        self.state = next_state(self.state, cw, self.cw, quick_stop_option)
         self.cw = cw
-        if self.state == QUICK_STOP and self.od(0x605A) in (1, 2, 3, 4):
+        if self.state == QUICK_STOP and quick_stop_option in (1, 2, 3, 4):
             self.state = SWITCH_ON_DISABLED  # stopped at once, then 0x605A 1..4 say disabled
         if before == FAULT and self.state != FAULT:
             self.fault_code = 0
@@ -431,7 +440,7 @@ class Drive:
 
     def on_frame(self, can_id, data, timestamp):
         """Every frame the network hands over (SYNC, RPDOs, heartbeats)."""
-        if can_id == self.cached(0x1005, lambda: self.od(0x1005) & 0x7FF):
+        if can_id == self.cached(0x1005, lambda: self.opt(0x1005, 0, 0x80) & 0x7FF):
             self._on_sync(data)
             return
         if 0x700 < can_id < 0x780 and len(data) >= 1:
@@ -491,7 +500,7 @@ class Drive:
             self._send_tpdos(at_sync=False)
 
     def _on_sync(self, data):
-        overflow = self.cached(0x1019, lambda: self.od(0x1019))
+        overflow = self.cached(0x1019, lambda: self.opt(0x1019, 0, 0))
         if len(data) != (1 if overflow else 0):
             self.events.append(("sync_error", len(data)))
             self._comm_error(EMCY_SYNC_LENGTH)
@@ -511,7 +520,7 @@ class Drive:
     def limit(self, target):
         """target held within the software position limits (0x607D; none
         where min > max)."""
-        lo, hi = self.cached(0x607D, lambda: (self.od(0x607D, 1), self.od(0x607D, 2)))
+        lo, hi = self.cached(0x607D, lambda: (self.opt(0x607D, 1, 1), self.opt(0x607D, 2, 0)))
         return min(max(target, lo), hi) if lo <= hi else target
 
     def _move(self):
@@ -524,7 +533,7 @@ class Drive:
         if self.lag_s <= 0:
             self.pos = float(goal)
             return
-        period = self.od(0x60C2, 1) * 10.0 ** self.od(0x60C2, 2)
+        period = self.opt(0x60C2, 1, 1) * 10.0 ** self.opt(0x60C2, 2, -3)
         self.pos += (goal - self.pos) * min(1.0, period / self.lag_s)
 
     # -- heartbeat consumer ----------------------------------------------------
@@ -532,7 +541,7 @@ class Drive:
         """The heartbeat consumer at now (time.time(), the clock of the
         frames' receive timestamps), called only once every frame received
         so far has been handled."""
-        n = self.od(0x1016, 0)
+        n = self.opt(0x1016, 0, 0)
         for s in range(1, n + 1):
             entry = self.od(0x1016, s)
             node, ms = (entry >> 16) & 0x7F, entry & 0xFFFF
@@ -548,7 +557,7 @@ class Drive:
                 self.emcy_sent.discard(EMCY_HEARTBEAT)
 
     def _lost_master(self):
-        reaction = self.od(0x6007)
+        reaction = self.opt(0x6007, 0, 1)  # CiA 402's default: a malfunction (fault)
         if reaction == 1:
             self.emcy_sent.add(EMCY_HEARTBEAT)
             self.fault(EMCY_HEARTBEAT)
