@@ -40,7 +40,8 @@ def register(sub, parents):
                     help="power on configured as kinctld's boot leaves a drive (RPDO1 controlword + target, TPDO1 "
                          "statusword + actual, both every SYNC; mode 8), for a master that does not configure "
                          "the drives (kinctld's boot = false; give --heartbeat-ms too)")
-    ds.add_argument("--no-stdin", action="store_true", help="ignore stdin (run until SIGINT)")
+    ds.add_argument("--no-stdin", action="store_true",
+                    help="ignore stdin, run until SIGINT or SIGTERM (a background job: &)")
     ds.set_defaults(run=cmd_drivesim)
 
     cd = add_command(sub, "candecode", "print CAN frames decoded with kinctl's DBC (kinctl.dbc): a candump "
