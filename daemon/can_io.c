@@ -314,22 +314,25 @@ static void on_frame(kd_can *c, const struct can_frame *f, int64_t now)
 
 int kd_can_read(kd_can *c, struct can_frame *f, int64_t now)
 {
-    ssize_t r;
-    if (c->fd < 0)
-        return 0;
-    r = recv(c->fd, f, sizeof *f, MSG_DONTWAIT);
-    if (r < 0) {
-        if (errno == ENETDOWN || errno == ENXIO || errno == ENODEV) {
-            c->link_down++;
-            c->errors++;
-            lose(c, now, "%s is down (%s): CAN output lost", strerror(errno));
+    for (;;) {
+        ssize_t r;
+        if (c->fd < 0)
+            return 0;
+        r = recv(c->fd, f, sizeof *f, MSG_DONTWAIT);
+        if (r < 0) {
+            if (errno == ENETDOWN || errno == ENXIO || errno == ENODEV) {
+                c->link_down++;
+                c->errors++;
+                lose(c, now, "%s is down (%s): CAN output lost", strerror(errno));
+            }
+            return 0;
         }
-        return 0;
+        if ((size_t)r == sizeof *f) {
+            on_frame(c, f, now);
+            return 1;
+        }
+        /* shorter than a classic frame (a CAN FD socket never binds here): the next one */
     }
-    if ((size_t)r < sizeof *f)
-        return kd_can_read(c, f, now) ? 1 : 0;
-    on_frame(c, f, now);
-    return 1;
 }
 
 /* A lost link that is back: both sockets anew. */
@@ -356,6 +359,7 @@ static void recover(kd_can *c, int64_t now)
         close(fd);
     c->state = KD_CAN_OK;
     c->state_changed = 1;
+    c->recoveries++;
     c->next_heartbeat_ns = now;
     atomic_store_explicit(&c->bus->link_errno, 0, memory_order_relaxed);
     atomic_store_explicit(&c->bus->paused, 0, memory_order_release);

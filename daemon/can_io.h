@@ -75,6 +75,7 @@ typedef struct kd_can {
     /* Counters since start (the I/O thread's frames; kd_can_totals adds
      * the bus cycle's). */
     int64_t frames, tx_dropped, error_frames, bus_off, link_down, rx_frames, errors;
+    int64_t recoveries; /* times the link came back */
     int last_errno;
 
     /* Feedback per joint. */

@@ -33,7 +33,7 @@ kd_boot_cfg kd_boot_cfg_default(int node)
     c.sync_overflow = -1;
     c.heartbeat_ms = 100;
     c.master_id = 127;
-    c.consumer_ms = 300;
+    c.consumer_ms = 500;
     c.lost_master_reaction = 3;
     c.bootup_timeout_us = 5000000;
     c.sdo_timeout_us = 500000;

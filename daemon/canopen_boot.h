@@ -129,7 +129,7 @@ typedef struct kd_boot {
  * 0x0000FFFF, no identity, RPDO1 = controlword + target position
  * (0x60400010, 0x607A0020, type 1), TPDO1 = statusword + position actual
  * (0x60410010, 0x60640020, type 1), 0x60C2 1 ms, heartbeat 100 ms, master
- * 127 watched for 300 ms, 0x6007 = 3 (quick stop), boot-up within 5 s,
+ * 127 watched for 500 ms, 0x6007 = 3 (quick stop), boot-up within 5 s,
  * SDO answers within 500 ms. */
 kd_boot_cfg kd_boot_cfg_default(int node);
 
