@@ -570,6 +570,31 @@ class Drive:
             self._controlword(0x0002)
 
 
+def survive_link_loss(bus):
+    """A powered drive outlives its bus: while the interface is down
+    (ENETDOWN and the like) python-can's receive raises, which would end the
+    stack's receive thread for good; here it waits and tries again, and a
+    frame that cannot go out is lost, as on a real bus."""
+    import can
+    recv, send = bus._recv_internal, bus.send
+
+    def recv_surviving(timeout):
+        try:
+            return recv(timeout)
+        except can.CanOperationError:
+            time.sleep(timeout if timeout else 0.05)
+            return None, False
+
+    def send_surviving(msg, timeout=None):
+        try:
+            send(msg, timeout)
+        except can.CanOperationError:
+            pass
+
+    bus._recv_internal = recv_surviving
+    bus.send = send_surviving
+
+
 class Drives:
     """Drives at node ids on a SocketCAN interface, one canopen.Network."""
 
@@ -580,6 +605,7 @@ class Drives:
         import canopen
         self.network = canopen.Network()
         self.network.connect(interface=interface, channel=channel, receive_own_messages=False)
+        survive_link_loss(self.network.bus)
         sock = getattr(self.network.bus, "socket", None)
         if sock is not None:
             # A busy host (or an emulated one) must find the frames waiting,
