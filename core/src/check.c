@@ -107,7 +107,7 @@ static kc_status begin_from(kc_check *k, const kc_real *q_start, const kc_goal *
             return kc_ctrl_refuse(v, KC_REASON_PLAN, KC_FIELD_NONE, -1, -1, KC_R(0.0));
         return taken(v, goal->q, n);
     }
-    k->run_goal = *goal;
+    kc_ctrl_goal_copy(&k->run_goal, goal);
     k->run_goal.replace = 0;
     k->run_in.goal = &k->run_goal;
     k->run_in.command = KC_CMD_NONE;

@@ -3,6 +3,7 @@
  * knot and joint at fault, and the texts of the reasons (kinctl/ctrl.h). */
 #include "ctrl_internal.h"
 
+#include <stddef.h>
 #include <string.h>
 
 const char *kc_ctrl_reason_str(kc_ctrl_reason reason)
@@ -25,6 +26,18 @@ const char *kc_ctrl_reason_str(kc_ctrl_reason reason)
     case KC_REASON_COUNT: break;
     }
     return "unknown reason";
+}
+
+void kc_ctrl_goal_copy(kc_goal *dst, const kc_goal *src)
+{
+    int rows = kc_ctrl_is_path(src->kind) ? src->n_points : 0;
+    if (rows < 0 || rows > KC_PATH_MAX_KNOTS - 1)
+        rows = 0; /* refused by kc_ctrl_goal_check: its knots are never read */
+    memcpy(dst, src, offsetof(kc_goal, points));
+    memcpy(dst->points, src->points, sizeof src->points[0] * (size_t)rows);
+    memcpy(&dst->has_times, &src->has_times, offsetof(kc_goal, times) - offsetof(kc_goal, has_times));
+    memcpy(dst->times, src->times, sizeof src->times[0] * (size_t)rows);
+    memcpy(&dst->blend_time, &src->blend_time, sizeof(kc_goal) - offsetof(kc_goal, blend_time));
 }
 
 static int pose_ok(const kc_pose *p)

@@ -59,6 +59,12 @@ void kc_ctrl_restart(kc_ctrl *c, const kc_real *q_at, const kc_real *q);
 
 /* ---- ctrl_goal.c: goal checks ---- */
 
+/* *dst = *src for everything that is read: a path's first n_points knots
+ * and times, no other kind's (the knot rows are most of a goal: 2 KB of
+ * its 2.3 KB with the default capacities, copied twice on the way from the
+ * caller to the active segment). */
+void kc_ctrl_goal_copy(kc_goal *dst, const kc_goal *src);
+
 /* Fills *v (if not NULL): refused (KC_E_ARG) for why, naming the field,
  * knot, joint and number at fault; returns KC_E_ARG. */
 kc_status kc_ctrl_refuse(kc_verdict *v, kc_ctrl_reason why, kc_goal_field field, int point, int joint,

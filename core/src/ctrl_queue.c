@@ -29,7 +29,7 @@ void kc_ctrl_queue_clear(kc_ctrl *c, kc_ctrl_output *out)
 
 static void queue_push(kc_ctrl *c, const kc_goal *g)
 {
-    c->queue[(c->queue_head + c->queue_len) % KC_CTRL_QUEUE_MAX] = *g;
+    kc_ctrl_goal_copy(&c->queue[(c->queue_head + c->queue_len) % KC_CTRL_QUEUE_MAX], g);
     c->queue_len++;
 }
 
@@ -75,7 +75,7 @@ static int retarget(kc_ctrl *c, const kc_goal *g)
 /* Makes g, whose retarget is planned, the active segment from this tick. */
 static void take_retarget(kc_ctrl *c, const kc_goal *g)
 {
-    c->goal = *g;
+    kc_ctrl_goal_copy(&c->goal, g);
     c->drive = KC_DRIVE_RETARGET;
     c->k0 = c->cycle - 1; /* tick 0 is the last setpoint, as for every segment */
     c->stop_intent = KC_CMD_NONE;

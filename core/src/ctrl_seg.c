@@ -95,7 +95,10 @@ kc_status kc_ctrl_plan_goal(kc_ctrl *c)
     kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS];
     kc_pose from;
     kc_interp_limits lim = kc_ctrl_cart_limits(c, g);
-    kc_fk_eval(c->chain, c->q, &from);
+    /* The tool pose where the segment starts: the kinds that start from it
+     * (a Cartesian path takes it in plan_path). */
+    if (g->kind == KC_GOAL_LINE || g->kind == KC_GOAL_ARC || g->kind == KC_GOAL_SERVO)
+        kc_fk_eval(c->chain, c->q, &from);
     c->path_length = KC_R(0.0);
     switch (g->kind) {
     case KC_GOAL_JOINT:
@@ -125,7 +128,7 @@ kc_status kc_ctrl_plan_goal(kc_ctrl *c)
 int kc_ctrl_start_next(kc_ctrl *c, kc_ctrl_output *out)
 {
     while (c->queue_len > 0) {
-        c->goal = c->queue[c->queue_head];
+        kc_ctrl_goal_copy(&c->goal, &c->queue[c->queue_head]);
         c->queue_head = (c->queue_head + 1) % KC_CTRL_QUEUE_MAX;
         c->queue_len--;
         /* Tick 0 of the segment is the last setpoint: the first output is
@@ -296,6 +299,34 @@ static void seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
     }
 }
 
+/* A Cartesian segment's progress and end at its tick j, as seg_eval gives
+ * them, without its pose: the tick steers by the pose of tick j - 1. A line
+ * or an arc is at u's profile state (u = 1 once it has ended at its end,
+ * kc_interp_cart_state.u), a Cartesian path at its drive state, a servo
+ * goal never ends on its own. */
+static void cart_timing(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
+{
+    const kc_goal *g = &c->goal;
+    kc_profile_state u;
+    o->progress = KC_R(0.0);
+    o->done = 0;
+    if (j < 0)
+        j = 0;
+    if (g->kind == KC_GOAL_LINE || g->kind == KC_GOAL_ARC) {
+        const kc_profile *prof = c->drive == KC_DRIVE_PROFILE ? &c->drive_prof
+                                 : g->kind == KC_GOAL_LINE    ? &c->plan.line.prof
+                                                              : &c->plan.arc.prof;
+        kc_status st = kc_profile_eval(prof, j, &u);
+        o->progress = st == KC_DONE && u.p >= KC_R(1.0) ? KC_R(1.0) : u.p;
+        o->done = st == KC_DONE;
+    } else if (g->kind == KC_GOAL_PATH_CART) {
+        kc_ctrl_drive_state(c, j, &u);
+        kc_real T = c->plan.path_cart.pos.duration;
+        o->progress = T > KC_R(0.0) ? kc_min(u.p / T, KC_R(1.0)) : KC_R(1.0);
+        o->done = c->drive == KC_DRIVE_PROFILE ? c->drive_prof.ticks <= j : kc_max(u.p, KC_R(0.0)) >= T;
+    }
+}
+
 int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_output *out)
 {
     int n = c->chain->n_joints;
@@ -308,9 +339,14 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
         kc_ctrl_stop_on_path(c, intent);
         j = c->cycle - c->k0;
     }
-    seg_eval(c, j, &now);
+    int cart = c->goal.kind == KC_GOAL_LINE || c->goal.kind == KC_GOAL_ARC || c->goal.kind == KC_GOAL_PATH_CART ||
+               c->goal.kind == KC_GOAL_SERVO;
+    if (cart)
+        cart_timing(c, j, &now);
+    else
+        seg_eval(c, j, &now);
     out->progress = now.progress;
-    if (!now.cart) {
+    if (!cart) {
         memcpy(q, now.q, sizeof(kc_real) * (size_t)n);
         memcpy(qd, now.qd, sizeof(kc_real) * (size_t)n);
         memcpy(qdd, now.qdd, sizeof(kc_real) * (size_t)n);

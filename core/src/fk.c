@@ -6,11 +6,20 @@
  * place: a rotation about the frame's own axis changes two columns of R, a
  * translation along it moves the origin along one column. A DH link so costs
  * about 30 multiplications instead of a 4x4 product's 64. */
-#include "kinctl/fk.h"
+#include "fk_internal.h"
+
+/* The element helpers are inlined even at -Os: called, each costs more in
+ * the call than in its six products (measured on a Cortex-M4F), and only
+ * inlined are i, j and k constants. */
+#if defined(__GNUC__) || defined(__clang__)
+#define FK_INLINE static inline __attribute__((always_inline))
+#else
+#define FK_INLINE static inline
+#endif
 
 /* Rotation about the running frame's axis: columns i and j (right-handed
  * order) turn by (c, s). i and j are constants after inlining. */
-static inline void turn(kc_real m[3][3], int i, int j, kc_real c, kc_real s)
+FK_INLINE void turn(kc_real m[3][3], int i, int j, kc_real c, kc_real s)
 {
     for (int r = 0; r < 3; r++) {
         kc_real a = m[r][i], b = m[r][j];
@@ -20,7 +29,7 @@ static inline void turn(kc_real m[3][3], int i, int j, kc_real c, kc_real s)
 }
 
 /* A constant quarter turn (c = 0, s = sign): a column swap with one sign. */
-static inline void quarter_turn(kc_real m[3][3], int i, int j, int sign)
+FK_INLINE void quarter_turn(kc_real m[3][3], int i, int j, int sign)
 {
     for (int r = 0; r < 3; r++) {
         kc_real a = m[r][i], b = m[r][j];
@@ -30,7 +39,7 @@ static inline void quarter_turn(kc_real m[3][3], int i, int j, int sign)
 }
 
 /* Moves the running origin along the running frame's axis k. */
-static inline void shift(kc_real m[3][3], kc_real t[3], int k, kc_real v)
+FK_INLINE void shift(kc_real m[3][3], kc_real t[3], int k, kc_real v)
 {
     t[0] += v * m[0][k];
     t[1] += v * m[1][k];
@@ -127,14 +136,16 @@ kc_status kc_fk_frames(const kc_chain *chain, const kc_real *q, kc_pose *frames,
     return KC_OK;
 }
 
-kc_status kc_fk_jacobian(const kc_chain *chain, const kc_real *q, kc_jacobian *jac, kc_pose *tool)
+/* The Jacobian and the tool pose into tool; the public entry and the
+ * solvers' each inline it (one call less for either). */
+FK_INLINE void jacobian(const kc_chain *chain, const kc_real *q, kc_jacobian *jac, kc_pose *tool)
 {
-    kc_real origin[KC_MAX_JOINTS][3] = {{KC_R(0.0)}}; /* walk fills the rows of the joints */
-    kc_pose end;
-    if (chain == NULL || q == NULL || jac == NULL || !q_finite(chain, q))
-        return KC_E_ARG;
-    walk(chain, q, NULL, jac, origin, &end);
-    const kc_real *pe = end.t.v;
+    /* Not cleared: walk writes the row of every joint, as it writes the
+     * joint's axis into jac (a checked chain drives each joint by exactly
+     * one element), and clearing it cost as much as a joint's element. */
+    kc_real origin[KC_MAX_JOINTS][3];
+    walk(chain, q, NULL, jac, origin, tool);
+    const kc_real *pe = tool->t.v;
     for (int j = 0; j < chain->n_joints; j++) {
         kc_real zx = jac->m[3][j], zy = jac->m[4][j], zz = jac->m[5][j];
         if (chain->joints[j].type == KC_JOINT_REVOLUTE) {
@@ -150,7 +161,18 @@ kc_status kc_fk_jacobian(const kc_chain *chain, const kc_real *q, kc_jacobian *j
             jac->m[3][j] = jac->m[4][j] = jac->m[5][j] = KC_R(0.0);
         }
     }
-    if (tool != NULL)
-        *tool = end;
+}
+
+void kc_fk_jacobian_checked(const kc_chain *chain, const kc_real *q, kc_jacobian *jac, kc_pose *tool)
+{
+    jacobian(chain, q, jac, tool);
+}
+
+kc_status kc_fk_jacobian(const kc_chain *chain, const kc_real *q, kc_jacobian *jac, kc_pose *tool)
+{
+    kc_pose end;
+    if (chain == NULL || q == NULL || jac == NULL || !q_finite(chain, q))
+        return KC_E_ARG;
+    jacobian(chain, q, jac, tool != NULL ? tool : &end); /* no copy when the caller wants the pose */
     return KC_OK;
 }

@@ -4,6 +4,7 @@
  * documented in kinctl/ik.h. */
 #include "kinctl/ik.h"
 
+#include "fk_internal.h"
 #include "linalg_internal.h"
 
 kc_ik_cfg kc_ik_cfg_default(void)
@@ -34,7 +35,9 @@ kc_ik_cfg kc_ik_cfg_default(void)
     return c;
 }
 
-static int positive(kc_real x) { return kc_isfinite(x) && x > KC_R(0.0); }
+/* Inlined: kc_ik_step checks the configuration every tick, and fourteen
+ * calls cost more than the tests. */
+KC_ALWAYS_INLINE int positive(kc_real x) { return kc_isfinite(x) && x > KC_R(0.0); }
 
 kc_status kc_ik_cfg_check(const kc_ik_cfg *cfg, const kc_chain *chain)
 {
@@ -149,7 +152,10 @@ typedef struct ik_problem {
     const kc_ik_cfg *cfg;
     int n, r;
     int singular_damping; /* add the Nakamura-Hanafusa term (online step) */
-    kc_real lo[KC_MAX_JOINTS], hi[KC_MAX_JOINTS], rest[KC_MAX_JOINTS], range[KC_MAX_JOINTS];
+    kc_real lo[KC_MAX_JOINTS], hi[KC_MAX_JOINTS];
+    /* The redundancy objective's, set only when the task leaves a null
+     * space (n > r): nothing else reads them. */
+    kc_real rest[KC_MAX_JOINTS], range[KC_MAX_JOINTS];
 } ik_problem;
 
 static void problem_init(ik_problem *p, const kc_chain *chain, const kc_ik_cfg *cfg)
@@ -163,6 +169,8 @@ static void problem_init(ik_problem *p, const kc_chain *chain, const kc_ik_cfg *
         const kc_joint_limits *l = &chain->joints[j].limits;
         p->lo[j] = l->q_min;
         p->hi[j] = l->q_max;
+        if (p->n <= p->r)
+            continue;
         int bounded = kc_isfinite(l->q_min) && kc_isfinite(l->q_max);
         p->range[j] = bounded && l->q_max > l->q_min ? l->q_max - l->q_min : KC_R(2.0) * KC_PI;
         if (cfg->use_rest)
@@ -229,8 +237,10 @@ KC_ALWAYS_INLINE kc_real dls_kernel(const ik_problem *p, kc_real jt[6][KC_MAX_JO
     }
     /* A = Jt Jt^T and Jt z, column by column: the r x r work inside is of
      * constant size and unrolls. */
+    KC_UNROLL
     for (int i = 0; i < r; i++) {
-        for (int k = 0; k < r; k++)
+        KC_UNROLL
+        for (int k = 0; k <= i; k++)
             a[i][k] = KC_R(0.0);
         y[i] = u[i];
         yz[i] = KC_R(0.0);
@@ -252,17 +262,19 @@ KC_ALWAYS_INLINE kc_real dls_kernel(const ik_problem *p, kc_real jt[6][KC_MAX_JO
                 yz[i] += c[i] * z[j];
         }
     }
-    for (int i = 0; i < r; i++)
-        for (int k = 0; k < i; k++)
-            a[k][i] = a[i][k];
+    /* Only the lower triangle of A is filled: the factorisation and the
+     * solves read no other. */
 
     kc_real damp = lambda2, w = KC_REAL_MAX;
     if (p->singular_damping) {
         /* Manipulability sqrt(det(J J^T)) from an undamped factorisation. */
         kc_real l[KC_LINALG_MAX][KC_LINALG_MAX], det = KC_R(0.0);
-        for (int i = 0; i < r; i++)
-            for (int k = 0; k < r; k++)
+        KC_UNROLL
+        for (int i = 0; i < r; i++) {
+            KC_UNROLL
+            for (int k = 0; k <= i; k++)
                 l[i][k] = a[i][k];
+        }
         kc_cholesky(l, r, &det);
         w = kc_sqrt(kc_max(det, KC_R(0.0)));
         if (w < p->cfg->manip_threshold) {
@@ -404,7 +416,7 @@ static void random_q(const ik_problem *p, uint64_t *state, kc_real *q)
     }
 }
 
-static int q_valid(const kc_chain *chain, const kc_real *q)
+KC_ALWAYS_INLINE int q_valid(const kc_chain *chain, const kc_real *q)
 {
     for (int j = 0; j < chain->n_joints; j++)
         if (!kc_isfinite(q[j]))
@@ -425,7 +437,7 @@ static kc_status classify_miss(const ik_problem *p, const kc_dquat *target_dq, c
     uint8_t frozen[KC_MAX_JOINTS] = {0};
     ik_problem probe = *p;
     probe.singular_damping = 1; /* to get the manipulability back */
-    kc_fk_jacobian(p->chain, q, &jac, &cur);
+    kc_fk_jacobian_checked(p->chain, q, &jac, &cur);
     task_error(p->cfg->mask, &cur, target_dq, target, e, &pos_err, &rot_err);
     kc_real(*jt)[KC_MAX_JOINTS] = task_jacobian(p->cfg->mask, &jac, &cur, p->n);
     kc_real w = dls_solve(&probe, jt, e, KC_R(0.0), KC_R(0.0), KC_R(0.0), q, frozen, dq);
@@ -503,7 +515,7 @@ kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose
             history[i] = KC_REAL_MAX;
         for (int s = 0; s < cfg->max_steps; s++) {
             kc_real e[6], pos_err, rot_err;
-            kc_fk_jacobian(chain, q, &jac, &cur);
+            kc_fk_jacobian_checked(chain, q, &jac, &cur);
             steps++;
             task_error(cfg->mask, &cur, &target_dq, target, e, &pos_err, &rot_err);
             kc_real cost = KC_R(0.0);
@@ -587,11 +599,15 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
     kc_dquat_from_pose(target, &target_dq);
     kc_jacobian jac;
     kc_pose cur;
-    /* task_error fills the p.r rows of e that the mask uses */
-    kc_real e[6] = {KC_R(0.0)}, pos_err, rot_err, qd_des[KC_MAX_JOINTS];
+    /* task_error fills the p.r rows of e that the mask uses. The small
+     * arrays here are cleared by unrolled stores: a memset call costs more. */
+    kc_real e[6], ff[6], pos_err, rot_err, qd_des[KC_MAX_JOINTS];
     int n = p.n;
+    KC_UNROLL
+    for (int i = 0; i < 6; i++)
+        e[i] = ff[i] = KC_R(0.0);
 
-    kc_fk_jacobian(chain, q, &jac, &cur);
+    kc_fk_jacobian_checked(chain, q, &jac, &cur);
     task_error(cfg->mask, &cur, &target_dq, target, e, &pos_err, &rot_err);
     res->steps = 1;
     res->restarts = 0;
@@ -599,7 +615,6 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
     res->rot_err = rot_err;
 
     /* The feed-forward twist in the task's rows (as task_jacobian). */
-    kc_real ff[6] = {KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(0.0)};
     int moving_target = 0;
     if (twist_ff != NULL) {
         for (int i = 0; i < 6; i++) {
@@ -636,9 +651,10 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
     for (int i = 0; i < p.r; i++)
         u[i] = ff[i] + (i < 3 ? cfg->gain_pos : cfg->gain_rot) * e[i];
     kc_real(*jt)[KC_MAX_JOINTS] = task_jacobian(cfg->mask, &jac, &cur, n);
-    /* The null-space velocity stays below half the slowest joint's limit. */
+    /* The null-space velocity stays below half the slowest joint's limit
+     * (only a redundant task has one). */
     kc_real null_bound = KC_REAL_MAX;
-    for (int j = 0; j < n; j++)
+    for (int j = 0; j < n && n > p.r; j++)
         null_bound = kc_min(null_bound, chain->joints[j].limits.qd_max);
     kc_real w = limited_step(&p, jt, u, KC_R(0.0), cfg->null_gain, null_bound, q, qd_des, NULL);
 

@@ -522,7 +522,6 @@ kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const k
     if (!kc_vec3_isfinite(&r.dp) || !kc_isfinite(r.length))
         return KC_E_CAPACITY;
     kc_quat_from_mat3(&from->R, &r.q1);
-    kc_mat3_tmul(&from->R, &to->R, &R3); /* rotation of P3 = P1^-1 P2 (5.1) */
     if (orient == KC_INTERP_SLERP) {
         kc_quat q2, rel, c1;
         kc_quat_from_mat3(&to->R, &q2);
@@ -537,6 +536,7 @@ kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const k
         else
             r.axis = kc_vec3_make(KC_R(0.0), KC_R(0.0), KC_R(1.0));
     } else {
+        kc_mat3_tmul(&from->R, &to->R, &R3); /* rotation of P3 = P1^-1 P2 (5.1) */
         kc_real(*m)[3] = R3.m;
         kc_real ax = m[0][2], ay = m[1][2], az = m[2][2];
         /* (5.18): psi undefined when a_x = a_y = 0; the seed sets it to 0

@@ -127,21 +127,28 @@ static kc_real mat3_det(const kc_mat3 *a)
            m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
 }
 
+/* |(A^T A)_ij - I_ij|: column i dotted with column j. */
+#define ATA_ERR(m, i, j) \
+    kc_fabs((m)[0][i] * (m)[0][j] + (m)[1][i] * (m)[1][j] + (m)[2][i] * (m)[2][j] - ((i) == (j) ? KC_R(1.0) : KC_R(0.0)))
+
+/* The larger of err and e, NaN once either is: a NaN e replaces err, and
+ * once err is NaN (err != err) it stays, where "!(e <= err)" alone let the
+ * next finite entry overwrite it (found by tests/unit/test_se3.c). */
+static inline kc_real worse(kc_real err, kc_real e) { return err == err && !(e <= err) ? e : err; }
+
 kc_real kc_mat3_rotation_error(const kc_mat3 *a)
 {
-    kc_mat3 ata;
-    kc_mat3_tmul(a, a, &ata);
+    const kc_real(*m)[3] = a->m;
     kc_real err = kc_fabs(mat3_det(a) - KC_R(1.0));
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
-            kc_real e = kc_fabs(ata.m[i][j] - (i == j ? KC_R(1.0) : KC_R(0.0)));
-            /* Written so that a NaN entry propagates to the result: a NaN e
-             * replaces err, and once err is NaN (err != err) it stays, where
-             * "!(e <= err)" alone let the next finite entry overwrite it
-             * (found by tests/unit/test_se3.c). */
-            if (err == err && !(e <= err))
-                err = e;
-        }
+    /* The entries of A^T A on and above the diagonal, written out (every
+     * goal and plan checks a pose): each entry below it sums the same
+     * products in the same order, so it is the same number. */
+    err = worse(err, ATA_ERR(m, 0, 0));
+    err = worse(err, ATA_ERR(m, 0, 1));
+    err = worse(err, ATA_ERR(m, 0, 2));
+    err = worse(err, ATA_ERR(m, 1, 1));
+    err = worse(err, ATA_ERR(m, 1, 2));
+    err = worse(err, ATA_ERR(m, 2, 2));
     return err;
 }
 

@@ -32,8 +32,15 @@
 #ifndef KC_MAX_JOINTS
 #define KC_MAX_JOINTS 16
 #endif
+/* Elementary transforms and frames of a chain: the built-in arms have at
+ * most 20 and 9. A frame is a kc_pose (48 B in float) in every array of
+ * frames, e.g. the one kc_zone_check fills on its stack. */
+#ifndef KC_MAX_ELEMENTS
 #define KC_MAX_ELEMENTS 128
+#endif
+#ifndef KC_MAX_FRAMES
 #define KC_MAX_FRAMES 64
+#endif
 #define KC_MAX_VOLUMES 32
 
 typedef enum kc_joint_type { KC_JOINT_REVOLUTE = 0, KC_JOINT_PRISMATIC = 1 } kc_joint_type;
