@@ -23,7 +23,6 @@ import math
 import os
 import struct
 
-import can
 import pytest
 
 from kinctl import canraw, drive402
@@ -195,7 +194,7 @@ class Sim:
 
     Like a drive's CAN controller, the network takes only the frames the
     drives use (NMT, SYNC, their RPDOs and SDO requests, heartbeats) through
-    a kernel filter, and goes on receiving after the interface was down."""
+    a kernel filter."""
 
     def __init__(self, starts=None, lag_s=0.0, nodes=NODES):
         self.starts = dict(starts or start_counts())
@@ -203,7 +202,6 @@ class Sim:
         exact = [0x000, 0x080] + [base + n for n in nodes for base in (0x200, 0x300, 0x600)]
         self.drives.network.bus.set_filters([{"can_id": cid, "can_mask": 0x7FF} for cid in exact] +
                                             [{"can_id": 0x700, "can_mask": 0x780}])
-        self.drives.network.notifier.add_listener(RecoveringListener(self.drives.network.notifier))
 
     def command(self, line):
         reply = self.drives.command(line)
@@ -230,21 +228,6 @@ class Sim:
 
     def close(self):
         self.drives.close()
-
-
-class RecoveringListener(can.Listener):
-    """Takes the receive errors of python-can's notifier (ENETDOWN when the
-    interface goes down), which would otherwise end its thread, and forgets
-    them, which canopen's Network would otherwise raise at every send."""
-
-    def __init__(self, notifier):
-        self.notifier = notifier
-
-    def on_message_received(self, msg):
-        pass
-
-    def on_error(self, exc):
-        self.notifier.exception = None
 
 
 @pytest.fixture
