@@ -502,6 +502,16 @@ def sdo_requests(frames, n):
     return out
 
 
+def refused(sim, n, sdo):
+    """The aborts in sdo (sdo_requests) but those of the master's optional
+    writes that a drive without the object may refuse: the PDOs of the
+    predefined set it does not use, made invalid where they exist
+    (daemon/README.md). [(index, sub, abort code)]"""
+    od = sim.drive(n).node.object_dictionary
+    return [(index, sub, code) for _, kind, index, sub, code in (s for s in sdo if s[1] == "abort")
+            if not (0x1400 <= index < 0x1C00 and index not in od and code == 0x06020000)]
+
+
 def nmt_commands(frames, n):
     """[(i, command)] of the NMT frames that address node n (or all)."""
     return [(i, data[0]) for i, (_, cid, data) in enumerate(frames)
