@@ -486,9 +486,8 @@ def test_shutdown_leaves_no_drive_enabled(can_daemon, drives, recorder, shutdown
         enabled = [t for cw, t in rpdos if cw == CW_ENABLE]
         assert enabled[-1] == expected(last)[j] == sim.state(n)[3], \
             f"node {n} disabled at {enabled[-1]}, {sim.state(n)[3]}, not at rest at {expected(last)[j]}"
-        last_rpdo = max(i for i, f in enumerate(frames) if f[1] == 0x200 + n)
-        assert cmds[-1][0] > last_rpdo
-    assert not [f for f in frames[last_nmt + 1:] if f[1] == 0x080 or 0x200 < f[1] < 0x280]
+    after = [f"0x{cid:03x}#{data.hex()}" for _, cid, data in frames[last_nmt + 1:] if cid == 0x080 or 0x200 < cid < 0x280]
+    assert not after, f"bus cycles after the last NMT command (0x{nmt:02x}): {len(after)} frames, {after[:8]}"
     assert assert_no_jump(frames) == {n: 1 for n in NODES}
 
 
