@@ -96,6 +96,11 @@ def pos_counts(j, q):
     return llround(sign * q * cpu + off)
 
 
+def vel_counts(j, qd):
+    cpu, sign, _ = SCALING[j]
+    return llround(sign * qd * cpu)
+
+
 def counts_to_q(j, counts):
     cpu, sign, off = SCALING[j]
     return (counts - off) / (sign * cpu)
@@ -344,8 +349,12 @@ def assert_configured(sim, n, can, writes=()):
     assert od(0x1400, 1) & 0x800007FF == 0x200 + n, f"node {n}: RPDO1 COB-ID 0x{od(0x1400, 1):08x}"
     assert od(0x1400, 2) <= 240, f"node {n}: RPDO1 transmission type {od(0x1400, 2)} is not synchronous"
     assert [od(0x1600, s) for s in range(od(0x1600, 0) + 1)] == [2, 0x60400010, 0x607A0020]
-    # RPDO2 (velocity offset) unused: invalid
-    assert od(0x1401, 1) & 0x80000000, f"node {n}: RPDO2 valid (0x{od(0x1401, 1):08x}) without velocity_offset"
+    # RPDO2: the velocity offset with velocity_offset, else invalid
+    if can.get("velocity_offset"):
+        assert od(0x1401, 1) & 0x800007FF == 0x300 + n, f"node {n}: RPDO2 COB-ID 0x{od(0x1401, 1):08x}"
+        assert [od(0x1601, s) for s in range(od(0x1601, 0) + 1)] == [1, 0x60B10020]
+    else:
+        assert od(0x1401, 1) & 0x80000000, f"node {n}: RPDO2 valid (0x{od(0x1401, 1):08x}) without velocity_offset"
     # TPDO1: statusword + position actual every tpdo_every-th SYNC at 0x180 + node
     assert od(0x1800, 1) & 0x800007FF == 0x180 + n, f"node {n}: TPDO1 COB-ID 0x{od(0x1800, 1):08x}"
     assert od(0x1800, 2) == can.get("tpdo_every", 1), f"node {n}: TPDO1 transmission type"

@@ -9,6 +9,7 @@ fixtures and the frame checks."""
 import json
 import math
 import re
+import struct
 import subprocess
 import sys
 import time
@@ -19,8 +20,9 @@ from conftest import (CW_DISABLE_VOLTAGE, CW_ENABLE, CW_FAULT_RESET, CW_QUICK_ST
                       DRIVES, EVENTS, FOLLOWING_ERROR, IFACE, MASTER, NMT_PRE_OPERATIONAL, NMT_RESET_COMMUNICATION,
                       NMT_START, NMT_STATE, NMT_STOP, NODES, Q_START, SCALING, SLOW, STATES, align,
                       assert_configured, assert_no_jump, assert_setpoints_unbroken, bus_cycles, counts_to_q,
-                      enabled_daemon, expected, nmt_commands, per_node, pos_counts, refused, rpdo1, run_kinctld, sdo_requests,
-                      setpoints_of, start_counts, statuses, tpdo1, wait_drives, wait_fault, write_config)
+                      enabled_daemon, expected, nmt_commands, per_node, pos_counts, refused, rpdo1, run_kinctld,
+                      sdo_requests, setpoints_of, start_counts, statuses, tpdo1, vel_counts, wait_drives, wait_fault,
+                      write_config)
 from kinctl import dbc, drive402
 from kinctl_testing import goal_line_t
 
@@ -240,6 +242,37 @@ def test_joint_goal_and_line_move_the_drives(can_daemon, drives, recorder):
         if k >= enabled_from and k <= s1.cycle:
             assert all(cw == CW_ENABLE for cw, _ in rpdos), f"cycle {k}: controlwords {rpdos}"
     assert assert_no_jump(frames) == {n: 1 for n in NODES}
+
+
+def test_velocity_offset(can_daemon, drives, recorder):
+    """velocity_offset = true: RPDO2 (0x300 + node, 0x60B1) mapped in each
+    drive and sent after its RPDO1 in every bus cycle, the setpoint's
+    velocity in counts/s."""
+    sim = drives()
+    d, _ = enabled_daemon(can_daemon, velocity_offset=True)
+    for n in NODES:
+        assert_configured(sim, n, d.can)
+    d.bus.send_goal_joint(13, Q_A, vel_scale=0.5, acc_scale=0.5)
+    st = d.bus.wait_event(13, END, timeout=30)
+    assert st.event == EVENTS["COMPLETED"], st.reason
+    assert d.stop() == 0
+    frames = recorder.snapshot()
+    sps = setpoints_of(d)
+    cycles = bus_cycles(frames)
+    matched = align(cycles, sps)
+    by_cycle = {sp.cycle: sp for sp in sps}
+    pdos = [(cid, data) for _, cid, data in frames if 0x200 < cid < 0x280 or 0x300 < cid < 0x380]
+    for j, n in enumerate(NODES):
+        rpdo2 = []
+        for (cid, data), (after, data2) in zip(pdos, pdos[1:] + [(None, None)]):
+            if cid == 0x200 + n:
+                assert after == 0x300 + n, f"node {n}: RPDO1 not followed by its RPDO2"
+                assert len(data2) == 4
+                rpdo2.append(struct.unpack("<i", data2)[0])
+        velocities = [vel_counts(j, by_cycle[k].qd[j]) for k in matched]
+        assert rpdo2[:len(velocities)] == velocities, f"node {n}: RPDO2 against the setpoints' velocities"
+        if abs(Q_A[j] - Q_START[j]) > 0.05:
+            assert max(abs(v) for v in velocities) > 1000, f"node {n} moved"
 
 
 # ---- faults -----------------------------------------------------------------
@@ -486,7 +519,8 @@ def test_shutdown_leaves_no_drive_enabled(can_daemon, drives, recorder, shutdown
         enabled = [t for cw, t in rpdos if cw == CW_ENABLE]
         assert enabled[-1] == expected(last)[j] == sim.state(n)[3], \
             f"node {n} disabled at {enabled[-1]}, {sim.state(n)[3]}, not at rest at {expected(last)[j]}"
-    after = [f"0x{cid:03x}#{data.hex()}" for _, cid, data in frames[last_nmt + 1:] if cid == 0x080 or 0x200 < cid < 0x280]
+    after = [f"0x{cid:03x}#{data.hex()}" for _, cid, data in frames[last_nmt + 1:]
+             if cid == 0x080 or 0x200 < cid < 0x280]
     assert not after, f"bus cycles after the last NMT command (0x{nmt:02x}): {len(after)} frames, {after[:8]}"
     assert assert_no_jump(frames) == {n: 1 for n in NODES}
 
