@@ -19,6 +19,7 @@ counter byte), EMCY 0x080 + node, TPDO1 0x180 + node (statusword 0x6041,
 position actual 0x6064), RPDO1 0x200 + node (controlword 0x6040, target
 position 0x607A), SDO 0x580/0x600 + node, heartbeat 0x700 + id.
 """
+import bisect
 import math
 import os
 import struct
@@ -431,15 +432,25 @@ def align(cycles, setpoints, sync_every=1):
                          f"({want[k]}) after {n} that matched from cycle {setpoints[i].cycle}")
 
 
-def runs(cycles, gap_periods=5):
-    """Splits bus cycles where the bus fell silent for more than
-    gap_periods periods (the interface down, writes failing)."""
-    out = []
+def runs(cycles, setpoints, slack=3):
+    """Splits bus cycles where bus cycles are missing (the interface down,
+    writes failing), not where the machine stalled: each bus cycle's SYNC
+    went out after its step, so it is placed at the latest setpoint whose
+    deadline (utime, CLOCK_REALTIME) precedes it; a stalled cycle thread
+    runs late and skips deadlines but no cycle number, a lost bus leaves
+    cycles without a SYNC. A jump of more than slack cycles (a write
+    preempted past the next deadline moves one by a cycle) splits."""
+    deadlines = [sp.utime * 1000 for sp in setpoints]
+    out, before = [], None
     for c in cycles:
-        if out and c[2] - out[-1][-1][2] <= gap_periods * PERIOD_US * 1000:
+        i = bisect.bisect_right(deadlines, c[2]) - 1
+        assert i >= 0, "a SYNC before the first setpoint's deadline"
+        k = setpoints[i].cycle
+        if out and k - before <= slack:
             out[-1].append(c)
         else:
             out.append([c])
+        before = k
     return out
 
 

@@ -130,7 +130,7 @@ def assert_two_runs(frames, d, last_before):
     """Two runs of bus cycles, each its cycles' setpoints: before the loss,
     and after the recovery starting with a cycle computed after it
     (nothing stale)."""
-    parts = runs(bus_cycles(frames))
+    parts = runs(bus_cycles(frames), setpoints_of(d))
     assert len(parts) == 2, f"{len(parts)} runs of bus cycles, expected 2 (before and after the loss)"
     before = align(parts[0], setpoints_of(d))
     after = align(parts[1], setpoints_of(d))
