@@ -121,12 +121,14 @@ def max_step_counts(j, sync_every=1):
 # ---- configuration --------------------------------------------------------
 
 def libconfig(value, indent=""):
-    """value (dict: group, list: list, bool, int, float, str) in libconfig's syntax."""
+    """value (dict: group, list of groups: list, list of scalars: array,
+    bool, int, float, str) in libconfig's syntax."""
     if isinstance(value, dict):
         inner = indent + "  "
         return "{\n" + "".join(f"{inner}{k} = {libconfig(v, inner)};\n" for k, v in value.items()) + indent + "}"
     if isinstance(value, (list, tuple)):
-        return "( " + ", ".join(libconfig(v, indent + "  ") for v in value) + " )"
+        brackets = "()" if any(isinstance(v, dict) for v in value) else "[]"
+        return brackets[0] + " " + ", ".join(libconfig(v, indent + "  ") for v in value) + " " + brackets[1]
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, str):
@@ -202,9 +204,11 @@ class Sim:
     drives use (NMT, SYNC, their RPDOs and SDO requests, heartbeats) through
     a kernel filter."""
 
-    def __init__(self, starts=None, lag_s=0.0, nodes=NODES):
+    def __init__(self, starts=None, lag_s=0.0, nodes=NODES, **presets):
+        """presets: drive402.presets()'s power-on values (a drive configured
+        by other means)."""
         self.starts = dict(starts or start_counts())
-        self.drives = drive402.Drives(IFACE, nodes, start_counts=self.starts, lag_s=lag_s)
+        self.drives = drive402.Drives(IFACE, nodes, start_counts=self.starts, lag_s=lag_s, **presets)
         exact = [0x000, 0x080] + [base + n for n in nodes for base in (0x200, 0x300, 0x600)]
         self.drives.network.bus.set_filters([{"can_id": cid, "can_mask": 0x7FF} for cid in exact] +
                                             [{"can_id": 0x700, "can_mask": 0x780}])
@@ -238,7 +242,7 @@ class Sim:
 
 @pytest.fixture
 def drives(vcan):
-    """Factory: drives(starts={node: counts}, lag_s=...) -> Sim."""
+    """Factory: drives(starts={node: counts}, lag_s=..., presets...) -> Sim."""
     started = []
 
     def start(**kw):

@@ -18,7 +18,7 @@ import pytest
 
 from conftest import (CW_DISABLE_VOLTAGE, CW_ENABLE, CW_FAULT_RESET, CW_QUICK_STOP, CW_SHUTDOWN, CW_SWITCH_ON,
                       DRIVES, EVENTS, FOLLOWING_ERROR, IFACE, MASTER, NMT_PRE_OPERATIONAL, NMT_RESET_COMMUNICATION,
-                      NMT_START, NMT_STATE, NMT_STOP, NODES, Q_START, SCALING, SLOW, STATES, align,
+                      NMT_START, NMT_STATE, NMT_STOP, NODES, PERIOD_US, Q_START, SCALING, SLOW, STATES, align,
                       assert_configured, assert_no_jump, assert_setpoints_unbroken, bus_cycles, counts_to_q,
                       enabled_daemon, expected, nmt_commands, per_node, pos_counts, refused, rpdo1, run_kinctld,
                       sdo_requests, setpoints_of, start_counts, statuses, tpdo1, vel_counts, wait_drives, wait_fault,
@@ -422,6 +422,54 @@ def test_refused_sdo(can_daemon, drives, recorder, write, abort):
     frames = recorder.snapshot()
     assert refused(sim, 3, sdo_requests(frames, 3)) == [(index, sub, abort)]
     assert re.search(rf"kinctld: drive: .*joint 3 \(node 3\).*0x{abort:08x}", d.stderr, re.IGNORECASE), d.stderr
+
+
+# The EDS's identity (tools/kinctl/data/kinctl-drive.eds 0x1018:1..4)
+IDENTITY = [0x4B494E43, 0x00000402, 0x00010000, 0]
+
+
+def test_identity_checked(can_daemon, drives, recorder):
+    """0x1018 where configured: the drives whose identity matches boot, the
+    one whose product code does not is reported with the value read and
+    the one expected; no drive enabled, goals refused."""
+    sim = drives()
+    identity = {n: IDENTITY for n in NODES}
+    identity[2] = IDENTITY[:1] + [0x403] + IDENTITY[2:]
+    d = can_daemon(identity=identity)
+    st = wait_drives(d, "DISABLED")
+    text = lower(st.reason)
+    for part in ("joint 2 (node 2)", "0x1018:02", "0x00000402", "0x00000403"):
+        assert part in text, f"{part!r} not in {st.reason!r}"
+    assert_goal_refused(d, 52)
+    for n in NODES:
+        assert sim.state(n)[1] != drive402.ENABLED
+    assert sim.state(2)[0] == NMT_STATE["pre-operational"], "node 2 not started"
+    assert d.stop() == 0
+    frames = recorder.snapshot()
+    for n in NODES:
+        reads = {(s[2], s[3]) for s in sdo_requests(frames, n) if s[1] == "upload"}
+        assert {(0x1018, k) for k in (1, 2)} <= reads, f"node {n}: identity not read: {sorted(reads)}"
+
+
+def test_boot_false_configures_nothing(can_daemon, drives, recorder):
+    """boot = false, drives configured by other means (mode 8, the PDOs,
+    0x60C2 and their heartbeat at power-on): no NMT reset and no SDO write;
+    each drive's heartbeat awaited, 0x1000 read, NMT start, enabled where
+    it stands."""
+    sim = drives(configured=True, period_s=PERIOD_US * 1e-6, heartbeat_ms=100)
+    d, st = enabled_daemon(can_daemon, boot=False)
+    for j, n in enumerate(NODES):
+        assert_enabled(sim, n, sim.starts[n])
+        assert pos_counts(j, st.q_measured[j]) == sim.starts[n]
+    assert d.stop() == 0
+    frames = recorder.snapshot()
+    for n in NODES:
+        sdo = sdo_requests(frames, n)
+        assert not [s for s in sdo if s[1] == "download"], f"node {n}: SDO writes with boot = false"
+        assert any(s[1] == "upload" and s[2:4] == (0x1000, 0) for s in sdo), f"node {n}: 0x1000 not read"
+        cmds = [c for _, c in nmt_commands(frames, n)]
+        assert NMT_RESET_COMMUNICATION not in cmds and NMT_START in cmds, f"node {n}: NMT {cmds}"
+    assert assert_no_jump(frames) == {n: 1 for n in NODES}
 
 
 # ---- the bus ----------------------------------------------------------------
