@@ -8,7 +8,9 @@ candump, decoded with the repository's DBC. See conftest.py for the
 fixtures and the frame checks."""
 import json
 import math
+import os
 import re
+import signal
 import struct
 import subprocess
 import sys
@@ -622,3 +624,45 @@ def test_candump_decodes_the_whole_sequence(can_daemon, drives, recorder, tmp_pa
     assert r.returncode == 0, r.stderr
     decoded = [json.loads(x) for x in r.stdout.splitlines()]
     assert len(decoded) == len(logged)
+
+
+# ---- replay -------------------------------------------------------------------
+
+def test_replay_of_a_run_seated_at_the_drives(can_daemon, drives, tmp_path):
+    """A run whose controller was seated where its drives stood replays bit
+    for bit: the setpoint of the seat's tick says input_seated, its q is the
+    drives' positions, and kinctl replay seats its controller there too."""
+    import lcm
+    from kinctl_msgs import setpoint_t
+    d = can_daemon()
+    wait_drives(d, "BOOTING")
+    log = str(tmp_path / "run.lcmlog")
+    env = {k: v for k, v in os.environ.items() if k != "LCM_DEFAULT_URL"}
+    rec = subprocess.Popen([sys.executable, "-m", "kinctl", "--lcm-url", d.url, "record", log],
+                           stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env)
+    line = rec.stdout.readline()
+    assert line.startswith("recording "), line + rec.stderr.read()
+    starts = start_counts(Q_START_B)
+    drives(starts=starts)
+    wait_drives(d, "ENABLED")
+    d.bus.send_goal_joint(11, Q_A, vel_scale=0.5, acc_scale=0.5)
+    st = d.bus.wait_event(11, END, timeout=60 * SLOW)
+    assert st.event == EVENTS["COMPLETED"], st.reason
+    rec.send_signal(signal.SIGTERM)
+    out, err = rec.communicate(timeout=30 * SLOW)
+    assert rec.returncode == 0, err
+    assert "none missing" in out, out
+    assert d.stop() == 0
+    ev = lcm.EventLog(log, "r")
+    try:
+        sps = [setpoint_t.decode(e.data) for e in ev if e.channel == "KINCTL_SETPOINT"]
+    finally:
+        ev.close()
+    seated = [s for s in sps if s.input_seated]
+    assert len(seated) == 1, [s.cycle for s in seated]
+    for j, n in enumerate(NODES):
+        assert seated[0].q[j] == counts_to_q(j, starts[n]), (j, seated[0].q[j], counts_to_q(j, starts[n]))
+    r = subprocess.run([sys.executable, "-m", "kinctl", "replay", log, "--config", str(tmp_path / "can.cfg"),
+                        "--model", "puma560"], capture_output=True, text=True, timeout=300 * SLOW)
+    assert r.returncode == 0, r.stdout + r.stderr
+    assert "BIT-EXACT" in r.stdout, r.stdout
