@@ -191,6 +191,13 @@ kc_status kc_interp_joint_eval(const kc_interp_joint *plan, int64_t k, kc_interp
 kc_status kc_interp_joint_eval_profile(const kc_interp_joint *plan, const kc_profile *prof, int64_t k,
                                        kc_interp_joint_state *out);
 
+/* As kc_interp_joint_eval_profile, driven by a jerk-limited profile of u
+ * (for instance kc_scurve_plan_stop of a straight jerk-limited move): q,
+ * qd, qdd and qddd are dq times u and its derivatives; the end is exact
+ * when the profile ends at u = 1. Return codes as kc_scurve_eval. */
+kc_status kc_interp_joint_eval_scurve(const kc_interp_joint *plan, const kc_scurve *prof, int64_t k,
+                                      kc_interp_joint_state *out);
+
 /* ======================================================================
  * Cartesian segments: limits and the setpoint.
  * ====================================================================== */
