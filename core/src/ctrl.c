@@ -75,8 +75,6 @@ static kc_ctrl_cfg_field cfg_problem(const kc_ctrl_cfg *cfg, const kc_chain *cha
             return KC_CFG_FIELD_JOINT_QD_MAX;
         if (!kc_isfinite(chain->joints[j].limits.qdd_max))
             return KC_CFG_FIELD_JOINT_QDD_MAX;
-        if (cfg->profile == KC_PROFILE_JERK && !kc_isfinite(chain->joints[j].limits.qddd_max))
-            return KC_CFG_FIELD_JOINT_QDDD_MAX;
     }
     *joint = -1;
     /* Zones: a goal is checked tick by tick, so no volume may travel as far

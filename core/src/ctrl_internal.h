@@ -117,7 +117,8 @@ void kc_ctrl_scaled_limits(const kc_ctrl *c, const kc_goal *g, kc_real *vmax, kc
 /* The Cartesian limits of a goal: its own, or the configured defaults. */
 kc_interp_limits kc_ctrl_cart_limits(const kc_ctrl *c, const kc_goal *g);
 
-/* The motion law of joint move g: its own, or cfg.profile. */
+/* The motion law of joint move g: its own, or cfg.profile; the trapezoid
+ * for a chain with a joint without a jerk limit. */
 kc_profile_kind kc_ctrl_goal_profile(const kc_ctrl *c, const kc_goal *g);
 
 /* Plans joint move g (its motion law, the joints' limits with its scales)

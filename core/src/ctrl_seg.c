@@ -92,11 +92,14 @@ static kc_status plan_path(kc_ctrl *c, const kc_goal *g)
 
 kc_profile_kind kc_ctrl_goal_profile(const kc_ctrl *c, const kc_goal *g)
 {
-    if (g->profile == KC_GOAL_PROFILE_TRAPEZOID)
-        return KC_PROFILE_TRAPEZOID;
-    if (g->profile == KC_GOAL_PROFILE_JERK)
-        return KC_PROFILE_JERK;
-    return c->cfg.profile;
+    kc_profile_kind k = g->profile == KC_GOAL_PROFILE_TRAPEZOID ? KC_PROFILE_TRAPEZOID
+                        : g->profile == KC_GOAL_PROFILE_JERK    ? KC_PROFILE_JERK
+                                                                : c->cfg.profile;
+    /* Without a jerk limit on every joint there is no jerk-limited plan. */
+    for (int j = 0; j < c->chain->n_joints && k == KC_PROFILE_JERK; j++)
+        if (!kc_isfinite(c->chain->joints[j].limits.qddd_max))
+            k = KC_PROFILE_TRAPEZOID;
+    return k;
 }
 
 kc_status kc_ctrl_plan_joint(const kc_ctrl *c, const kc_goal *g, const kc_real *q0, const kc_real *qd0,

@@ -296,8 +296,9 @@ typedef struct kc_ctrl_cfg {
     kc_real limit_slack;           /* relative slack of the final limit check */
     int64_t servo_timeout_ticks;   /* default servo staleness */
     /* Joint moves' motion law unless a goal says otherwise:
-     * KC_PROFILE_JERK (the default; every joint's qddd_max finite) or
-     * KC_PROFILE_TRAPEZOID. */
+     * KC_PROFILE_JERK (the default) or KC_PROFILE_TRAPEZOID. A chain with
+     * a joint without a jerk limit (qddd_max infinite) moves by trapezoids
+     * whatever is asked. */
     kc_profile_kind profile;
     kc_ik_cfg ik;                  /* the online law for Cartesian motion */
     /* Forbidden zones, or NULL; must outlive the controller, unchanged. */
@@ -414,7 +415,7 @@ kc_status kc_ctrl_init(kc_ctrl *ctrl, const kc_chain *chain, const kc_ctrl_cfg *
 kc_status kc_ctrl_seat(kc_ctrl *ctrl, const kc_real *q, int *bad_joint);
 
 /* KC_OK for a usable cfg: positive rates, a valid IK cfg, finite joint rate
- * limits (the jerk limits too when profile is KC_PROFILE_JERK), and zones NULL or valid with a margin above
+ * limits, and zones NULL or valid with a margin above
  * kc_zone_tick_travel(chain, dt) (when both zones and volumes exist). */
 kc_status kc_ctrl_cfg_check(const kc_ctrl_cfg *cfg, const kc_chain *chain);
 
@@ -434,7 +435,6 @@ typedef enum kc_ctrl_cfg_field {
     KC_CFG_FIELD_JOINT_QD_MAX,  /* a joint's velocity limit is not finite */
     KC_CFG_FIELD_JOINT_QDD_MAX, /* a joint's acceleration limit is not finite */
     KC_CFG_FIELD_PROFILE,       /* profile is neither kind */
-    KC_CFG_FIELD_JOINT_QDDD_MAX, /* jerk-limited: a joint's jerk limit is not finite */
     KC_CFG_FIELD_ZONES,         /* the zone set fails kc_zone_set_check */
     KC_CFG_FIELD_ZONES_MARGIN   /* the margin is not above a tick's travel */
 } kc_ctrl_cfg_field;
