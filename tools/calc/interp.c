@@ -110,10 +110,9 @@ static const calc_opt joint_opts[] = {
     {"--amax", "amax", CALC_VALUE, calc_conv_reals, "A|A1,A2,..",
      "acceleration limit, one or one per joint (rad/s^2 or m/s^2; deg/s^2 with --deg); default: the model's"},
     {"--jmax", "jmax", CALC_VALUE, calc_conv_reals, "J|J1,J2,..",
-     "jerk limit (--profile jerk), one or one per joint (rad/s^3 or m/s^3; deg/s^3 with --deg); default: the "
-     "model's"},
-    {"--profile", "profile", CALC_VALUE, calc_conv_string, "trapezoid|jerk",
-     "motion law: trapezoid with a leading joint (default) or jerk-limited"},
+     "jerk limit, one or one per joint (rad/s^3 or m/s^3; deg/s^3 with --deg); default: the model's"},
+    {"--profile", "profile", CALC_VALUE, calc_conv_string, "jerk|trapezoid",
+     "motion law: jerk-limited (default, as the controller's) or seed 001 lab 4's trapezoid with a leading joint"},
     {"--duration", "duration", CALC_VALUE, calc_conv_real, "T",
      "stretch the move to last T s (synchronisation); default: as fast as the limits allow"},
     DT_OPT,
@@ -307,20 +306,20 @@ static int plan_failed(calc_ctx *ctx, const char *what, kc_status st)
 
 /* ---- joint ---- */
 
-/* --profile: trapezoid (default) or jerk. */
+/* --profile: jerk (default, as the controller's) or trapezoid. */
 static int profile_of(calc_ctx *ctx, const json_t *req, kc_profile_kind *kind)
 {
     const json_t *v = json_object_get(req, "profile");
-    *kind = KC_PROFILE_TRAPEZOID;
+    *kind = KC_PROFILE_JERK;
     if (v == NULL)
         return 0;
     const char *s = json_string_value(v);
-    if (s != NULL && strcmp(s, "trapezoid") == 0)
-        return 0;
-    if (s != NULL && strcmp(s, "jerk") == 0) {
-        *kind = KC_PROFILE_JERK;
+    if (s != NULL && strcmp(s, "trapezoid") == 0) {
+        *kind = KC_PROFILE_TRAPEZOID;
         return 0;
     }
+    if (s != NULL && strcmp(s, "jerk") == 0)
+        return 0;
     return calc_fail(ctx, "profile must be trapezoid or jerk, not %s", s != NULL ? s : "a non-string");
 }
 
@@ -340,7 +339,7 @@ static int run_interp_joint(const json_t *req, calc_ctx *ctx)
     if (jerk && joint_limits_of(ctx, req, "jmax", &chain, deg, 2, cfg.qddd_max) != 0)
         return -1;
     if (!jerk && json_object_get(req, "jmax") != NULL)
-        return calc_fail(ctx, "jmax needs --profile jerk (the trapezoid's jerk is not limited)");
+        return calc_fail(ctx, "jmax does not apply to --profile trapezoid (the trapezoid's jerk is not limited)");
     if (json_object_get(req, "duration") != NULL) {
         if (req_real(ctx, req, "duration", &duration) != 0)
             return -1;
@@ -527,16 +526,17 @@ static int path_unavailable(const json_t *req, calc_ctx *ctx)
 static const calc_cmd kinds[] = {
     {"joint", "joint move: all joints start and end together",
      "kinctl-calc interp joint (--model NAME | --model-file PATH) --q0 Q1,Q2,... --q1 Q1,Q2,...\n"
-     "       [--vmax V] [--amax A] [--profile trapezoid|jerk] [--jmax J] [--duration T] [--deg] --dt DT\n"
-     "Trapezoid (default): every joint covers the same fraction of its move at every tick; the common\n"
-     "trapezoid (triangle when short) keeps each joint within its own speed and acceleration limits.\n"
-     "Jerk: each joint's jerk-limited move within its speed, acceleration and jerk limits, all starting\n"
-     "and ending on the same tick (a straight line when that is as fast, else each joint stretched).\n"
+     "       [--vmax V] [--amax A] [--jmax J] [--profile jerk|trapezoid] [--duration T] [--deg] --dt DT\n"
+     "Jerk (default, as kinctld's): each joint's jerk-limited move within its speed, acceleration and\n"
+     "jerk limits, all starting and ending on the same tick, in the slowest joint's optimal time (a\n"
+     "straight line when that is as fast, else each joint stretched).\n"
+     "Trapezoid (seed 001 lab 4): every joint covers the same fraction of its move at every tick; the\n"
+     "common trapezoid (triangle when short) keeps each joint within its own speed and acceleration limits.\n"
      "Prints CSV: t,q1..qn,qd1..qdn,qdd1..qddn (jerk: also qddd1..qdddn), one row per tick from t = 0\n"
      "to the end inclusive.\n"
-     "Example: kinctl-calc interp joint --model planar2 --deg --q0 10,20 --q1 30,50 --vmax 50 --amax 600 --dt 0.01\n"
-     "Example: kinctl-calc interp joint --model planar2 --deg --q0 10,20 --q1 30,50 --profile jerk --jmax 3000 "
-     "--dt 0.01",
+     "Example: kinctl-calc interp joint --model planar2 --deg --q0 10,20 --q1 30,50 --jmax 3000 --dt 0.01\n"
+     "Example: kinctl-calc interp joint --model planar2 --deg --q0 10,20 --q1 30,50 --profile trapezoid --vmax 50 "
+     "--amax 600 --dt 0.01",
      joint_opts, run_interp_joint},
     {"line", "Cartesian straight line",
      "kinctl-calc interp line --from X,Y,Z,QW,QX,QY,QZ --to X,Y,Z,QW,QX,QY,QZ --v V --a A\n"
