@@ -199,6 +199,19 @@ static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
     return KC_OK;
 }
 
+/* Whether every joint's optimum in out->sj stretches to T: KC_OK,
+ * KC_E_LIMIT when one falls into a blocked interval, or another error. */
+static kc_status stretches_all(const kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl, kc_real T,
+                               kc_scurve *tmp)
+{
+    for (int i = 0; i < c->n; i++) {
+        kc_status st = kc_scurve_stretch(tmp, &out->sj[i], c->qd_max[i], c->qdd_max[i], jl[i], T);
+        if (st != KC_OK)
+            return st;
+    }
+    return KC_OK;
+}
+
 /* The jerk-limited move from a moving start: time synchronisation
  * (kinctl/interp.h). */
 static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
@@ -237,37 +250,45 @@ static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cf
             return KC_E_LIMIT;
         T = kc_max(T, c->duration);
     }
-    /* Every joint stretched to T, each optimum replaced by its stretch as
-     * it succeeds (one profile of scratch, not a second set); T grown past
-     * a blocked interval, the optima replaced so far planned again. */
-    kc_real grow = KC_R(1.0) / KC_R(1024.0);
+    /* The shortest T every joint can be stretched to: T itself, or past a
+     * blocked interval, found by growing T by 2^m / 1024 of itself until
+     * every joint stretches, then halving the step between the last
+     * blocked and the first free duration (blocked durations are
+     * intervals, kinctl/scurve.h) ten times. The optima stay in out->sj
+     * while searching (one profile of scratch); then each is replaced by
+     * its stretch. */
     kc_scurve tmp;
-    for (int m = 0; m < 16; m++) {
-        int blocked = -1;
-        for (int i = 0; i < c->n && blocked < 0; i++) {
-            st = kc_scurve_stretch(&tmp, &out->sj[i], c->qd_max[i], c->qdd_max[i], jl[i], T);
-            if (st == KC_E_LIMIT)
-                blocked = i;
-            else if (st != KC_OK)
-                return st;
-            else
-                out->sj[i] = tmp;
-        }
-        if (blocked < 0) {
-            out->T = out->sj[out->lead].T;
-            out->ticks = out->sj[out->lead].ticks;
-            return KC_OK;
-        }
-        for (int i = 0; i < blocked; i++) {
-            st = kc_scurve_plan(&out->sj[i], out->q0[i], c->qd0[i], c->qdd0[i], out->q1[i], c->qd_max[i], c->qdd_max[i],
-                                jl[i], c->dt);
-            if (st != KC_OK)
-                return st;
-        }
-        T += T * grow;
+    kc_real lo = T, hi = T, grow = KC_R(1.0) / KC_R(1024.0);
+    int m = 0;
+    for (;; m++) {
+        st = stretches_all(out, c, jl, hi, &tmp);
+        if (st == KC_OK)
+            break;
+        if (st != KC_E_LIMIT || m == 15)
+            return st;
+        lo = hi;
+        hi += hi * grow;
         grow *= KC_R(2.0);
     }
-    return KC_E_LIMIT;
+    for (int i = 0; i < 10 && m > 0; i++) {
+        kc_real mid = lo + KC_R(0.5) * (hi - lo);
+        st = stretches_all(out, c, jl, mid, &tmp);
+        if (st == KC_OK)
+            hi = mid;
+        else if (st == KC_E_LIMIT)
+            lo = mid;
+        else
+            return st;
+    }
+    for (int i = 0; i < c->n; i++) {
+        st = kc_scurve_stretch(&tmp, &out->sj[i], c->qd_max[i], c->qdd_max[i], jl[i], hi);
+        if (st != KC_OK)
+            return st;
+        out->sj[i] = tmp;
+    }
+    out->T = out->sj[out->lead].T;
+    out->ticks = out->sj[out->lead].ticks;
+    return KC_OK;
 }
 
 kc_status kc_interp_joint_plan_cfg_into(kc_interp_joint *out, const kc_interp_joint_cfg *cfg)

@@ -170,7 +170,10 @@ kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, 
  * rest at q1_i, stretched to T, the longest optimum, by
  * kc_scurve_plan_duration_from; where a joint's stretch falls into a
  * blocked interval, T grows by 2^m / 1024 of itself, m = 0..15, until
- * every joint plans (KC_E_LIMIT if none does). Each joint stays within its
+ * every joint plans (KC_E_LIMIT if none does), and the step is then
+ * halved ten times between the last blocked and the first free duration,
+ * so T exceeds the end of the blocked interval by at most 2^(m-10) / 1024
+ * of itself. Each joint stays within its
  * limits as far as its start allows (kinctl/scurve.h).
  * Returns as kc_interp_joint_plan; KC_E_ARG also for a NULL cfg, an
  * unknown kind, a non-finite start velocity or acceleration, a moving
@@ -324,7 +327,10 @@ kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const k
  * rest at q1_i, stretched to T, the longest optimum, by
  * kc_scurve_plan_duration_from; where a joint's stretch falls into a
  * blocked interval, T grows by 2^m / 1024 of itself, m = 0..15, until
- * every joint plans (KC_E_LIMIT if none does). Each joint stays within its
+ * every joint plans (KC_E_LIMIT if none does), and the step is then
+ * halved ten times between the last blocked and the first free duration,
+ * so T exceeds the end of the blocked interval by at most 2^(m-10) / 1024
+ * of itself. Each joint stays within its
  * limits as far as its start allows (kinctl/scurve.h).
  * Returns as kc_interp_joint_plan; KC_E_ARG also for a NULL cfg, an
  * unknown kind, a non-finite start velocity or acceleration, a moving
@@ -420,7 +426,10 @@ kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_
  * rest at q1_i, stretched to T, the longest optimum, by
  * kc_scurve_plan_duration_from; where a joint's stretch falls into a
  * blocked interval, T grows by 2^m / 1024 of itself, m = 0..15, until
- * every joint plans (KC_E_LIMIT if none does). Each joint stays within its
+ * every joint plans (KC_E_LIMIT if none does), and the step is then
+ * halved ten times between the last blocked and the first free duration,
+ * so T exceeds the end of the blocked interval by at most 2^(m-10) / 1024
+ * of itself. Each joint stays within its
  * limits as far as its start allows (kinctl/scurve.h).
  * Returns as kc_interp_joint_plan; KC_E_ARG also for a NULL cfg, an
  * unknown kind, a non-finite start velocity or acceleration, a moving
