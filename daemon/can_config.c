@@ -15,23 +15,24 @@
 kd_can_cfg kd_can_cfg_default(void)
 {
     kd_can_cfg can;
+    kd_boot_cfg boot = kd_boot_cfg_default(1); /* the drives' side: canopen_boot.h */
     memset(&can, 0, sizeof can);
     can.bitrate = 1000000;
     can.bus_share = KD_CAN_BUDGET_SHARE_DEFAULT;
     can.sync_every = 1;
     can.sync_counter = 0;
     can.tpdo_every = 1;
-    can.master_id = 127;
+    can.master_id = boot.master_id;
     can.heartbeat_ms = 100.0;
     can.on_error_stop = 1;
-    can.boot = 1;
-    can.device_type = 0x0192u;
-    can.device_type_mask = 0xFFFFu;
-    can.drive_heartbeat_ms = 100;
-    can.master_timeout_ms = 500;
-    can.lost_master_reaction = 3;
-    can.boot_timeout_ms = 5000.0;
-    can.sdo_timeout_ms = 500.0;
+    can.boot = boot.reset_communication && boot.configure;
+    can.device_type = boot.device_type;
+    can.device_type_mask = boot.device_type_mask;
+    can.drive_heartbeat_ms = boot.heartbeat_ms;
+    can.master_timeout_ms = boot.consumer_ms;
+    can.lost_master_reaction = boot.lost_master_reaction;
+    can.boot_timeout_ms = (double)boot.bootup_timeout_us / 1000.0;
+    can.sdo_timeout_ms = (double)boot.sdo_timeout_us / 1000.0;
     can.enable_timeout_ms = 2000.0;
     can.shutdown_nmt = KD_NMT_ENTER_PRE_OPERATIONAL;
     can.feedback = 1;

@@ -339,7 +339,7 @@ int kd_can_read(kd_can *c, struct can_frame *f, int64_t now)
 static void recover(kd_can *c, int64_t now)
 {
     const char *what = "";
-    int fd, j;
+    int fd;
     c->next_probe_ns = now + KD_CAN_PROBE_NS;
     if (!link_ok(c) || open_socket(c, &what) != 0)
         return;
@@ -359,14 +359,14 @@ static void recover(kd_can *c, int64_t now)
         close(fd);
     c->state = KD_CAN_OK;
     c->state_changed = 1;
+    c->recoveries++;
     c->next_heartbeat_ns = now;
     atomic_store_explicit(&c->bus->link_errno, 0, memory_order_relaxed);
     atomic_store_explicit(&c->bus->paused, 0, memory_order_release);
     /* The next TPDO answers the next SYNC, and every drive has
      * drive_timeout_ms from now to be heard again. */
     c->watch_ns = now;
-    for (j = 0; j < c->n; j++)
-        c->tpdo_sync[j] = atomic_load(&c->bus->syncs) - c->cfg->tpdo_every;
+    kd_can_rebase(c, -1);
 }
 
 void kd_can_timers(kd_can *c, int64_t now)
@@ -397,14 +397,18 @@ void kd_can_timers(kd_can *c, int64_t now)
 
 void kd_can_watch(kd_can *c, int on, int64_t now)
 {
-    int j;
     c->watch = on;
     c->watch_ns = now;
-    for (j = 0; j < c->n; j++) {
-        c->tpdo_sync[j] = atomic_load(&c->bus->syncs) - c->cfg->tpdo_every;
-        c->following[j] = 0.0;
-    }
     evaluate(c, now);
+}
+
+void kd_can_rebase(kd_can *c, int j)
+{
+    int k;
+    for (k = j < 0 ? 0 : j; k < (j < 0 ? c->n : j + 1); k++) {
+        c->tpdo_sync[k] = atomic_load(&c->bus->syncs) - c->cfg->tpdo_every;
+        c->following[k] = 0.0;
+    }
 }
 
 void kd_can_clear(kd_can *c)

@@ -31,8 +31,10 @@
  *   - statusword bit 3 (fault), bit 13 (following error) set, or bit 12
  *     (drive follows the target) clear;
  *   - |actual - target| beyond following_error, against the target the
- *     TPDO answers: the drive's TPDO at the k-th SYNC shows the target sent
- *     after the SYNC before it; the nearest of the targets within 1 +
+ *     TPDO answers: TPDOs are counted against the SYNCs since the bus
+ *     cycle started (or the drive was started: kd_can_rebase), so the k-th
+ *     answers the k-th SYNC, however late it is read, and shows the target
+ *     sent after the SYNC before it; the nearest of the targets within 1 +
  *     tpdo_every bus cycles of that one counts (a lost frame, or a drive
  *     whose every-N-th SYNC is not ours, stays within it). The targets of
  *     the last KD_CAN_RING bus cycles are kept (can_bus.h); a drive more
@@ -75,6 +77,7 @@ typedef struct kd_can {
     /* Counters since start (the I/O thread's frames; kd_can_totals adds
      * the bus cycle's). */
     int64_t frames, tx_dropped, error_frames, bus_off, link_down, rx_frames, errors;
+    int64_t recoveries; /* times the link came back */
     int last_errno;
 
     /* Feedback per joint. */
@@ -127,9 +130,14 @@ int kd_can_read(kd_can *c, struct can_frame *f, int64_t now);
 void kd_can_timers(kd_can *c, int64_t now);
 
 /* Starts (on 1) or stops (0) watching the drives: the conditions above
- * apply from now; a drive silent from now for drive_timeout_ms is lost.
- * Re-bases the TPDOs on the next SYNC. */
+ * apply from now; a drive silent from now for drive_timeout_ms is lost. */
 void kd_can_watch(kd_can *c, int on, int64_t now);
+
+/* Joint j's next TPDO answers the next SYNC (j < 0: every joint's): when
+ * the bus cycle starts, and when a drive has just been started (NMT). In
+ * between, TPDOs are counted against SYNCs, so a backlog of them in the
+ * socket is still compared with the targets they answer. */
+void kd_can_rebase(kd_can *c, int j);
 
 /* Clears the EMCY and reboot latches (a RESET). */
 void kd_can_clear(kd_can *c);

@@ -140,7 +140,10 @@ static void start_enable(kd_master *m, int64_t now)
         m->tpdos_phase[j] = m->can->tpdos[j];
     }
     kd_can_watch(m->can, 0, now);
-    atomic_store_explicit(&m->bus->active, 1, memory_order_release);
+    if (!atomic_load(&m->bus->active)) {
+        kd_can_rebase(m->can, -1); /* the first SYNC of the bus cycle is the one the first TPDOs answer */
+        atomic_store_explicit(&m->bus->active, 1, memory_order_release);
+    }
 }
 
 /* Each drive's next controlword, once per TPDO that answers the last one. */
@@ -255,6 +258,7 @@ static void boot_result(kd_master *m, int j, int r, int64_t now)
         m->booting[j] = 0;
         m->booted[j] = 1;
         m->bootups[j] = m->can->bootups[j];
+        kd_can_rebase(m->can, j); /* started: it answers the next SYNC */
     } else if (r < 0) {
         char why[KD_CAN_TEXT];
         const char *rest;
@@ -279,42 +283,60 @@ void kd_master_start(kd_master *m, int64_t now)
     start_boot(m, now);
 }
 
-void kd_master_rx(kd_master *m, const struct can_frame *f, int64_t now)
+/* Each boot under way takes frame f, or (f NULL) elapsed_us of time. */
+static void boot_each(kd_master *m, const struct can_frame *f, uint32_t elapsed_us, int64_t now)
 {
     struct can_frame out[OUT_MAX];
     int j, n_out, r;
-    if (m->phase == P_BOOT) {
-        for (j = 0; j < m->n && m->phase == P_BOOT; j++) {
-            if (!m->booting[j])
-                continue;
-            n_out = 0;
-            r = kd_boot_rx(&m->boot[j], f, out, &n_out);
-            send(m, out, n_out, now);
-            if (r != KD_BOOT_WAITING)
-                boot_result(m, j, r, now);
-        }
-    } else if (m->phase == P_READ) {
-        for (j = 0; j < m->n && m->phase == P_READ; j++) {
-            if (m->have_pos[j])
-                continue;
-            n_out = 0;
-            r = kd_sdo_rx(&m->sdo[j], f, out, &n_out);
-            send(m, out, n_out, now);
-            if (r == KD_SDO_DONE) {
-                m->have_pos[j] = 1;
-                m->pos_counts[j] = (int32_t)m->sdo[j].value;
-            } else if (r < 0 && r != KD_SDO_E_BUSY) {
-                fail(m, now, "joint %d (node %d): SDO read 0x6064:00 (position actual value) aborted 0x%08X: %s", j + 1,
-                     node_of(m, j), m->sdo[j].abort_code, kd_sdo_abort_str(m->sdo[j].abort_code));
-                return;
-            }
-        }
-        for (j = 0; j < m->n && m->phase == P_READ; j++)
-            if (!m->have_pos[j])
-                return;
-        if (m->phase == P_READ)
-            positions_read(m, now);
+    for (j = 0; j < m->n && m->phase == P_BOOT; j++) {
+        if (!m->booting[j])
+            continue;
+        n_out = 0;
+        r = f != NULL ? kd_boot_rx(&m->boot[j], f, out, &n_out) : kd_boot_process(&m->boot[j], elapsed_us, out, &n_out);
+        send(m, out, n_out, now);
+        if (r != KD_BOOT_WAITING)
+            boot_result(m, j, r, now);
     }
+}
+
+/* Each read of 0x6064 under way takes frame f, or (f NULL) elapsed_us of
+ * time; once every position is in, the seat. */
+static void read_each(kd_master *m, const struct can_frame *f, uint32_t elapsed_us, int64_t now)
+{
+    struct can_frame out[OUT_MAX];
+    int j, n_out, r;
+    for (j = 0; j < m->n && m->phase == P_READ; j++) {
+        if (m->have_pos[j])
+            continue;
+        n_out = 0;
+        r = f != NULL ? kd_sdo_rx(&m->sdo[j], f, out, &n_out) : kd_sdo_process(&m->sdo[j], elapsed_us, out, &n_out);
+        send(m, out, n_out, now);
+        if (r == KD_SDO_DONE && f != NULL) {
+            m->have_pos[j] = 1;
+            m->pos_counts[j] = (int32_t)m->sdo[j].value;
+        } else if (r == KD_SDO_E_TIMEOUT && m->sdo_tries[j] < KD_MASTER_READ_TRIES) {
+            read_position(m, j, now);
+        } else if (r == KD_SDO_E_TIMEOUT) {
+            fail(m, now, "joint %d (node %d): SDO read 0x6064:00 (position actual value): no answer within %g ms, %d "
+                         "times", j + 1, node_of(m, j), m->cfg->sdo_timeout_ms, m->sdo_tries[j]);
+        } else if (r < 0 && r != KD_SDO_E_BUSY) {
+            fail(m, now, "joint %d (node %d): SDO read 0x6064:00 (position actual value) aborted 0x%08X: %s", j + 1,
+                 node_of(m, j), m->sdo[j].abort_code, kd_sdo_abort_str(m->sdo[j].abort_code));
+        }
+    }
+    for (j = 0; j < m->n && m->phase == P_READ; j++)
+        if (!m->have_pos[j])
+            return;
+    if (m->phase == P_READ)
+        positions_read(m, now);
+}
+
+void kd_master_rx(kd_master *m, const struct can_frame *f, int64_t now)
+{
+    if (m->phase == P_BOOT)
+        boot_each(m, f, 0, now);
+    else if (m->phase == P_READ)
+        read_each(m, f, 0, now);
 }
 
 /* shutdown_nmt to every drive. */
@@ -352,40 +374,29 @@ static void shutdown_step(kd_master *m, int64_t now)
 
 void kd_master_step(kd_master *m, int64_t now)
 {
-    struct can_frame out[OUT_MAX];
     uint32_t elapsed_us;
-    int j, n_out, r;
+    int r;
     if (m->phase == P_OFF || m->phase == P_DONE)
         return;
     elapsed_us = now > m->last_ns ? (uint32_t)((now - m->last_ns) / 1000) : 0;
     if (elapsed_us == 0 && now > m->last_ns)
         return; /* less than a microsecond: the timers wait for more */
     m->last_ns = now;
+    if (m->can->recoveries != m->recoveries) {
+        m->recoveries = m->can->recoveries;
+        if (m->phase == P_READ || m->phase == P_SEAT || m->phase == P_ENABLE || m->phase == P_RUN) {
+            stop_with(m, HOLD_QUICK_STOP, now,
+                      "the bus was lost with the drives enabled: quick stop to every drive (RESET enables them "
+                      "again where they are)");
+            return;
+        }
+    }
     switch (m->phase) {
     case P_BOOT:
-        for (j = 0; j < m->n && m->phase == P_BOOT; j++) {
-            if (!m->booting[j])
-                continue;
-            n_out = 0;
-            r = kd_boot_process(&m->boot[j], elapsed_us, out, &n_out);
-            send(m, out, n_out, now);
-            if (r != KD_BOOT_WAITING)
-                boot_result(m, j, r, now);
-        }
+        boot_each(m, NULL, elapsed_us, now);
         break;
     case P_READ:
-        for (j = 0; j < m->n && m->phase == P_READ; j++) {
-            if (m->have_pos[j])
-                continue;
-            n_out = 0;
-            r = kd_sdo_process(&m->sdo[j], elapsed_us, out, &n_out);
-            send(m, out, n_out, now);
-            if (r == KD_SDO_E_TIMEOUT && m->sdo_tries[j] < KD_MASTER_READ_TRIES)
-                read_position(m, j, now);
-            else if (r == KD_SDO_E_TIMEOUT)
-                fail(m, now, "joint %d (node %d): SDO read 0x6064:00 (position actual value): no answer within %g ms, "
-                             "%d times", j + 1, node_of(m, j), m->cfg->sdo_timeout_ms, m->sdo_tries[j]);
-        }
+        read_each(m, NULL, elapsed_us, now);
         break;
     case P_SEAT:
         if ((double)(now - m->phase_ns) * 1e-6 > m->cfg->enable_timeout_ms)

@@ -30,7 +30,11 @@
  * The drives' controlwords while disabled: after ESTOP, quick stop (0x02)
  * to every drive; after a condition, drives still in operation enabled
  * hold it (they follow the controller's own stop) and the others get
- * disable voltage (0x00: never a fault reset before RESET).
+ * disable voltage (0x00: never a fault reset before RESET). A bus that
+ * comes back after it was lost with drives enabled or being enabled: quick
+ * stop to every drive, since the controller's setpoint has moved on
+ * without them (a target they would jump to); RESET enables them again
+ * where they are.
  *
  * Shutdown: every drive gets disable voltage until its statusword says
  * switch on disabled (or after enable_timeout_ms), then NMT enter
@@ -83,7 +87,7 @@ typedef struct kd_master {
     int64_t tpdos[KC_MAX_JOINTS];    /* the TPDO count the controlword last answered */
     int64_t tpdos_phase[KC_MAX_JOINTS]; /* ... at the phase's start */
     uint16_t controlword[KC_MAX_JOINTS];
-    int nmt_sent;
+    int64_t recoveries;              /* the link's, as last seen */
     int news;                        /* a change to tell */
     char text[KD_CAN_TEXT];
 } kd_master;

@@ -33,7 +33,7 @@ kd_boot_cfg kd_boot_cfg_default(int node)
     c.sync_overflow = -1;
     c.heartbeat_ms = 100;
     c.master_id = 127;
-    c.consumer_ms = 300;
+    c.consumer_ms = 500;
     c.lost_master_reaction = 3;
     c.bootup_timeout_us = 5000000;
     c.sdo_timeout_us = 500000;
@@ -68,14 +68,16 @@ typedef struct table {
     int bad;
 } table;
 
-static void add(table *t, int write, uint16_t index, uint8_t sub, int size, uint32_t value, uint32_t mask,
-                const char *what)
+static kd_boot_step *add(table *t, int write, uint16_t index, uint8_t sub, int size, uint32_t value, uint32_t mask,
+                         const char *what)
 {
+    static kd_boot_step spare;
     if (t->n >= KD_BOOT_STEPS_MAX) {
         t->bad = 1;
-        return;
+        return &spare;
     }
     kd_boot_step *s = &t->s[t->n++];
+    s->optional = 0;
     s->write = write;
     s->index = index;
     s->subindex = sub;
@@ -83,6 +85,7 @@ static void add(table *t, int write, uint16_t index, uint8_t sub, int size, uint
     s->value = value & size_mask(size);
     s->mask = mask;
     s->what = what;
+    return s;
 }
 
 static void put(table *t, uint16_t index, uint8_t sub, int size, uint32_t value, const char *what)
@@ -145,6 +148,12 @@ static int build(const kd_boot_cfg *c, kd_boot_step *steps)
     for (int k = 0; k < c->n_tpdo; k++)
         pdo_steps(&t, (uint16_t)(0x1800 + k), (uint16_t)(0x1A00 + k), 0x180u + 0x100u * (uint32_t)k + node, &c->tpdo[k],
                   tpdo_what[k]);
+    for (int k = c->n_rpdo; k < 4; k++)
+        add(&t, 1, (uint16_t)(0x1400 + k), 1, 4, COB_INVALID | (0x200u + 0x100u * (uint32_t)k + node), COB_VALID_MASK,
+            "unused RPDO COB-ID (invalid)")->optional = 1;
+    for (int k = c->n_tpdo; k < 4; k++)
+        add(&t, 1, (uint16_t)(0x1800 + k), 1, 4, COB_INVALID | (0x180u + 0x100u * (uint32_t)k + node), COB_VALID_MASK,
+            "unused TPDO COB-ID (invalid)")->optional = 1;
     put(&t, 0x6060, 0, 1, 8, "modes of operation");
     if (c->interpolation_us) {
         uint8_t value;
@@ -154,10 +163,12 @@ static int build(const kd_boot_cfg *c, kd_boot_step *steps)
         put(&t, 0x60C2, 1, 1, value, "interpolation time period value");
         put(&t, 0x60C2, 2, 1, (uint32_t)(int32_t)index, "interpolation time index");
     }
+    if (c->sync_overflow >= 0) {
+        add(&t, 1, 0x1006, 0, 4, 0, 0xFFFFFFFFu, "communication cycle period (0 while 0x1019 changes)")->optional = 1;
+        put(&t, 0x1019, 0, 1, (uint32_t)c->sync_overflow, "synchronous counter overflow value");
+    }
     if (c->cycle_period_us)
         put(&t, 0x1006, 0, 4, c->cycle_period_us, "communication cycle period");
-    if (c->sync_overflow >= 0)
-        put(&t, 0x1019, 0, 1, (uint32_t)c->sync_overflow, "synchronous counter overflow value");
     put(&t, 0x1017, 0, 2, c->heartbeat_ms, "producer heartbeat time");
     if (c->consumer_ms)
         put(&t, 0x1016, 1, 4, (uint32_t)c->master_id << 16 | c->consumer_ms, "consumer heartbeat time");
@@ -279,9 +290,13 @@ int kd_boot_rx(kd_boot *b, const struct can_frame *f, struct can_frame *out, int
     *n_out = n_sdo;
     if (r == KD_SDO_IGNORED)
         return KD_BOOT_WAITING;
+    const kd_boot_step *s = &b->step[b->at];
+    if (r == KD_SDO_E_ABORTED && s->optional) {
+        b->at++; /* the drive has no such object, or keeps it: left as it is */
+        return request(b, out, n_out);
+    }
     if (r != KD_SDO_DONE)
         return sdo_failed(b, r);
-    const kd_boot_step *s = &b->step[b->at];
     if (b->phase == PH_REQUEST) {
         /* written: read it back */
         (void)kd_sdo_upload(&b->sdo, s->index, s->subindex, &out[0]);
@@ -289,7 +304,7 @@ int kd_boot_rx(kd_boot *b, const struct can_frame *f, struct can_frame *out, int
         b->phase = PH_READBACK;
         return KD_BOOT_WAITING;
     }
-    if ((b->sdo.value & s->mask) != (s->value & s->mask)) {
+    if ((b->sdo.value & s->mask) != (s->value & s->mask) && !s->optional) {
         b->got = b->sdo.value;
         return end(b, KD_BOOT_E_MISMATCH);
     }

@@ -21,9 +21,15 @@
  *      = 0, the entries, sub 0 = n, COB-ID without bit 31 (valid).
  *      RPDO k (1..2) COB-ID 0x100 + 0x100 k + node, TPDO k 0x080 + 0x100 k
  *      + node (the CiA 301 predefined connection set).
+ *      Then every other PDO of the predefined set (RPDO and TPDO 1..4) is
+ *      made invalid, so that a drive's factory PDOs do not load the bus;
+ *      these writes are optional: a drive that has no such PDO, or refuses,
+ *      keeps it as it is.
  *   4. 0x6060 = 8 (cyclic synchronous position), 0x60C2 interpolation
- *      period (value:index, value * 10^index s), 0x1006 communication cycle
- *      period where set, 0x1019 SYNC counter overflow where set, 0x1017
+ *      period (value:index, value * 10^index s); 0x1019 SYNC counter
+ *      overflow where set, after 0x1006 = 0 (CiA 301: 0x1019 changes only
+ *      while 0x1006 is 0; optional, for drives without 0x1006); 0x1006
+ *      communication cycle period where set; 0x1017
  *      producer heartbeat, 0x1016:1 consumer heartbeat of the master
  *      (master id << 16 | ms), 0x6007 reaction to a lost master, then the
  *      configuration's own writes (0x6065, 0x607D, 0x605A, vendor objects).
@@ -110,6 +116,7 @@ typedef struct kd_boot_step {
     uint8_t size;
     uint32_t value;
     uint32_t mask;      /* compared bits */
+    int optional;       /* a refusal or another value read back skips it */
     const char *what;   /* "RPDO1 COB-ID (invalid)", for the reason */
 } kd_boot_step;
 
@@ -129,7 +136,7 @@ typedef struct kd_boot {
  * 0x0000FFFF, no identity, RPDO1 = controlword + target position
  * (0x60400010, 0x607A0020, type 1), TPDO1 = statusword + position actual
  * (0x60410010, 0x60640020, type 1), 0x60C2 1 ms, heartbeat 100 ms, master
- * 127 watched for 300 ms, 0x6007 = 3 (quick stop), boot-up within 5 s,
+ * 127 watched for 500 ms, 0x6007 = 3 (quick stop), boot-up within 5 s,
  * SDO answers within 500 ms. */
 kd_boot_cfg kd_boot_cfg_default(int node);
 

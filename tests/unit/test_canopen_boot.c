@@ -225,6 +225,7 @@ static void test_boot(void **state)
         {0x1600, 2, 0x607A0020u}, {0x1600, 0, 2}, {0x1400, 1, 0x203u},
         {0x1800, 1, 0x80000183u}, {0x1800, 2, 2}, {0x1A00, 0, 0}, {0x1A00, 1, 0x60410010u},
         {0x1A00, 2, 0x60640020u}, {0x1A00, 0, 2}, {0x1800, 1, 0x183u},
+        {0x1401, 1, 0x80000303u}, {0x1801, 1, 0x80000283u}, /* the unused PDOs this drive has: invalid */
         {0x6060, 0, 8}, {0x60C2, 1, 4}, {0x60C2, 2, 0xFD}, /* 4 * 10^-3 s */
         {0x1017, 0, 50}, {0x1016, 1, 0x007F00FAu},        /* master 127, 250 ms */
         {0x6007, 0, 3}, {0x6065, 0, 20000},
@@ -385,6 +386,47 @@ static void test_checks_only(void **state)
     assert_int_equal(*obj(&d, 0x6060, 0), 0); /* untouched */
 }
 
+/* A SYNC counter: 0x1006 = 0 first (CiA 301: 0x1019 changes only while
+ * 0x1006 is 0), then 0x1019, then 0x1006 where configured; a drive without
+ * 0x1006 is still booted when no cycle period is asked for. */
+static void test_sync_counter_order(void **state)
+{
+    (void)state;
+    drive d;
+    kd_boot b;
+    struct can_frame out[KD_BOOT_OUT_MAX], last;
+    int n, at = -1;
+    drive_init(&d, 2);
+    *obj(&d, 0x1006, 0) = 1000; /* a period left from before */
+    kd_boot_cfg c = config(2);
+    c.sync_overflow = 5;
+    c.cycle_period_us = 4000;
+    assert_int_equal(kd_boot_init(&b, &c), 0);
+    kd_boot_start(&b, out, &n);
+    assert_int_equal(run(&b, &d, &last), KD_BOOT_DONE);
+    for (int i = 0; i < d.n_writes; i++)
+        if (d.writes[i].index == 0x1006 || d.writes[i].index == 0x1019) {
+            at = i;
+            break;
+        }
+    assert_true(at >= 0 && at + 2 < d.n_writes);
+    assert_int_equal(d.writes[at].index, 0x1006);
+    assert_int_equal(d.writes[at].value, 0);
+    assert_int_equal(d.writes[at + 1].index, 0x1019);
+    assert_int_equal(d.writes[at + 1].value, 5);
+    assert_int_equal(d.writes[at + 2].index, 0x1006);
+    assert_int_equal(d.writes[at + 2].value, 4000);
+    /* no 0x1006 in this drive, none asked for: 0x1019 still written */
+    drive_init(&d, 2);
+    d.refuse_index = 0x1006;
+    d.refuse_code = 0x06020000u;
+    c.cycle_period_us = 0;
+    assert_int_equal(kd_boot_init(&b, &c), 0);
+    kd_boot_start(&b, out, &n);
+    assert_int_equal(run(&b, &d, &last), KD_BOOT_DONE);
+    assert_int_equal(*obj(&d, 0x1019, 0), 5);
+}
+
 static void test_interpolation_and_args(void **state)
 {
     (void)state;
@@ -432,6 +474,7 @@ int main(void)
         cmocka_unit_test(test_abort_and_readback),
         cmocka_unit_test(test_timeouts),
         cmocka_unit_test(test_checks_only),
+        cmocka_unit_test(test_sync_counter_order),
         cmocka_unit_test(test_interpolation_and_args),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -15,7 +15,7 @@ tests/tools/test_imports.py):
   logcsv, runlog (logs), replay (kinctl-replay);
 - drawing: plot, view (the arm), projection, shapes, zonedraw, kinematics
   (the core's forward kinematics through kinctl-calc), progress;
-- CAN: canraw, dbc, candecode, drivesim;
+- CAN: canraw, dbc, candecode, drive402 (the drive simulator);
 - the machine: programs (where the built programs are), local (a kinctld of
   one's own: the launcher of the demo and the tests), demo, urdf.
 """

@@ -61,6 +61,25 @@ def points(text):
     return [numbers(p) for p in pts]
 
 
+def parse_nodes(text):
+    """CAN node ids: '1-6' or '1,2,5' or '3' -> [1, ...]; ValueError
+    otherwise."""
+    nodes = []
+    try:
+        for part in text.split(","):
+            part = part.strip()
+            if "-" in part:
+                a, b = part.split("-", 1)
+                nodes += list(range(int(a), int(b) + 1))
+            elif part:
+                nodes.append(int(part))
+    except ValueError:
+        nodes = []
+    if not nodes or any(not 1 <= n <= 127 for n in nodes) or len(set(nodes)) != len(nodes):
+        raise ValueError(f"--nodes {text!r}: expected distinct node ids in 1..127, e.g. 1-6 or 1,2,3")
+    return nodes
+
+
 def positive(text):
     try:
         v = float(text)

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """The CAN commands of `kinctl`: drivesim (simulated CiA 402 drives,
-kinctl.drivesim) and candecode (frames decoded with kinctl's DBC,
+kinctl.drive402) and candecode (frames decoded with kinctl's DBC,
 kinctl.candecode).
 
 register() adds them to the CLI; each runs its module's run(args).
@@ -8,31 +8,40 @@ register() adds them to the CLI; each runs its module's run(args).
 from kinctl.argtypes import add_command, nonneg, positive
 
 
-def add_drive_bus(p):
-    """The options every drive simulator (drivesim, drive402) takes: the
-    interface and the drives' node ids."""
-    p.add_argument("--interface", default="vcan0", help="SocketCAN interface (default vcan0)")
-    p.add_argument("--nodes", default="1-6", help="drive node ids: 1-6 or 1,2,5 (default 1-6)")
-
-
 def register(sub, parents):
-    ds = add_command(sub, "drivesim", "simulate CiA 402 drives (cyclic synchronous position) on a CAN interface: "
-                                      "they follow kinctld's RPDOs at each SYNC and answer with TPDOs and "
-                                      "heartbeats; control lines on stdin: fault/clear/silent/talk N, lag N S, "
-                                      "vmax N C, quit",
-                     "kinctl drivesim --interface vcan0 --nodes 1-6 --period-ms 1 --lag 0.02\n"
-                     "  (then type: fault 3, clear 3, silent 2, talk 2, lag 1 0.5, quit)", parents)
-    add_drive_bus(ds)
-    ds.add_argument("--period-ms", type=positive, default=1.0, metavar="MS",
-                    help="bus cycle: kinctld's period times sync_every (default 1 ms)")
-    ds.add_argument("--heartbeat-ms", type=nonneg, default=100.0, metavar="MS",
-                    help="each drive's heartbeat period; 0: none (default 100)")
-    ds.add_argument("--lag", type=nonneg, default=0.0, metavar="S", help="first-order lag (s); 0: none (default)")
-    ds.add_argument("--vmax", type=nonneg, default=0.0, metavar="COUNTS_S", help="speed limit; 0: none")
-    ds.add_argument("--amax", type=nonneg, default=0.0, metavar="COUNTS_S2", help="acceleration limit; 0: none")
-    ds.add_argument("--window", type=nonneg, default=0.0, metavar="COUNTS",
-                    help="following error window: statusword bit 13 beyond it; 0: never (default)")
-    ds.add_argument("--no-stdin", action="store_true", help="ignore stdin (run until SIGINT)")
+    ds = add_command(sub, "drivesim", "simulate CiA 402 drives in cyclic synchronous position on a CANopen stack "
+                                      "(python canopen, an EDS; kinctl.drive402): boot-up into pre-operational, "
+                                      "SDO server, NMT, heartbeat producer and consumer, EMCY, PDO mapping, SYNC "
+                                      "(0x1019), RPDOs applied and TPDOs sent at SYNC, the CiA 402 power state "
+                                      "machine; kinctld boots, configures and enables them. Control lines on stdin: "
+                                      "fault N [CODE], silent/talk/reboot/state N, lag N S, quit",
+                     "kinctl drivesim --interface vcan0 --nodes 1-6 --start 1=1000,2=-20000 --lag 0.02\n"
+                     "  (then type: fault 3 0x5530, state 3, reboot 2, silent 4, talk 4, lag 1 0.5, quit)\n"
+                     "  kinctl drivesim --configured --heartbeat-ms 100 --period-ms 1   "
+                     "# ready without SDO (kinctld boot = false)", parents)
+    ds.add_argument("--interface", default="vcan0", help="SocketCAN interface (default vcan0)")
+    ds.add_argument("--nodes", default="1-6", help="drive node ids: 1-6 or 1,2,5 (default 1-6)")
+    ds.add_argument("--eds", default=None, metavar="FILE",
+                    help="the drives' EDS (default: kinctl's data/kinctl-drive.eds)")
+    ds.add_argument("--start", default="", metavar="N=COUNTS,...",
+                    help="actual positions at power-on (default 1000 N + 123 counts)")
+    ds.add_argument("--lag", type=nonneg, default=0.0, metavar="S",
+                    help="first-order lag of the actual position behind the target (s); 0: none (default)")
+    ds.add_argument("--period-ms", type=positive, default=None, metavar="MS",
+                    help="power-on interpolation period 0x60C2 (default: the EDS's, 1 ms; "
+                         "kinctld's boot writes it)")
+    ds.add_argument("--heartbeat-ms", type=nonneg, default=None, metavar="MS",
+                    help="power-on heartbeat producer time 0x1017; 0: none (default: the EDS's, 0; kinctld's boot "
+                         "writes drive_heartbeat_ms)")
+    ds.add_argument("--window", type=nonneg, default=None, metavar="COUNTS",
+                    help="power-on following-error window 0x6065: statusword bit 13 beyond it (default: the EDS's, "
+                         "none)")
+    ds.add_argument("--configured", action="store_true",
+                    help="power on configured as kinctld's boot leaves a drive (RPDO1 controlword + target, TPDO1 "
+                         "statusword + actual, both every SYNC; mode 8), for a master that does not configure "
+                         "the drives (kinctld's boot = false; give --heartbeat-ms too)")
+    ds.add_argument("--no-stdin", action="store_true",
+                    help="ignore stdin, run until SIGINT or SIGTERM (a background job: &)")
     ds.set_defaults(run=cmd_drivesim)
 
     cd = add_command(sub, "candecode", "print CAN frames decoded with kinctl's DBC (kinctl.dbc): a candump "
@@ -52,8 +61,8 @@ def register(sub, parents):
 
 
 def cmd_drivesim(args):
-    from kinctl import drivesim
-    return drivesim.run(args)
+    from kinctl import drive402
+    return drive402.run(args)
 
 
 def cmd_candecode(args):

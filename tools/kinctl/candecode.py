@@ -5,10 +5,15 @@ Reads a candump log (`candump -L` lines "(t) iface ID#DATA", or candump's
 default "  iface  ID   [n]  11 22 ..." lines) or a live interface, and prints
 one line a frame:
 
-    (1700000000.000123) vcan0 201 RPDO1_Node1 TargetPosition_607A=1234 VelocityOffset_60B1=-50
+    (1700000000.000123) vcan0 201 RPDO1_Node1 Controlword_6040=0x000f enable_operation TargetPosition_607A=1234
+    (1700000000.000124) vcan0 603 SDORequest_Node3 Command=Download1 Index=0x6060 Subindex=0 Data=0x00000008
 
-or, with --json, one JSON object a line ({"t", "interface", "id", "name",
-"signals"}; name null for a frame the DBC does not know, with "data" hex).
+the statusword with its CiA 402 power state and named bits, the controlword
+with its command, SDO indexes, data and EMCY codes in hex; or, with --json,
+one JSON object a line ({"t", "interface", "id", "name", "signals", "data"};
+signal values as numbers, or the DBC's names for the values it names; name
+null for a frame the DBC does not know or whose length it does not allow).
+An empty SYNC (0x1019 = 0) decodes as SYNC with no signals.
 """
 import json
 import re
@@ -36,17 +41,35 @@ def parse_line(line):
     return None
 
 
+HEX_SIGNALS = {"Index": 4, "Data": 8, "ErrorCode_603F": 4, "ErrorRegister_1001": 2, "VendorData": 10}
+
+
 def decode(db, can_id, data):
     """(message name, {signal: value}) or (None, None) for a frame the DBC
-    does not describe (or whose length does not match)."""
+    does not describe (or whose length it does not allow: the message's,
+    or down to dbc.min_length where the DBC says so, a frame's missing
+    signals then absent)."""
     try:
         msg = db.get_message_by_frame_id(can_id)
     except KeyError:
         return None, None
-    if len(data) != msg.length:
+    if not dbc.min_length(msg) <= len(data) <= msg.length:
         return None, None
-    signals = msg.decode(data, decode_choices=True)
+    signals = msg.decode(data, decode_choices=True, allow_truncated=len(data) < msg.length)
     return msg.name, {k: (str(v) if not isinstance(v, (int, float)) else v) for k, v in signals.items()}
+
+
+def signal_text(name, value):
+    """One signal as the text line shows it."""
+    if isinstance(value, str):
+        return value
+    if name.startswith("Statusword"):
+        return dbc.statusword_text(int(value))
+    if name.startswith("Controlword"):
+        return dbc.controlword_text(int(value))
+    if name in HEX_SIGNALS:
+        return f"0x{int(value):0{HEX_SIGNALS[name]}x}"
+    return f"{value}"
 
 
 def format_frame(t, iface, can_id, data, name, signals, as_json):
@@ -56,13 +79,7 @@ def format_frame(t, iface, can_id, data, name, signals, as_json):
     head = (f"({t:.6f}) " if t is not None else "") + f"{iface} {can_id:03X}"
     if name is None:
         return f"{head} ? {data.hex(' ')}"
-    parts = []
-    for k, v in signals.items():
-        if k.startswith("Statusword"):
-            parts.append(f"{k}={dbc.statusword_text(int(v))}")
-        else:
-            parts.append(f"{k}={v}")
-    return f"{head} {name} " + " ".join(parts)
+    return " ".join([head, name] + [f"{k}={signal_text(k, v)}" for k, v in signals.items()])
 
 
 def live_frames(interface, count=None, duration=None):
@@ -85,7 +102,7 @@ def live_frames(interface, count=None, duration=None):
 
 def run(args):
     if args.nodes is not None or args.master is not None:
-        from kinctl.drivesim import parse_nodes
+        from kinctl.argtypes import parse_nodes
         db = dbc.load(nodes=parse_nodes(args.nodes) if args.nodes else None, master=args.master)
     else:
         db = dbc.load(args.dbc)

@@ -11,7 +11,7 @@ faulted, a wait timed out, or no daemon answered; 2 bad command line.
 import argparse
 import sys
 
-from kinctl import cancmds, connection, datacmds, drive402, goalcmds, livecmds, plotcmd, viewcmd
+from kinctl import cancmds, connection, datacmds, goalcmds, livecmds, plotcmd, viewcmd
 from kinctl.argtypes import Formatter, UsageError, err, glue_negative_values
 
 EXAMPLES = """\
@@ -31,7 +31,7 @@ examples (start a daemon first: build/daemon/kinctld --no-rt):
 """
 
 # In the order `kinctl --help` lists their commands.
-COMMAND_MODULES = (goalcmds, livecmds, plotcmd, viewcmd, datacmds, cancmds, drive402)
+COMMAND_MODULES = (goalcmds, livecmds, plotcmd, viewcmd, datacmds, cancmds)
 
 
 def build_parser():

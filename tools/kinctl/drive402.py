@@ -13,7 +13,10 @@ CANopenNode-based firmware behaves:
     EDS's defaults); PDOs only in operational.
   - SYNC (0x080, COB-ID 0x1005): a SYNC whose length disagrees with 0x1019
     (0: empty, else one counter byte) is not processed and raises EMCY 0x8240
-    (as CANopenNode's CO_SYNC). At each SYNC the RPDOs received since the
+    (as CANopenNode's CO_SYNC). 0x1019 takes 0 or 2..240, and only while the
+    communication cycle period 0x1006 is 0 (CiA 301; abort 0x08000022, as
+    CANopenNode): a master writes 0x1019 before 0x1006 (0 at power-on and
+    after a reset communication). At each SYNC the RPDOs received since the
     last one are applied (synchronous RPDOs, transmission type 0..240), the
     drive moves, and each valid TPDO of transmission type N (1..240) is
     sent at every N-th SYNC, type 0 when its data changed; 254/255 whenever
@@ -35,16 +38,31 @@ CANopenNode-based firmware behaves:
     error beyond 0x6065. 0x6060 takes only the modes in 0x6502 (CSP).
   - Motion: in operation enabled and mode 8 the actual position (0x6064)
     goes to the target (0x607A) at each SYNC: exactly, or a first-order lag
-    of lag_s. Elsewhere it stays; the target follows the actual position
-    while not enabled, so that enabling never jumps.
+    of lag_s (the interpolation period 0x60C2 the step). Elsewhere it stays;
+    the target follows the actual position while not enabled, so that
+    enabling never jumps. A target beyond the software position limits
+    (0x607D, where min <= max) is held at the limit, with statusword bit 11
+    (internal limit active). The velocity offset (0x60B1, in RPDO2 where
+    mapped) is taken and read back, not acted on; 0x1006 (the SYNC period)
+    is kept, not watched: a Python process on a loaded machine cannot time
+    a 1 ms SYNC without false alarms.
   - Heartbeat consumer 0x1016 (node << 16 | ms): once a watched node's
     heartbeat has been seen, its silence longer than the time is a lost
     master: EMCY 0x8130, then 0x6007's reaction (0 none, 1 fault 0x8130,
-    2 disable voltage, 3 quick stop).
+    2 disable voltage, 3 quick stop). The silence is timed from the
+    heartbeat's receive timestamp and judged only while no received frame
+    waits in the socket, so a stall of this process is not taken for one
+    of the master.
   - Faults on command: state fault, 0x603F and error register 0x1001 set,
     EMCY with the code; a fault reset clears them and sends EMCY 0x0000.
 
-Control (stdin of `kinctl drive402`, or Drives.command): one command a line,
+Power-on values (what the drive's non-volatile memory holds: the EDS's
+defaults, or Drives' presets for the period, heartbeat, following-error
+window and, with configured=True, the PDOs and mode kinctld's boot writes,
+so a master that does not configure the drives (kinctld's `boot = false`)
+finds them ready) come back at each reset.
+
+Control (stdin of `kinctl drivesim`, or Drives.command): one command a line,
 answered "ok <command>" once applied, or "error <why>":
     fault N [CODE]     node N faults with CODE (hex or decimal; 0x5530)
     silent N | talk N  node N stops or resumes sending anything
@@ -54,7 +72,8 @@ answered "ok <command>" once applied, or "error <why>":
     quit
 """
 import os
-import struct
+import select
+import sys
 import threading
 import time
 
@@ -78,12 +97,49 @@ STATE_BITS = {NOT_READY: 0x0000, SWITCH_ON_DISABLED: 0x0040, READY: 0x0021, SWIT
 SW_VOLTAGE_ENABLED = 1 << 4
 SW_QUICK_STOP = 1 << 5
 SW_REMOTE = 1 << 9
+SW_INTERNAL_LIMIT = 1 << 11
 SW_TARGET_FOLLOWED = 1 << 12
 SW_FOLLOWING_ERROR = 1 << 13
 
 
 def default_eds():
     return os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "kinctl-drive.eds")
+
+
+def interpolation_period(period_s):
+    """0x60C2's (value, index): period_s = value x 10^index, value 1..255,
+    the largest index that holds it exactly to the microsecond; ValueError
+    for a period it cannot hold."""
+    us = int(round(period_s * 1e6))
+    for index in (-3, -4, -5, -6):
+        unit = 10 ** (6 + index)  # microseconds per count
+        if us % unit == 0 and 1 <= us // unit <= 255:
+            return us // unit, index
+    raise ValueError(f"period {period_s} s: 0x60C2 holds 1..255 x 10^-3..10^-6 s")
+
+
+def presets(node_id, period_s=None, heartbeat_ms=None, window=None, configured=False):
+    """{(index, subindex): power-on value} of a drive at node_id: the
+    interpolation period 0x60C2, the heartbeat
+    producer 0x1017, the following-error window 0x6065 where given; with
+    configured, what kinctld's boot writes with its defaults (RPDO1 the
+    controlword and target position, TPDO1 the statusword and actual
+    position, both synchronous every SYNC; mode 8)."""
+    out = {}
+    if period_s is not None:
+        value, index = interpolation_period(period_s)
+        out.update({(0x60C2, 1): value, (0x60C2, 2): index})
+    if heartbeat_ms is not None:
+        out[(0x1017, 0)] = int(heartbeat_ms)
+    if window is not None:
+        out[(0x6065, 0)] = int(window)
+    if configured:
+        out.update({(0x1400, 1): 0x200 + node_id, (0x1400, 2): 1,
+                    (0x1600, 0): 2, (0x1600, 1): 0x60400010, (0x1600, 2): 0x607A0020,
+                    (0x1800, 1): 0x180 + node_id, (0x1800, 2): 1,
+                    (0x1A00, 0): 2, (0x1A00, 1): 0x60410010, (0x1A00, 2): 0x60640020,
+                    (0x6060, 0): MODE_CSP})
+    return out
 
 
 def next_state(state, cw, prev_cw, quick_stop_option):
@@ -134,13 +190,17 @@ class Drive:
     """One CiA 402 node on a canopen.Network; its callbacks run on the
     network's receive thread, commands under Drives' lock."""
 
-    def __init__(self, network, node_id, eds, start_counts, lag_s=0.0):
+    def __init__(self, network, node_id, eds, start_counts, lag_s=0.0, power_on=None):
         import canopen
         self._cache = {}
         self.network = network
         self.id = node_id
         self.eds = eds
-        self.node = canopen.LocalNode(node_id, canopen.import_od(eds, node_id))
+        od = canopen.import_od(eds, node_id)
+        for (index, sub), value in (power_on or {}).items():
+            obj = od[index]
+            (obj[sub] if hasattr(obj, "subindices") and obj.subindices else obj).default = value
+        self.node = canopen.LocalNode(node_id, od)
         self.node.add_read_callback(self._on_read)
         self.node.add_write_callback(self._on_write)
         network.add_node(self.node)
@@ -148,6 +208,7 @@ class Drive:
         self.lag_s = lag_s
         self.silent = False
         self.pos = float(start_counts)
+        self.limited = False  # the target is beyond 0x607D: the demand is the limit
         self.sync_count = 0
         self.events = []  # (what, detail) for tests and the log: emcy, sync_error, ...
         self._reset_application()
@@ -160,6 +221,14 @@ class Drive:
         if not hasattr(obj, "subindices") or not obj.subindices:
             return obj.decode_raw(self.node.get_data(index, sub))
         return obj[sub].decode_raw(self.node.get_data(index, sub))
+
+    def opt(self, index, sub, default):
+        """od(index, sub), or default where the EDS has no such object (an
+        EDS without the optional objects this drive honours)."""
+        obj = self.node.object_dictionary.get(index)
+        if obj is None or (hasattr(obj, "subindices") and obj.subindices and sub not in obj.subindices):
+            return default
+        return self.od(index, sub)
 
     def _store(self, index, sub, value):
         obj = self.node.object_dictionary[index]
@@ -191,7 +260,7 @@ class Drive:
             del self.node.data_store[index]
         self.pending = {}  # RPDO number -> data received since the last SYNC
         self.tpdo_last = {}
-        self.heard = {}  # watched node -> monotonic time of its last heartbeat
+        self.heard = {}  # watched node -> its last heartbeat's receive timestamp (s, the bus's clock)
         self.master_lost = False
         self.emcy_sent = set()
         self.sync_count = 0
@@ -236,8 +305,13 @@ class Drive:
             if old & 0x80000000 == 0 and value & 0x80000000 == 0 and value & 0x7FF != old & 0x7FF:
                 raise SdoAbortedError(0x06090030)
         elif index == 0x6060:
-            if SUPPORTED_MODE_BITS.get(value, 0) & self.od(0x6502) == 0:
+            if SUPPORTED_MODE_BITS.get(value, 0) & self.opt(0x6502, 0, SUPPORTED_MODE_BITS[MODE_CSP]) == 0:
                 raise SdoAbortedError(0x06090030)
+        elif index == 0x1019:
+            if value == 1 or value > 240:
+                raise SdoAbortedError(0x06090030)
+            if self.opt(0x1006, 0, 0) != 0:
+                raise SdoAbortedError(0x08000022)  # CiA 301: only while 0x1006 is 0
         else:
             self._act_on(index, value)
 
@@ -273,18 +347,22 @@ class Drive:
             sw |= SW_VOLTAGE_ENABLED
         if self.state in (READY, SWITCHED_ON, ENABLED):
             sw |= SW_QUICK_STOP
+        if self.limited and self.state == ENABLED:
+            sw |= SW_INTERNAL_LIMIT
         if self.state == ENABLED and self.cached(0x6060, lambda: self.od(0x6060)) == MODE_CSP:
             sw |= SW_TARGET_FOLLOWED
-            window = self.cached(0x6065, lambda: self.od(0x6065))
-            if window != 0xFFFFFFFF and abs(self.target - self.pos) > window:
+            window = self.cached(0x6065, lambda: self.opt(0x6065, 0, 0xFFFFFFFF))
+            demand = self.limit(self.target)
+            if window != 0xFFFFFFFF and abs(demand - self.pos) > window:
                 sw |= SW_FOLLOWING_ERROR
         return sw
 
     def _controlword(self, cw):
         before = self.state
-        self.state = next_state(self.state, cw, self.cw, self.od(0x605A))
+        quick_stop_option = self.opt(0x605A, 0, 2)
+        self.state = next_state(self.state, cw, self.cw, quick_stop_option)
         self.cw = cw
-        if self.state == QUICK_STOP and self.od(0x605A) in (1, 2, 3, 4):
+        if self.state == QUICK_STOP and quick_stop_option in (1, 2, 3, 4):
             self.state = SWITCH_ON_DISABLED  # stopped at once, then 0x605A 1..4 say disabled
         if before == FAULT and self.state != FAULT:
             self.fault_code = 0
@@ -362,11 +440,11 @@ class Drive:
 
     def on_frame(self, can_id, data, timestamp):
         """Every frame the network hands over (SYNC, RPDOs, heartbeats)."""
-        if can_id == self.cached(0x1005, lambda: self.od(0x1005) & 0x7FF):
+        if can_id == self.cached(0x1005, lambda: self.opt(0x1005, 0, 0x80) & 0x7FF):
             self._on_sync(data)
             return
         if 0x700 < can_id < 0x780 and len(data) >= 1:
-            self.heard[can_id - 0x700] = time.monotonic()
+            self.heard[can_id - 0x700] = timestamp
             return
         if self.nmt != NMT_OPERATIONAL:
             return
@@ -422,7 +500,7 @@ class Drive:
             self._send_tpdos(at_sync=False)
 
     def _on_sync(self, data):
-        overflow = self.cached(0x1019, lambda: self.od(0x1019))
+        overflow = self.cached(0x1019, lambda: self.opt(0x1019, 0, 0))
         if len(data) != (1 if overflow else 0):
             self.events.append(("sync_error", len(data)))
             self._comm_error(EMCY_SYNC_LENGTH)
@@ -439,19 +517,31 @@ class Drive:
         self._move()
         self._send_tpdos(at_sync=True)
 
+    def limit(self, target):
+        """target held within the software position limits (0x607D; none
+        where min > max)."""
+        lo, hi = self.cached(0x607D, lambda: (self.opt(0x607D, 1, 1), self.opt(0x607D, 2, 0)))
+        return min(max(target, lo), hi) if lo <= hi else target
+
     def _move(self):
         if self.state != ENABLED or self.cached(0x6060, lambda: self.od(0x6060)) != MODE_CSP:
             self.target = int(round(self.pos))
+            self.limited = False
             return
+        goal = self.limit(self.target)
+        self.limited = goal != self.target
         if self.lag_s <= 0:
-            self.pos = float(self.target)
+            self.pos = float(goal)
             return
-        period = self.od(0x60C2, 1) * 10.0 ** self.od(0x60C2, 2)
-        self.pos += (self.target - self.pos) * min(1.0, period / self.lag_s)
+        period = self.opt(0x60C2, 1, 1) * 10.0 ** self.opt(0x60C2, 2, -3)
+        self.pos += (goal - self.pos) * min(1.0, period / self.lag_s)
 
     # -- heartbeat consumer ----------------------------------------------------
     def check_consumers(self, now):
-        n = self.od(0x1016, 0)
+        """The heartbeat consumer at now (time.time(), the clock of the
+        frames' receive timestamps), called only once every frame received
+        so far has been handled."""
+        n = self.opt(0x1016, 0, 0)
         for s in range(1, n + 1):
             entry = self.od(0x1016, s)
             node, ms = (entry >> 16) & 0x7F, entry & 0xFFFF
@@ -467,7 +557,7 @@ class Drive:
                 self.emcy_sent.discard(EMCY_HEARTBEAT)
 
     def _lost_master(self):
-        reaction = self.od(0x6007)
+        reaction = self.opt(0x6007, 0, 1)  # CiA 402's default: a malfunction (fault)
         if reaction == 1:
             self.emcy_sent.add(EMCY_HEARTBEAT)
             self.fault(EMCY_HEARTBEAT)
@@ -480,23 +570,54 @@ class Drive:
             self._controlword(0x0002)
 
 
+def survive_link_loss(bus):
+    """A powered drive outlives its bus: while the interface is down
+    (ENETDOWN and the like) python-can's receive raises, which would end the
+    stack's receive thread for good; here it waits and tries again, and a
+    frame that cannot go out is lost, as on a real bus."""
+    import can
+    recv, send = bus._recv_internal, bus.send
+
+    def recv_surviving(timeout):
+        try:
+            return recv(timeout)
+        except can.CanOperationError:
+            time.sleep(timeout if timeout else 0.05)
+            return None, False
+
+    def send_surviving(msg, timeout=None):
+        try:
+            send(msg, timeout)
+        except can.CanOperationError:
+            pass
+
+    bus._recv_internal = recv_surviving
+    bus.send = send_surviving
+
+
 class Drives:
     """Drives at node ids on a SocketCAN interface, one canopen.Network."""
 
-    def __init__(self, channel, nodes, eds=None, start_counts=None, lag_s=0.0, tick_s=0.005, interface="socketcan"):
+    def __init__(self, channel, nodes, eds=None, start_counts=None, lag_s=0.0, tick_s=0.005, interface="socketcan",
+                 **preset_args):
+        """preset_args: presets()'s power-on values (period_s, heartbeat_ms,
+        window, configured)."""
         import canopen
         self.network = canopen.Network()
         self.network.connect(interface=interface, channel=channel, receive_own_messages=False)
+        survive_link_loss(self.network.bus)
         sock = getattr(self.network.bus, "socket", None)
         if sock is not None:
             # A busy host (or an emulated one) must find the frames waiting,
-            # not dropped by the kernel: 8 MiB, as kinctld's own socket.
-            import socket
-            sock.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 8 << 20)
+            # not dropped by the kernel: 8 MiB, as kinctld's own socket
+            # (beyond rmem_max when root).
+            from kinctl import canraw
+            canraw.size_receive_buffer(sock, 8 << 20)
         self.lock = threading.RLock()
         eds = eds or default_eds()
         starts = start_counts or {}
-        self.drives = {n: Drive(self.network, n, eds, starts.get(n, 1000 * n + 123), lag_s) for n in nodes}
+        self.drives = {n: Drive(self.network, n, eds, starts.get(n, 1000 * n + 123), lag_s, presets(n, **preset_args))
+                       for n in nodes}
         for cid in range(0x000, 0x800):
             if cid == 0 or cid >= 0x080 and not 0x580 <= cid < 0x680:
                 self.network.subscribe(cid, self._dispatch)
@@ -516,18 +637,32 @@ class Drives:
                 elif can_id != 0x700 + d.id:
                     d.on_frame(can_id, data, timestamp)
 
+    def _caught_up(self):
+        """True when no received frame waits in the socket: a heartbeat
+        that came in while this process was stalled (a loaded machine,
+        User Mode Linux) is then handled, so a silence is the master's and
+        not this process's own. Always true on a bus without a socket."""
+        sock = getattr(self.network.bus, "socket", None)
+        if sock is None:
+            return True
+        try:
+            return not select.select([sock], [], [], 0)[0]
+        except (OSError, ValueError):
+            return True
+
     def _tick(self):
         while self.running:
             time.sleep(self.tick_s)
             with self.lock:
-                now = time.monotonic()
+                if not self._caught_up():
+                    continue
+                now = time.time()
                 for d in self.drives.values():
                     d.check_consumers(now)
 
     def command(self, line):
         """One control line (the module's text); returns the reply.
         ValueError for a bad line."""
-        from kinctl.drivesim import control_line
         verb, args, d = control_line(self, line, ("fault", "silent", "talk", "lag", "reboot", "state"),
                                      "fault N [CODE], silent/talk/reboot/state N, lag N S, quit")
         if d is None:
@@ -578,32 +713,58 @@ def parse_starts(text, nodes):
     return out
 
 
-def register(sub, parents):
-    """`kinctl drive402` (the CLI's command modules register themselves)."""
-    from kinctl.argtypes import add_command, nonneg
-    from kinctl.cancmds import add_drive_bus
-    p = add_command(sub, "drive402", "simulate CiA 402 drives on a CANopen stack (python canopen, an EDS): boot-up, "
-                                     "SDO, NMT, heartbeat, EMCY, PDO mapping, SYNC, the power state machine; control "
-                                     "lines on stdin: fault N [CODE], silent/talk/reboot/state N, lag N S, quit",
-                    "kinctl drive402 --interface vcan0 --nodes 1-6 --start 1=1000,2=-20000\n"
-                    "  (then type: fault 3, state 3, reboot 2, quit)", parents)
-    add_drive_bus(p)
-    p.add_argument("--eds", default=None, help="the drives' EDS (default: kinctl's data/kinctl-drive.eds)")
-    p.add_argument("--start", default="", metavar="N=COUNTS,...",
-                   help="actual positions at power-on (default 1000 N + 123 counts)")
-    p.add_argument("--lag", type=nonneg, default=0.0, metavar="S", help="first-order lag (s); 0: none (default)")
-    p.add_argument("--no-stdin", action="store_true", help="ignore stdin (run until SIGINT)")
-    p.set_defaults(run=run)
-    return p
+def control_line(sim, line, verbs, usage):
+    """One control line: (verb, arguments, drive) for one of verbs followed
+    by the node id of one of sim.drives, or ("quit", [], None) once quit has
+    stopped sim (sim.running). ValueError otherwise; usage lists the
+    commands."""
+    words = line.split()
+    if not words:
+        raise ValueError("empty command")
+    verb, args = words[0], words[1:]
+    if verb == "quit":
+        sim.running = False
+        return verb, args, None
+    if verb not in verbs or not args:
+        raise ValueError(f"unknown command {line!r} ({usage})")
+    node = int(args[0])
+    if node not in sim.drives:
+        raise ValueError(f"no drive with node id {node}")
+    return verb, args, sim.drives[node]
+
+
+def serve_control(sim, no_stdin, alive):
+    """Answers control lines on stdin with sim.command's replies (or
+    "error ...") until quit or the end of input; with no_stdin, waits while
+    alive() holds instead."""
+    if no_stdin:
+        while alive():
+            time.sleep(0.5)
+        return
+    for line in sys.stdin:
+        line = line.strip()
+        if not line:
+            continue
+        try:
+            print(sim.command(line), flush=True)
+        except ValueError as e:
+            print(f"error {e}", flush=True)
+        if not sim.running:
+            break
 
 
 def run(args):
-    """`kinctl drive402`: serve until stdin says quit or closes, or SIGINT."""
-    from kinctl.drivesim import parse_nodes, serve_control
+    """`kinctl drivesim` (registered by kinctl.cancmds): serve until stdin
+    says quit or closes, or SIGINT."""
+    from kinctl.argtypes import parse_nodes
     nodes = parse_nodes(args.nodes)
+    starts = parse_starts(args.start, nodes)
+    period_s = None if args.period_ms is None else args.period_ms / 1000.0
+    if period_s is not None:
+        interpolation_period(period_s)  # ValueError (exit 2) before the bus is opened
     try:
-        sim = Drives(args.interface, nodes, eds=args.eds, start_counts=parse_starts(args.start, nodes),
-                     lag_s=args.lag)
+        sim = Drives(args.interface, nodes, eds=args.eds, start_counts=starts, lag_s=args.lag, period_s=period_s,
+                     heartbeat_ms=args.heartbeat_ms, window=args.window, configured=args.configured)
     except OSError as e:
         raise OSError(f"cannot open CAN interface {args.interface!r}: {e}") from e
     print(f"ready {args.interface} nodes {args.nodes}", flush=True)
