@@ -174,7 +174,9 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
         c->active = 1; /* the servo goal stays active through its stop */
         return;
     }
-    if (c->goal.kind == KC_GOAL_JOINT && c->drive != KC_DRIVE_RETARGET && c->drive != KC_DRIVE_PROFILE &&
+    if (c->goal.kind == KC_GOAL_JOINT && c->drive == KC_DRIVE_HALT)
+        return; /* already stopping joint by joint (plan.halt holds the stops, not the move) */
+    if (c->goal.kind == KC_GOAL_JOINT && (c->drive == KC_DRIVE_NOMINAL || c->drive == KC_DRIVE_SCURVE) &&
         c->plan.joint.kind == KC_PROFILE_JERK) {
         jerk_stop(c);
         return;

@@ -307,12 +307,27 @@ static void test_stop_pause_resume(void **state)
         setup(models[m], KC_PROFILE_JERK);
         kt_rng r = kt_rng_make(1937 + (uint64_t)m);
         for (int c = 0; c < CASES / 3; c++) {
-            kc_goal a = random_goal(&r, 10 + c, c % 2);
+            kc_goal a = random_goal(&r, 1000 + c, c % 2);
             tick(&a, KC_CMD_NONE);
             int64_t len = H.ctrl.plan.joint.ticks;
             int64_t at = 1 + (int64_t)kt_uniform(&r, 0.0, (double)(len > 2 ? len - 2 : 1));
             for (int64_t k = 1; k < at; k++)
                 tick(NULL, KC_CMD_NONE);
+            if (c % 4 >= 2) {
+                /* The stop of a replacing goal taken over from the moving
+                 * state (its joints stop one by one). */
+                kc_goal b = random_goal(&r, 2000 + c, 0);
+                b.replace = 1;
+                tick(&b, KC_CMD_NONE);
+                if (has_event(KC_EVENT_STARTED, b.id)) {
+                    a = b;
+                    for (int64_t k = 0; k < H.ctrl.plan.joint.ticks / 3; k++)
+                        tick(NULL, KC_CMD_NONE);
+                } else {
+                    run_until_completed(b.id, 400000);
+                    continue;
+                }
+            }
             if (c % 2 == 0) {
                 tick(NULL, KC_CMD_STOP);
                 for (int k = 0; k < 100000 && H.out.state != KC_CTRL_IDLE; k++)
