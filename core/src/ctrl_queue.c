@@ -84,13 +84,21 @@ static int retarget_jerk(kc_ctrl *c, const kc_goal *g)
 {
     kc_interp_joint *p = &c->retarget_plan;
     kc_real slack = c->cfg.limit_slack;
+    kc_scurve_extent e;
     if (kc_ctrl_plan_joint(c, g, c->q, c->qd, c->qdd, p) != KC_OK)
         return 0;
     if (p->sync == KC_INTERP_SYNC_PHASE)
-        return 1; /* from rest: a straight line between ends inside the limits */
+        kc_scurve_extent_of(&p->su, &e); /* on the line: q = q0 + dq u */
     for (int j = 0; j < c->chain->n_joints; j++) {
         const kc_joint_limits *l = &c->chain->joints[j].limits;
-        kc_scurve_extent e;
+        if (p->sync == KC_INTERP_SYNC_PHASE) {
+            kc_real d = p->dq[j], a = p->q0[j] + d * e.p_min, b = p->q0[j] + d * e.p_max;
+            if (!(kc_min(a, b) >= l->q_min && kc_max(a, b) <= l->q_max &&
+                  kc_fabs(d) * e.v_max <= l->qd_max * (KC_R(1.0) + slack) &&
+                  kc_fabs(d) * e.a_max <= l->qdd_max * (KC_R(1.0) + slack)))
+                return 0;
+            continue;
+        }
         kc_scurve_extent_of(&p->sj[j], &e);
         if (!(e.p_min >= l->q_min && e.p_max <= l->q_max && e.v_max <= l->qd_max * (KC_R(1.0) + slack) &&
               e.a_max <= l->qdd_max * (KC_R(1.0) + slack)))

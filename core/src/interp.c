@@ -212,6 +212,53 @@ static kc_status stretches_all(const kc_interp_joint *out, const kc_interp_joint
     return KC_OK;
 }
 
+/* A start moving along the line to the target: qd0 = lv dq and
+ * qdd0 = la dq for every joint, within the rounding of dq = q1 - q0 (a
+ * replacing goal with the target of a move synchronised by phase). Sets
+ * *lv, *la from the joint that moves farthest. */
+static int start_on_line(const kc_interp_joint *r, const kc_interp_joint_cfg *c, kc_real *lv, kc_real *la)
+{
+    int m = -1;
+    for (int i = 0; i < c->n; i++)
+        if (r->dq[i] != KC_R(0.0) && (m < 0 || kc_fabs(r->dq[i]) > kc_fabs(r->dq[m])))
+            m = i;
+    if (m < 0)
+        return 0;
+    *lv = c->qd0[m] / r->dq[m];
+    *la = c->qdd0[m] / r->dq[m];
+    for (int i = 0; i < c->n; i++) {
+        kc_real round = KC_R(64.0) * KC_REAL_EPS * (kc_fabs(r->dq[i]) + kc_fabs(r->q0[i]) + kc_fabs(r->q1[i]));
+        if (kc_fabs(c->qd0[i] - *lv * r->dq[i]) > KC_R(64.0) * KC_REAL_EPS * kc_fabs(c->qd0[i]) + kc_fabs(*lv) * round ||
+            kc_fabs(c->qdd0[i] - *la * r->dq[i]) > KC_R(64.0) * KC_REAL_EPS * kc_fabs(c->qdd0[i]) + kc_fabs(*la) * round)
+            return 0;
+    }
+    return 1;
+}
+
+/* A moving start on the line to the target (start_on_line) may stay on
+ * it: one profile of u from (0, lv, la) to rest at 1 within the move's
+ * bounds on the first three derivatives of u (synchronisation by phase
+ * from a moving start). Taken instead of the time-synchronised plan in
+ * *out when it is faster: when a replacing goal keeps the target of a
+ * move that was on its line, the rest of that move is such a profile,
+ * while a joint's stretch may fall into a blocked interval
+ * (kinctl/scurve.h) and wait far longer. Without a requested duration
+ * only. */
+static void line_from_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
+{
+    kc_real lv, la;
+    kc_scurve su;
+    if (c->duration > KC_R(0.0) || !kc_isfinite(out->u_jmax) || !start_on_line(out, c, &lv, &la))
+        return;
+    if (kc_scurve_plan(&su, KC_R(0.0), lv, la, KC_R(1.0), out->u_vmax, out->u_amax, out->u_jmax, c->dt) != KC_OK ||
+        !(su.T < out->T * (KC_R(1.0) - KC_R(64.0) * KC_REAL_EPS)))
+        return;
+    out->sync = KC_INTERP_SYNC_PHASE;
+    out->su = su;
+    out->T = su.T;
+    out->ticks = su.ticks;
+}
+
 /* The jerk-limited move from a moving start: time synchronisation
  * (kinctl/interp.h). */
 static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
@@ -288,6 +335,7 @@ static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cf
     }
     out->T = out->sj[out->lead].T;
     out->ticks = out->sj[out->lead].ticks;
+    line_from_moving(out, c);
     return KC_OK;
 }
 

@@ -576,8 +576,11 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
     kc_real p0 = fast->p0, v0 = fast->v0, a0 = fast->a0, p1 = fast->p1, d = p1 - p0;
     /* e: how far the target lies beyond where stopping at once ends; the
      * cruise runs towards it (sign s). */
-    kc_real e = d - dist_of(KC_R(0.0), v0, a0, A, J);
-    if (e == KC_R(0.0)) /* stop at once, then wait */
+    kc_real ds = dist_of(KC_R(0.0), v0, a0, A, J), e = d - ds;
+    /* Stop at once, then wait: also for an e within the rounding of the
+     * distances (a start on its stop to p1, as the rest of a stretched
+     * plan is: a tiny e of either sign would have it come back instead). */
+    if (kc_fabs(e) <= KC_R(8.0) * KC_REAL_EPS * (kc_fabs(p0) + kc_fabs(p1) + kc_fabs(ds)))
         return build_vp(prof, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, J, duration, dt);
     kc_real s = e > KC_R(0.0) ? KC_R(1.0) : KC_R(-1.0);
     kc_real V = kc_isfinite(vmax) ? vmax : kc_max(kc_fabs(fast->vp), kc_fabs(v0)) + A * A / J;

@@ -282,6 +282,58 @@ def test_joint_jerk_random_moves():
             (len(rows) - 1) * dt >= T * (1 - 1e-6), (case, len(rows) - 1, T / dt)
 
 
+PUMA_QD = [2.0, 2.0, 2.0, 4.0, 4.0, 4.0]
+PUMA_QDD = [5.0, 5.0, 5.0, 10.0, 10.0, 10.0]
+PUMA_QDDD = [50.0, 50.0, 50.0, 100.0, 100.0, 100.0]  # the built-in model's: ten times qdd
+
+
+def test_joint_jerk_moving_start():
+    # A replacement as kinctld makes it: a move planned from rest is cut at a random row, and a move to
+    # another target starts from that row's q, qd and qdd (--qd0, --qdd0). Its first row is that state,
+    # every row is within the limits and the jerk, the jerk across the cut too, and it ends exactly on its
+    # target at rest with every joint arriving on the last row. Towards the first target again, it lasts
+    # exactly what the first move had left: the rest of an optimal move is optimal.
+    import random
+    rng = random.Random(1919)
+    for case in range(16):
+        panda = case % 2 == 0
+        n = 7 if panda else 6
+        V, A, J = (PANDA_QD, PANDA_QDD, PANDA_QDDD) if panda else (PUMA_QD, PUMA_QDD, PUMA_QDDD)
+        model = ["--model", "panda" if panda else "puma560"]
+        q0 = [round(rng.uniform(-0.06, 0.06) + (-1.5 if panda and i == 3 else 0.0), 6) for i in range(n)]
+        qa = [round(rng.uniform(-1.5, 1.5) - (1.5 if panda and i == 3 else 0.0), 6) for i in range(n)]
+        qb = [round(rng.uniform(-1.5, 1.5) - (1.5 if panda and i == 3 else 0.0), 6) for i in range(n)]
+        dt = 0.001
+        _, first = csv_rows(["interp", "joint"] + model + ["--q0", nums(q0), "--q1", nums(qa), "--dt", dt])
+        k = rng.randrange(1, len(first) - 2)
+        cut = first[k]
+        q, qd, qdd = cut[1:1 + n], cut[1 + n:1 + 2 * n], cut[1 + 2 * n:1 + 3 * n]
+        for target in (qb, qa):
+            _, rows = csv_rows(["interp", "joint"] + model + ["--q0", nums(q), "--qd0", nums(qd), "--qdd0", nums(qdd),
+                                                              "--q1", nums(target), "--dt", dt])
+            T = rows[-1][0]
+            assert rows[0][1:1 + n] == q
+            for i in range(n):
+                near(rows[0][1 + n + i], qd[i], 1e-12 if not FLOAT else 1e-6, "qd0")
+                near(rows[0][1 + 2 * n + i], qdd[i], 1e-12 if not FLOAT else 1e-6, "qdd0")
+                slack = 8 * EPS * (A[i] + J[i] * T) + 16 * EPS * J[i] * dt
+                # Across the cut: the old move's row k-1, then the new move's rows.
+                prev_qdd = first[k - 1][1 + 2 * n + i]
+                for row in rows:
+                    assert abs(row[1 + n + i]) <= V[i] * (1 + 16 * EPS) + 4 * EPS * A[i] * T, (case, i, row[0])
+                    assert abs(row[1 + 2 * n + i]) <= A[i] * (1 + 16 * EPS) + 4 * EPS * J[i] * T, (case, i, row[0])
+                    assert abs(row[1 + 2 * n + i] - prev_qdd) <= J[i] * dt + slack, (case, i, row[0])
+                    prev_qdd = row[1 + 2 * n + i]
+                assert rows[-1][1 + i] == target[i] and rows[-1][1 + n + i] == 0.0 and rows[-1][1 + 2 * n + i] == 0.0
+            assert any(rows[-2][1 + n + i] != 0.0 or rows[-2][1 + 2 * n + i] != 0.0 for i in range(n))
+        # Towards qa again: the rest of the first move, to the tick.
+        assert abs((len(rows) - 1) - (len(first) - 1 - k)) <= 1, (case, len(rows) - 1, len(first) - 1 - k)
+    # Not with the trapezoid, which starts at rest.
+    r = run(["interp", "joint", "--model", "planar2", "--q0", "0,0", "--q1", "1,1", "--qd0", "0.1,0",
+             "--profile", "trapezoid", "--dt", "0.01"])
+    assert r.returncode != 0 and "qd0 and qdd0 need the jerk-limited profile" in r.stderr
+
+
 def test_joint_jerk_batch_duration_and_model_default():
     # Batch gives the duration: the slowest joint's optimum (puma560's jerk limits from the model).
     q1 = [0.4, -0.9, 0.7, 1.5, -1.1, 2.0]

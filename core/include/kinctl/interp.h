@@ -173,7 +173,13 @@ kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, 
  * every joint plans (KC_E_LIMIT if none does), and the step is then
  * halved ten times between the last blocked and the first free duration,
  * so T exceeds the end of the blocked interval by at most 2^(m-10) / 1024
- * of itself. Each joint stays within its
+ * of itself. A start moving along the line to the target (qd0 and qdd0
+ * both multiples of q1 - q0, within the rounding of that difference: a
+ * replacing goal with the target of a move on its line) may instead stay
+ * on the line, by phase: one profile of u from (0, u', u'') to rest at 1
+ * within the bounds on u's derivatives, taken when it is shorter (where a
+ * joint's stretch is blocked); its start is the given state within the
+ * rounding of one product. Each joint stays within its
  * limits as far as its start allows (kinctl/scurve.h).
  * Returns as kc_interp_joint_plan; KC_E_ARG also for a NULL cfg, an
  * unknown kind, a non-finite start velocity or acceleration, a moving

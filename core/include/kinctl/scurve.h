@@ -195,8 +195,9 @@ kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_re
  * same root search in x = 1 / vp, where the cruise's share of T is
  * linear, bracketed by the fastest cruise and a vp = e / duration (where
  * the cruise alone would fill the duration) halved until T(vp) >= duration;
- * about eight evaluations of T. e = 0 is
- * the stop followed by a wait. A start at rest is
+ * about eight evaluations of T. e = 0 (within the rounding of the
+ * distances, 8 eps (|p0| + |p1| + the stop's distance): a start on its
+ * stop to p1) is the stop followed by a wait. A start at rest is
  * kc_scurve_plan_duration. Returns KC_E_LIMIT for a duration shorter than
  * the optimum (beyond 8 units of roundoff) and for one in a blocked
  * interval: longer than the optimum but shorter than the fastest cruise on
