@@ -297,6 +297,41 @@ static void test_random_replacements(void **state)
     assert_true(taken > fallback);
 }
 
+/* A goal re-sent mid-motion (a replacing goal with the same target) takes
+ * over at once and arrives when the first would have, to the tick: the
+ * rest of the first move is the fastest way there. */
+static void test_resend_same_target(void **state)
+{
+    (void)state;
+    kc_model models[2] = {KC_MODEL_PUMA560, KC_MODEL_PANDA};
+    for (int m = 0; m < 2; m++) {
+        setup(models[m], KC_PROFILE_JERK);
+        kt_rng r = kt_rng_make(1960 + (uint64_t)m);
+        for (int c = 0; c < CASES / 3; c++) {
+            kc_goal a = random_goal(&r, 3000 + 2 * c, c % 2);
+            kc_goal b = a;
+            b.id = a.id + 1;
+            b.replace = 1;
+            tick(&a, KC_CMD_NONE);
+            int64_t start = H.out.cycle, len = H.ctrl.plan.joint.ticks;
+            int64_t at = 1 + (int64_t)kt_uniform(&r, 0.0, (double)(len > 2 ? len - 2 : 1));
+            for (int64_t k = 1; k < at; k++)
+                tick(NULL, KC_CMD_NONE);
+            tick(&b, KC_CMD_NONE);
+            assert_true(has_event(KC_EVENT_STARTED, b.id) && has_event(KC_EVENT_PREEMPTED, a.id));
+            run_until_completed(b.id, 400000);
+            /* The first move's last tick was start + len - 1. */
+            int64_t end = H.out.cycle, want = start + len - 1;
+            if (end < want - 1 || end > want + 1)
+                fail_msg("case %d: the re-sent goal arrived on cycle %ld, the first would have on %ld", c, (long)end,
+                         (long)want);
+            for (int j = 0; j < H.chain.n_joints; j++)
+                assert_true(H.out.q[j] == a.q[j]);
+        }
+        assert_int_equal(H.events[KC_EVENT_FAULT], 0);
+    }
+}
+
 /* STOP, PAUSE and RESUME of a jerk-limited move: the jerk stays within
  * its limits throughout, the resumed move ends exactly on the target. */
 static void test_stop_pause_resume(void **state)
@@ -412,6 +447,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_random_moves),      cmocka_unit_test(test_random_replacements),
+        cmocka_unit_test(test_resend_same_target),
         cmocka_unit_test(test_stop_pause_resume), cmocka_unit_test(test_trapezoid_exact),
         cmocka_unit_test(test_estop_acceleration_limited),
     };

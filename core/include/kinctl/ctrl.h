@@ -42,7 +42,9 @@
  * follows a jerk-limited profile from its (q, qd, qdd) to rest at the
  * target (kc_interp_joint_plan_cfg from a moving start: each joint's
  * profile stretched to the slowest one's, so the joints arrive on the same
- * tick), and q, qd and qdd stay continuous. A trapezoid goal: every joint
+ * tick; a goal re-sent with the target of a move on its line stays on that
+ * line and arrives when the move would have), and q, qd and qdd stay
+ * continuous. A trapezoid goal: every joint
  * follows its own time-optimal trapezoid from (q, qd) (kc_profile_plan
  * from a moving start) and arrives when it ends; qdd jumps. Either is a
  * retarget, not a straight line in joint space. Where a joint's profile
