@@ -733,7 +733,7 @@ static void test_stop_and_extent(void **state)
                          KC_OK);
         kc_scurve_extent e;
         assert_int_equal(kc_scurve_extent_of(&pl, &e), KC_OK);
-        double lo = INFINITY, hi = -INFINITY, vm = 0.0, am = 0.0, T = (double)pl.T;
+        double lo = HUGE_VAL, hi = -HUGE_VAL, vm = 0.0, am = 0.0, T = (double)pl.T;
         double tol = 16.0 * EPS * (fabs(p0) + fabs(p1) + V * T + 1.0);
         for (int i = 0; i <= 4000; i++) {
             kc_scurve_state s;
