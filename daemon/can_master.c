@@ -8,7 +8,7 @@
 
 #include "can_frame.h"
 
-enum { P_OFF, P_BOOT, P_READ, P_SEAT, P_ENABLE, P_RUN, P_STOPPED, P_SHUTDOWN, P_DONE };
+enum { P_OFF, P_BOOT, P_READ, P_SEAT, P_ENABLE, P_RUN, P_STOPPED, P_SHUTDOWN, P_SHUTDOWN_NMT, P_DONE };
 enum { HOLD_CONDITION, HOLD_QUICK_STOP, HOLD_DISABLE };
 
 #define SEAT_RETRY_NS 20000000LL /* a controller not yet idle is asked again after 20 ms */
@@ -198,6 +198,7 @@ static void enable_step(kd_master *m, int64_t now)
             len += snprintf(q + len, sizeof q - (size_t)len, "%s%.6g", j ? ", " : "", (double)m->q_seat[j]);
         m->phase = P_RUN;
         m->phase_ns = now;
+        m->hold = HOLD_CONDITION; /* while running, the enabled hold and nothing else */
         kd_can_watch(m->can, 1, now);
         tell(m, KD_DRIVES_ENABLED, "drives enabled (%d of %d) at q = [%s]", m->n, m->n, q);
         return;
@@ -356,6 +357,18 @@ static void send_shutdown_nmt(kd_master *m, int64_t now)
 static void shutdown_step(kd_master *m, int64_t now)
 {
     int j, all = 1;
+    if (m->phase == P_SHUTDOWN_NMT) {
+        /* The bus cycle stopped two bus cycles ago: the cycle thread wrote
+         * its last one before, so nothing follows the NMT command. */
+        if (now - m->phase_ns < 2 * m->period_ns * m->cfg->sync_every)
+            return;
+        send_shutdown_nmt(m, now);
+        m->phase = P_DONE;
+        tell(m, KD_DRIVES_DISABLED, "drives %s, then NMT %s",
+             m->disabled_in_time ? "disabled" : "not all disabled in time",
+             m->cfg->shutdown_nmt == KD_NMT_STOP ? "stop" : "enter pre-operational");
+        return;
+    }
     walk(m, 0);
     for (j = 0; j < m->n && all; j++) {
         kd_cia402_state s = kd_cia402_state_of(m->can->statusword[j]);
@@ -365,11 +378,10 @@ static void shutdown_step(kd_master *m, int64_t now)
     }
     if (!all && (double)(now - m->phase_ns) * 1e-6 <= m->cfg->enable_timeout_ms)
         return;
-    send_shutdown_nmt(m, now);
     atomic_store_explicit(&m->bus->active, 0, memory_order_release);
-    m->phase = P_DONE;
-    tell(m, KD_DRIVES_DISABLED, "drives %s, then NMT %s", all ? "disabled" : "not all disabled in time",
-         m->cfg->shutdown_nmt == KD_NMT_STOP ? "stop" : "enter pre-operational");
+    m->phase = P_SHUTDOWN_NMT;
+    m->phase_ns = now;
+    m->disabled_in_time = all;
 }
 
 void kd_master_step(kd_master *m, int64_t now)
@@ -411,12 +423,14 @@ void kd_master_step(kd_master *m, int64_t now)
         enable_step(m, now);
         break;
     case P_RUN:
-        walk(m, 1);
         r = rebooted(m);
         if (r >= 0)
             m->booted[r] = 0;
-        if (kd_can_condition(m->can) == KD_CAN_COND_DRIVE)
+        if (kd_can_condition(m->can) == KD_CAN_COND_DRIVE) {
             stop_with(m, HOLD_CONDITION, now, m->can->condition_text);
+            break;
+        }
+        walk(m, 0); /* hold: a drive that left operation enabled is never walked back (no fault reset) */
         break;
     case P_STOPPED:
         walk(m, 0);
@@ -425,6 +439,7 @@ void kd_master_step(kd_master *m, int64_t now)
             m->booted[r] = 0;
         break;
     case P_SHUTDOWN:
+    case P_SHUTDOWN_NMT:
         shutdown_step(m, now);
         break;
     default:
@@ -458,7 +473,7 @@ void kd_master_seated(kd_master *m, int status, int bad_joint, int64_t now)
 
 void kd_master_estop(kd_master *m, int64_t now)
 {
-    if (m->phase == P_OFF || m->phase == P_SHUTDOWN || m->phase == P_DONE)
+    if (m->phase == P_OFF || m->phase == P_SHUTDOWN || m->phase == P_SHUTDOWN_NMT || m->phase == P_DONE)
         return;
     if (m->phase == P_STOPPED && m->hold == HOLD_QUICK_STOP)
         return;
@@ -480,7 +495,7 @@ void kd_master_reset(kd_master *m, int64_t now)
 void kd_master_shutdown(kd_master *m, int64_t now)
 {
     int j;
-    if (m->phase == P_OFF || m->phase == P_SHUTDOWN || m->phase == P_DONE)
+    if (m->phase == P_OFF || m->phase == P_SHUTDOWN || m->phase == P_SHUTDOWN_NMT || m->phase == P_DONE)
         return;
     kd_can_watch(m->can, 0, now);
     m->seat_wanted = 0;

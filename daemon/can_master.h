@@ -37,8 +37,10 @@
  * where they are.
  *
  * Shutdown: every drive gets disable voltage until its statusword says
- * switch on disabled (or after enable_timeout_ms), then NMT enter
- * pre-operational or stop (shutdown_nmt), once per drive.
+ * switch on disabled (or after enable_timeout_ms); then the bus cycle
+ * stops, and two bus cycles later (the cycle thread's last write is
+ * behind) NMT enter pre-operational or stop (shutdown_nmt), once per
+ * drive.
  *
  * Every change of state is told once (kd_master_take_news) with its text:
  * "drives enabled (6 of 6) at q = [...]", "joint 3 (node 3): SDO write
@@ -88,6 +90,7 @@ typedef struct kd_master {
     int64_t tpdos_phase[KC_MAX_JOINTS]; /* ... at the phase's start */
     uint16_t controlword[KC_MAX_JOINTS];
     int64_t recoveries;              /* the link's, as last seen */
+    int disabled_in_time;            /* shutdown: every drive said switch on disabled */
     int news;                        /* a change to tell */
     char text[KD_CAN_TEXT];
 } kd_master;

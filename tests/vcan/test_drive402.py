@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""`kinctl drive402` (tools/kinctl/drive402.py) met by a CANopen master it
+"""`kinctl drivesim` (tools/kinctl/drive402.py) met by a CANopen master it
 did not come with: python canopen's own RemoteNode and BaseNode402, on a
 real SocketCAN interface (vcan0, inside User Mode Linux where the host has
 none). The master boots the drives (NMT reset communication, boot-up),
@@ -31,23 +31,23 @@ WAIT_S = 4.0 if IN_UML else 1.0
 
 
 class Sim:
-    """`kinctl drive402` as a subprocess, controlled through its stdin."""
+    """`kinctl drivesim` as a subprocess, controlled through its stdin."""
 
     def __init__(self, nodes=NODES, start=START):
-        cmd = [sys.executable, "-m", "kinctl", "drive402", "--interface", IFACE,
+        cmd = [sys.executable, "-m", "kinctl", "drivesim", "--interface", IFACE,
                "--nodes", ",".join(map(str, nodes)),
                "--start", ",".join(f"{n}={c}" for n, c in start.items())]
         self.proc = subprocess.Popen(cmd, stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                                      text=True, bufsize=1)
         line = self.proc.stdout.readline()
         if not line.startswith("ready"):
-            raise AssertionError(f"drive402 did not start: {line!r} {self.proc.stderr.read()}")
+            raise AssertionError(f"drivesim did not start: {line!r} {self.proc.stderr.read()}")
 
     def command(self, line):
         self.proc.stdin.write(line + "\n")
         self.proc.stdin.flush()
         reply = self.proc.stdout.readline().strip()
-        assert reply.startswith("ok " + line), f"drive402 answered {reply!r} to {line!r}"
+        assert reply.startswith("ok " + line), f"drivesim answered {reply!r} to {line!r}"
         return reply
 
     def state(self, node):
@@ -66,7 +66,7 @@ class Sim:
                 self.proc.wait()
         err = self.proc.stderr.read()
         if err:
-            print("drive402's stderr:\n" + err)  # shown with a failure
+            print("drivesim's stderr:\n" + err)  # shown with a failure
 
 
 def sdo_var(node, index, sub):
