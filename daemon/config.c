@@ -249,6 +249,7 @@ static int refuse_ctrl(const kd_config *cfg, const char *path)
         [KC_CFG_FIELD_LIMIT_SLACK] = "the limit slack",
         [KC_CFG_FIELD_SERVO_TIMEOUT] = "controller.servo_timeout_ms",
         [KC_CFG_FIELD_IK] = "the inverse kinematics settings",
+        [KC_CFG_FIELD_PROFILE] = "controller.profile",
         [KC_CFG_FIELD_ZONES] = "controller.zones",
         [KC_CFG_FIELD_ZONES_MARGIN] = "controller.zones.margin",
     };

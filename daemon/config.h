@@ -22,6 +22,8 @@
  *                               # where inside the limits, else mid-range
  *     vel_scale = 1.0;          # (0, 1]: scales every joint's qd limit
  *     acc_scale = 1.0;          # (0, 1]: scales every qdd and qddd limit
+ *     profile = "jerk";         # joint moves' motion law: "jerk" or
+ *                               # "trapezoid"; a goal may ask for either
  *     prefix = "KINCTL_";       # channel prefix: [A-Za-z0-9_./-], <= 64
  *     lcm_url = "";             # "": $LCM_DEFAULT_URL, else
  *                               # udpm://239.255.76.67:7667?ttl=0

@@ -21,7 +21,7 @@ static int read_controller(kc_cfg *r, const config_setting_t *c, kd_config *cfg,
     static const char *const keys[] = {"period_us", "angles", "home", "vel_scale", "acc_scale", "prefix",
                                        "lcm_url", "queue_size", "servo_timeout_ms", "check_max_s", "check_budget_ms",
                                        "stop_timeout_s", "status_hz", "stats_hz", "overrun", "rt", "plant",
-                                       "cartesian", "can", "zones", NULL};
+                                       "cartesian", "can", "zones", "profile", NULL};
     static const char *const overrun_keys[] = {"missed_cycles", "action", NULL};
     static const char *const rt_keys[] = {"enable", "priority", "cpu", "mlock", NULL};
     static const char *const plant_keys[] = {"lag_s", NULL};
@@ -77,6 +77,16 @@ static int read_controller(kc_cfg *r, const config_setting_t *c, kd_config *cfg,
         return kc_cfg_fail(r, config_setting_get_member(c, "vel_scale"), "controller.vel_scale must be > 0");
     if (!(cfg->acc_scale > 0.0))
         return kc_cfg_fail(r, config_setting_get_member(c, "acc_scale"), "controller.acc_scale must be > 0");
+    if (kc_cfg_lookup_string(r, c, "profile", "controller", &str, &s) != 0)
+        return -1;
+    if (s != NULL) {
+        if (strcmp(str, "jerk") == 0)
+            cfg->ctrl.profile = KC_PROFILE_JERK;
+        else if (strcmp(str, "trapezoid") == 0)
+            cfg->ctrl.profile = KC_PROFILE_TRAPEZOID;
+        else
+            return kc_cfg_fail(r, s, "controller.profile must be \"jerk\" or \"trapezoid\", not \"%s\"", str);
+    }
     if (kc_cfg_lookup_string(r, c, "prefix", "controller", &str, &s) != 0)
         return -1;
     if (s != NULL) {

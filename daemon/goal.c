@@ -71,6 +71,9 @@ static void joint_goal(const kinctl_goal_joint_t *m, kc_goal *g)
         g->q[j] = (kc_real)m->q[j];
     g->vel_scale = scale_of(m->vel_scale);
     g->acc_scale = scale_of(m->acc_scale);
+    g->profile = m->profile == KINCTL_GOAL_JOINT_T_PROFILE_TRAPEZOID ? KC_GOAL_PROFILE_TRAPEZOID
+                 : m->profile == KINCTL_GOAL_JOINT_T_PROFILE_JERK    ? KC_GOAL_PROFILE_JERK
+                                                                     : KC_GOAL_PROFILE_CFG;
 }
 
 static int line_goal(const kinctl_goal_line_t *m, kc_goal *g, kc_verdict *v)

@@ -71,7 +71,7 @@ static const kd_msg_glue glue[KD_MSG_TYPE_COUNT] = {
  * compare each with the generated *_encoded_size()). status_t's is with an
  * empty reason. */
 static const kd_msg_info info[KD_MSG_TYPE_COUNT] = {
-    {"goal_joint_t", "GOAL_JOINT", 1, 8 + 8 + 8 + 1 + 4 + 16 * 8 + 8 + 8},
+    {"goal_joint_t", "GOAL_JOINT", 1, 8 + 8 + 8 + 1 + 4 + 16 * 8 + 8 + 8 + 1},
     {"goal_line_t", "GOAL_LINE", 1, 8 + 8 + 8 + 1 + 3 * 8 + 4 * 8 + 4 * 8 + 1 + 2 * 8},
     {"goal_arc_t", "GOAL_ARC", 1, 8 + 8 + 8 + 1 + 3 * 8 + 3 * 8 + 4 * 8 + 4 * 8 + 2 * 8},
     {"goal_path_t", "GOAL_PATH", 1,
@@ -302,6 +302,8 @@ static kd_msg_status validate_goal_joint(kd_reason *r, const kinctl_goal_joint_t
                           KINCTL_GOAL_JOINT_T_REPLACE));
     CHECK(check_count(r, ty, "n", m->n, KINCTL_GOAL_JOINT_T_MAX_JOINTS));
     CHECK(check_finite(r, ty, "q", m->q, KINCTL_GOAL_JOINT_T_MAX_JOINTS));
+    CHECK(check_enum(r, ty, "profile", m->profile, KINCTL_GOAL_JOINT_T_PROFILE_CONFIG,
+                     KINCTL_GOAL_JOINT_T_PROFILE_JERK));
     return check_scales(r, ty, m->vel_scale, m->acc_scale);
 }
 

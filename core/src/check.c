@@ -100,10 +100,7 @@ static kc_status begin_from(kc_check *k, const kc_real *q_start, const kc_goal *
     if (goal->kind == KC_GOAL_JOINT && !kc_ctrl_zones_on(scratch)) {
         /* A joint move is exactly its plan: the plan is the whole check
          * (with zones, its ticks are stepped like any other goal's). */
-        kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS];
-        kc_ctrl_scaled_limits(scratch, goal, vmax, amax);
-        if (kc_interp_joint_plan(&scratch->plan.joint, n, q_start, goal->q, vmax, amax, KC_R(0.0), k->cfg.dt) !=
-            KC_OK)
+        if (kc_ctrl_plan_joint(scratch, goal, q_start, NULL, NULL, &scratch->plan.joint) != KC_OK)
             return kc_ctrl_refuse(v, KC_REASON_PLAN, KC_FIELD_NONE, -1, -1, KC_R(0.0));
         return taken(v, goal->q, n);
     }

@@ -21,6 +21,7 @@ kc_ctrl_cfg kc_ctrl_cfg_default(void)
     c.limit_slack = KC_R(1e-6);
 #endif
     c.servo_timeout_ticks = 100;
+    c.profile = KC_PROFILE_JERK;
     c.zones = NULL;
     c.ik = kc_ik_cfg_default();
     /* Fed forward, the online law only has to remove what one tick leaves:
@@ -64,6 +65,8 @@ static kc_ctrl_cfg_field cfg_problem(const kc_ctrl_cfg *cfg, const kc_chain *cha
         return KC_CFG_FIELD_SERVO_TIMEOUT;
     if (kc_ik_cfg_check(&cfg->ik, chain) != KC_OK)
         return KC_CFG_FIELD_IK;
+    if (cfg->profile != KC_PROFILE_JERK && cfg->profile != KC_PROFILE_TRAPEZOID)
+        return KC_CFG_FIELD_PROFILE;
     /* The controller commands velocities within every joint's limits: they
      * must be finite. */
     for (int j = 0; j < chain->n_joints; j++) {

@@ -127,7 +127,8 @@ kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *g, kc_verdict
         kc_ctrl_verdict_init(v);
     if (chain == NULL || g == NULL)
         return bad(v);
-    if ((unsigned)g->kind > (unsigned)KC_GOAL_SERVO || !scale_ok(g->vel_scale) || !scale_ok(g->acc_scale))
+    if ((unsigned)g->kind > (unsigned)KC_GOAL_SERVO || !scale_ok(g->vel_scale) || !scale_ok(g->acc_scale) ||
+        (unsigned)g->profile > (unsigned)KC_GOAL_PROFILE_JERK)
         return bad(v);
     if (!kc_isfinite(g->speed) || g->speed < KC_R(0.0) || !kc_isfinite(g->accel) || g->accel < KC_R(0.0) ||
         !kc_isfinite(g->omega) || g->omega < KC_R(0.0) || !kc_isfinite(g->alpha) || g->alpha < KC_R(0.0))

@@ -24,6 +24,13 @@
  * abandons the path for a stop in joint space. */
 #define TRACK_GIVE_UP 4
 
+/* A jerk-limited joint move's plan was synchronised by phase: a straight
+ * line in joint space driven by one profile of u. */
+static inline int kc_ctrl_joint_on_line(const kc_ctrl *c)
+{
+    return c->plan.joint.kind == KC_PROFILE_JERK && c->plan.joint.sync == KC_INTERP_SYNC_PHASE;
+}
+
 /* Preemption marker for stop_intent. */
 #define INTENT_PREEMPT 100
 
@@ -110,7 +117,20 @@ void kc_ctrl_scaled_limits(const kc_ctrl *c, const kc_goal *g, kc_real *vmax, kc
 /* The Cartesian limits of a goal: its own, or the configured defaults. */
 kc_interp_limits kc_ctrl_cart_limits(const kc_ctrl *c, const kc_goal *g);
 
-/* Plans the goal in c->goal from the current (resting) state. */
+/* The motion law of joint move g: its own, or cfg.profile; the trapezoid
+ * for a chain with a joint without a jerk limit. */
+kc_profile_kind kc_ctrl_goal_profile(const kc_ctrl *c, const kc_goal *g);
+
+/* Plans joint move g (its motion law, the joints' limits with its scales)
+ * from q0 with velocity qd0 and acceleration qdd0 (NULL: at rest; a
+ * trapezoid always starts at rest) into *out, which is scratch on error
+ * (kc_interp_joint_plan_cfg_into: no plan on the stack). */
+kc_status kc_ctrl_plan_joint(const kc_ctrl *c, const kc_goal *g, const kc_real *q0, const kc_real *qd0,
+                             const kc_real *qdd0, kc_interp_joint *out);
+
+/* Plans the goal in c->goal from the current state (at rest, but for a
+ * jerk-limited joint move, which starts from the last setpoint's q, qd
+ * and qdd). */
 kc_status kc_ctrl_plan_goal(kc_ctrl *c);
 
 /* Starts the next queued goal, if any; returns 1 when a segment is active. */

@@ -72,11 +72,51 @@ static int retarget(kc_ctrl *c, const kc_goal *g)
     return 1;
 }
 
+/* Plans jerk-limited joint move g from the current state into
+ * c->retarget_plan (kinctl/ctrl.h): every joint from its (q, qd, qdd) to
+ * rest at its target, arriving together. Returns 1 when planned and every
+ * joint's profile stays inside its position limits and within its
+ * velocity and acceleration limits (kc_scurve_extent_of: the start may be
+ * beyond the goal's scaled limits, and is brought back within them, but
+ * nothing may go beyond the joint's own); on 0 the active segment is
+ * untouched. */
+static int retarget_jerk(kc_ctrl *c, const kc_goal *g)
+{
+    kc_interp_joint *p = &c->retarget_plan;
+    kc_real slack = c->cfg.limit_slack;
+    kc_scurve_extent e;
+    if (kc_ctrl_plan_joint(c, g, c->q, c->qd, c->qdd, p) != KC_OK)
+        return 0;
+    if (p->sync == KC_INTERP_SYNC_PHASE)
+        kc_scurve_extent_of(&p->su, &e); /* on the line: q = q0 + dq u */
+    for (int j = 0; j < c->chain->n_joints; j++) {
+        const kc_joint_limits *l = &c->chain->joints[j].limits;
+        if (p->sync == KC_INTERP_SYNC_PHASE) {
+            kc_real d = p->dq[j], a = p->q0[j] + d * e.p_min, b = p->q0[j] + d * e.p_max;
+            if (!(kc_min(a, b) >= l->q_min && kc_max(a, b) <= l->q_max &&
+                  kc_fabs(d) * e.v_max <= l->qd_max * (KC_R(1.0) + slack) &&
+                  kc_fabs(d) * e.a_max <= l->qdd_max * (KC_R(1.0) + slack)))
+                return 0;
+            continue;
+        }
+        kc_scurve_extent_of(&p->sj[j], &e);
+        if (!(e.p_min >= l->q_min && e.p_max <= l->q_max && e.v_max <= l->qd_max * (KC_R(1.0) + slack) &&
+              e.a_max <= l->qdd_max * (KC_R(1.0) + slack)))
+            return 0;
+    }
+    return 1;
+}
+
 /* Makes g, whose retarget is planned, the active segment from this tick. */
 static void take_retarget(kc_ctrl *c, const kc_goal *g)
 {
     kc_ctrl_goal_copy(&c->goal, g);
-    c->drive = KC_DRIVE_RETARGET;
+    if (kc_ctrl_goal_profile(c, g) == KC_PROFILE_JERK) {
+        c->plan.joint = c->retarget_plan;
+        c->drive = KC_DRIVE_NOMINAL;
+    } else {
+        c->drive = KC_DRIVE_RETARGET;
+    }
     c->k0 = c->cycle - 1; /* tick 0 is the last setpoint, as for every segment */
     c->stop_intent = KC_CMD_NONE;
     c->settle = 0;
@@ -129,7 +169,8 @@ void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     if (g->replace) {
         kc_ctrl_queue_clear(c, out);
         if (g->kind == KC_GOAL_JOINT && c->active &&
-            (c->state == KC_CTRL_MOVING || c->state == KC_CTRL_STOPPING) && retarget(c, g)) {
+            (c->state == KC_CTRL_MOVING || c->state == KC_CTRL_STOPPING) &&
+            (kc_ctrl_goal_profile(c, g) == KC_PROFILE_JERK ? retarget_jerk(c, g) : retarget(c, g))) {
             kc_ctrl_emit(out, KC_EVENT_ACCEPTED, g->id, KC_REASON_NONE, 0);
             kc_ctrl_emit(out, KC_EVENT_PREEMPTED, c->goal.id, KC_REASON_NONE, 0);
             take_retarget(c, g);

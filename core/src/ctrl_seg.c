@@ -3,6 +3,7 @@
  * arc, path, servo), the motion it asks for at each tick, and the setpoint
  * that follows it (Cartesian: one IK step) (kinctl/ctrl.h). */
 #include "ctrl_internal.h"
+#include "interp_internal.h"
 
 #include <string.h>
 
@@ -89,10 +90,42 @@ static kc_status plan_path(kc_ctrl *c, const kc_goal *g)
     return st;
 }
 
+kc_profile_kind kc_ctrl_goal_profile(const kc_ctrl *c, const kc_goal *g)
+{
+    kc_profile_kind k = g->profile == KC_GOAL_PROFILE_TRAPEZOID ? KC_PROFILE_TRAPEZOID
+                        : g->profile == KC_GOAL_PROFILE_JERK    ? KC_PROFILE_JERK
+                                                                : c->cfg.profile;
+    /* Without a jerk limit on every joint there is no jerk-limited plan. */
+    for (int j = 0; j < c->chain->n_joints && k == KC_PROFILE_JERK; j++)
+        if (!kc_isfinite(c->chain->joints[j].limits.qddd_max))
+            k = KC_PROFILE_TRAPEZOID;
+    return k;
+}
+
+kc_status kc_ctrl_plan_joint(const kc_ctrl *c, const kc_goal *g, const kc_real *q0, const kc_real *qd0,
+                             const kc_real *qdd0, kc_interp_joint *out)
+{
+    int n = c->chain->n_joints;
+    kc_interp_joint_cfg cfg = kc_interp_joint_cfg_default();
+    cfg.n = n;
+    cfg.dt = c->cfg.dt;
+    cfg.profile = kc_ctrl_goal_profile(c, g);
+    kc_ctrl_scaled_limits(c, g, cfg.qd_max, cfg.qdd_max);
+    for (int j = 0; j < n; j++) {
+        cfg.q0[j] = q0[j];
+        cfg.q1[j] = g->q[j];
+        cfg.qddd_max[j] = c->chain->joints[j].limits.qddd_max;
+        if (cfg.profile == KC_PROFILE_JERK && qd0 != NULL && qdd0 != NULL) {
+            cfg.qd0[j] = qd0[j];
+            cfg.qdd0[j] = qdd0[j];
+        }
+    }
+    return kc_interp_joint_plan_cfg_into(out, &cfg);
+}
+
 kc_status kc_ctrl_plan_goal(kc_ctrl *c)
 {
     const kc_goal *g = &c->goal;
-    kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS];
     kc_pose from;
     kc_interp_limits lim = kc_ctrl_cart_limits(c, g);
     /* The tool pose where the segment starts: the kinds that start from it
@@ -102,8 +135,7 @@ kc_status kc_ctrl_plan_goal(kc_ctrl *c)
     c->path_length = KC_R(0.0);
     switch (g->kind) {
     case KC_GOAL_JOINT:
-        kc_ctrl_scaled_limits(c, g, vmax, amax);
-        return kc_interp_joint_plan(&c->plan.joint, c->chain->n_joints, c->q, g->q, vmax, amax, KC_R(0.0), c->cfg.dt);
+        return kc_ctrl_plan_joint(c, g, c->q, c->qd, c->qdd, &c->plan.joint);
     case KC_GOAL_LINE: {
         kc_status st = kc_interp_line_plan(&c->plan.line, &from, &g->pose, &lim, g->orient, c->cfg.dt);
         c->path_length = c->plan.line.length;
@@ -225,6 +257,25 @@ static void retarget_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
     o->progress = ticks > 0 ? kc_min((kc_real)j / (kc_real)ticks, KC_R(1.0)) : KC_R(1.0);
 }
 
+/* A jerk-limited stop joint by joint at its tick j; done when every joint
+ * is at rest. */
+static void halt_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
+{
+    int64_t ticks = 0;
+    o->done = 1;
+    for (int i = 0; i < c->chain->n_joints; i++) {
+        kc_scurve_state s;
+        if (kc_scurve_eval(&c->plan.halt[i], j, &s) != KC_DONE)
+            o->done = 0;
+        o->q[i] = s.p;
+        o->qd[i] = s.v;
+        o->qdd[i] = s.a;
+        if (c->plan.halt[i].ticks > ticks)
+            ticks = c->plan.halt[i].ticks;
+    }
+    o->progress = ticks > 0 ? kc_min((kc_real)j / (kc_real)ticks, KC_R(1.0)) : KC_R(1.0);
+}
+
 /* The segment's point at its tick j (j >= 0). */
 static void seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
 {
@@ -241,9 +292,14 @@ static void seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
             retarget_eval(c, j, o);
             return;
         }
+        if (c->drive == KC_DRIVE_HALT) {
+            halt_eval(c, j, o);
+            return;
+        }
         kc_interp_joint_state s;
-        kc_status st = c->drive == KC_DRIVE_PROFILE ? kc_interp_joint_eval_profile(&c->plan.joint, &c->drive_prof, j, &s)
-                                                    : kc_interp_joint_eval(&c->plan.joint, j, &s);
+        kc_status st = c->drive == KC_DRIVE_PROFILE  ? kc_interp_joint_eval_profile(&c->plan.joint, &c->drive_prof, j, &s)
+                       : c->drive == KC_DRIVE_SCURVE ? kc_interp_joint_eval_scurve(&c->plan.joint, &c->drive_scurve, j, &s)
+                                                     : kc_interp_joint_eval(&c->plan.joint, j, &s);
         memcpy(o->q, s.q, sizeof(kc_real) * (size_t)n);
         memcpy(o->qd, s.qd, sizeof(kc_real) * (size_t)n);
         memcpy(o->qdd, s.qdd, sizeof(kc_real) * (size_t)n);

@@ -134,6 +134,35 @@ int kc_ctrl_joint_stop_eval(const kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *
     return done;
 }
 
+/* The stop of a jerk-limited joint move (kinctl/ctrl.h): on its line by
+ * u's fastest stop, or joint by joint. */
+static void jerk_stop(kc_ctrl *c)
+{
+    const kc_interp_joint *pj = &c->plan.joint;
+    int64_t j = (c->cycle - 1) - c->k0; /* the last setpoint's tick */
+    if (kc_ctrl_joint_on_line(c) && (c->drive == KC_DRIVE_NOMINAL || c->drive == KC_DRIVE_SCURVE)) {
+        kc_scurve_state u;
+        kc_scurve_eval(c->drive == KC_DRIVE_SCURVE ? &c->drive_scurve : &pj->su, j < 0 ? 0 : j, &u);
+        kc_real a = pj->u_amax, jm = pj->u_jmax;
+        if (!kc_isfinite(a) || !kc_isfinite(jm))
+            a = jm = KC_R(1.0); /* a zero motion: nothing to stop */
+        if (kc_scurve_plan_stop(&c->drive_scurve, u.p, u.v, u.a, a, jm, c->cfg.dt) == KC_OK) {
+            c->drive = KC_DRIVE_SCURVE;
+            c->k0 = c->cycle - 1;
+            return;
+        }
+    }
+    /* Joint by joint, from the last setpoint, at the goal's limits. */
+    kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS];
+    kc_ctrl_scaled_limits(c, &c->goal, vmax, amax);
+    for (int i = 0; i < c->chain->n_joints; i++)
+        if (kc_scurve_plan_stop(&c->plan.halt[i], c->q[i], c->qd[i], c->qdd[i], amax[i],
+                                c->chain->joints[i].limits.qddd_max, c->cfg.dt) != KC_OK)
+            kc_scurve_plan_stop(&c->plan.halt[i], c->q[i], KC_R(0.0), KC_R(0.0), KC_R(1.0), KC_R(1.0), c->cfg.dt);
+    c->drive = KC_DRIVE_HALT;
+    c->k0 = c->cycle - 1;
+}
+
 void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
 {
     c->stop_intent = intent;
@@ -143,6 +172,13 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
     if (c->goal.kind == KC_GOAL_SERVO) {
         kc_ctrl_joint_stop(c, 1, intent == KC_CMD_PAUSE ? KC_CTRL_PAUSED : KC_CTRL_IDLE);
         c->active = 1; /* the servo goal stays active through its stop */
+        return;
+    }
+    if (c->goal.kind == KC_GOAL_JOINT && c->drive == KC_DRIVE_HALT)
+        return; /* already stopping joint by joint (plan.halt holds the stops, not the move) */
+    if (c->goal.kind == KC_GOAL_JOINT && (c->drive == KC_DRIVE_NOMINAL || c->drive == KC_DRIVE_SCURVE) &&
+        c->plan.joint.kind == KC_PROFILE_JERK) {
+        jerk_stop(c);
         return;
     }
     if (c->drive == KC_DRIVE_RETARGET) {
@@ -186,8 +222,9 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
         c->servo_last = c->cycle;
         return;
     }
-    if (c->drive == KC_DRIVE_RETARGET) {
-        /* At rest a retarget is an ordinary joint move from here. */
+    if (c->drive == KC_DRIVE_RETARGET || c->drive == KC_DRIVE_SCURVE || c->drive == KC_DRIVE_HALT) {
+        /* At rest a retarget, or a jerk-limited move stopped, is an
+         * ordinary joint move from here. */
         c->drive = KC_DRIVE_NOMINAL;
         c->k0 = c->cycle - 1;
         if (kc_ctrl_plan_goal(c) != KC_OK) {

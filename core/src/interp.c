@@ -4,6 +4,8 @@
  * (lab 6). The formulas and the seed's typos are in kinctl/interp.h. */
 #include "kinctl/interp.h"
 
+#include "interp_internal.h"
+
 #include <string.h>
 
 #define INF ((kc_real)INFINITY)
@@ -41,28 +43,31 @@ static kc_real move_time(kc_real D, kc_real v, kc_real a)
     return KC_R(2.0) * kc_sqrt(D / a); /* triangle */
 }
 
-kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, const kc_real *q1,
-                               const kc_real *qd_max, const kc_real *qdd_max, kc_real duration, kc_real dt)
+/* kc_interp_joint_plan into *out, which is scratch on error: the planners
+ * below fill their own plan with it instead of copying one more (a plan
+ * holds a jerk-limited profile a joint: its copies are the planning's
+ * stack). */
+static kc_status plan_trap(kc_interp_joint *out, int n, const kc_real *q0, const kc_real *q1, const kc_real *qd_max,
+                           const kc_real *qdd_max, kc_real duration, kc_real dt)
 {
-    kc_interp_joint r;
     kc_real V = INF, A = INF, T_lead = KC_R(-1.0), best_v = KC_R(0.0), best_a = KC_R(0.0);
-    if (plan == NULL || q0 == NULL || q1 == NULL || qd_max == NULL || qdd_max == NULL || n < 1)
+    if (q0 == NULL || q1 == NULL || qd_max == NULL || qdd_max == NULL || n < 1)
         return KC_E_ARG;
     if (n > KC_MAX_JOINTS)
         return KC_E_CAPACITY;
     if (!kc_isfinite(duration) || duration < KC_R(0.0) || !(dt > KC_R(0.0)) || !kc_isfinite(dt))
         return KC_E_ARG;
-    memset(&r, 0, sizeof r);
-    r.n = n;
-    r.lead = r.lead_vel = r.lead_acc = -1;
+    memset(out, 0, sizeof *out);
+    out->n = n;
+    out->lead = out->lead_vel = out->lead_acc = -1;
     for (int i = 0; i < n; i++) {
         if (!kc_isfinite(q0[i]) || !kc_isfinite(q1[i]) || !(qd_max[i] > KC_R(0.0)) || !(qdd_max[i] > KC_R(0.0)) ||
             !kc_isfinite(qdd_max[i]))
             return KC_E_ARG;
-        r.q0[i] = q0[i];
-        r.q1[i] = q1[i];
-        r.dq[i] = q1[i] - q0[i];
-        kc_real D = kc_fabs(r.dq[i]);
+        out->q0[i] = q0[i];
+        out->q1[i] = q1[i];
+        out->dq[i] = q1[i] - q0[i];
+        kc_real D = kc_fabs(out->dq[i]);
         if (!kc_isfinite(D))
             return KC_E_ARG;
         if (D == KC_R(0.0))
@@ -71,28 +76,39 @@ kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, 
         kc_real Ti = move_time(D, qd_max[i], qdd_max[i]);
         if (Ti > T_lead) {
             T_lead = Ti;
-            r.lead = i;
+            out->lead = i;
         }
         if (D / qd_max[i] > best_v) {
             best_v = D / qd_max[i];
-            r.lead_vel = i;
+            out->lead_vel = i;
         }
         if (D / qdd_max[i] > best_a) {
             best_a = D / qdd_max[i];
-            r.lead_acc = i;
+            out->lead_acc = i;
         }
         bound_u(D, qd_max[i], qdd_max[i], &V, &A);
     }
-    r.u_vmax = V;
-    r.u_amax = A;
-    kc_status st = plan_u(&r.prof, V, A, duration, dt);
+    out->u_vmax = V;
+    out->u_amax = A;
+    kc_status st = plan_u(&out->prof, V, A, duration, dt);
     if (st != KC_OK)
         return st;
-    r.kind = KC_PROFILE_TRAPEZOID;
-    r.T = r.prof.T;
-    r.ticks = r.prof.ticks;
-    *plan = r;
+    out->kind = KC_PROFILE_TRAPEZOID;
+    out->T = out->prof.T;
+    out->ticks = out->prof.ticks;
     return KC_OK;
+}
+
+kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, const kc_real *q1,
+                               const kc_real *qd_max, const kc_real *qdd_max, kc_real duration, kc_real dt)
+{
+    kc_interp_joint r;
+    if (plan == NULL)
+        return KC_E_ARG;
+    kc_status st = plan_trap(&r, n, q0, q1, qd_max, qdd_max, duration, dt);
+    if (st == KC_OK)
+        *plan = r;
+    return st;
 }
 
 kc_interp_joint_cfg kc_interp_joint_cfg_default(void)
@@ -106,33 +122,32 @@ kc_interp_joint_cfg kc_interp_joint_cfg_default(void)
 }
 
 /* The jerk-limited move (kinctl/interp.h, kc_interp_joint_plan_cfg). */
-static kc_status plan_jerk(kc_interp_joint *plan, const kc_interp_joint_cfg *c)
+static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 {
-    kc_interp_joint r;
     kc_real V = INF, A = INF, J = INF, T = KC_R(0.0);
     kc_status st;
     /* The limits, the start and the leading joints as the trapezoid has
      * them (u_vmax, u_amax, lead_vel, lead_acc). */
-    st = kc_interp_joint_plan(&r, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
+    st = plan_trap(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
     if (st != KC_OK)
         return st;
-    memset(&r.prof, 0, sizeof r.prof);
-    r.kind = KC_PROFILE_JERK;
-    r.lead = -1;
+    memset(&out->prof, 0, sizeof out->prof);
+    out->kind = KC_PROFILE_JERK;
+    out->lead = -1;
     for (int i = 0; i < c->n; i++) {
-        kc_real D = kc_fabs(r.dq[i]);
+        kc_real D = kc_fabs(out->dq[i]);
         if (D == KC_R(0.0))
             continue;
         if (!(c->qddd_max[i] > KC_R(0.0)) || !kc_isfinite(c->qddd_max[i]))
             return KC_E_ARG;
-        st = kc_scurve_plan(&r.sj[i], r.q0[i], KC_R(0.0), KC_R(0.0), r.q1[i], c->qd_max[i], c->qdd_max[i],
+        st = kc_scurve_plan(&out->sj[i], out->q0[i], KC_R(0.0), KC_R(0.0), out->q1[i], c->qd_max[i], c->qdd_max[i],
                             c->qddd_max[i], c->dt);
         if (st != KC_OK)
             return st;
         /* Strict comparison: ties go to the lowest index, as in (4.2). */
-        if (r.sj[i].T > T) {
-            T = r.sj[i].T;
-            r.lead = i;
+        if (out->sj[i].T > T) {
+            T = out->sj[i].T;
+            out->lead = i;
         }
         V = kc_min(V, c->qd_max[i] / D);
         A = kc_min(A, c->qdd_max[i] / D);
@@ -143,116 +158,190 @@ static kc_status plan_jerk(kc_interp_joint *plan, const kc_interp_joint_cfg *c)
             return KC_E_LIMIT;
         T = kc_max(T, c->duration);
     }
-    r.u_vmax = V;
-    r.u_amax = A;
-    r.u_jmax = J;
-    r.T = T;
-    r.sync = KC_INTERP_SYNC_PHASE;
-    if (r.lead < 0 || !kc_isfinite(J)) {
+    out->u_vmax = V;
+    out->u_amax = A;
+    out->u_jmax = J;
+    out->T = T;
+    out->sync = KC_INTERP_SYNC_PHASE;
+    if (out->lead < 0 || !kc_isfinite(J)) {
         /* Nothing moves (by a representable amount): u stays at 1. */
-        st = kc_scurve_plan_duration(&r.su, KC_R(1.0), KC_R(1.0), INF, KC_R(1.0), KC_R(1.0), T, c->dt);
+        st = kc_scurve_plan_duration(&out->su, KC_R(1.0), KC_R(1.0), INF, KC_R(1.0), KC_R(1.0), T, c->dt);
         if (st != KC_OK)
             return st;
-        r.ticks = r.su.ticks;
-        *plan = r;
+        out->ticks = out->su.ticks;
         return KC_OK;
     }
     /* Phase: the straight line, if it is as fast. */
-    st = kc_scurve_plan(&r.su, KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(1.0), V, A, J, c->dt);
+    st = kc_scurve_plan(&out->su, KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(1.0), V, A, J, c->dt);
     if (st != KC_OK)
         return st;
-    if (r.su.T <= T * (KC_R(1.0) + KC_R(8.0) * KC_REAL_EPS)) {
-        if (T > r.su.T) {
-            st = kc_scurve_plan_duration(&r.su, KC_R(0.0), KC_R(1.0), V, A, J, T, c->dt);
+    if (out->su.T <= T * (KC_R(1.0) + KC_R(8.0) * KC_REAL_EPS)) {
+        if (T > out->su.T) {
+            st = kc_scurve_plan_duration(&out->su, KC_R(0.0), KC_R(1.0), V, A, J, T, c->dt);
             if (st != KC_OK)
                 return st;
         }
-        r.T = r.su.T;
-        r.ticks = r.su.ticks;
-        *plan = r;
+        out->T = out->su.T;
+        out->ticks = out->su.ticks;
         return KC_OK;
     }
     /* Time: every moving joint stretched to T. */
-    r.sync = KC_INTERP_SYNC_TIME;
-    memset(&r.su, 0, sizeof r.su);
+    out->sync = KC_INTERP_SYNC_TIME;
+    memset(&out->su, 0, sizeof out->su);
     for (int i = 0; i < c->n; i++) {
         /* A joint that does not move waits at q0 (its jerk limit unused). */
-        kc_real jl = r.dq[i] == KC_R(0.0) ? KC_R(1.0) : c->qddd_max[i];
-        st = kc_scurve_plan_duration(&r.sj[i], r.q0[i], r.q1[i], c->qd_max[i], c->qdd_max[i], jl, T, c->dt);
+        kc_real jl = out->dq[i] == KC_R(0.0) ? KC_R(1.0) : c->qddd_max[i];
+        st = kc_scurve_plan_duration(&out->sj[i], out->q0[i], out->q1[i], c->qd_max[i], c->qdd_max[i], jl, T, c->dt);
         if (st != KC_OK)
             return st;
     }
-    r.ticks = r.sj[r.lead].ticks;
-    *plan = r;
+    out->ticks = out->sj[out->lead].ticks;
     return KC_OK;
+}
+
+/* Whether every joint's optimum in out->sj stretches to T: KC_OK,
+ * KC_E_LIMIT when one falls into a blocked interval, or another error. */
+static kc_status stretches_all(const kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl, kc_real T,
+                               kc_scurve *tmp)
+{
+    for (int i = 0; i < c->n; i++) {
+        kc_status st = kc_scurve_stretch(tmp, &out->sj[i], c->qd_max[i], c->qdd_max[i], jl[i], T);
+        if (st != KC_OK)
+            return st;
+    }
+    return KC_OK;
+}
+
+/* A start moving along the line to the target: qd0 = lv dq and
+ * qdd0 = la dq for every joint, within the rounding of dq = q1 - q0 (a
+ * replacing goal with the target of a move synchronised by phase). Sets
+ * *lv, *la from the joint that moves farthest. */
+static int start_on_line(const kc_interp_joint *r, const kc_interp_joint_cfg *c, kc_real *lv, kc_real *la)
+{
+    int m = -1;
+    for (int i = 0; i < c->n; i++)
+        if (r->dq[i] != KC_R(0.0) && (m < 0 || kc_fabs(r->dq[i]) > kc_fabs(r->dq[m])))
+            m = i;
+    if (m < 0)
+        return 0;
+    *lv = c->qd0[m] / r->dq[m];
+    *la = c->qdd0[m] / r->dq[m];
+    for (int i = 0; i < c->n; i++) {
+        kc_real round = KC_R(64.0) * KC_REAL_EPS * (kc_fabs(r->dq[i]) + kc_fabs(r->q0[i]) + kc_fabs(r->q1[i]));
+        if (kc_fabs(c->qd0[i] - *lv * r->dq[i]) > KC_R(64.0) * KC_REAL_EPS * kc_fabs(c->qd0[i]) + kc_fabs(*lv) * round ||
+            kc_fabs(c->qdd0[i] - *la * r->dq[i]) > KC_R(64.0) * KC_REAL_EPS * kc_fabs(c->qdd0[i]) + kc_fabs(*la) * round)
+            return 0;
+    }
+    return 1;
+}
+
+/* A moving start on the line to the target (start_on_line) may stay on
+ * it: one profile of u from (0, lv, la) to rest at 1 within the move's
+ * bounds on the first three derivatives of u (synchronisation by phase
+ * from a moving start). Taken instead of the time-synchronised plan in
+ * *out when it is faster: when a replacing goal keeps the target of a
+ * move that was on its line, the rest of that move is such a profile,
+ * while a joint's stretch may fall into a blocked interval
+ * (kinctl/scurve.h) and wait far longer. Without a requested duration
+ * only. */
+static void line_from_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
+{
+    kc_real lv, la;
+    kc_scurve su;
+    if (c->duration > KC_R(0.0) || !kc_isfinite(out->u_jmax) || !start_on_line(out, c, &lv, &la))
+        return;
+    if (kc_scurve_plan(&su, KC_R(0.0), lv, la, KC_R(1.0), out->u_vmax, out->u_amax, out->u_jmax, c->dt) != KC_OK ||
+        !(su.T < out->T * (KC_R(1.0) - KC_R(64.0) * KC_REAL_EPS)))
+        return;
+    out->sync = KC_INTERP_SYNC_PHASE;
+    out->su = su;
+    out->T = su.T;
+    out->ticks = su.ticks;
 }
 
 /* The jerk-limited move from a moving start: time synchronisation
  * (kinctl/interp.h). */
-static kc_status plan_jerk_moving(kc_interp_joint *plan, const kc_interp_joint_cfg *c)
+static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 {
-    kc_interp_joint r;
     kc_real T = KC_R(0.0);
-    kc_status st = kc_interp_joint_plan(&r, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
+    kc_status st = plan_trap(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
     if (st != KC_OK)
         return st;
-    memset(&r.prof, 0, sizeof r.prof);
-    memset(&r.su, 0, sizeof r.su);
-    r.kind = KC_PROFILE_JERK;
-    r.sync = KC_INTERP_SYNC_TIME;
-    r.lead = -1;
-    r.u_jmax = INF;
-    /* Each joint's optimum, fast[i] (a joint at rest on its target: a
+    memset(&out->prof, 0, sizeof out->prof);
+    memset(&out->su, 0, sizeof out->su);
+    out->kind = KC_PROFILE_JERK;
+    out->sync = KC_INTERP_SYNC_TIME;
+    out->lead = -1;
+    out->u_jmax = INF;
+    /* Each joint's optimum into out->sj[i] (a joint at rest on its target: a
      * zero-length plan, stretched into a wait). */
-    kc_scurve fast[KC_MAX_JOINTS];
     kc_real jl[KC_MAX_JOINTS];
     for (int i = 0; i < c->n; i++) {
-        int still = r.dq[i] == KC_R(0.0) && c->qd0[i] == KC_R(0.0) && c->qdd0[i] == KC_R(0.0);
+        int still = out->dq[i] == KC_R(0.0) && c->qd0[i] == KC_R(0.0) && c->qdd0[i] == KC_R(0.0);
         if (!still && (!(c->qddd_max[i] > KC_R(0.0)) || !kc_isfinite(c->qddd_max[i])))
             return KC_E_ARG;
         jl[i] = still ? KC_R(1.0) : c->qddd_max[i];
-        st = kc_scurve_plan(&fast[i], r.q0[i], c->qd0[i], c->qdd0[i], r.q1[i], c->qd_max[i], c->qdd_max[i], jl[i],
+        st = kc_scurve_plan(&out->sj[i], out->q0[i], c->qd0[i], c->qdd0[i], out->q1[i], c->qd_max[i], c->qdd_max[i], jl[i],
                             c->dt);
         if (st != KC_OK)
             return st;
-        if (fast[i].T > T) {
-            T = fast[i].T;
-            r.lead = i;
+        if (out->sj[i].T > T) {
+            T = out->sj[i].T;
+            out->lead = i;
         }
-        if (r.dq[i] != KC_R(0.0))
-            r.u_jmax = kc_min(r.u_jmax, c->qddd_max[i] / kc_fabs(r.dq[i]));
+        if (out->dq[i] != KC_R(0.0))
+            out->u_jmax = kc_min(out->u_jmax, c->qddd_max[i] / kc_fabs(out->dq[i]));
     }
     if (c->duration > KC_R(0.0)) {
         if (c->duration < T * (KC_R(1.0) - KC_R(8.0) * KC_REAL_EPS))
             return KC_E_LIMIT;
         T = kc_max(T, c->duration);
     }
-    /* Every joint stretched to T; T grown past a blocked interval. */
-    kc_real grow = KC_R(1.0) / KC_R(1024.0);
-    for (int m = 0; m < 16; m++) {
-        int blocked = 0;
-        for (int i = 0; i < c->n && !blocked; i++) {
-            st = kc_scurve_stretch(&r.sj[i], &fast[i], c->qd_max[i], c->qdd_max[i], jl[i], T);
-            if (st == KC_E_LIMIT)
-                blocked = 1;
-            else if (st != KC_OK)
-                return st;
-        }
-        if (!blocked) {
-            r.T = r.sj[r.lead].T;
-            r.ticks = r.sj[r.lead].ticks;
-            *plan = r;
-            return KC_OK;
-        }
-        T += T * grow;
+    /* The shortest T every joint can be stretched to: T itself, or past a
+     * blocked interval, found by growing T by 2^m / 1024 of itself until
+     * every joint stretches, then halving the step between the last
+     * blocked and the first free duration (blocked durations are
+     * intervals, kinctl/scurve.h) ten times. The optima stay in out->sj
+     * while searching (one profile of scratch); then each is replaced by
+     * its stretch. */
+    kc_scurve tmp;
+    kc_real lo = T, hi = T, grow = KC_R(1.0) / KC_R(1024.0);
+    int m = 0;
+    for (;; m++) {
+        st = stretches_all(out, c, jl, hi, &tmp);
+        if (st == KC_OK)
+            break;
+        if (st != KC_E_LIMIT || m == 15)
+            return st;
+        lo = hi;
+        hi += hi * grow;
         grow *= KC_R(2.0);
     }
-    return KC_E_LIMIT;
+    for (int i = 0; i < 10 && m > 0; i++) {
+        kc_real mid = lo + KC_R(0.5) * (hi - lo);
+        st = stretches_all(out, c, jl, mid, &tmp);
+        if (st == KC_OK)
+            hi = mid;
+        else if (st == KC_E_LIMIT)
+            lo = mid;
+        else
+            return st;
+    }
+    for (int i = 0; i < c->n; i++) {
+        st = kc_scurve_stretch(&tmp, &out->sj[i], c->qd_max[i], c->qdd_max[i], jl[i], hi);
+        if (st != KC_OK)
+            return st;
+        out->sj[i] = tmp;
+    }
+    out->T = out->sj[out->lead].T;
+    out->ticks = out->sj[out->lead].ticks;
+    line_from_moving(out, c);
+    return KC_OK;
 }
 
-kc_status kc_interp_joint_plan_cfg(kc_interp_joint *plan, const kc_interp_joint_cfg *cfg)
+kc_status kc_interp_joint_plan_cfg_into(kc_interp_joint *out, const kc_interp_joint_cfg *cfg)
 {
-    if (plan == NULL || cfg == NULL)
+    if (out == NULL || cfg == NULL)
         return KC_E_ARG;
     if (cfg->n > KC_MAX_JOINTS)
         return KC_E_CAPACITY;
@@ -264,13 +353,24 @@ kc_status kc_interp_joint_plan_cfg(kc_interp_joint *plan, const kc_interp_joint_
     }
     if (cfg->profile == KC_PROFILE_TRAPEZOID)
         return moving ? KC_E_ARG
-                      : kc_interp_joint_plan(plan, cfg->n, cfg->q0, cfg->q1, cfg->qd_max, cfg->qdd_max, cfg->duration,
+                      : plan_trap(out, cfg->n, cfg->q0, cfg->q1, cfg->qd_max, cfg->qdd_max, cfg->duration,
                                              cfg->dt);
     if (cfg->profile != KC_PROFILE_JERK)
         return KC_E_ARG;
     if (!kc_isfinite(cfg->duration) || cfg->duration < KC_R(0.0))
         return KC_E_ARG;
-    return moving ? plan_jerk_moving(plan, cfg) : plan_jerk(plan, cfg);
+    return moving ? plan_jerk_moving(out, cfg) : plan_jerk(out, cfg);
+}
+
+kc_status kc_interp_joint_plan_cfg(kc_interp_joint *plan, const kc_interp_joint_cfg *cfg)
+{
+    kc_interp_joint r;
+    if (plan == NULL)
+        return KC_E_ARG;
+    kc_status st = kc_interp_joint_plan_cfg_into(&r, cfg);
+    if (st == KC_OK)
+        *plan = r;
+    return st;
 }
 
 /* The joint move's state for one state of its u profile (st: KC_OK or
@@ -381,6 +481,30 @@ kc_status kc_interp_joint_eval_profile(const kc_interp_joint *plan, const kc_pro
     kc_status st = u_state(prof, k, &u, &end);
     if (st >= 0)
         joint_at(plan, end, &u, out);
+    return st;
+}
+
+kc_status kc_interp_joint_eval_scurve(const kc_interp_joint *plan, const kc_scurve *prof, int64_t k,
+                                      kc_interp_joint_state *out)
+{
+    kc_scurve_state u;
+    if (plan == NULL || prof == NULL || out == NULL)
+        return KC_E_ARG;
+    kc_status st = kc_scurve_eval(prof, k, &u);
+    if (st < 0)
+        return st;
+    int end = st == KC_DONE && u.p >= KC_R(1.0);
+    for (int i = 0; i < plan->n; i++) {
+        kc_real d = plan->dq[i];
+        out->q[i] = end ? plan->q1[i] : plan->q0[i] + d * u.p;
+        out->qd[i] = d * u.v;
+        out->qdd[i] = d * u.a;
+        out->qddd[i] = d * u.j;
+    }
+    out->u = u.p;
+    out->ud = u.v;
+    out->udd = u.a;
+    out->phase = u.phase;
     return st;
 }
 

@@ -403,6 +403,75 @@ kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc
     return build_vp(prof, p0, v0, a0, p1, vp, KC_R(0.0), A, J, KC_R(0.0), dt);
 }
 
+kc_status kc_scurve_plan_stop(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real amax, kc_real jmax,
+                              kc_real dt)
+{
+    if (prof == NULL || !kc_isfinite(p0) || !kc_isfinite(v0) || !kc_isfinite(a0) ||
+        !limits_ok(KC_R(1.0), amax, jmax, dt))
+        return KC_E_ARG;
+    /* The velocity change to zero is the stop (kinctl/scurve.h): laid
+     * backwards from where it ends, so that end is exact. */
+    vchange none, s;
+    none.n = 0;
+    vchange_plan(&s, v0, a0, KC_R(0.0), amax, jmax);
+    kc_real p1 = p0 + vchange_dist(&s, v0, a0, NULL);
+    if (!kc_isfinite(p1))
+        return KC_E_CAPACITY;
+    return build(prof, p0, v0, a0, p1, &none, KC_R(0.0), KC_R(0.0), &s, KC_R(0.0), dt);
+}
+
+/* Records p, v, a in the extent. */
+static void extent_add(kc_scurve_extent *e, kc_real p, kc_real v, kc_real a)
+{
+    e->p_min = kc_min(e->p_min, p);
+    e->p_max = kc_max(e->p_max, p);
+    e->v_max = kc_max(e->v_max, kc_fabs(v));
+    e->a_max = kc_max(e->a_max, kc_fabs(a));
+}
+
+kc_status kc_scurve_extent_of(const kc_scurve *prof, kc_scurve_extent *out)
+{
+    if (prof == NULL || out == NULL)
+        return KC_E_ARG;
+    kc_scurve_extent e = {prof->p0, prof->p0, KC_R(0.0), KC_R(0.0)};
+    extent_add(&e, prof->p0, prof->v0, prof->a0);
+    extent_add(&e, prof->p1, KC_R(0.0), KC_R(0.0));
+    kc_real t0 = KC_R(0.0);
+    for (int i = 0; i < prof->n; i++) {
+        /* Phase i on tau in [lo, hi] around its reference: p at both ends,
+         * at the roots of v (p's extrema) and at the root of a (v's). */
+        kc_real lo = t0 - prof->tr[i], hi = prof->t_end[i] - prof->tr[i];
+        kc_real pr = prof->pr[i], vr = prof->vr[i], ar = prof->ar[i], j = prof->j[i];
+        kc_real cand[5];
+        int m = 0;
+        cand[m++] = lo;
+        cand[m++] = hi;
+        if (j != KC_R(0.0)) {
+            cand[m++] = -ar / j;
+            /* v = vr + ar tau + j tau^2 / 2 = 0 */
+            kc_real disc = ar * ar - KC_R(2.0) * j * vr;
+            if (disc >= KC_R(0.0)) {
+                kc_real r = kc_sqrt(disc);
+                cand[m++] = (-ar + r) / j;
+                cand[m++] = (-ar - r) / j;
+            }
+        } else if (ar != KC_R(0.0)) {
+            cand[m++] = -vr / ar;
+        }
+        for (int c = 0; c < m; c++) {
+            kc_real tau = cand[c];
+            if (!(tau >= lo && tau <= hi))
+                continue;
+            kc_real p = pr + tau * (vr + tau * (KC_R(0.5) * ar + tau * j / KC_R(6.0)));
+            kc_real v = vr + tau * (ar + KC_R(0.5) * tau * j);
+            extent_add(&e, p, v, ar + j * tau);
+        }
+        t0 = prof->t_end[i];
+    }
+    *out = e;
+    return KC_OK;
+}
+
 /* The peak speed v that makes a rest-to-rest move over D > 0 last T
  * (kinctl/scurve.h, "Stretched"), T >= the time-optimal duration. */
 static kc_real stretch_speed(kc_real D, kc_real A, kc_real J, kc_real T)
@@ -507,8 +576,11 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
     kc_real p0 = fast->p0, v0 = fast->v0, a0 = fast->a0, p1 = fast->p1, d = p1 - p0;
     /* e: how far the target lies beyond where stopping at once ends; the
      * cruise runs towards it (sign s). */
-    kc_real e = d - dist_of(KC_R(0.0), v0, a0, A, J);
-    if (e == KC_R(0.0)) /* stop at once, then wait */
+    kc_real ds = dist_of(KC_R(0.0), v0, a0, A, J), e = d - ds;
+    /* Stop at once, then wait: also for an e within the rounding of the
+     * distances (a start on its stop to p1, as the rest of a stretched
+     * plan is: a tiny e of either sign would have it come back instead). */
+    if (kc_fabs(e) <= KC_R(8.0) * KC_REAL_EPS * (kc_fabs(p0) + kc_fabs(p1) + kc_fabs(ds)))
         return build_vp(prof, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, J, duration, dt);
     kc_real s = e > KC_R(0.0) ? KC_R(1.0) : KC_R(-1.0);
     kc_real V = kc_isfinite(vmax) ? vmax : kc_max(kc_fabs(fast->vp), kc_fabs(v0)) + A * A / J;

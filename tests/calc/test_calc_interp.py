@@ -121,7 +121,7 @@ JOINT_ARGS = [(c["case"], c) for c in JOINT["cases"]]
 def test_joint_vectors(name, case):
     header, rows = csv_rows(["interp", "joint", "--model", "planar2", "--deg", "--q0", nums(case["q_start_deg"]),
                              "--q1", nums(case["q_end_deg"]), "--vmax", case["v_deg_s"], "--amax", case["A_deg_s2"],
-                             "--dt", "0.01"])
+                             "--profile", "trapezoid", "--dt", "0.01"])
     assert header == ["t", "q1", "q2", "qd1", "qd2", "qdd1", "qdd2"]
     s = case["samples"]
     T = case["T_total_s"]
@@ -149,7 +149,8 @@ def batch(requests):
 def test_joint_batch_gives_the_leading_joint_and_duration():
     # Equal limits (the seed's tables): the leading joint of (4.2) and the file's total time.
     answers = batch([{"op": "interp", "kind": "joint", "model": "planar2", "deg": True, "q0": c["q_start_deg"],
-                      "q1": c["q_end_deg"], "vmax": [c["v_deg_s"]], "amax": [c["A_deg_s2"]], "dt": 100.0}
+                      "q1": c["q_end_deg"], "vmax": [c["v_deg_s"]], "amax": [c["A_deg_s2"]], "dt": 100.0,
+                      "profile": "trapezoid"}
                      for c in JOINT["cases"]])
     for c, a in zip(JOINT["cases"], answers):
         moving = any(x != y for x, y in zip(c["q_start_deg"], c["q_end_deg"]))
@@ -158,11 +159,12 @@ def test_joint_batch_gives_the_leading_joint_and_duration():
     # Per-joint limits (puma560: joints 1-3 2 rad/s, 5 rad/s^2; 4-6 4 rad/s, 10 rad/s^2): joint 6 moves
     # farther (1.3 rad) but alone would take 2 sqrt(1.3 / 10) = 0.72 s, joint 1 (1.2 rad) 1.2 / 2 + 2 / 5 = 1 s.
     a, = batch([{"op": "interp", "kind": "joint", "model": "puma560", "q0": [0] * 6, "q1": [1.2, 0, 0, 0, 0, 1.3],
-                 "dt": 0.01}])
+                 "dt": 0.01, "profile": "trapezoid"}])
     assert a["lead"] == 1
     near(a["duration"], 1.0, 1e-12 if not FLOAT else 1e-6, "duration")
     # CSV has no room for them: unchanged.
-    header, _ = csv_rows(["interp", "joint", "--model", "planar2", "--q0", "0,0", "--q1", "1,1", "--dt", "0.1"])
+    header, _ = csv_rows(["interp", "joint", "--model", "planar2", "--q0", "0,0", "--q1", "1,1", "--dt", "0.1",
+                          "--profile", "trapezoid"])
     assert header == ["t", "q1", "q2", "qd1", "qd2", "qdd1", "qdd2"]
 
 
@@ -189,7 +191,7 @@ def test_joint_model_limits_and_per_joint():
     # Per-joint limits: joint 2 slow. Every joint within its own limits,
     # both at the same fraction of their moves.
     _, rows = csv_rows(["interp", "joint", "--model", "planar2", "--deg", "--q0", "0,0", "--q1", "90,-30",
-                        "--vmax", "80,10", "--amax", "800,50", "--dt", "0.01"])
+                        "--vmax", "80,10", "--amax", "800,50", "--profile", "trapezoid", "--dt", "0.01"])
     for row in rows:
         assert abs(row[3]) <= 80 * (1 + 1e-6) and abs(row[4]) <= 10 * (1 + 1e-6)
         assert abs(row[5]) <= 800 * (1 + 1e-6) and abs(row[6]) <= 50 * (1 + 1e-6)
@@ -201,7 +203,7 @@ def test_joint_model_limits_and_per_joint():
     near(rows[-1][0], 3.0, 1e-9 if not FLOAT else 1e-5, "stretched end")
 
 
-# ---- jerk-limited joint moves (--profile jerk) ----
+# ---- jerk-limited joint moves (the default; --profile jerk) ----
 
 PANDA_QD = [2.175, 2.175, 2.175, 2.175, 2.61, 2.61, 2.61]
 PANDA_QDD = [15.0, 7.5, 10.0, 12.5, 15.0, 20.0, 20.0]
@@ -268,7 +270,7 @@ def test_joint_jerk_random_moves():
             jmax = [round(rng.uniform(20.0, 500.0), 3) for _ in range(n)]
             extra = ["--vmax", nums(vmax), "--amax", nums(amax), "--jmax", nums(jmax)]
         r = run(["interp", "joint", "--model", "panda" if panda else "puma560", "--q0", nums(q0), "--q1", nums(q1),
-                 "--profile", "jerk", "--dt", dt] + extra)
+                 "--dt", dt] + extra + (["--profile", "jerk"] if case % 4 < 2 else []))
         assert r.returncode == 0, r.stderr
         lines = r.stdout.splitlines()
         header = lines[0].split(",")
@@ -278,6 +280,58 @@ def test_joint_jerk_random_moves():
         ticks = math.ceil(T / dt - 1e-9)
         assert len(rows) - 1 in (ticks, ticks + 1) and (len(rows) - 2) * dt < T * (1 + 1e-6) and \
             (len(rows) - 1) * dt >= T * (1 - 1e-6), (case, len(rows) - 1, T / dt)
+
+
+PUMA_QD = [2.0, 2.0, 2.0, 4.0, 4.0, 4.0]
+PUMA_QDD = [5.0, 5.0, 5.0, 10.0, 10.0, 10.0]
+PUMA_QDDD = [50.0, 50.0, 50.0, 100.0, 100.0, 100.0]  # the built-in model's: ten times qdd
+
+
+def test_joint_jerk_moving_start():
+    # A replacement as kinctld makes it: a move planned from rest is cut at a random row, and a move to
+    # another target starts from that row's q, qd and qdd (--qd0, --qdd0). Its first row is that state,
+    # every row is within the limits and the jerk, the jerk across the cut too, and it ends exactly on its
+    # target at rest with every joint arriving on the last row. Towards the first target again, it lasts
+    # exactly what the first move had left: the rest of an optimal move is optimal.
+    import random
+    rng = random.Random(1919)
+    for case in range(16):
+        panda = case % 2 == 0
+        n = 7 if panda else 6
+        V, A, J = (PANDA_QD, PANDA_QDD, PANDA_QDDD) if panda else (PUMA_QD, PUMA_QDD, PUMA_QDDD)
+        model = ["--model", "panda" if panda else "puma560"]
+        q0 = [round(rng.uniform(-0.06, 0.06) + (-1.5 if panda and i == 3 else 0.0), 6) for i in range(n)]
+        qa = [round(rng.uniform(-1.5, 1.5) - (1.5 if panda and i == 3 else 0.0), 6) for i in range(n)]
+        qb = [round(rng.uniform(-1.5, 1.5) - (1.5 if panda and i == 3 else 0.0), 6) for i in range(n)]
+        dt = 0.001
+        _, first = csv_rows(["interp", "joint"] + model + ["--q0", nums(q0), "--q1", nums(qa), "--dt", dt])
+        k = rng.randrange(1, len(first) - 2)
+        cut = first[k]
+        q, qd, qdd = cut[1:1 + n], cut[1 + n:1 + 2 * n], cut[1 + 2 * n:1 + 3 * n]
+        for target in (qb, qa):
+            _, rows = csv_rows(["interp", "joint"] + model + ["--q0", nums(q), "--qd0", nums(qd), "--qdd0", nums(qdd),
+                                                              "--q1", nums(target), "--dt", dt])
+            T = rows[-1][0]
+            assert rows[0][1:1 + n] == q
+            for i in range(n):
+                near(rows[0][1 + n + i], qd[i], 1e-12 if not FLOAT else 1e-6, "qd0")
+                near(rows[0][1 + 2 * n + i], qdd[i], 1e-12 if not FLOAT else 1e-6, "qdd0")
+                slack = 8 * EPS * (A[i] + J[i] * T) + 16 * EPS * J[i] * dt
+                # Across the cut: the old move's row k-1, then the new move's rows.
+                prev_qdd = first[k - 1][1 + 2 * n + i]
+                for row in rows:
+                    assert abs(row[1 + n + i]) <= V[i] * (1 + 16 * EPS) + 4 * EPS * A[i] * T, (case, i, row[0])
+                    assert abs(row[1 + 2 * n + i]) <= A[i] * (1 + 16 * EPS) + 4 * EPS * J[i] * T, (case, i, row[0])
+                    assert abs(row[1 + 2 * n + i] - prev_qdd) <= J[i] * dt + slack, (case, i, row[0])
+                    prev_qdd = row[1 + 2 * n + i]
+                assert rows[-1][1 + i] == target[i] and rows[-1][1 + n + i] == 0.0 and rows[-1][1 + 2 * n + i] == 0.0
+            assert any(rows[-2][1 + n + i] != 0.0 or rows[-2][1 + 2 * n + i] != 0.0 for i in range(n))
+        # Towards qa again: the rest of the first move, to the tick.
+        assert abs((len(rows) - 1) - (len(first) - 1 - k)) <= 1, (case, len(rows) - 1, len(first) - 1 - k)
+    # Not with the trapezoid, which starts at rest.
+    r = run(["interp", "joint", "--model", "planar2", "--q0", "0,0", "--q1", "1,1", "--qd0", "0.1,0",
+             "--profile", "trapezoid", "--dt", "0.01"])
+    assert r.returncode != 0 and "qd0 and qdd0 need the jerk-limited profile" in r.stderr
 
 
 def test_joint_jerk_batch_duration_and_model_default():
@@ -314,11 +368,14 @@ def test_joint_jerk_stretched_and_trapezoid_default():
     _, rows = csv_rows(["interp", "joint", "--model", "puma560", "--q0", "0,0,0,0,0,0", "--q1", "1,0.5,0,0,0,-1",
                         "--profile", "jerk", "--jmax", "50", "--duration", "3", "--dt", "0.01"])
     near(rows[-1][0], 3.0, 1e-9 if not FLOAT else 1e-5, "stretched end")
-    # The trapezoid stays the default, and --profile trapezoid is it.
+    # Jerk-limited is the default (as the controller's), and --profile jerk is it; --profile trapezoid
+    # gives seed 001's trapezoid, without the jerk columns.
     args = ["interp", "joint", "--model", "planar2", "--q0", "0,0", "--q1", "1,1", "--dt", "0.01"]
     h1, r1 = csv_rows(args)
-    h2, r2 = csv_rows(args + ["--profile", "trapezoid"])
-    assert h1 == h2 == ["t", "q1", "q2", "qd1", "qd2", "qdd1", "qdd2"] and r1 == r2
+    h2, r2 = csv_rows(args + ["--profile", "jerk"])
+    h3, r3 = csv_rows(args + ["--profile", "trapezoid"])
+    assert h1 == h2 == ["t", "q1", "q2", "qd1", "qd2", "qdd1", "qdd2", "qddd1", "qddd2"] and r1 == r2
+    assert h3 == ["t", "q1", "q2", "qd1", "qd2", "qdd1", "qdd2"] and len(r3) < len(r1)
 
 
 # ---- cartesian_line.json ----
@@ -403,13 +460,15 @@ def test_circle_vectors(name, case):
 def test_batch_rows_equal_csv():
     c = JOINT["cases"][0]
     _, rows = csv_rows(["interp", "joint", "--model", "planar2", "--deg", "--q0", nums(c["q_start_deg"]),
-                        "--q1", nums(c["q_end_deg"]), "--vmax", c["v_deg_s"], "--amax", c["A_deg_s2"], "--dt", "0.01"])
+                        "--q1", nums(c["q_end_deg"]), "--vmax", c["v_deg_s"], "--amax", c["A_deg_s2"],
+                        "--profile", "trapezoid", "--dt", "0.01"])
     a = CIRCLE["cases"][10]
     _, arc = csv_rows(["interp", "arc", "--from", nums(flat(a["T1_corrected"])), "--via", nums(a["T2_position"]),
                        "--to", nums(a["T3_position"]), "--v", a["v"], "--a", a["A_used"], "--dt", "0.05"])
     reqs = [
         {"op": "interp", "kind": "joint", "model": "planar2", "deg": True, "q0": c["q_start_deg"],
-         "q1": c["q_end_deg"], "vmax": [c["v_deg_s"]], "amax": [c["A_deg_s2"]], "dt": 0.01, "id": "j"},
+         "q1": c["q_end_deg"], "vmax": [c["v_deg_s"]], "amax": [c["A_deg_s2"]], "dt": 0.01, "id": "j",
+         "profile": "trapezoid"},
         {"op": "interp", "kind": "arc", "from": flat(a["T1_corrected"]), "via": a["T2_position"],
          "to": a["T3_position"], "v": a["v"], "a": a["A_used"], "dt": 0.05},
         {"op": "interp", "kind": "line", "from": [0, 0, 0, 1, 0, 0, 0], "to": [1, 0, 0, 1, 0, 0, 0], "v": 1, "a": 1,
@@ -473,7 +532,7 @@ BAD = [
       "--dt", "0.01"], "via has 2 numbers"),
     (A + ["--v", "1", "--a", "1", "--dt", "0.01", "--q0", "1"], "unknown option \"--q0\""),
     (J + ["--dt", "0.01", "--profile", "scurve"], "profile must be trapezoid or jerk"),
-    (J + ["--dt", "0.01", "--jmax", "10"], "jmax needs --profile jerk"),
+    (J + ["--dt", "0.01", "--profile", "trapezoid", "--jmax", "10"], "jmax does not apply to --profile trapezoid"),
     (J + ["--dt", "0.01", "--profile", "jerk", "--jmax", "0"], "jmax must be > 0"),
     (J + ["--dt", "0.01", "--profile", "jerk", "--jmax", "1,2,3"], "jmax has 3 values"),
     (J + ["--dt", "0.01", "--profile", "jerk", "--duration", "0.1"], "shorter than the limits allow"),
@@ -510,7 +569,7 @@ def test_help(kind):
     r = run(["interp", kind, "--help"])
     assert r.returncode == 0 and r.stdout.startswith("usage: kinctl-calc interp " + kind)
     if kind == "joint":
-        assert "--profile jerk --jmax" in r.stdout and "--jmax J|J1,J2,.." in r.stdout
+        assert "--jmax 3000" in r.stdout and "--profile trapezoid --vmax" in r.stdout and "--jmax J|J1,J2,.." in r.stdout
     r = run(["interp", "--help"])
     assert r.returncode == 0 and f"\n  {kind} " in r.stdout
     r = run(["--help"])

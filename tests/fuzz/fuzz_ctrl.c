@@ -142,6 +142,9 @@ static void make_goal(input *in, int64_t id, kc_goal *g)
     g->servo_twist = (int)(byte(in) & 1);
     for (int i = 0; i < 6; i++)
         g->twist[i] = number(in, -0.3, 0.3);
+    /* Last, so that the older fields take the same bytes: the controller's
+     * motion law, the trapezoid, jerk-limited, or an unknown one. */
+    g->profile = (kc_goal_profile)(byte(in) % 4);
 }
 
 typedef struct ledger {

@@ -63,6 +63,7 @@ void msg_sample(kd_msg_type type, uint32_t seed, kd_msg_any *m, char *reason_buf
         fill(s, g->q, KINCTL_GOAL_JOINT_T_MAX_JOINTS, -6.5, 6.5);
         g->vel_scale = uniform(s, 0.0, 1.0);
         g->acc_scale = uniform(s, 0.0, 1.0);
+        g->profile = (int8_t)pick(s, KINCTL_GOAL_JOINT_T_PROFILE_CONFIG, KINCTL_GOAL_JOINT_T_PROFILE_JERK);
         break;
     }
     case KD_MSG_GOAL_LINE: {

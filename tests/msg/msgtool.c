@@ -42,7 +42,7 @@ static void print_json(kd_msg_type t, const kd_msg_any *m)
         const kinctl_goal_joint_t *g = &m->goal_joint;
         pi("utime", g->utime); pi("goal_id", g->goal_id); pi("mode", g->mode); pi("n", g->n);
         pd("q", g->q, 16, 1); pd("vel_scale", &g->vel_scale, 1, 0);
-        pd("acc_scale", &g->acc_scale, 1, 0);
+        pd("acc_scale", &g->acc_scale, 1, 0); pi("profile", g->profile);
         break;
     }
     case KD_MSG_GOAL_LINE: {

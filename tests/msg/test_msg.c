@@ -441,6 +441,8 @@ typedef struct enum_field {
 static const enum_field enum_fields[] = {
     EF(KD_MSG_GOAL_JOINT, goal_joint_t, mode, 2, "goal_joint_t.mode = 2"),
     EF(KD_MSG_GOAL_JOINT, goal_joint_t, mode, -1, "goal_joint_t.mode = -1"),
+    EF(KD_MSG_GOAL_JOINT, goal_joint_t, profile, 3, "goal_joint_t.profile = 3"),
+    EF(KD_MSG_GOAL_JOINT, goal_joint_t, profile, -1, "goal_joint_t.profile = -1"),
     EF(KD_MSG_GOAL_LINE, goal_line_t, mode, 127, "goal_line_t.mode = 127"),
     EF(KD_MSG_GOAL_LINE, goal_line_t, orientation_method, 2, "goal_line_t.orientation_method = 2"),
     EF(KD_MSG_GOAL_ARC, goal_arc_t, mode, -128, "goal_arc_t.mode = -128"),

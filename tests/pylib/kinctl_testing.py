@@ -235,13 +235,15 @@ class Bus:
         msg.utime = int(time.time() * 1e6)
         self.send_raw(suffix, msg.encode())
 
-    def send_goal_joint(self, goal_id, q, replace=False, vel_scale=0.0, acc_scale=0.0, n=None):
+    def send_goal_joint(self, goal_id, q, replace=False, vel_scale=0.0, acc_scale=0.0, n=None,
+                        profile=goal_joint_t.PROFILE_CONFIG):
         g = goal_joint_t()
         g.goal_id = goal_id
         g.mode = goal_joint_t.REPLACE if replace else goal_joint_t.QUEUE
         g.n = len(q) if n is None else n
         g.q = list(q) + [0.0] * (goal_joint_t.MAX_JOINTS - len(q))
         g.vel_scale, g.acc_scale = vel_scale, acc_scale
+        g.profile = profile
         self.send("GOAL_JOINT", g)
         return g
 
@@ -348,6 +350,7 @@ QN = [0.0, 0.7854, -3.1416, 0.0, 0.7854, 0.0]
 # puma560's limits as built in (models/puma560.cfg).
 QD_MAX = [2.0, 2.0, 2.0, 4.0, 4.0, 4.0]
 QDD_MAX = [5.0, 5.0, 5.0, 10.0, 10.0, 10.0]
+QDDD_MAX = [50.0, 50.0, 50.0, 100.0, 100.0, 100.0]
 DT = 1e-3
 # The tool pose at QN (puma560's forward kinematics).
 QN_POSITION = [0.5963008264104923, -0.15005, 0.6574746899005355]
@@ -384,6 +387,18 @@ def assert_smooth(sps, slack=1e-6):
             assert abs(b.qd[j]) <= QD_MAX[j] * (1 + slack), (b.cycle, j, b.qd[j])
             assert abs(b.qd[j] - a.qd[j]) <= QDD_MAX[j] * DT * (1 + slack) + 1e-12, (b.cycle, j)
             assert abs(b.q[j] - a.q[j]) <= QD_MAX[j] * DT * (1 + slack) + 1e-12, (b.cycle, j)
+
+
+def max_jerk_ratio(sps):
+    """The largest |change of qdd per tick| / dt / qddd_max over the
+    stream (consecutive cycles), and the largest |qdd| / qdd_max."""
+    rj = ra = 0.0
+    for a, b in zip(sps, sps[1:]):
+        assert b.cycle == a.cycle + 1, (a.cycle, b.cycle)
+        for j in range(N):
+            rj = max(rj, abs(b.qdd[j] - a.qdd[j]) / DT / QDDD_MAX[j])
+            ra = max(ra, abs(b.qdd[j]) / QDD_MAX[j])
+    return rj, ra
 
 
 def close(a, b, tol):

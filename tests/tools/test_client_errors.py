@@ -14,6 +14,7 @@ CASES = [
     (lambda: kc.make_goal_joint([]), "q needs 1 to 16 joint values, got 0"),
     (lambda: kc.make_goal_joint([0.0, math.nan]), "q[1] = nan is not a finite number"),
     (lambda: kc.make_goal_joint([0.0], vel_scale=2.0), "vel_scale = 2.0 must be a fraction"),
+    (lambda: kc.make_goal_joint([0.0], profile="scurve"), "profile = 'scurve' must be 'jerk', 'trapezoid' or None"),
     (lambda: kc.make_goal_line([0.5, 0.0, 0.5, 1.0, 1.0, 0.0, 0.0]), "to orientation = 1.0,1.0,0.0,0.0 is not a unit"),
     (lambda: kc.make_goal_line([0.5, 0.0, 0.5] + DOWN, angular_speed=-1.0), "angular_speed = -1.0 must be >= 0"),
     (lambda: kc.make_goal_line([0.5, 0.0]), "to needs 7 numbers, got 2"),

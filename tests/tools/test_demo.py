@@ -44,3 +44,19 @@ def test_demo_runs_to_the_end(multicast, tmp_path):
     assert (xy["xlabel"], xy["ylabel"]) == ("x (m)", "y (m)")
     assert (xz["xlabel"], xz["ylabel"]) == ("x (m)", "z (m)")
     assert len(xy["curves"]) == 7  # one per goal
+    # The jerk panel: each joint's jerk from the logged qdd, the model's limits (the built-in puma560's
+    # qddd_max, ten times qdd_max) marked.
+    jerk = info["axes"][8]
+    assert jerk["curves"] == [f"jerk{j}" for j in range(1, 7)] + ["±qddd_max"] and "jerk" in jerk["ylabel"]
+    assert info["jerk_limits"] == [50.0, 50.0, 50.0, 100.0, 100.0, 100.0]
+    # The joint moves (goals 1, 5, 6, 7: jerk-limited by default), including the takeover of 5 by the
+    # --replace goal 6, keep every joint within its jerk limit from one setpoint to the next.
+    from kinctl import logcsv
+    cols = logcsv.read(s["files"]["csv"])
+    joint_moves, worst = {1, 5, 6, 7}, 0.0
+    for k in range(1, len(cols["cycle"])):
+        if cols["goal_id"][k - 1] in joint_moves and cols["goal_id"][k] in joint_moves:
+            for j in range(1, 7):
+                d = abs(cols[f"qdd{j}"][k] - cols[f"qdd{j}"][k - 1]) / 1e-3 / info["jerk_limits"][j - 1]
+                worst = max(worst, d)
+    assert 0.99 < worst <= 1.0 + 1e-6, worst

@@ -375,6 +375,8 @@ static void test_retarget(void **state)
     back[1] -= KC_R(0.2);
     kc_goal ga = kt_joint_goal(41, ahead, 6), gb = kt_joint_goal(42, back, 6);
     gb.replace = 1;
+    /* The trapezoid's retarget (test_ctrl_jerk.c has the jerk-limited one). */
+    ga.profile = gb.profile = KC_GOAL_PROFILE_TRAPEZOID;
 
     /* Cruising at joint 0's full speed, reversed. */
     tick(&ga, KC_CMD_NONE);
@@ -400,6 +402,7 @@ static void test_retarget(void **state)
      * 2.x + 4 / 1 rad, past joint 0's limit: stop on the path, then start. */
     kc_goal gc = kt_joint_goal(43, back, 6);
     gc.replace = 1;
+    gc.profile = KC_GOAL_PROFILE_TRAPEZOID;
     gc.acc_scale = KC_R(0.1);
     tick(&ga, KC_CMD_NONE);
     for (int k = 0; k < 700; k++)
@@ -439,6 +442,7 @@ static void test_retarget(void **state)
     kc_goal gl = line_goal(45, &to);
     kc_goal gd = kt_joint_goal(46, PUMA_Q0, 6);
     gd.replace = 1;
+    gd.profile = KC_GOAL_PROFILE_TRAPEZOID;
     tick(&gl, KC_CMD_NONE);
     for (int k = 0; k < 400; k++)
         tick(NULL, KC_CMD_NONE);

@@ -69,8 +69,8 @@ for cfg in default small; do
     # What a firmware carries: the core's sections kept in the bench image,
     # which calls FK, the Jacobian, the IK step, the controller with every
     # goal kind and the dry run (the totals above count every function of
-    # every module, e.g. the jerk-limited profiles the controller never
-    # plans).
+    # every module, e.g. the path methods and conversions the controller
+    # never calls).
     linked=$("$here/mcu_linked.py" "${image[$cfg]%.elf}.map" | awk '$2 == "total" {print $3}')
     printf '%-10s %-10s %8d   linked into %s (--gc-sections): what a firmware running the controller carries\n' \
         "$cfg" linked "$linked" "$(basename "${image[$cfg]}")"

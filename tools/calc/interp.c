@@ -105,15 +105,18 @@ static const calc_opt joint_opts[] = {
     CALC_CHAIN_OPTS,
     {"--q0", "q0", CALC_VALUE, calc_conv_reals, "Q1,Q2,...", "start, rad or m (deg with --deg)"},
     {"--q1", "q1", CALC_VALUE, calc_conv_reals, "Q1,Q2,...", "end, rad or m (deg with --deg)"},
+    {"--qd0", "qd0", CALC_VALUE, calc_conv_reals, "V1,V2,...",
+     "start velocity (jerk-limited only; rad/s or m/s, deg/s with --deg); default: at rest"},
+    {"--qdd0", "qdd0", CALC_VALUE, calc_conv_reals, "A1,A2,...",
+     "start acceleration (jerk-limited only; rad/s^2 or m/s^2, deg/s^2 with --deg); default: 0"},
     {"--vmax", "vmax", CALC_VALUE, calc_conv_reals, "V|V1,V2,..",
      "speed limit, one for every joint or one per joint (rad/s or m/s; deg/s with --deg); default: the model's"},
     {"--amax", "amax", CALC_VALUE, calc_conv_reals, "A|A1,A2,..",
      "acceleration limit, one or one per joint (rad/s^2 or m/s^2; deg/s^2 with --deg); default: the model's"},
     {"--jmax", "jmax", CALC_VALUE, calc_conv_reals, "J|J1,J2,..",
-     "jerk limit (--profile jerk), one or one per joint (rad/s^3 or m/s^3; deg/s^3 with --deg); default: the "
-     "model's"},
-    {"--profile", "profile", CALC_VALUE, calc_conv_string, "trapezoid|jerk",
-     "motion law: trapezoid with a leading joint (default) or jerk-limited"},
+     "jerk limit, one or one per joint (rad/s^3 or m/s^3; deg/s^3 with --deg); default: the model's"},
+    {"--profile", "profile", CALC_VALUE, calc_conv_string, "jerk|trapezoid",
+     "motion law: jerk-limited (default, as the controller's) or seed 001 lab 4's trapezoid with a leading joint"},
     {"--duration", "duration", CALC_VALUE, calc_conv_real, "T",
      "stretch the move to last T s (synchronisation); default: as fast as the limits allow"},
     DT_OPT,
@@ -164,6 +167,8 @@ const calc_opt interp_opts[] = {
     CALC_CHAIN_OPTS,
     {"--q0", "q0", CALC_VALUE, NULL, NULL, NULL},
     {"--q1", "q1", CALC_VALUE, NULL, NULL, NULL},
+    {"--qd0", "qd0", CALC_VALUE, NULL, NULL, NULL},
+    {"--qdd0", "qdd0", CALC_VALUE, NULL, NULL, NULL},
     {"--vmax", "vmax", CALC_VALUE, NULL, NULL, NULL},
     {"--amax", "amax", CALC_VALUE, NULL, NULL, NULL},
     {"--jmax", "jmax", CALC_VALUE, NULL, NULL, NULL},
@@ -307,21 +312,40 @@ static int plan_failed(calc_ctx *ctx, const char *what, kc_status st)
 
 /* ---- joint ---- */
 
-/* --profile: trapezoid (default) or jerk. */
+/* --profile: jerk (default, as the controller's) or trapezoid. */
 static int profile_of(calc_ctx *ctx, const json_t *req, kc_profile_kind *kind)
 {
     const json_t *v = json_object_get(req, "profile");
-    *kind = KC_PROFILE_TRAPEZOID;
+    *kind = KC_PROFILE_JERK;
     if (v == NULL)
         return 0;
     const char *s = json_string_value(v);
-    if (s != NULL && strcmp(s, "trapezoid") == 0)
-        return 0;
-    if (s != NULL && strcmp(s, "jerk") == 0) {
-        *kind = KC_PROFILE_JERK;
+    if (s != NULL && strcmp(s, "trapezoid") == 0) {
+        *kind = KC_PROFILE_TRAPEZOID;
         return 0;
     }
+    if (s != NULL && strcmp(s, "jerk") == 0)
+        return 0;
     return calc_fail(ctx, "profile must be trapezoid or jerk, not %s", s != NULL ? s : "a non-string");
+}
+
+/* --qd0, --qdd0: the start's velocity or acceleration, one per joint
+ * (deg/s, deg/s^2 with --deg for revolute joints), zero when absent. */
+static int start_rates_of(calc_ctx *ctx, const json_t *req, const char *key, const kc_chain *chain, int deg,
+                          kc_real *out)
+{
+    int n = 0;
+    const json_t *val = json_object_get(req, key);
+    if (val == NULL)
+        return 0;
+    if (req_reals(ctx, val, key, out, KC_MAX_JOINTS, &n) != 0)
+        return -1;
+    if (n != chain->n_joints)
+        return calc_fail(ctx, "%s has %d values but the model has %d joints", key, n, chain->n_joints);
+    for (int j = 0; j < n; j++)
+        if (deg && chain->joints[j].type == KC_JOINT_REVOLUTE)
+            out[j] *= KC_DEG;
+    return 0;
 }
 
 static int run_interp_joint(const json_t *req, calc_ctx *ctx)
@@ -340,7 +364,12 @@ static int run_interp_joint(const json_t *req, calc_ctx *ctx)
     if (jerk && joint_limits_of(ctx, req, "jmax", &chain, deg, 2, cfg.qddd_max) != 0)
         return -1;
     if (!jerk && json_object_get(req, "jmax") != NULL)
-        return calc_fail(ctx, "jmax needs --profile jerk (the trapezoid's jerk is not limited)");
+        return calc_fail(ctx, "jmax does not apply to --profile trapezoid (the trapezoid's jerk is not limited)");
+    if (start_rates_of(ctx, req, "qd0", &chain, deg, cfg.qd0) != 0 ||
+        start_rates_of(ctx, req, "qdd0", &chain, deg, cfg.qdd0) != 0)
+        return -1;
+    if (!jerk && (json_object_get(req, "qd0") != NULL || json_object_get(req, "qdd0") != NULL))
+        return calc_fail(ctx, "qd0 and qdd0 need the jerk-limited profile (the trapezoid starts at rest)");
     if (json_object_get(req, "duration") != NULL) {
         if (req_real(ctx, req, "duration", &duration) != 0)
             return -1;
@@ -527,16 +556,20 @@ static int path_unavailable(const json_t *req, calc_ctx *ctx)
 static const calc_cmd kinds[] = {
     {"joint", "joint move: all joints start and end together",
      "kinctl-calc interp joint (--model NAME | --model-file PATH) --q0 Q1,Q2,... --q1 Q1,Q2,...\n"
-     "       [--vmax V] [--amax A] [--profile trapezoid|jerk] [--jmax J] [--duration T] [--deg] --dt DT\n"
-     "Trapezoid (default): every joint covers the same fraction of its move at every tick; the common\n"
-     "trapezoid (triangle when short) keeps each joint within its own speed and acceleration limits.\n"
-     "Jerk: each joint's jerk-limited move within its speed, acceleration and jerk limits, all starting\n"
-     "and ending on the same tick (a straight line when that is as fast, else each joint stretched).\n"
+     "       [--qd0 V1,..] [--qdd0 A1,..] [--vmax V] [--amax A] [--jmax J] [--profile jerk|trapezoid]\n"
+     "       [--duration T] [--deg] --dt DT\n"
+     "Jerk (default, as kinctld's): each joint's jerk-limited move within its speed, acceleration and\n"
+     "jerk limits, all starting and ending on the same tick, in the slowest joint's optimal time (a\n"
+     "straight line when that is as fast, else each joint stretched). From a moving start (--qd0,\n"
+     "--qdd0: as kinctld takes over a moving arm for a replacing joint goal) each joint's profile\n"
+     "from its state, stretched to the slowest one's.\n"
+     "Trapezoid (seed 001 lab 4): every joint covers the same fraction of its move at every tick; the\n"
+     "common trapezoid (triangle when short) keeps each joint within its own speed and acceleration limits.\n"
      "Prints CSV: t,q1..qn,qd1..qdn,qdd1..qddn (jerk: also qddd1..qdddn), one row per tick from t = 0\n"
      "to the end inclusive.\n"
-     "Example: kinctl-calc interp joint --model planar2 --deg --q0 10,20 --q1 30,50 --vmax 50 --amax 600 --dt 0.01\n"
-     "Example: kinctl-calc interp joint --model planar2 --deg --q0 10,20 --q1 30,50 --profile jerk --jmax 3000 "
-     "--dt 0.01",
+     "Example: kinctl-calc interp joint --model planar2 --deg --q0 10,20 --q1 30,50 --jmax 3000 --dt 0.01\n"
+     "Example: kinctl-calc interp joint --model planar2 --deg --q0 10,20 --q1 30,50 --profile trapezoid --vmax 50 "
+     "--amax 600 --dt 0.01",
      joint_opts, run_interp_joint},
     {"line", "Cartesian straight line",
      "kinctl-calc interp line --from X,Y,Z,QW,QX,QY,QZ --to X,Y,Z,QW,QX,QY,QZ --v V --a A\n"

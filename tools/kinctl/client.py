@@ -29,6 +29,8 @@ DEFAULT_PREFIX = "KINCTL_"
 # (the GIL, a slow disk) would lose setpoints at 1 kHz.
 QUEUE_CAPACITY = 100000
 MODES = {False: 0, True: 1}  # QUEUE, REPLACE in every goal type
+# goal_joint_t.profile: the controller's setting, the trapezoid, jerk-limited
+PROFILES = {None: 0, "trapezoid": 1, "jerk": 2}
 
 
 class DaemonNotFound(RuntimeError):
@@ -82,8 +84,11 @@ def _nonneg(name, v):
 # -- goal messages (ValueError on bad input; nothing is sent) ---------------
 
 
-def make_goal_joint(q, goal_id=None, replace=False, vel_scale=0.0, acc_scale=0.0):
-    """Joint move to q (rad or m); vel_scale, acc_scale in [0, 1] (0 = 1). Returns the message."""
+def make_goal_joint(q, goal_id=None, replace=False, vel_scale=0.0, acc_scale=0.0, profile=None):
+    """Joint move to q (rad or m); vel_scale, acc_scale in [0, 1] (0 = 1); profile "jerk",
+    "trapezoid" or None (controller.profile). Returns the message."""
+    if profile not in PROFILES:
+        raise ValueError(f"profile = {profile!r} must be 'jerk', 'trapezoid' or None (the controller's)")
     g = goal_joint_t()
     if not 1 <= len(q) <= goal_joint_t.MAX_JOINTS:
         raise ValueError(f"q needs 1 to {goal_joint_t.MAX_JOINTS} joint values, got {len(q)}")
@@ -93,6 +98,7 @@ def make_goal_joint(q, goal_id=None, replace=False, vel_scale=0.0, acc_scale=0.0
     g.n = len(q)
     g.q = list(q) + [0.0] * (goal_joint_t.MAX_JOINTS - len(q))
     g.vel_scale, g.acc_scale = _scale("vel_scale", vel_scale), _scale("acc_scale", acc_scale)
+    g.profile = PROFILES[profile]
     return g
 
 

@@ -25,6 +25,8 @@ def register(sub, parents):
                     "  kinctl --deg goal joint --q 0,45,-180,0,45,0", parents)
     j.add_argument("--q", type=numbers, required=True, metavar="A,B,...",
                    help="target joint values (rad, or deg with --deg; m for prismatic joints)")
+    j.add_argument("--profile", choices=("jerk", "trapezoid"), default=None,
+                   help="motion law: jerk-limited or seed 001's trapezoid (default: the controller's profile)")
     _goal_options(j, cartesian=False)
 
     ln = add_command(gsub, "line", "Cartesian straight line of the tool to a pose",
@@ -166,7 +168,8 @@ def cmd_goal(args):
     # Build (and check) the message before looking for the daemon: bad input is exit 2.
     common = dict(goal_id=args.id, replace=args.replace)
     if args.kind == "joint":
-        msg = kc.make_goal_joint([v * deg for v in args.q], vel_scale=args.speed, acc_scale=args.accel, **common)
+        msg = kc.make_goal_joint([v * deg for v in args.q], vel_scale=args.speed, acc_scale=args.accel,
+                                 profile=args.profile, **common)
         kind = "joint"
     elif args.kind in ("line", "arc"):
         cart = dict(speed=args.speed, accel=args.accel, angular_speed=args.angular_speed * deg,

@@ -143,6 +143,34 @@ class ArmFK:
         self.close()
 
 
+def jerk_limits(n, model=None, model_file=None, calc=None):
+    """Each joint's jerk limit (rad/s^3 or m/s^3) as kinctl's planner reads
+    it from the arm's model: the jerk of the first tick of a jerk-limited
+    move of that joint alone by 1 mrad (or mm), which starts at +qddd_max
+    (kinctl/scurve.h). None where a joint has none (the planner refuses)."""
+    if model and model_file:
+        raise ValueError("give --model or --model-file, not both")
+    where = {"model_file": model_file} if model_file else {"model": model or "puma560"}
+    reqs = []
+    for j in range(n):
+        q1 = [0.0] * n
+        q1[j] = 1e-3
+        reqs.append(dict(op="interp", kind="joint", q0=[0.0] * n, q1=q1, profile="jerk", dt=1e-4, **where))
+    r = subprocess.run([calc or programs.find("kinctl-calc"), "batch"],
+                       input="".join(json.dumps(q) + "\n" for q in reqs), capture_output=True, text=True, timeout=60)
+    answers = [json.loads(line) for line in r.stdout.splitlines() if line.strip()]
+    if len(answers) != n:
+        raise RuntimeError(f"kinctl-calc batch answered {len(answers)} of {n} requests: {r.stderr}")
+    out = []
+    for j, a in enumerate(answers):
+        if "error" in a:
+            out.append(None)
+            continue
+        col = a["columns"].index(f"qddd{j + 1}")
+        out.append(float(a["rows"][0][col]))
+    return out
+
+
 def planned_leads(moves, model=None, model_file=None, calc=None):
     """The leading joint (1-based; 0 when nothing moves) that kinctl's planner
     picks for a joint move from q0 to q1 with the arm's own limits (the joint

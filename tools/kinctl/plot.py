@@ -1,7 +1,9 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """The graphs of seed 001 labs 4-7 from a run's setpoints: q, qd, qdd of every
 joint against time (goal boundaries marked, each goal's leading joint drawn
-bold: see leading_joints), the tool's speed along its path, and the tool path
+bold: see leading_joints), each joint's jerk (the change of the logged qdd
+from one setpoint to the next over their time step; with the arm's model its
+limit qddd_max marked), the tool's speed along its path, and the tool path
 in 3-D and on the XY, XZ and YZ planes, one colour per goal_id.
 
     from kinctl.plot import plot_run
@@ -129,7 +131,8 @@ def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefi
     "max_speed", "zones" (the zones' geometry), "volumes" ([start, end]
     volumes' geometry, or []), "axes": [{"title", "name", "xlabel", "ylabel",
     "xlim", "ylim", "lines", "curves" (labelled lines), "data" (each line's x, y (, z) arrays)}...] in
-    the order q, qd, qdd, 3-D path, XY, XZ, YZ, speed}."""
+    the order q, qd, qdd, 3-D path, XY, XZ, YZ, speed, jerk}, "jerk_limits" (each joint's qddd_max
+    from the model, or None without one), "max_jerk" (the largest |jerk| of each joint)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -158,18 +161,19 @@ def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefi
     lead_how = leading_joints(cols, n, segs, model, model_file)
     leading = {gid: j for gid, (j, _) in lead_how.items()}
 
-    fig = plt.figure(figsize=(18, 12), dpi=dpi)
-    gs = GridSpec(4, 4, figure=fig, width_ratios=[1.3, 1.3, 1, 1], hspace=0.36, wspace=0.3,
-                  left=0.045, right=0.985, top=0.9, bottom=0.05)
+    fig = plt.figure(figsize=(18, 14.5), dpi=dpi)
+    gs = GridSpec(5, 4, figure=fig, width_ratios=[1.3, 1.3, 1, 1], hspace=0.38, wspace=0.3,
+                  left=0.045, right=0.985, top=0.92, bottom=0.045)
     axq = fig.add_subplot(gs[0, :2])
     axqd = fig.add_subplot(gs[1, :2], sharex=axq)
     axqdd = fig.add_subplot(gs[2, :2], sharex=axq)
-    axv = fig.add_subplot(gs[3, :2], sharex=axq)
-    ax3 = fig.add_subplot(gs[0:2, 2:], projection="3d")
-    axxy = fig.add_subplot(gs[2, 2])
-    axxz = fig.add_subplot(gs[2, 3])
-    axyz = fig.add_subplot(gs[3, 2])
-    axkey = fig.add_subplot(gs[3, 3])
+    axj = fig.add_subplot(gs[3, :2], sharex=axq)
+    axv = fig.add_subplot(gs[4, :2], sharex=axq)
+    ax3 = fig.add_subplot(gs[0:3, 2:], projection="3d")
+    axxy = fig.add_subplot(gs[3, 2])
+    axxz = fig.add_subplot(gs[3, 3])
+    axyz = fig.add_subplot(gs[4, 2])
+    axkey = fig.add_subplot(gs[4, 3])
     joint_colors = plt.get_cmap("tab10").colors
     seg_colors = plt.get_cmap("Dark2").colors
 
@@ -213,6 +217,43 @@ def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefi
             axqd.plot([], [], color=colour, lw=8, label=state.lower())
     axqd.legend(loc="upper right", ncol=n + 2, fontsize=8, framealpha=0.8, handlelength=1.2)
 
+    # Jerk: the change of the logged qdd per setpoint over its time step,
+    # with each joint's limit dashed (from the model). Beyond 1.3 times the
+    # largest limit (a trapezoid's steps, an e-stop) the panel is clipped.
+    import numpy as np
+    tt = np.asarray(t, dtype=float)
+    step = np.diff(tt)
+    step[step <= 0.0] = np.nan
+    limits = [None] * n
+    if model or model_file:
+        from kinctl.kinematics import jerk_limits
+        limits = jerk_limits(n, model, model_file)
+    max_jerk = []
+    for j in range(1, n + 1):
+        jerk = np.diff(np.asarray(cols[f"qdd{j}"], dtype=float)) / step
+        max_jerk.append(float(np.nanmax(np.abs(jerk))) if len(jerk) else 0.0)
+        colour = joint_colors[(j - 1) % 10]
+        axj.plot(tt[1:], jerk, lw=1.0, color=colour, label=f"jerk{j}")
+        if limits[j - 1]:
+            for sign in (1.0, -1.0):
+                axj.axhline(sign * limits[j - 1], color=colour, ls=":", lw=1.0, alpha=0.9)
+    known = [v for v in limits if v]
+    if known:
+        axj.plot([], [], color="0.3", ls=":", lw=1.0, label="±qddd_max")
+        top = 1.3 * max(known)
+        if max(max_jerk) > top:
+            axj.set_ylim(-top, top)
+            axj.set_title(f"jerk beyond the panel (up to {max(max_jerk):.3g}): acceleration steps", loc="right",
+                          fontsize=9, color="0.35")
+    axj.set_ylabel("jerk Δqdd/Δt (rad/s³)")
+    axj.grid(True, alpha=0.3)
+    for state, colour in SHADE.items():
+        for a, b in _spans(cols["state"], STATES.get(state, -99)):
+            axj.axvspan(t[a], t[b], color=colour, alpha=0.6, lw=0, zorder=0)
+    for a, _, _ in segs:
+        axj.axvline(t[a], color="0.35", ls="--", lw=0.8, zorder=1)
+    axj.legend(loc="upper right", ncol=n + 1, fontsize=8, framealpha=0.8, handlelength=1.2)
+
     # Speed along the path, one colour per goal; idle parts grey.
     x, y, z = cols["x"], cols["y"], cols["z"]
     speed = tool_speed(t, x, y, z)
@@ -225,7 +266,7 @@ def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefi
     axv.set_xlabel("time (s)")
     axv.grid(True, alpha=0.3)
     axv.set_title("speed along the tool path", loc="left", fontsize=10)
-    for ax in (axq, axqd, axqdd):
+    for ax in (axq, axqd, axqdd, axj):
         for lab in ax.get_xticklabels():
             lab.set_visible(False)
 
@@ -272,7 +313,7 @@ def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefi
     fig.savefig(out_path, dpi=dpi)
 
     axes = []
-    for ax in (axq, axqd, axqdd, ax3, axxy, axxz, axyz, axv):
+    for ax in (axq, axqd, axqdd, ax3, axxy, axxz, axyz, axv, axj):
         axes.append({"title": ax.get_title(loc="left"), "name": ax.name, "xlabel": ax.get_xlabel(),
                      "ylabel": ax.get_ylabel(), "xlim": tuple(ax.get_xlim()), "ylim": tuple(ax.get_ylim()),
                      "lines": len(ax.get_lines()),
@@ -284,7 +325,8 @@ def plot_run(log, out_path, events=None, title=None, labels=None, dpi=100, prefi
     return {"rows": rows, "joints": n, "png": out_path, "out": out_path, "axes": axes,
             "goals": [g for _, _, g in segs], "leading": leading,
             "leading_how": {gid: how for gid, (_, how) in lead_how.items()}, "period_s": dt,
-            "max_speed": float(max(speed)), "zones": zone_geo, "volumes": vol_geo}
+            "max_speed": float(max(speed)), "zones": zone_geo, "volumes": vol_geo,
+            "jerk_limits": limits, "max_jerk": max_jerk}
 
 
 def _zones_and_volumes(cols, n, x, y, z, model, model_file, zones_file, zones, volumes):

@@ -7,8 +7,16 @@
  *
  * Motion. A goal becomes a segment when it starts, planned from where the
  * arm is then (at rest: every segment ends at rest):
- *   joint move      kc_interp_joint (lab 4), the joints' limits times
- *                   vel_scale and acc_scale;
+ *   joint move      kc_interp_joint: jerk-limited by default
+ *                   (kc_interp_joint_plan_cfg, kinctl/scurve.h: every joint
+ *                   within its qd_max, qdd_max and qddd_max, all joints
+ *                   starting on the same tick and arriving on the same
+ *                   tick, in the time of the slowest joint's own optimum),
+ *                   or seed 001 lab 4's trapezoid, exactly as
+ *                   kc_interp_joint_plan plans it, when cfg.profile or the
+ *                   goal's profile says so; velocity and acceleration
+ *                   limits times vel_scale and acc_scale (the jerk limit
+ *                   is the joint's own);
  *   line, arc       kc_interp_line / kc_interp_arc (labs 5, 6) from the tool
  *                   pose of the current joints;
  *   path            kc_path through the current joints and the goal's
@@ -29,28 +37,51 @@
  *
  * Goals wait in a queue of KC_CTRL_QUEUE_MAX. A goal with replace set
  * preempts: the queue is dropped and the active goal ends (PREEMPTED).
- * A joint move takes over at once from the current position and velocity:
- * every joint follows its own time-optimal profile from (q, qd) to the
- * target within the goal's limits (kc_profile_plan from a moving start),
- * so nothing waits for the arm to come to rest. This is a retarget: the
- * joints arrive when their own profiles end, not on a straight line in
- * joint space. Where braking through zero would carry a joint past its
- * position limit, the retarget is not taken and the goal starts as any
- * other replacing goal does. Any other replacing goal (a line, an arc, a
+ * A joint move takes over at once from the current state, so nothing waits
+ * for the arm to come to rest. Jerk-limited (the default): every joint
+ * follows a jerk-limited profile from its (q, qd, qdd) to rest at the
+ * target (kc_interp_joint_plan_cfg from a moving start: each joint's
+ * profile stretched to the slowest one's, so the joints arrive on the same
+ * tick; a goal re-sent with the target of a move on its line stays on that
+ * line and arrives when the move would have), and q, qd and qdd stay
+ * continuous. A trapezoid goal: every joint
+ * follows its own time-optimal trapezoid from (q, qd) (kc_profile_plan
+ * from a moving start) and arrives when it ends; qdd jumps. Either is a
+ * retarget, not a straight line in joint space. Where a joint's profile
+ * would pass its position limit (or, jerk-limited, its velocity or
+ * acceleration limit: a start beyond the goal's limits is brought back
+ * within them, never beyond the joint's), the retarget is not taken and
+ * the goal starts as any other replacing goal does. Any other replacing goal (a line, an arc, a
  * path, a servo stream: their geometry starts at rest at the tool's pose)
  * waits while the active segment stops on its path at its acceleration
  * limits, and starts from where the arm comes to rest. Setpoints stay
- * continuous in position and velocity throughout.
+ * continuous in position and velocity throughout, and in acceleration
+ * through everything jerk-limited.
  *
  * Commands. STOP: stop on the path, drop the queue, back to idle. PAUSE:
  * stop on the path and hold; RESUME: continue the same segment from there.
  * ESTOP: every joint decelerates at its own acceleration limit (off the
  * path: as hard as the limits allow), then the controller latches in ESTOP.
+ * ESTOP and the stops of a fault (an external one, a failed limit check, a
+ * zone, a Cartesian motion that cannot be followed) are
+ * acceleration-limited, not jerk-limited: the acceleration jumps to the
+ * limit in one tick, because stopping soonest matters more there than
+ * smoothness. STOP, PAUSE and RESUME of a jerk-limited joint move are
+ * jerk-limited (below).
  * RESET: leaves FAULT or ESTOP (at rest) for IDLE.
  *
  * Stopping on the path. Interpolated segments are driven by a profile of
  * their path parameter u; a stop replaces it with kc_profile_plan_stop at
  * the plan's own bound on u'', resume with a profile from there to u = 1.
+ * A jerk-limited joint move on a straight line (synchronised by phase)
+ * stops on it by kc_scurve_plan_stop of u from (u, u', u'') within the
+ * plan's bounds on the second and third derivatives of u (the stop of
+ * least distance: it never passes u = 1); one whose joints are
+ * synchronised by time, or a retarget, stops each joint by
+ * kc_scurve_plan_stop from its (q, qd, qdd) within the goal's limits (no
+ * further than its profile would have turned, so inside the position
+ * limits it was planned or checked within). Either resumes as a
+ * jerk-limited move from where it rests to the goal's target.
  * Paths are driven by their plan time tau; a stop makes tau' fall from 1 to
  * 0 at a constant rate c, chosen (and its start delayed while the path is
  * itself braking hard) so that every joint's q'' tau'^2 + q' tau'' stays
@@ -138,10 +169,18 @@ typedef enum kc_ctrl_command {
 } kc_ctrl_command;
 
 /* A goal as a client describes it. Fields a kind does not use are ignored. */
+/* The motion law a joint move asks for. */
+typedef enum kc_goal_profile {
+    KC_GOAL_PROFILE_CFG = 0,       /* the controller's (kc_ctrl_cfg.profile) */
+    KC_GOAL_PROFILE_TRAPEZOID = 1, /* seed 001 lab 4's trapezoid */
+    KC_GOAL_PROFILE_JERK = 2       /* jerk-limited */
+} kc_goal_profile;
+
 typedef struct kc_goal {
     int64_t id;        /* chosen by the client, echoed in events and setpoints */
     kc_goal_kind kind;
     int replace;       /* 0: queue behind the others; 1: preempt */
+    kc_goal_profile profile; /* joint move: its motion law */
     /* Fractions of the joints' velocity and acceleration limits, (0, 1]. */
     kc_real vel_scale, acc_scale;
     /* Cartesian speed and acceleration of the tool point (m/s, m/s^2) and
@@ -258,14 +297,19 @@ typedef struct kc_ctrl_cfg {
     kc_real track_tol;             /* largest tool position error while following (m) */
     kc_real limit_slack;           /* relative slack of the final limit check */
     int64_t servo_timeout_ticks;   /* default servo staleness */
+    /* Joint moves' motion law unless a goal says otherwise:
+     * KC_PROFILE_JERK (the default) or KC_PROFILE_TRAPEZOID. A chain with
+     * a joint without a jerk limit (qddd_max infinite) moves by trapezoids
+     * whatever is asked. */
+    kc_profile_kind profile;
     kc_ik_cfg ik;                  /* the online law for Cartesian motion */
     /* Forbidden zones, or NULL; must outlive the controller, unchanged. */
     const kc_zone_set *zones;
 } kc_ctrl_cfg;
 
 /* 1 kHz, 0.25 m/s and 0.5 m/s^2, 1 rad/s and 4 rad/s^2, tracking 1 mm,
- * slack 1e-6 (1e-4 in float), servo timeout 100 ticks, kc_ik_cfg_default,
- * no zones. */
+ * slack 1e-6 (1e-4 in float), servo timeout 100 ticks, jerk-limited joint
+ * moves, kc_ik_cfg_default, no zones. */
 kc_ctrl_cfg kc_ctrl_cfg_default(void);
 
 /* Inputs of one tick. */
@@ -302,6 +346,7 @@ typedef union kc_ctrl_plan {
     kc_path path;
     kc_path_cart path_cart;
     kc_profile retarget[KC_MAX_JOINTS]; /* one profile a joint, from (q, qd) to the target */
+    kc_scurve halt[KC_MAX_JOINTS];      /* one jerk-limited stop a joint */
 } kc_ctrl_plan;
 
 /* How the active segment is driven. */
@@ -309,7 +354,9 @@ typedef enum kc_ctrl_drive {
     KC_DRIVE_NOMINAL = 0, /* its own timing */
     KC_DRIVE_PROFILE = 1, /* interp: u from drive_prof; path: tau from drive_prof */
     KC_DRIVE_STOPPING_WAIT = 2, /* path: a stop is pending until it is feasible */
-    KC_DRIVE_RETARGET = 3       /* joint move from a moving state: plan.retarget per joint */
+    KC_DRIVE_RETARGET = 3,      /* trapezoid joint move from a moving state: plan.retarget per joint */
+    KC_DRIVE_SCURVE = 4,        /* jerk-limited joint move on its line: u from drive_scurve */
+    KC_DRIVE_HALT = 5           /* jerk-limited joint move stopping joint by joint: plan.halt */
 } kc_ctrl_drive;
 
 /* The controller: caller-owned, large (the plan of a 32-knot Cartesian
@@ -329,9 +376,13 @@ typedef struct kc_ctrl {
     int active;
     kc_goal goal;
     kc_ctrl_plan plan;
+    /* A jerk-limited retarget, planned here before it replaces the active
+     * segment's plan (which a retarget not taken still needs). */
+    kc_interp_joint retarget_plan;
     int64_t k0;                /* tick of the segment's start (or of its drive profile) */
     kc_ctrl_drive drive;
     kc_profile drive_prof;
+    kc_scurve drive_scurve;
     int stop_intent;           /* KC_CMD_STOP/PAUSE or 1 for a preemption: what the stop is for */
     kc_ctrl_reason fault_reason;
     kc_real path_length;       /* Cartesian segments: length (m) */
@@ -385,6 +436,7 @@ typedef enum kc_ctrl_cfg_field {
     KC_CFG_FIELD_IK,
     KC_CFG_FIELD_JOINT_QD_MAX,  /* a joint's velocity limit is not finite */
     KC_CFG_FIELD_JOINT_QDD_MAX, /* a joint's acceleration limit is not finite */
+    KC_CFG_FIELD_PROFILE,       /* profile is neither kind */
     KC_CFG_FIELD_ZONES,         /* the zone set fails kc_zone_set_check */
     KC_CFG_FIELD_ZONES_MARGIN   /* the margin is not above a tick's travel */
 } kc_ctrl_cfg_field;

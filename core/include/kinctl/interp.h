@@ -170,7 +170,16 @@ kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, 
  * rest at q1_i, stretched to T, the longest optimum, by
  * kc_scurve_plan_duration_from; where a joint's stretch falls into a
  * blocked interval, T grows by 2^m / 1024 of itself, m = 0..15, until
- * every joint plans (KC_E_LIMIT if none does). Each joint stays within its
+ * every joint plans (KC_E_LIMIT if none does), and the step is then
+ * halved ten times between the last blocked and the first free duration,
+ * so T exceeds the end of the blocked interval by at most 2^(m-10) / 1024
+ * of itself. A start moving along the line to the target (qd0 and qdd0
+ * both multiples of q1 - q0, within the rounding of that difference: a
+ * replacing goal with the target of a move on its line) may instead stay
+ * on the line, by phase: one profile of u from (0, u', u'') to rest at 1
+ * within the bounds on u's derivatives, taken when it is shorter (where a
+ * joint's stretch is blocked); its start is the given state within the
+ * rounding of one product. Each joint stays within its
  * limits as far as its start allows (kinctl/scurve.h).
  * Returns as kc_interp_joint_plan; KC_E_ARG also for a NULL cfg, an
  * unknown kind, a non-finite start velocity or acceleration, a moving
@@ -190,6 +199,13 @@ kc_status kc_interp_joint_eval(const kc_interp_joint *plan, int64_t k, kc_interp
  * move synchronised by phase. Return codes as kc_profile_eval. */
 kc_status kc_interp_joint_eval_profile(const kc_interp_joint *plan, const kc_profile *prof, int64_t k,
                                        kc_interp_joint_state *out);
+
+/* As kc_interp_joint_eval_profile, driven by a jerk-limited profile of u
+ * (for instance kc_scurve_plan_stop of a straight jerk-limited move): q,
+ * qd, qdd and qddd are dq times u and its derivatives; the end is exact
+ * when the profile ends at u = 1. Return codes as kc_scurve_eval. */
+kc_status kc_interp_joint_eval_scurve(const kc_interp_joint *plan, const kc_scurve *prof, int64_t k,
+                                      kc_interp_joint_state *out);
 
 /* ======================================================================
  * Cartesian segments: limits and the setpoint.
@@ -317,7 +333,10 @@ kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const k
  * rest at q1_i, stretched to T, the longest optimum, by
  * kc_scurve_plan_duration_from; where a joint's stretch falls into a
  * blocked interval, T grows by 2^m / 1024 of itself, m = 0..15, until
- * every joint plans (KC_E_LIMIT if none does). Each joint stays within its
+ * every joint plans (KC_E_LIMIT if none does), and the step is then
+ * halved ten times between the last blocked and the first free duration,
+ * so T exceeds the end of the blocked interval by at most 2^(m-10) / 1024
+ * of itself. Each joint stays within its
  * limits as far as its start allows (kinctl/scurve.h).
  * Returns as kc_interp_joint_plan; KC_E_ARG also for a NULL cfg, an
  * unknown kind, a non-finite start velocity or acceleration, a moving
@@ -413,7 +432,10 @@ kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_
  * rest at q1_i, stretched to T, the longest optimum, by
  * kc_scurve_plan_duration_from; where a joint's stretch falls into a
  * blocked interval, T grows by 2^m / 1024 of itself, m = 0..15, until
- * every joint plans (KC_E_LIMIT if none does). Each joint stays within its
+ * every joint plans (KC_E_LIMIT if none does), and the step is then
+ * halved ten times between the last blocked and the first free duration,
+ * so T exceeds the end of the blocked interval by at most 2^(m-10) / 1024
+ * of itself. Each joint stays within its
  * limits as far as its start allows (kinctl/scurve.h).
  * Returns as kc_interp_joint_plan; KC_E_ARG also for a NULL cfg, an
  * unknown kind, a non-finite start velocity or acceleration, a moving

@@ -195,8 +195,9 @@ kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_re
  * same root search in x = 1 / vp, where the cruise's share of T is
  * linear, bracketed by the fastest cruise and a vp = e / duration (where
  * the cruise alone would fill the duration) halved until T(vp) >= duration;
- * about eight evaluations of T. e = 0 is
- * the stop followed by a wait. A start at rest is
+ * about eight evaluations of T. e = 0 (within the rounding of the
+ * distances, 8 eps (|p0| + |p1| + the stop's distance): a start on its
+ * stop to p1) is the stop followed by a wait. A start at rest is
  * kc_scurve_plan_duration. Returns KC_E_LIMIT for a duration shorter than
  * the optimum (beyond 8 units of roundoff) and for one in a blocked
  * interval: longer than the optimum but shorter than the fastest cruise on
@@ -211,6 +212,32 @@ kc_status kc_scurve_plan_duration_from(kc_scurve *prof, kc_real p0, kc_real v0, 
  * again when synchronising). prof may alias fast. */
 kc_status kc_scurve_stretch(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real amax, kc_real jmax,
                             kc_real duration);
+
+/* The fastest stop from the moving state (p0, v0, a0) within amax and
+ * jmax: the velocity change to zero (see "Velocity change" above, two or
+ * three phases), ending at rest wherever it ends (p1, exact from its
+ * tick on, as every profile). Without a cruise, vmax plays no part: a
+ * start beyond a speed limit slows from there. It is also the stop of
+ * least distance: each phase changes the velocity as fast as the limits
+ * allow towards zero, so a stop on a planned path within the same limits
+ * never passes that path's own end. Returns KC_OK; KC_E_ARG for a NULL
+ * prof, a non-finite state or dt, or a bad limit; KC_E_CAPACITY as
+ * kc_scurve_plan. prof is untouched on error. */
+kc_status kc_scurve_plan_stop(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real amax, kc_real jmax,
+                              kc_real dt);
+
+/* The range a profile covers, over [0, T] and its end: the extreme
+ * positions and the largest |v| and |a|. */
+typedef struct kc_scurve_extent {
+    kc_real p_min, p_max;
+    kc_real v_max, a_max;
+} kc_scurve_extent;
+
+/* The extent of a planned profile, exactly from its phases' polynomials
+ * (positions at the phase ends and at the roots of v, speeds at the roots
+ * of a): at most seven phases of five candidates. KC_E_ARG for NULL
+ * arguments. Cycle-safe. */
+kc_status kc_scurve_extent_of(const kc_scurve *prof, kc_scurve_extent *out);
 
 /* State at tick k >= 0 (t = k dt): KC_OK while moving (k < ticks), KC_DONE
  * from tick `ticks` on (exactly p1, 0, 0, jerk 0, phase 4), KC_E_ARG for
