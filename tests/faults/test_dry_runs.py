@@ -26,14 +26,15 @@ def config(tmp_path, budget_ms, extra=""):
     return str(cfg)
 
 
-def crawl(goal_id, s0, replace=False):
+def crawl(goal_id, s0, replace=False, back=False):
     """A 0.3 m line at 0.1 mm/s: 3000 s of motion, whose dry run steps
-    half a million ticks (hundreds of ms)."""
+    half a million ticks (hundreds of ms); back: the line the other way,
+    from the end of one to where it started."""
     g = goal_line_t()
     g.goal_id = goal_id
     g.mode = goal_line_t.REPLACE if replace else goal_line_t.QUEUE
     p = list(s0.position)
-    g.position = [p[0], p[1] + 0.3, p[2] - 0.05]
+    g.position = [p[0], p[1] + (0.0 if back else 0.3), p[2] - 0.05]
     g.orientation = list(s0.orientation)
     g.speed = 1e-4
     return g
@@ -139,10 +140,11 @@ def test_dry_run_over_budget_is_rejected_for_it(kinctld, tmp_path):
 def test_goals_waiting_at_shutdown_answered_once_in_order(kinctld, tmp_path):
     d = kinctld("--config", config(tmp_path, 60000), rt=RT)
     s0 = go_nominal(d)
-    # Six long dry runs (each hundreds of ms), then joint moves behind them.
+    # Six long dry runs (each hundreds of ms: there and back, each from
+    # where the one before ends), then joint moves behind them.
     crawls, joints = list(range(2, 8)), list(range(8, 13))
     for gid in crawls:
-        d.bus.send("GOAL_LINE", crawl(gid, s0))
+        d.bus.send("GOAL_LINE", crawl(gid, s0, back=gid % 2 == 1))
     for gid in joints:
         d.bus.send_goal_joint(gid, [q + 0.01 * gid for q in QN])
     d.bus.wait_stats(lambda s: s.msgs_in >= 1 + len(crawls) + len(joints), 5.0)

@@ -40,13 +40,26 @@ def test_panels_and_goals(csv_plot):
     assert info["joints"] == 6
     assert abs(info["period_s"] - 1e-3) < 1e-6
     assert info["goals"] == GOALS
-    q, qd, qdd, p3, xy, xz, yz, speed = info["axes"]
+    q, qd, qdd, p3, xy, xz, yz, speed, jerk = info["axes"]
     for ax, key, unit in ((q, "q", "rad"), (qd, "qd", "rad/s"), (qdd, "qdd", "rad/s²")):
         assert ax["ylabel"].endswith(f"({unit})")
         assert [c for c in ax["curves"] if c.startswith(key)] == [f"{key}{j}" for j in range(1, 7)]
         # Six joint curves, per goal a bold leading-joint overlay and a start line (and in q the legend entry).
         assert ax["lines"] == 6 + 2 * len(GOALS) + (1 if key == "q" else 0)
     assert "leading joint (travels farthest)" in q["curves"]
+    # Jerk: each joint's change of the logged qdd per setpoint over its time
+    # step, computed here from the CSV and the q panel's time axis; the
+    # largest of each is reported.
+    assert [c for c in jerk["curves"] if c.startswith("jerk")] == [f"jerk{j}" for j in range(1, 7)]
+    t = np.asarray(q["data"][0][0], dtype=float)
+    curves = [d for d in jerk["data"] if len(d[0]) == len(t) - 1]  # the limits are 2-point lines
+    assert len(curves) == 6
+    for j in range(1, 7):
+        x, y = (np.asarray(v, dtype=float) for v in curves[j - 1])
+        want = np.diff(np.asarray(cols[f"qdd{j}"], dtype=float)) / np.diff(t)
+        assert np.array_equal(x, t[1:])
+        assert np.allclose(y, want, rtol=1e-12, atol=0.0), j
+        assert info["max_jerk"][j - 1] == pytest.approx(float(np.nanmax(np.abs(np.asarray(y)))))
     assert speed["xlabel"] == "time (s)" and speed["ylabel"] == "tool speed (m/s)"
     assert p3["name"] == "3d" and p3["title"].startswith("tool path")
     for ax, (u, v) in ((xy, "xy"), (xz, "xz"), (yz, "yz")):
@@ -99,7 +112,7 @@ def test_leading_joint_of_the_planner_with_the_model(recorded, tmp_path):
 
 def test_tool_path_projections_per_goal(csv_plot):
     info, cols = csv_plot
-    _, _, _, p3, xy, xz, yz, _ = info["axes"]
+    _, _, _, p3, xy, xz, yz, _, _ = info["axes"]
     for ax, (u, v) in ((xy, ("x", "y")), (xz, ("x", "z")), (yz, ("y", "z"))):
         # Line 0 is the whole path (grey), then one line per goal.
         assert [list(d) for d in ax["data"][0]] == [cols[u], cols[v]]
@@ -135,7 +148,7 @@ def test_png_from_the_cli(recorded, tmp_path):
         assert f.read(8) == PNG_SIGNATURE
     import matplotlib.image
     img = matplotlib.image.imread(str(out))
-    assert img.shape[:2] == (1200, 1800)
+    assert img.shape[:2] == (1450, 1800)
     # Not a blank canvas: a good share of the pixels are not white.
     assert (img[:, :, :3] < 0.9).any(axis=2).mean() > 0.03
 
@@ -166,8 +179,8 @@ def test_svg_from_an_lcm_log(recorded, tmp_path):
     root = ET.parse(out).getroot()
     assert root.tag == "{http://www.w3.org/2000/svg}svg"
     ids = {g.get("id") for g in root.iter("{http://www.w3.org/2000/svg}g")}
-    # Nine axes: q, qd, qdd, speed, 3-D, XY, XZ, YZ and the goals' key.
-    assert {f"axes_{i}" for i in range(1, 10)} <= ids and "axes_10" not in ids
+    # Ten axes: q, qd, qdd, jerk, speed, 3-D, XY, XZ, YZ and the goals' key.
+    assert {f"axes_{i}" for i in range(1, 11)} <= ids and "axes_11" not in ids
     svg = out.read_text()
     # matplotlib draws text as glyphs and keeps each string in a comment beside it.
     for title in ("tool path, top view (XY)", "tool path, side view (XZ)", "tool path, front view (YZ)",
