@@ -412,6 +412,23 @@ static kc_status u_state(const kc_profile *prof, int64_t k, kc_profile_state *u,
     return st;
 }
 
+/* The joints at u (a profile of the path parameter along q0 -> q1), or
+ * exactly at q1 at the end. */
+static void along_line(const kc_interp_joint *plan, const kc_scurve_state *u, int end, kc_interp_joint_state *out)
+{
+    for (int i = 0; i < plan->n; i++) {
+        kc_real d = plan->dq[i];
+        out->q[i] = end ? plan->q1[i] : plan->q0[i] + d * u->p;
+        out->qd[i] = d * u->v;
+        out->qdd[i] = d * u->a;
+        out->qddd[i] = d * u->j;
+    }
+    out->u = u->p;
+    out->ud = u->v;
+    out->udd = u->a;
+    out->phase = u->phase;
+}
+
 /* A jerk-limited move at tick k >= 0. */
 static kc_status joint_jerk_at(const kc_interp_joint *plan, int64_t k, kc_interp_joint_state *out)
 {
@@ -429,17 +446,7 @@ static kc_status joint_jerk_at(const kc_interp_joint *plan, int64_t k, kc_interp
     }
     if (plan->sync == KC_INTERP_SYNC_PHASE) {
         kc_scurve_eval(&plan->su, k, &u);
-        for (int i = 0; i < n; i++) {
-            kc_real d = plan->dq[i];
-            out->q[i] = plan->q0[i] + d * u.p;
-            out->qd[i] = d * u.v;
-            out->qdd[i] = d * u.a;
-            out->qddd[i] = d * u.j;
-        }
-        out->u = u.p;
-        out->ud = u.v;
-        out->udd = u.a;
-        out->phase = u.phase;
+        along_line(plan, &u, 0, out);
         return KC_OK;
     }
     for (int i = 0; i < n; i++) {
@@ -493,18 +500,7 @@ kc_status kc_interp_joint_eval_scurve(const kc_interp_joint *plan, const kc_scur
     kc_status st = kc_scurve_eval(prof, k, &u);
     if (st < 0)
         return st;
-    int end = st == KC_DONE && u.p >= KC_R(1.0);
-    for (int i = 0; i < plan->n; i++) {
-        kc_real d = plan->dq[i];
-        out->q[i] = end ? plan->q1[i] : plan->q0[i] + d * u.p;
-        out->qd[i] = d * u.v;
-        out->qdd[i] = d * u.a;
-        out->qddd[i] = d * u.j;
-    }
-    out->u = u.p;
-    out->ud = u.v;
-    out->udd = u.a;
-    out->phase = u.phase;
+    along_line(plan, &u, st == KC_DONE && u.p >= KC_R(1.0), out);
     return st;
 }
 

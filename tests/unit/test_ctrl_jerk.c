@@ -116,37 +116,6 @@ static int run_until_completed(int64_t id, int max)
     return -1;
 }
 
-/* ---- an independent rest-to-rest optimum (as test_scurve.c) ----
- * Reaching a speed v from rest and stopping again, each as fast as A and J
- * allow, takes ta(v) = v / A + A / J when v >= A^2 / J and 2 sqrt(v / J)
- * otherwise, over the distance v ta(v). The fastest move cruises at the
- * largest v <= V with v ta(v) <= D (bisection), for
- * T = 2 ta(v) + (D - v ta(v)) / v. */
-static double half_time(double v, double A, double J)
-{
-    return v >= A * A / J ? v / A + A / J : 2.0 * sqrt(v / J);
-}
-
-static double optimum_time(double D, double V, double A, double J)
-{
-    if (D == 0.0)
-        return 0.0;
-    double v = V;
-    if (v * half_time(v, A, J) > D) {
-        double lo = 0.0, hi = V;
-        for (int i = 0; i < 200; i++) {
-            double mid = 0.5 * (lo + hi);
-            if (mid * half_time(mid, A, J) > D)
-                hi = mid;
-            else
-                lo = mid;
-        }
-        v = lo;
-    }
-    double ta = half_time(v, A, J);
-    return 2.0 * ta + (D - v * ta) / v;
-}
-
 /* A random target inside the limits, a random share of the range away. */
 static void random_target(kt_rng *r, kc_real *q)
 {
@@ -177,8 +146,8 @@ static void check_move_from_rest(const kc_goal *g)
         q0[j] = (double)H.ctrl.q[j];
         double D = fabs((double)g->q[j] - q0[j]);
         moving[j] = D > 0.0;
-        T = fmax(T, optimum_time(D, (double)(l->qd_max * g->vel_scale), (double)(l->qdd_max * g->acc_scale),
-                                 (double)l->qddd_max));
+        T = fmax(T, kt_scurve_optimum_time(D, (double)(l->qd_max * g->vel_scale),
+                                           (double)(l->qdd_max * g->acc_scale), (double)l->qddd_max));
     }
     tick(g, KC_CMD_NONE);
     assert_true(has_event(KC_EVENT_STARTED, g->id));

@@ -101,40 +101,6 @@ static void walk(const kc_scurve *pr, double p0, double v0, double a0, double p1
         assert_true((kc_real)(pr->ticks - 1) * pr->dt < pr->T);
 }
 
-/* ---- an independent rest-to-rest optimum ----
- *
- * Not the header's closed form: from the physics of one symmetric half.
- * Reaching a speed v from rest and stopping again, each as fast as A and J
- * allow, takes ta(v) = v / A + A / J when v >= A^2 / J (the acceleration
- * saturates) and 2 sqrt(v / J) otherwise, over the distance v ta(v) (the
- * mean speed of an acceleration symmetric in time is v / 2, twice). The
- * fastest move cruises at the largest v <= V with v ta(v) <= D, found here
- * by bisection, for T = 2 ta(v) + (D - v ta(v)) / v. */
-static double half_time(double v, double A, double J)
-{
-    return v >= A * A / J ? v / A + A / J : 2.0 * sqrt(v / J);
-}
-
-static double optimum_time(double D, double V, double A, double J)
-{
-    if (D == 0.0)
-        return 0.0;
-    double v = V;
-    if (v * half_time(v, A, J) > D) {
-        double lo = 0.0, hi = V;
-        for (int i = 0; i < 200; i++) {
-            double mid = 0.5 * (lo + hi);
-            if (mid * half_time(mid, A, J) > D)
-                hi = mid;
-            else
-                lo = mid;
-        }
-        v = lo;
-    }
-    double ta = half_time(v, A, J);
-    return 2.0 * ta + (D - v * ta) / v;
-}
-
 /* ---- hand-checked cases ---- */
 
 static void plan_ok(kc_scurve *pr, double p0, double v0, double a0, double p1, double V, double A, double J, double dt)
@@ -223,8 +189,8 @@ static void test_rest_to_rest(void **state)
         double p0r = (double)(kc_real)p0, p1r = (double)(kc_real)p1;
         walk(&pr, p0r, 0, 0, p1r, (double)(kc_real)V, (double)(kc_real)A, (double)(kc_real)J, "rest to rest");
         kinds[pr.n]++;
-        double T = optimum_time(fabs((double)((kc_real)p1 - (kc_real)p0)), (double)(kc_real)V, (double)(kc_real)A,
-                                (double)(kc_real)J);
+        double T = kt_scurve_optimum_time(fabs((double)((kc_real)p1 - (kc_real)p0)), (double)(kc_real)V,
+                                          (double)(kc_real)A, (double)(kc_real)J);
         kt_near((double)pr.T, T, 1e-9 * (T + 1.0) + (FLOAT_BUILD ? 64.0 * EPS * (T + 1.0) : 0.0), "optimum T");
     }
     /* Every shape occurred: none, four, five, six and seven phases. */
@@ -466,8 +432,8 @@ static void test_joint_move(void **state)
             cfg.qd_max[i] = equal && i > 0 ? cfg.qd_max[0] : (kc_real)kt_uniform(&r, 0.3, 4.0);
             cfg.qdd_max[i] = equal && i > 0 ? cfg.qdd_max[0] : (kc_real)kt_uniform(&r, 1.0, 40.0);
             cfg.qddd_max[i] = equal && i > 0 ? cfg.qddd_max[0] : (kc_real)kt_uniform(&r, 5.0, 800.0);
-            double Ti = optimum_time(fabs((double)(cfg.q1[i] - cfg.q0[i])), (double)cfg.qd_max[i],
-                                     (double)cfg.qdd_max[i], (double)cfg.qddd_max[i]);
+            double Ti = kt_scurve_optimum_time(fabs((double)(cfg.q1[i] - cfg.q0[i])), (double)cfg.qd_max[i],
+                                               (double)cfg.qdd_max[i], (double)cfg.qddd_max[i]);
             if (Ti > T_opt)
                 T_opt = Ti;
         }
@@ -667,7 +633,7 @@ static void test_bad_inputs(void **state)
     assert_int_equal(kc_scurve_plan(NULL, 0, 0, 0, one, one, one, one, dt), KC_E_ARG);
     /* No speed limit: the peak is the distance's. */
     assert_int_equal(kc_scurve_plan(&pr, 0, 0, 0, one, inf, one, one, dt), KC_OK);
-    kt_near((double)pr.T, optimum_time(1.0, 1e6, 1.0, 1.0), 1e-6, "no speed limit");
+    kt_near((double)pr.T, kt_scurve_optimum_time(1.0, 1e6, 1.0, 1.0), 1e-6, "no speed limit");
     assert_int_equal(kc_scurve_plan(&pr, 0, one, 0, one, inf, one, one, dt), KC_OK);
     walk(&pr, 0, 1, 0, 1, 1e30, 1, 1, "no speed limit, moving");
     /* Evaluation. */

@@ -2,6 +2,7 @@
 /* testutil.c - see testutil.h. */
 #include "testutil.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -411,4 +412,29 @@ kc_goal kt_joint_goal(int64_t id, const kc_real *q, int n)
     g.vel_scale = g.acc_scale = KC_R(1.0);
     memcpy(g.q, q, sizeof(kc_real) * (size_t)n);
     return g;
+}
+
+static double half_time(double v, double A, double J)
+{
+    return v >= A * A / J ? v / A + A / J : 2.0 * sqrt(v / J);
+}
+
+double kt_scurve_optimum_time(double D, double V, double A, double J)
+{
+    if (D == 0.0)
+        return 0.0;
+    double v = V;
+    if (v * half_time(v, A, J) > D) {
+        double lo = 0.0, hi = V;
+        for (int i = 0; i < 200; i++) {
+            double mid = 0.5 * (lo + hi);
+            if (mid * half_time(mid, A, J) > D)
+                hi = mid;
+            else
+                lo = mid;
+        }
+        v = lo;
+    }
+    double ta = half_time(v, A, J);
+    return 2.0 * ta + (D - v * ta) / v;
 }

@@ -168,4 +168,14 @@ kc_vec3 kt_rand_unit(kt_rng *r);
  * limit is replaced by -pi or pi). */
 void kt_rand_q(kt_rng *r, const kc_chain *chain, kc_real *q);
 
+/* An independent rest-to-rest optimum of a jerk-limited move over distance
+ * D >= 0 within V, A, J: not kinctl/scurve.h's closed form, but from the
+ * physics of one symmetric half. Reaching a speed v from rest and stopping
+ * again, each as fast as A and J allow, takes ta(v) = v / A + A / J when
+ * v >= A^2 / J (the acceleration saturates) and 2 sqrt(v / J) otherwise,
+ * over the distance v ta(v) (the mean speed of an acceleration symmetric
+ * in time is v / 2, twice). The fastest move cruises at the largest v <= V
+ * with v ta(v) <= D, found by bisection, for T = 2 ta(v) + (D - v ta(v)) / v. */
+double kt_scurve_optimum_time(double D, double V, double A, double J);
+
 #endif /* KINCTL_TESTUTIL_H */
