@@ -17,11 +17,11 @@
 #include "can_frame.h"
 #include "clock.h"
 
-int kd_can_socket(const char *ifname, const struct can_filter *filters, int nf, int rcvbuf, const char **what)
+int kd_can_socket(const char *ifname, const struct can_filter *filters, int nf, can_err_mask_t err_mask, int rcvbuf,
+                  const char **what)
 {
     struct ifreq ifr;
     struct sockaddr_can addr;
-    can_err_mask_t err_mask = CAN_ERR_MASK;
     int fd, err;
 
     fd = socket(PF_CAN, SOCK_RAW | SOCK_CLOEXEC | SOCK_NONBLOCK, CAN_RAW);
@@ -60,8 +60,43 @@ int kd_can_socket(const char *ifname, const struct can_filter *filters, int nf, 
     return fd;
 }
 
-int kd_bus_init(kd_bus *b, const kd_can_cfg *cfg, int n, const char **what)
+void kd_can_open_failed(const char *ifname, const char *what, int rc)
 {
+    fprintf(stderr, "kinctld: cannot open CAN interface \"%s\": %s: %s%s\n", ifname, what, strerror(-rc),
+            rc == -EAFNOSUPPORT ? " (this kernel has no SocketCAN: load the can and can-raw modules)" : "");
+}
+
+int kd_can_send(int fd, const struct can_frame *frames, int count, int *err)
+{
+    struct mmsghdr msgs[KD_BUS_FRAMES_MAX];
+    struct iovec iov[KD_BUS_FRAMES_MAX];
+    int i, sent;
+    if (count > KD_BUS_FRAMES_MAX)
+        count = KD_BUS_FRAMES_MAX;
+    memset(msgs, 0, sizeof msgs[0] * (size_t)count);
+    for (i = 0; i < count; i++) {
+        iov[i].iov_base = (void *)&frames[i];
+        iov[i].iov_len = sizeof frames[i];
+        msgs[i].msg_hdr.msg_iov = &iov[i];
+        msgs[i].msg_hdr.msg_iovlen = 1;
+    }
+    /* sendmmsg stops at the first frame that fails and says why on the
+     * next call: one more call for the rest learns it. */
+    *err = 0;
+    for (sent = 0; sent < count;) {
+        int r = sendmmsg(fd, msgs + sent, (unsigned)(count - sent), MSG_DONTWAIT);
+        if (r <= 0) {
+            *err = r < 0 ? errno : EAGAIN;
+            break;
+        }
+        sent += r;
+    }
+    return sent;
+}
+
+int kd_bus_init(kd_bus *b, const kd_can_cfg *cfg, int n)
+{
+    const char *what = "";
     int j, fd;
     b->cfg = cfg;
     b->n = n;
@@ -76,17 +111,13 @@ int kd_bus_init(kd_bus *b, const kd_can_cfg *cfg, int n, const char **what)
     atomic_init(&b->frames, 0);
     atomic_init(&b->dropped, 0);
     atomic_init(&b->errors, 0);
-    atomic_init(&b->last_errno, 0);
     atomic_init(&b->link_errno, 0);
     memset(b->target, 0, sizeof b->target);
     kd_hist_clear(&b->send_ns);
-    /* Sends only: a filter that passes nothing, so no frame waits here. */
-    fd = kd_can_socket(cfg->interface, NULL, 0, 0, what);
-    if (fd < 0)
-        return fd;
-    {
-        can_err_mask_t none = 0;
-        (void)setsockopt(fd, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &none, sizeof none);
+    fd = kd_can_socket(cfg->interface, NULL, 0, 0, 0, &what);
+    if (fd < 0) {
+        kd_can_open_failed(cfg->interface, what, fd);
+        return -1;
     }
     b->fd = fd;
     return 0;
@@ -109,11 +140,9 @@ void kd_bus_close(kd_bus *b)
 void kd_bus_cycle(kd_bus *b, int64_t cycle, const kc_real *q, const kc_real *qd)
 {
     struct can_frame frames[KD_BUS_FRAMES_MAX];
-    struct mmsghdr msgs[KD_BUS_FRAMES_MAX];
-    struct iovec iov[KD_BUS_FRAMES_MAX];
     const kd_can_cfg *cfg = b->cfg;
     int64_t t0, syncs;
-    int i, j, count = 0, sent, err = 0;
+    int j, count = 0, sent, err = 0;
     int next = atomic_load_explicit(&b->fd_next, memory_order_acquire);
 
     if (next >= 0) {
@@ -135,30 +164,13 @@ void kd_bus_cycle(kd_bus *b, int64_t cycle, const kc_real *q, const kc_real *qd)
             kd_can_encode_rpdo2(&cfg->joint[j], (double)qd[j], &frames[count++]);
         b->target[syncs % KD_CAN_RING][j] = (double)q[j];
     }
-    memset(msgs, 0, sizeof msgs[0] * (size_t)count);
-    for (i = 0; i < count; i++) {
-        iov[i].iov_base = &frames[i];
-        iov[i].iov_len = sizeof frames[i];
-        msgs[i].msg_hdr.msg_iov = &iov[i];
-        msgs[i].msg_hdr.msg_iovlen = 1;
-    }
-    /* sendmmsg stops at the first frame that fails and says why on the
-     * next call: one more call for the rest learns it. */
-    for (sent = 0; sent < count;) {
-        int r = sendmmsg(b->fd, msgs + sent, (unsigned)(count - sent), MSG_DONTWAIT);
-        if (r <= 0) {
-            err = r < 0 ? errno : EAGAIN;
-            break;
-        }
-        sent += r;
-    }
+    sent = kd_can_send(b->fd, frames, count, &err);
     atomic_fetch_add_explicit(&b->frames, sent, memory_order_relaxed);
     if (sent > 0) /* the SYNC went out: the drives answer it */
         atomic_store_explicit(&b->syncs, syncs + 1, memory_order_release);
     if (sent < count) {
         /* The rest of this bus cycle is dropped (never retried: it would
          * be stale). */
-        atomic_store_explicit(&b->last_errno, err, memory_order_relaxed);
         atomic_fetch_add_explicit(&b->dropped, count - sent, memory_order_relaxed);
         atomic_fetch_add_explicit(&b->errors, 1, memory_order_relaxed);
         if (err == ENETDOWN || err == ENXIO || err == ENODEV)

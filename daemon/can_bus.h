@@ -47,21 +47,31 @@ typedef struct kd_bus {
     atomic_llong syncs;     /* SYNCs written */
     double target[KD_CAN_RING][KC_MAX_JOINTS]; /* by SYNC number (joint units) */
     atomic_llong frames, dropped, errors;
-    atomic_int last_errno;
     atomic_int link_errno;  /* the interface is gone (taken by the I/O thread) */
     kd_hist send_ns;        /* the cycle's; read once it has stopped */
 } kd_bus;
 
 /* A raw CAN socket on interface ifname, non-blocking, with the receive
- * filters given (nf 0: receives nothing) and every error class, its
- * receive buffer at least rcvbuf bytes where permitted (0: as it is).
+ * filters given (nf 0: receives nothing) and the error classes err_mask,
+ * its receive buffer at least rcvbuf bytes where permitted (0: as it is).
  * Returns the descriptor, or -errno with *what naming the step that
  * failed. */
-int kd_can_socket(const char *ifname, const struct can_filter *filters, int nf, int rcvbuf, const char **what);
+int kd_can_socket(const char *ifname, const struct can_filter *filters, int nf, can_err_mask_t err_mask, int rcvbuf,
+                  const char **what);
 
-/* Sets b up for cfg's n drives, inactive, with its socket open. Returns 0
- * or -errno (*what set). Main thread. */
-int kd_bus_init(kd_bus *b, const kd_can_cfg *cfg, int n, const char **what);
+/* "kinctld: cannot open CAN interface ..." on stderr for kd_can_socket's
+ * failure rc at step what. */
+void kd_can_open_failed(const char *ifname, const char *what, int rc);
+
+/* Writes frames[0..count) on fd without blocking, in as few calls as it
+ * can. Returns how many went out; when not all, *err says why (EAGAIN,
+ * ENOBUFS, ENETDOWN...). The rest is never retried. */
+int kd_can_send(int fd, const struct can_frame *frames, int count, int *err);
+
+/* Sets b up for cfg's n drives, inactive, with its socket open (sends
+ * only: it receives nothing). Returns 0, or -1 with a message on stderr.
+ * Main thread. */
+int kd_bus_init(kd_bus *b, const kd_can_cfg *cfg, int n);
 
 void kd_bus_close(kd_bus *b);
 

@@ -22,7 +22,6 @@
 
 #define KD_CAN_PROBE_NS 100000000LL      /* a lost interface is probed every 100 ms */
 #define KD_CAN_RCVBUF (8 << 20)          /* feedback must wait in the socket, not be dropped */
-#define KD_CAN_WRITE_MAX 8               /* frames of one kd_can_write */
 #define KD_CAN_FILTERS_PER_DRIVE 4
 
 /* Opens, filters and binds the link's socket. Returns 0 or -errno with
@@ -41,7 +40,7 @@ static int open_socket(kd_can *c, const char **what)
             filters[nf].can_id = bases[k] + (canid_t)c->cfg->joint[j].node;
             filters[nf++].can_mask = CAN_SFF_MASK | CAN_EFF_FLAG | CAN_RTR_FLAG;
         }
-    fd = kd_can_socket(c->cfg->interface, filters, nf, KD_CAN_RCVBUF, what);
+    fd = kd_can_socket(c->cfg->interface, filters, nf, CAN_ERR_MASK, KD_CAN_RCVBUF, what);
     if (fd < 0)
         return fd;
     c->fd = fd;
@@ -96,8 +95,7 @@ int kd_can_open(kd_can *c, const kd_can_cfg *cfg, kd_bus *bus, int n, int64_t pe
         c->node_joint[cfg->joint[j].node] = (int8_t)j;
     rc = open_socket(c, &what);
     if (rc != 0) {
-        fprintf(stderr, "kinctld: cannot open CAN interface \"%s\": %s: %s%s\n", cfg->interface, what, strerror(-rc),
-                rc == -EAFNOSUPPORT ? " (this kernel has no SocketCAN: load the can and can-raw modules)" : "");
+        kd_can_open_failed(cfg->interface, what, rc);
         return -1;
     }
     c->state = KD_CAN_OK;
@@ -113,38 +111,17 @@ void kd_can_close(kd_can *c)
     c->fd = -1;
 }
 
-int kd_can_fd(const kd_can *c) { return c->fd; }
-
 int kd_can_write(kd_can *c, const struct can_frame *frames, int count, int64_t now)
 {
-    struct mmsghdr msgs[KD_CAN_WRITE_MAX];
-    struct iovec iov[KD_CAN_WRITE_MAX];
-    int i, sent = 0, err = 0;
-    if (count > KD_CAN_WRITE_MAX)
-        count = KD_CAN_WRITE_MAX;
+    int sent, err;
     if (c->state != KD_CAN_OK || c->fd < 0) {
         c->tx_dropped += count;
         return 0;
     }
-    memset(msgs, 0, sizeof msgs[0] * (size_t)count);
-    for (i = 0; i < count; i++) {
-        iov[i].iov_base = (void *)&frames[i];
-        iov[i].iov_len = sizeof frames[i];
-        msgs[i].msg_hdr.msg_iov = &iov[i];
-        msgs[i].msg_hdr.msg_iovlen = 1;
-    }
-    while (sent < count) {
-        int r = sendmmsg(c->fd, msgs + sent, (unsigned)(count - sent), MSG_DONTWAIT);
-        if (r <= 0) {
-            err = r < 0 ? errno : EAGAIN;
-            break;
-        }
-        sent += r;
-    }
+    sent = kd_can_send(c->fd, frames, count, &err);
     c->frames += sent;
     if (sent == count)
         return sent;
-    c->last_errno = err;
     c->tx_dropped += count - sent;
     c->errors++;
     if (err == ENETDOWN || err == ENXIO || err == ENODEV) {
@@ -279,8 +256,6 @@ static void on_frame(kd_can *c, const struct can_frame *f, int64_t now)
             c->qd_fb[j] = (q - c->q_fb[j]) / ((double)c->period_ns * 1e-9 * (double)c->cfg->sync_every *
                                              (double)c->cfg->tpdo_every);
         c->q_fb[j] = q;
-        c->counts_fb[j] = (int32_t)((uint32_t)f->data[2] | (uint32_t)f->data[3] << 8 | (uint32_t)f->data[4] << 16 |
-                                    (uint32_t)f->data[5] << 24);
         following(c, j, q);
         c->statusword[j] = statusword;
         c->have_fb[j] = 1;
@@ -303,7 +278,6 @@ static void on_frame(kd_can *c, const struct can_frame *f, int64_t now)
         uint16_t code = 0;
         uint8_t reg = 0;
         if (kd_can_decode_emcy(f, &code, &reg) == 0) {
-            c->emcys[j]++;
             c->emcy_code[j] = code;
             c->emcy_register[j] = reg;
             if (c->watch && code != 0)
@@ -343,15 +317,11 @@ static void recover(kd_can *c, int64_t now)
     c->next_probe_ns = now + KD_CAN_PROBE_NS;
     if (!link_ok(c) || open_socket(c, &what) != 0)
         return;
-    fd = kd_can_socket(c->cfg->interface, NULL, 0, 0, &what);
+    fd = kd_can_socket(c->cfg->interface, NULL, 0, 0, 0, &what); /* the cycle's: sends only */
     if (fd < 0) {
         close(c->fd);
         c->fd = -1;
         return;
-    }
-    {
-        can_err_mask_t none = 0;
-        (void)setsockopt(fd, SOL_CAN_RAW, CAN_RAW_ERR_FILTER, &none, sizeof none);
     }
     /* The cycle swaps it in at its next tick and hands the old one back. */
     fd = atomic_exchange_explicit(&c->bus->fd_next, fd, memory_order_acq_rel);

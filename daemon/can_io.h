@@ -78,12 +78,10 @@ typedef struct kd_can {
      * the bus cycle's). */
     int64_t frames, tx_dropped, error_frames, bus_off, link_down, rx_frames, errors;
     int64_t recoveries; /* times the link came back */
-    int last_errno;
 
     /* Feedback per joint. */
     int have_fb[KC_MAX_JOINTS];
     double q_fb[KC_MAX_JOINTS], qd_fb[KC_MAX_JOINTS];
-    int32_t counts_fb[KC_MAX_JOINTS];
     uint16_t statusword[KC_MAX_JOINTS];
     int64_t tpdos[KC_MAX_JOINTS];        /* TPDOs received */
     int64_t fb_ns[KC_MAX_JOINTS];        /* when the last one came */
@@ -92,7 +90,6 @@ typedef struct kd_can {
     int64_t heartbeat_ns[KC_MAX_JOINTS]; /* last heartbeat heard (0: never) */
     uint8_t nmt_state[KC_MAX_JOINTS];
     int64_t bootups[KC_MAX_JOINTS];      /* boot-ups heard */
-    int64_t emcys[KC_MAX_JOINTS];        /* EMCYs heard */
     uint16_t emcy_code[KC_MAX_JOINTS];   /* the last one's */
     uint8_t emcy_register[KC_MAX_JOINTS];
 
@@ -114,9 +111,6 @@ enum { KD_CAN_COND_NONE = 0, KD_CAN_COND_DRIVE = 1, KD_CAN_COND_BUS = 2 };
 int kd_can_open(kd_can *c, const kd_can_cfg *cfg, kd_bus *bus, int n, int64_t period_ns, int64_t now);
 
 void kd_can_close(kd_can *c);
-
-/* The socket to poll for feedback and error frames (-1: none). */
-int kd_can_fd(const kd_can *c);
 
 /* Writes frames[0..count) without blocking. Returns how many went out. */
 int kd_can_write(kd_can *c, const struct can_frame *frames, int count, int64_t now);

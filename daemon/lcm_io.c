@@ -684,16 +684,8 @@ int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_check *check
     }
     io->rx.fd = -1;
     io->bus.fd = -1;
-    if (cfg->can.enable) {
-        const char *what = "";
-        int rc = kd_bus_init(&io->bus, &cfg->can, n, &what);
-        if (rc != 0) {
-            fprintf(stderr, "kinctld: cannot open CAN interface \"%s\": %s: %s%s\n", cfg->can.interface, what,
-                    strerror(-rc),
-                    rc == -EAFNOSUPPORT ? " (this kernel has no SocketCAN: load the can and can-raw modules)" : "");
-            return -1;
-        }
-    }
+    if (cfg->can.enable && kd_bus_init(&io->bus, &cfg->can, n) != 0)
+        return -1;
     if (kd_can_open(&io->can, &cfg->can, &io->bus, n, cfg->period_ns, kd_now_ns()) != 0) {
         kd_bus_close(&io->bus);
         return -1;
