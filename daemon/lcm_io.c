@@ -78,6 +78,8 @@ static kinctl_status_t *fill_status(kd_io *io, int8_t event, int64_t goal_id, kc
     memset(st, 0, sizeof *st);
     st->utime = utime_of(io, kd_now_ns());
     st->n = n;
+    for (j = 0; j < n; j++)
+        st->prismatic[j] = (int8_t)(io->cfg->chain.joints[j].type == KC_JOINT_PRISMATIC);
     if (io->have_last) {
         const kc_ctrl_output *o = &io->last.out;
         st->cycle = o->cycle;

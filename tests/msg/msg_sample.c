@@ -181,6 +181,8 @@ void msg_sample(kd_msg_type type, uint32_t seed, kd_msg_any *m, char *reason_buf
         p->joint_lower = uniform(s, -3.2, 0.0);
         p->joint_upper = uniform(s, 0.0, 3.2);
         p->drives = (int8_t)pick(s, KINCTL_STATUS_T_DRIVES_NONE, KINCTL_STATUS_T_DRIVES_DISABLED);
+        for (int j = 0; j < KINCTL_STATUS_T_MAX_JOINTS; j++)
+            p->prismatic[j] = (int8_t)pick(s, 0, 1);
         break;
     }
     case KD_MSG_STATS: {

@@ -129,6 +129,10 @@ static void print_json(kd_msg_type t, const kd_msg_any *m)
         pi("joint", p->joint); pi("joint_prismatic", p->joint_prismatic);
         pd("joint_value", &p->joint_value, 1, 0); pd("joint_lower", &p->joint_lower, 1, 0);
         pd("joint_upper", &p->joint_upper, 1, 0);
+        printf("\"prismatic\": [");
+        for (i = 0; i < KINCTL_STATUS_T_MAX_JOINTS; i++)
+            printf("%s%d", i ? ", " : "", (int)p->prismatic[i]);
+        printf("], ");
         break;
     }
     case KD_MSG_STATS: {

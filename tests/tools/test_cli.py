@@ -253,3 +253,40 @@ def test_help_everywhere_with_an_example(args):
     r = run_kinctl(None, *args, "--help")
     assert r.returncode == 0, r.stderr
     assert "example" in r.stdout and "kinctl " in r.stdout.split("example", 1)[1], r.stdout
+
+
+# A two-joint arm with a prismatic second joint (models/README.md's
+# example): --deg converts only the revolute joint.
+RP_ARM = """robot = {
+  name = "rp";
+  angles = "deg";
+  dh = (
+    { name = "j1"; type = "revolute"; a = 0.0; alpha = 90.0; d = 0.4; theta = 0.0;
+      limits = { q = [-170.0, 170.0]; qd = 120.0; qdd = 500.0; qddd = 5000.0; }; },
+    { name = "j2"; type = "prismatic"; a = 0.0; alpha = 0.0; d = 0.1; theta = 0.0;
+      limits = { q = [0.0, 0.3]; qd = 0.5; qdd = 2.0; qddd = 20.0; }; }
+  );
+};
+"""
+
+
+def test_deg_converts_revolute_joints_only(daemon, tmp_path):
+    cfg = tmp_path / "rp.cfg"
+    cfg.write_text(RP_ARM)
+    d = daemon("--config", str(cfg))
+    r = run_kinctl(d, "--deg", "goal", "joint", "--q", "30,0.25", "--wait")
+    assert r.returncode == 0, r.stderr
+    s = status(d)
+    assert s["prismatic"] == [False, True]
+    assert close(s["q"], [math.radians(30.0), 0.25], 1e-9), s["q"]
+    r = run_kinctl(d, "--deg", "status")
+    assert r.returncode == 0, r.stderr
+    q_line = next(line for line in r.stdout.splitlines() if line.startswith("q "))
+    assert q_line.split()[1:] == ["30.0000", "0.2500", "deg;", "joint", "2", "in", "m"], q_line
+    # A joint path too, and a limit rejection in the joint's own unit.
+    r = run_kinctl(d, "--deg", "goal", "path", "--space", "joint", "--points", "0,0.1;-20,0.05", "--wait")
+    assert r.returncode == 0, r.stderr
+    assert close(status(d)["q"], [math.radians(-20.0), 0.05], 1e-9)
+    r = run_kinctl(d, "--deg", "goal", "joint", "--q", "10,0.5")
+    assert r.returncode != 0
+    assert "joint 2: 0.5 m is outside its limits [0, 0.3] m" in r.stderr, r.stderr

@@ -19,7 +19,7 @@ def add_options(p, suppress):
                         "udpm://239.255.76.67:7667?ttl=0)")
     g.add_argument("--prefix", default=d("KINCTL_"), help="channel prefix (default KINCTL_)")
     g.add_argument("--deg", action="store_true", default=d(False),
-                   help="joint values and angular rates in degrees (revolute joints)")
+                   help="revolute joints' values and angular rates in degrees (prismatic joints stay in m)")
     g.add_argument("--connect-timeout", type=positive, default=d(2.0), metavar="S",
                    help="how long to wait for the daemon's first setpoint and for an answer (default 2 s)")
 

@@ -167,9 +167,11 @@ def cmd_goal(args):
         return cmd_servo(args, deg)
     # Build (and check) the message before looking for the daemon: bad input is exit 2.
     common = dict(goal_id=args.id, replace=args.replace)
+    joint_msg = None
     if args.kind == "joint":
-        msg = kc.make_goal_joint([v * deg for v in args.q], vel_scale=args.speed, acc_scale=args.accel,
-                                 profile=args.profile, **common)
+        def joint_msg(to_si):
+            return kc.make_goal_joint(to_si(args.q), vel_scale=args.speed, acc_scale=args.accel,
+                                      profile=args.profile, **common)
         kind = "joint"
     elif args.kind in ("line", "arc"):
         cart = dict(speed=args.speed, accel=args.accel, angular_speed=args.angular_speed * deg,
@@ -182,17 +184,44 @@ def cmd_goal(args):
     else:
         if args.space == "joint":
             # A joint path has no Cartesian speed: --speed/--accel are the joint scales, as for a joint move.
-            pts = [[v * deg for v in p] for p in args.points]
             rates = dict(speed=0.0, accel=0.0, vel_scale=args.joint_speed or args.speed,
                          acc_scale=args.joint_accel or args.accel)
         else:
-            pts = args.points
             rates = dict(speed=args.speed, accel=args.accel, vel_scale=args.joint_speed, acc_scale=args.joint_accel)
-        msg = kc.make_goal_path(pts, space=args.space, method=args.method, times=args.times,
-                                blend_time=args.blend_time, shape=args.shape, ends=args.ends, **rates, **common)
+
+        def path_msg(to_si):
+            return kc.make_goal_path([to_si(p) for p in args.points], space=args.space, method=args.method,
+                                     times=args.times, blend_time=args.blend_time, shape=args.shape,
+                                     ends=args.ends, **rates, **common)
+        if args.space == "joint":
+            joint_msg = path_msg
+        else:
+            msg = path_msg(list)
         kind = f"{args.space} {args.method} path"
+    if joint_msg is not None:
+        # Checked with every joint revolute; sent once the daemon says which are.
+        msg = joint_msg(lambda values: [v * deg for v in values])
     with connect(args) as c:
+        if joint_msg is not None and args.deg:
+            to_si = _joint_units(c, args)
+            if to_si is None:
+                return 1
+            msg = joint_msg(to_si)
         return _answer(c, c.send(msg), kind, args)
+
+
+def _joint_units(c, args):
+    """With --deg: the conversion of joint values to SI for the daemon's arm
+    (degrees for its revolute joints, m for its prismatic ones), from its
+    status; None, said on stderr, when no status comes."""
+    from kinctl.msgs import joint_degrees
+    st = c.status or c.wait_status(max(args.connect_timeout, 0.5))
+    if st is None:
+        err(f"--deg: no {args.prefix}STATUS arrived within {args.connect_timeout:g} s to tell the arm's "
+            "revolute joints from its prismatic ones")
+        return None
+    in_deg = joint_degrees(st, True)
+    return lambda values: [math.radians(v) if j >= len(in_deg) or in_deg[j] else v for j, v in enumerate(values)]
 
 
 def cmd_servo(args, deg):

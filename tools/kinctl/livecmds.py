@@ -42,7 +42,10 @@ def register(sub, parents):
 
 
 def _fmt(values, deg=False, digits=4):
-    return " ".join(f"{math.degrees(v) if deg else v:.{digits}f}" for v in values)
+    """values in a row; deg: True (every value) or one flag per value, in
+    degrees where set."""
+    flags = deg if isinstance(deg, list) else [deg] * len(values)
+    return " ".join(f"{math.degrees(v) if d else v:.{digits}f}" for v, d in zip(values, flags))
 
 
 # Command -> (state reached without --wait, state and rest with --wait).
@@ -95,7 +98,8 @@ def status_dict(st, sp):
          "event_goal_id": st.event_goal_id, "code": st.code, "reason": st.reason,
          "q": list(st.q_measured[:st.n]), "qd": list(st.qd_measured[:st.n]),
          "can": {0: "off", 1: "ok", 2: "lost"}.get(st.can_state, str(st.can_state)),
-         "drives": DRIVES.get(st.drives, str(st.drives))}
+         "drives": DRIVES.get(st.drives, str(st.drives)),
+         "prismatic": [bool(p) for p in st.prismatic[:st.n]]}
     if sp is not None:
         d["setpoint_cycle"] = sp.cycle
         d["position"] = list(sp.position)
@@ -113,14 +117,20 @@ def cmd_status(args):
     if args.json:
         print(json.dumps(d))
         return 0
-    unit = "deg" if args.deg else "rad"
+    from kinctl.msgs import joint_degrees
+    in_deg = joint_degrees(st, args.deg)
+    prismatic = [str(j + 1) for j, p in enumerate(d["prismatic"]) if p]
+
+    def unit(rate=""):
+        u = ("deg" if args.deg else "rad") + rate
+        return u + (f"; joint {','.join(prismatic)} in m{rate}" if prismatic else "")
     say(f"state     {d['state']}  (cycle {d['cycle']})")
     say(f"goal      {d['active_goal_id'] or '-'}  progress {100 * d['progress']:.0f} %  "
         f"queue {d['queue_length']}")
     if d["event"] != "NONE":
         say(f"event     {d['event']} goal {d['event_goal_id']}" + (f": {d['reason']}" if d["reason"] else ""))
-    say(f"q         {_fmt(d['q'], args.deg)} {unit}")
-    say(f"qd        {_fmt(d['qd'], args.deg)} {unit}/s")
+    say(f"q         {_fmt(d['q'], in_deg)} {unit()}")
+    say(f"qd        {_fmt(d['qd'], in_deg)} {unit('/s')}")
     if d["can"] != "off":
         say(f"can       {d['can']}, drives {d['drives']}")
     if "position" in d:

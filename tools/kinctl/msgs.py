@@ -53,6 +53,13 @@ __all__ = ["command_t", "goal_arc_t", "goal_joint_t", "goal_line_t", "goal_path_
            "COMMANDS", "state_name", "event_name"]
 
 
+def joint_degrees(status, deg):
+    """Per joint of status (its first n): True where a CLI with --deg (deg)
+    shows and takes degrees, i.e. a revolute joint; a prismatic joint stays
+    in m and m/s."""
+    return [bool(deg) and not status.prismatic[j] for j in range(status.n)]
+
+
 def reason_text(status, deg=False):
     """A status's reason as a person reads it: a joint's limit (status.joint >
     0) in the joint's unit, degrees for a revolute joint when deg, joints
