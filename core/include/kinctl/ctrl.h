@@ -231,6 +231,9 @@ typedef enum kc_ctrl_reason {
     KC_REASON_DUPLICATE_ID,  /* a goal with this id is active or queued */
     KC_REASON_EXTERNAL,      /* fault: the caller reported one (a drive, the field bus) */
     KC_REASON_ZONE,          /* a link volume would enter a forbidden zone's margin */
+    /* Accepted, replacing a motion with no continuous transition into it:
+     * the motion stops on its path first (the ACCEPTED event's reason). */
+    KC_REASON_STOP_FIRST,
     KC_REASON_COUNT
 } kc_ctrl_reason;
 
@@ -359,6 +362,20 @@ typedef enum kc_ctrl_drive {
     KC_DRIVE_HALT = 5           /* jerk-limited joint move stopping joint by joint: plan.halt */
 } kc_ctrl_drive;
 
+/* A replacing Cartesian goal's transition: the line or arc it replaced,
+ * stopping on its path, superposed on it (ctrl_blend.c). */
+typedef struct kc_ctrl_blend {
+    int on;
+    kc_goal_kind kind; /* the replaced segment: KC_GOAL_LINE or KC_GOAL_ARC */
+    union {
+        kc_interp_line line;
+        kc_interp_arc arc;
+    } plan;
+    kc_profile stop;   /* its u from the takeover to rest */
+    int64_t k0;        /* tick of the stop's start (its tick 0: the last setpoint before the takeover) */
+    kc_pose rest;      /* where the stop ends: P_s, where the new segment starts */
+} kc_ctrl_blend;
+
 /* The controller: caller-owned, large (the plan of a 32-knot Cartesian
  * path), never copied in the cycle. Read its fields, change them only
  * through the functions here. */
@@ -401,6 +418,8 @@ typedef struct kc_ctrl {
     kc_zone_hit zone_now, zone_hit;
     kc_real zone_lever[KC_MAX_JOINTS]; /* kc_zone_levers of the chain */
     kc_real zone_brake;                /* a of the servo's braking law (m/s^2) */
+    /* A replacing Cartesian goal taking over from a moving line or arc. */
+    kc_ctrl_blend blend;
 } kc_ctrl;
 
 /* Starts at rest at q0 (inside the limits), idle. chain must outlive ctrl
