@@ -175,6 +175,8 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     c->settle = 0;
     c->state = KC_CTRL_MOVING;
     b->on = 1;
+    b->lax = 1;
+    b->err = INF;
     c->k0 = b->k0 + start_offset(c, &lim);
     kc_ctrl_emit(out, KC_EVENT_ACCEPTED, g->id, KC_REASON_NONE, 0);
     kc_ctrl_emit(out, KC_EVENT_PREEMPTED, old_id, KC_REASON_NONE, 0);

@@ -123,6 +123,7 @@ static void take_retarget(kc_ctrl *c, const kc_goal *g)
     c->path_length = KC_R(0.0);
     c->jstop = 0; /* a servo's stop in joint space gives way too */
     c->blend.on = 0; /* from the current state, whatever it was made of */
+    c->blend.lax = 0;
     c->active = 1;
     c->state = KC_CTRL_MOVING;
 }

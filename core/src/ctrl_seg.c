@@ -177,6 +177,7 @@ int kc_ctrl_start_next(kc_ctrl *c, kc_ctrl_output *out)
         c->stop_intent = KC_CMD_NONE;
         c->settle = 0;
         c->blend.on = 0;
+        c->blend.lax = 0;
         if (kc_ctrl_plan_goal(c) != KC_OK) {
             kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
             continue;
@@ -444,9 +445,14 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
         qdd[i] = (qd[i] - c->qd[i]) / c->cfg.dt;
     /* A servo target may jump: the arm goes there within its limits, and
      * only a joint limit in the way is a fault. */
-    kc_real limit = c->goal.kind == KC_GOAL_SERVO    ? INF
-                    : c->state == KC_CTRL_STOPPING ? TRACK_GIVE_UP * c->cfg.track_tol
-                                                   : c->cfg.track_tol;
+    /* The replaced motion's stop in a superposition is followed as a stop
+     * is, until the tool is back within the tolerance after it, closing in. */
+    if (c->blend.lax && !c->blend.on && res.pos_err <= c->cfg.track_tol && res.pos_err < c->blend.err)
+        c->blend.lax = 0;
+    c->blend.err = res.pos_err;
+    kc_real limit = c->goal.kind == KC_GOAL_SERVO                     ? INF
+                    : c->state == KC_CTRL_STOPPING || c->blend.lax ? TRACK_GIVE_UP * c->cfg.track_tol
+                                                                    : c->cfg.track_tol;
     if (st == KC_E_ARG || res.pos_err > limit || st == KC_E_LIMIT) {
         kc_real where = c->path_length > KC_R(0.0) ? before.s : before.progress;
         if (c->state == KC_CTRL_STOPPING || st == KC_E_LIMIT || st == KC_E_ARG) {

@@ -374,6 +374,11 @@ typedef struct kc_ctrl_blend {
     kc_profile stop;   /* its u from the takeover to rest */
     int64_t k0;        /* tick of the stop's start (its tick 0: the last setpoint before the takeover) */
     kc_pose rest;      /* where the stop ends: P_s, where the new segment starts */
+    /* The tracking bound is a stop's (the replaced motion's stop is part of
+     * the target) until, after it, the tool's error (err, m, the last
+     * tick's) is within cfg.track_tol and falling. */
+    int lax;
+    kc_real err;
 } kc_ctrl_blend;
 
 /* The controller: caller-owned, large (the plan of a 32-knot Cartesian
