@@ -16,10 +16,9 @@
  * does (no overlap). */
 #include "ctrl_internal.h"
 
-#include <string.h>
 
 /* Candidates of t0 spread evenly over [0, T_s], then bisection between the
- * last refused and the first admitted: at most BLEND_GRID + 1 + 20 sums
+ * last refused and the first admitted: at most BLEND_GRID + 20 sums
  * checked, each over at most the T_s ticks of the overlap. */
 #define BLEND_GRID 8
 
