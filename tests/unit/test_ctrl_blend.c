@@ -64,7 +64,7 @@ static harness H; /* large: not on the stack */
  * and during plain Cartesian motions: speed, acceleration, angular speed,
  * angular acceleration. */
 static struct {
-    double blend[4], plain[4];
+    double blend[4], plain[4], target[4];
 } WORST;
 
 static const kc_real PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
@@ -87,6 +87,121 @@ static void setup(void)
         H.q_prev[j] = (double)PUMA_Q0[j];
 }
 
+/* The Cartesian target of a superposition at absolute tick k, computed
+ * here from the two plans kc_ctrl holds (the replaced line or arc and its
+ * stop in ctrl.blend, the new segment in ctrl.plan) through the public
+ * evaluators, composed with quaternions (kinctl/ctrl.h's formula):
+ * p = p_M + p_G - p_s, r = r_G r_s^* r_M, v = v_M + v_G,
+ * w = w_G + rot(r_G r_s^*) w_M. */
+typedef struct target {
+    kc_vec3 p, v, w;
+    kc_quat r;
+} target;
+
+static target blend_target(int64_t k)
+{
+    const kc_ctrl *c = &H.ctrl;
+    kc_interp_cart_state m, gs;
+    int64_t jm = k - c->blend.k0, jg = k - c->k0;
+    jm = jm < 0 ? 0 : jm;
+    jg = jg < 0 ? 0 : jg;
+    if (c->blend.kind == KC_GOAL_LINE)
+        kc_interp_line_eval_profile(&c->blend.plan.line, &c->blend.stop, jm, &m);
+    else
+        kc_interp_arc_eval_profile(&c->blend.plan.arc, &c->blend.stop, jm, &m);
+    target g;
+    if (c->goal.kind == KC_GOAL_PATH_CART) {
+        kc_path_pose pp;
+        kc_path_cart_eval_time(&c->plan.path_cart, (kc_real)jg * c->cfg.dt, &pp);
+        g.p = pp.p;
+        g.r = pp.r;
+        g.v = pp.v;
+        g.w = pp.w;
+    } else {
+        if (c->goal.kind == KC_GOAL_LINE)
+            kc_interp_line_eval(&c->plan.line, jg, &gs);
+        else
+            kc_interp_arc_eval(&c->plan.arc, jg, &gs);
+        g.p = gs.p;
+        g.r = gs.q;
+        g.v = gs.v;
+        g.w = gs.w;
+    }
+    kc_quat rs, rs_conj, a, r;
+    kc_quat_from_mat3(&c->blend.rest.R, &rs);
+    kc_quat_conj(&rs, &rs_conj);
+    kc_quat_mul(&g.r, &rs_conj, &a);
+    kc_quat_mul(&a, &m.q, &r);
+    target t;
+    kc_vec3 aw;
+    kc_quat_rotate(&a, &m.w, &aw);
+    for (int i = 0; i < 3; i++) {
+        t.p.v[i] = m.p.v[i] + g.p.v[i] - c->blend.rest.t.v[i];
+        t.v.v[i] = m.v.v[i] + g.v.v[i];
+        t.w.v[i] = g.w.v[i] + aw.v[i];
+    }
+    t.r = r;
+    return t;
+}
+
+/* The superposition's target from tick k - 1 to k (the setpoint of tick k
+ * heads for it): its position continues by its speed, its speed and
+ * angular speed within the larger of the two goals' limits, and their
+ * changes over the tick within the acceleration limits or what M's stop or
+ * G alone changes over it, where that is more (an arc's centripetal part);
+ * and the tool within the tracking bound of a stop of it. Not once the new
+ * segment is itself stopping (a STOP, or a replacement, during the
+ * superposition: two stops add up, kinctl/ctrl.h). */
+static void check_target(int64_t k)
+{
+    const kc_ctrl *c = &H.ctrl;
+    if (c->drive != KC_DRIVE_NOMINAL || c->state != KC_CTRL_MOVING)
+        return;
+    double e = 1.0 + (double)H.cfg.limit_slack, dt = (double)H.cfg.dt;
+    target t0 = blend_target(k - 1), t1 = blend_target(k);
+    /* The components alone over the same tick. */
+    kc_interp_cart_state m0, m1;
+    int64_t jm = k - c->blend.k0;
+    if (c->blend.kind == KC_GOAL_LINE) {
+        kc_interp_line_eval_profile(&c->blend.plan.line, &c->blend.stop, jm - 1 < 0 ? 0 : jm - 1, &m0);
+        kc_interp_line_eval_profile(&c->blend.plan.line, &c->blend.stop, jm < 0 ? 0 : jm, &m1);
+    } else {
+        kc_interp_arc_eval_profile(&c->blend.plan.arc, &c->blend.stop, jm - 1 < 0 ? 0 : jm - 1, &m0);
+        kc_interp_arc_eval_profile(&c->blend.plan.arc, &c->blend.stop, jm < 0 ? 0 : jm, &m1);
+    }
+    kc_vec3 dv, dw, dvm, dwm, step;
+    kc_vec3_sub(&t1.v, &t0.v, &dv);
+    kc_vec3_sub(&t1.w, &t0.w, &dw);
+    kc_vec3_sub(&m1.v, &m0.v, &dvm);
+    kc_vec3_sub(&m1.w, &m0.w, &dwm);
+    kc_vec3_sub(&t1.p, &t0.p, &step);
+    double lv = (double)H.cfg.cart_speed, la = (double)H.cfg.cart_accel;
+    double lw = (double)H.cfg.cart_omega, ldw = (double)H.cfg.cart_alpha;
+    /* G alone changes by at most its own limits, or its arc's centripetal
+     * v^2 / R; M's stop by what it does. */
+    double g_a = la, g_dw = ldw;
+    if (c->goal.kind == KC_GOAL_ARC)
+        g_a = fmax(la, (double)(c->plan.arc.u_vmax * c->plan.arc.angle) * (double)(c->plan.arc.u_vmax * c->plan.arc.angle) *
+                           (double)c->plan.arc.radius * 2.0);
+    double a_bound = fmax(g_a, (double)kc_vec3_norm(&dvm) / dt), dw_bound = fmax(g_dw, (double)kc_vec3_norm(&dwm) / dt);
+    double sv = (double)kc_vec3_norm(&t1.v), sw = (double)kc_vec3_norm(&t1.w);
+    double sa = (double)kc_vec3_norm(&dv) / dt, sdw = (double)kc_vec3_norm(&dw) / dt;
+    double sp = (double)kc_vec3_norm(&step) / dt;
+    if (!(sv <= lv * e && sw <= lw * e && sa <= a_bound * e && sdw <= dw_bound * e && sp <= lv * e))
+        fail_msg("cycle %ld (superposed target): speed %.6g, angular %.6g, acceleration %.6g of %.6g, angular %.6g of "
+                 "%.6g, step %.6g m/s",
+                 (long)k, sv, sw, sa, a_bound, sdw, dw_bound, sp);
+    WORST.target[0] = fmax(WORST.target[0], sv / lv);
+    WORST.target[1] = fmax(WORST.target[1], sa / la);
+    WORST.target[2] = fmax(WORST.target[2], sw / lw);
+    WORST.target[3] = fmax(WORST.target[3], sdw / ldw);
+    /* The tool heads for it: within the tracking bound of a stop. */
+    kc_vec3 err;
+    kc_vec3_sub(&H.out.pose.t, &t1.p, &err);
+    if (!(kc_vec3_norm(&err) <= 4 * H.cfg.track_tol))
+        fail_msg("cycle %ld: the tool %.3g m from the superposed target", (long)k, (double)kc_vec3_norm(&err));
+}
+
 /* One tick, every check above on its setpoint. */
 static void tick(const kc_goal *g)
 {
@@ -95,6 +210,8 @@ static void tick(const kc_goal *g)
     assert_int_equal(kc_ctrl_step(&H.ctrl, &in, &H.out), KC_OK);
     blending = blending || H.ctrl.blend.on;
     double dt = (double)H.cfg.dt;
+    if (H.ctrl.blend.on)
+        check_target(H.out.cycle);
     for (int j = 0; j < H.chain.n_joints; j++) {
         const kc_joint_limits *l = &H.chain.joints[j].limits;
         double q = (double)H.out.q[j], qd = (double)H.out.qd[j];
@@ -339,10 +456,12 @@ static void test_every_pair(void **state)
                 assert_int_equal(H.events[KC_EVENT_ABORTED], 0);
             }
     print_message("%d superposed (%d overlapping the stop), %d retargeted, %d stopped first; worst of the limits "
-                  "(speed, acceleration, angular speed, angular acceleration) superposed %.4f %.4f %.4f %.4f, "
-                  "plain %.4f %.4f %.4f %.4f\n",
-                  superposed, overlapped, retargeted, stopped_first, WORST.blend[0], WORST.blend[1], WORST.blend[2],
-                  WORST.blend[3], WORST.plain[0], WORST.plain[1], WORST.plain[2], WORST.plain[3]);
+                  "(speed, acceleration, angular speed, angular acceleration): superposed targets %.4f %.4f %.4f "
+                  "%.4f; measured on the tool superposed %.4f %.4f %.4f %.4f, in plain Cartesian motions %.4f %.4f "
+                  "%.4f %.4f\n",
+                  superposed, overlapped, retargeted, stopped_first, WORST.target[0], WORST.target[1],
+                  WORST.target[2], WORST.target[3], WORST.blend[0], WORST.blend[1], WORST.blend[2], WORST.blend[3],
+                  WORST.plain[0], WORST.plain[1], WORST.plain[2], WORST.plain[3]);
     for (int i = 1; i < 4; i += 2)
         if (!(WORST.blend[i] <= fmax(1.0, WORST.plain[i]) * (1.0 + TOOL_REL_A)))
             fail_msg("superposed: %.4f of an acceleration limit, plain motions %.4f", WORST.blend[i], WORST.plain[i]);
