@@ -82,7 +82,10 @@
  * judges G from the arm at rest, as for every goal; the final check of
  * every setpoint still holds, a joint that cannot follow faults as any
  * Cartesian motion does), and a replacement that arrives while a
- * superposition lasts stops first.
+ * superposition lasts stops first. A STOP or PAUSE (or that replacement)
+ * during the overlap stops the new segment on its path while the old one's
+ * stop goes on: for that time the two stops add, and the tool's
+ * deceleration may reach the sum of the two goals' limits.
  *
  * Every other replacement stops first: the active segment stops on its
  * path, and the goal starts from where the arm comes to rest. Its ACCEPTED
