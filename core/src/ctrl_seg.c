@@ -143,8 +143,9 @@ kc_status kc_ctrl_plan_goal(kc_ctrl *c)
 {
     const kc_goal *g = &c->goal;
     kc_pose from;
-    /* The tool pose where the segment starts: the kinds that start from it. */
-    if (g->kind != KC_GOAL_JOINT && g->kind != KC_GOAL_PATH)
+    /* The tool pose where the segment starts (the Cartesian kinds start
+     * from it). */
+    if (g->kind != KC_GOAL_JOINT)
         kc_fk_eval(c->chain, c->q, &from);
     c->path_length = KC_R(0.0);
     switch (g->kind) {
@@ -155,7 +156,7 @@ kc_status kc_ctrl_plan_goal(kc_ctrl *c)
     case KC_GOAL_PATH_CART:
         return kc_ctrl_plan_cart_from(c, g, &from);
     case KC_GOAL_PATH:
-        return plan_path(c, g, NULL);
+        return plan_path(c, g, &from);
     case KC_GOAL_SERVO:
         c->servo_target = g->servo_twist ? from : g->pose;
         c->servo_last = c->cycle;
