@@ -18,9 +18,15 @@
 
 
 /* Candidates of t0 spread evenly over [0, T_s], then bisection between the
- * last refused and the first admitted: at most BLEND_GRID + 20 sums
- * checked, each over at most the T_s ticks of the overlap. */
+ * last refused and the first admitted, judged on every BLEND_STRIDE-th
+ * tick of the overlap (a tick and the one before it); the t0 found is then
+ * checked on every tick, and where that fails a bisection on every tick
+ * runs up to BLEND_STRIDE ticks later, then to the next point of the grid
+ * (T_s at the latest). Each check
+ * covers at most the T_s ticks of the overlap; mostly there is one full
+ * check, at worst one bisection's worth. */
 #define BLEND_GRID 8
+#define BLEND_STRIDE 8
 
 /* The bounds a tick of the sum is held to: the larger of the two goals'
  * Cartesian limits (a sum may do what either motion alone may). */
@@ -67,22 +73,24 @@ static kc_real dist3(const kc_real *x, const kc_real *y)
     return kc_vec3_norm(&v);
 }
 
-/* Whether the sum with G starting at t0 keeps, on every tick j of the
- * overlap (t0 <= j <= T_s, M's ticks), its speed, acceleration (the change
- * of the twist over the tick), angular speed and angular acceleration
- * within the bounds, or within what M or G alone does at that tick when
- * that is more (an arc's centripetal part). */
-static int admissible(const kc_ctrl *c, const blend_bounds *lim, int64_t t0)
+/* Whether the sum with G starting at t0 keeps, on every stride-th tick j
+ * of the overlap (t0 <= j <= T_s, M's ticks), its speed, acceleration (the
+ * change of the twist over the tick), angular speed and angular
+ * acceleration within the bounds, or within what M or G alone does at that
+ * tick when that is more (an arc's centripetal part). */
+static int admissible(const kc_ctrl *c, const blend_bounds *lim, int64_t t0, int64_t stride)
 {
     const kc_ctrl_blend *b = &c->blend;
     kc_real dt = c->cfg.dt, e = KC_R(1.0) + c->cfg.limit_slack;
     kc_ctrl_seg_point m0, g0, s0, m1, g1, s1;
-    int64_t j = t0 > 0 ? t0 : 1;
-    stop_point(b, j - 1, &m0);
-    kc_ctrl_seg_eval(c, j - 1 - t0, &g0);
-    s0 = g0;
-    compose(b, &m0, &s0);
-    for (; j <= b->stop.ticks; j++) {
+    int64_t j = t0 > 0 ? t0 : 1, last = -1; /* last: the tick m0, g0, s0 hold */
+    for (; j <= b->stop.ticks; j += stride) {
+        if (last != j - 1) {
+            stop_point(b, j - 1, &m0);
+            kc_ctrl_seg_eval(c, j - 1 - t0, &g0);
+            s0 = g0;
+            compose(b, &m0, &s0);
+        }
         stop_point(b, j, &m1);
         kc_ctrl_seg_eval(c, j - t0, &g1);
         s1 = g1;
@@ -97,6 +105,7 @@ static int admissible(const kc_ctrl *c, const blend_bounds *lim, int64_t t0)
         m0 = m1;
         g0 = g1;
         s0 = s1;
+        last = j;
     }
     return 1;
 }
@@ -109,7 +118,7 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
     if (step < 1)
         return ts;
     for (int64_t t = 0; t < ts; t += step) {
-        if (admissible(c, lim, t)) {
+        if (admissible(c, lim, t, BLEND_STRIDE)) {
             hi = t;
             break;
         }
@@ -117,10 +126,26 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
     }
     for (int i = 0; i < 20 && hi - lo > 1; i++) {
         int64_t mid = lo + (hi - lo) / 2;
-        if (admissible(c, lim, mid))
+        if (admissible(c, lim, mid, BLEND_STRIDE))
             hi = mid;
         else
             lo = mid;
+    }
+    /* A sparse check can miss the ticks that refuse, fewer than
+     * BLEND_STRIDE where the overlap refuses at its edge: checked on every
+     * tick, a refused t0 gives way to a bisection (on every tick) up to
+     * BLEND_STRIDE ticks later, then up to the next point of the grid. */
+    for (int tries = 0; hi < ts && !admissible(c, lim, hi, 1); tries++) {
+        int64_t next = tries == 0 ? hi + BLEND_STRIDE : (hi / step + 1) * step;
+        lo = hi;
+        hi = next < ts ? next : ts;
+        for (int i = 0; i < 20 && hi - lo > 1; i++) {
+            int64_t mid = lo + (hi - lo) / 2;
+            if (admissible(c, lim, mid, 1))
+                hi = mid;
+            else
+                lo = mid;
+        }
     }
     return hi;
 }

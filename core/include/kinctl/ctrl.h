@@ -67,9 +67,12 @@
  * the tick M's stop ends (M at rest at P_s): continuous in pose and twist,
  * and in acceleration as far as M's stop and G's start are (G starts from
  * rest with no acceleration). t0 is the earliest of a bounded search over
- * [0, T_s] (an even grid of 8, then bisection: at most 28 sums, each
- * checked on every tick of the overlap, so a takeover tick costs up to
- * about 28 T_s evaluations of both segments) at which, on every tick of
+ * [0, T_s] (an even grid of 8, then bisection, judged on every 8th tick of
+ * the overlap; the t0 found is checked on every tick, and where that fails
+ * a bisection on every tick runs up to 8 ticks later, then to the next
+ * point of the grid: a takeover tick evaluates both segments a few T_s
+ * times, about 0.35 ms for T_s = 500 ticks in double on a PC, at most
+ * some ten T_s times) at which, on every tick of
  * the overlap, the sum's tool-point speed and its change over the tick,
  * and its angular speed and that one's change, stay within the larger of
  * the two goals' Cartesian limits (or within what M or G alone does at
