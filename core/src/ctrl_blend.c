@@ -162,7 +162,7 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     kc_real old_length = c->path_length;
     kc_ctrl_stop_on_path(c, INTENT_PREEMPT);
     if (c->drive != KC_DRIVE_PROFILE)
-        return 0; /* not reached: a line's or an arc's stop is a profile of u (the caller goes on stopping) */
+        return 0; /* a stop that is not a profile of u (none is today): it goes on, the goal waits for it */
     /* M moves out of c->plan (a line or an arc: small), G is planned there. */
     b->kind = c->goal.kind;
     if (b->kind == KC_GOAL_LINE)
