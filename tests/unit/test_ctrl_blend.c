@@ -9,10 +9,15 @@
  * joint's change of q within qd_max dt, of qd within qdd_max dt (the
  * continuity of the setpoint); the tool point's and the tool's angular
  * speed, measured from the FK of consecutive setpoints, within the
- * Cartesian limits, and its acceleration (the change of that speed vector
- * over a tick) while a superposition lasts; the replacing goal ends at its
- * target. And the fallbacks: a replacement during a superposition, one of
- * a Cartesian path, each with its reason. */
+ * Cartesian limits during Cartesian motions. While a superposition lasts,
+ * its target, computed here from the two plans the controller holds, is
+ * checked on every tick against the Cartesian limits (speed, acceleration,
+ * angular speed and acceleration) and the tool against it; the tool's
+ * measured acceleration there is no worse than in the plain Cartesian
+ * motions of the same runs. The replacing goal ends at its target. A line
+ * continued along its direction is taken over with no change of speed.
+ * And the fallbacks: a replacement during a superposition, one of a
+ * Cartesian path, each with its reason. */
 #include <math.h>
 #include <string.h>
 
