@@ -184,7 +184,8 @@ static void publish_event(kd_io *io, const kc_ctrl_event *e)
 {
     int8_t ev = status_event_of(e->kind);
     kd_reject rej;
-    if (e->kind == KC_EVENT_REJECTED || e->kind == KC_EVENT_ABORTED || e->kind == KC_EVENT_FAULT) {
+    if (e->kind == KC_EVENT_REJECTED || e->kind == KC_EVENT_ABORTED || e->kind == KC_EVENT_FAULT ||
+        e->reason != KC_REASON_NONE) {
         if (e->kind == KC_EVENT_REJECTED)
             io->rejections++;
         if (e->reason == KC_REASON_EXTERNAL) {

@@ -22,6 +22,7 @@ const char *kd_reason_token(kc_ctrl_reason reason)
     case KC_REASON_SERVO_TIMEOUT: return "servo_timeout";
     case KC_REASON_DUPLICATE_ID: return "duplicate_id";
     case KC_REASON_ZONE: return "zone";
+    case KC_REASON_STOP_FIRST: return "stop_first";
     case (int)KD_REASON_OVERRUN: return "overrun";
     case (int)KD_REASON_SHUTDOWN: return "shutdown";
     case KC_REASON_EXTERNAL: return "external";
@@ -35,7 +36,8 @@ const char *kd_reason_token(kc_ctrl_reason reason)
 kc_status kd_reason_code(kc_ctrl_reason reason)
 {
     switch ((int)reason) {
-    case KC_REASON_NONE: return KC_OK;
+    case KC_REASON_NONE:
+    case KC_REASON_STOP_FIRST: return KC_OK; /* an ACCEPTED's note, not a failure */
     case KC_REASON_BAD_GOAL:
     case KC_REASON_JOINT_COUNT:
     case KC_REASON_PLAN: return KC_E_ARG;

@@ -11,6 +11,8 @@
  *           zone external overrun shutdown drive can check_budget
  *           (kd_reason_token), so that tools can match it and people read it:
  *           "joint_count: goal_joint_t.n = 5, the arm has 6 joints".
+ * An ACCEPTED may carry a reason too, with code 0: stop_first (a replacing
+ * goal waits while the motion it replaces stops on its path).
  * Not for the cycle (it formats text); for the I/O thread.
  */
 #ifndef KINCTL_DAEMON_REJECT_H

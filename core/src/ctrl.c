@@ -143,6 +143,8 @@ void kc_ctrl_restart(kc_ctrl *c, const kc_real *q_at, const kc_real *q)
     c->jstop = 0;
     c->jstop_k0 = 0;
     c->after_stop = KC_CTRL_IDLE;
+    c->blend.on = 0;
+    c->blend.lax = 0;
     kc_ctrl_zone_init(c);
     memcpy(c->q, q, sizeof(kc_real) * (size_t)n);
 }

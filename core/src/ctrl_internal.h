@@ -3,8 +3,9 @@
  * is the behaviour): ctrl.c (configuration, init, commands, the step),
  * ctrl_goal.c (goal checks and verdicts), ctrl_zone.c (forbidden zones), ctrl_queue.c
  * (events, the queue, goals taken), ctrl_seg.c (segments: planning and
- * evaluation), ctrl_stop.c (stops on the path, resume, faults) and
- * check.c (the dry run, kinctl/check.h). Private to the core. */
+ * evaluation), ctrl_stop.c (stops on the path, resume, faults),
+ * ctrl_blend.c (a replacing Cartesian goal superposed on the replaced
+ * motion's stop) and check.c (the dry run, kinctl/check.h). Private to the core. */
 #ifndef KINCTL_CTRL_INTERNAL_H
 #define KINCTL_CTRL_INTERNAL_H
 
@@ -133,6 +134,18 @@ kc_status kc_ctrl_plan_joint(const kc_ctrl *c, const kc_goal *g, const kc_real *
  * and qdd). */
 kc_status kc_ctrl_plan_goal(kc_ctrl *c);
 
+/* Plans Cartesian goal g (line, arc, Cartesian path) into c->plan as if at
+ * rest at the tool pose *from, setting c->path_length; c->goal is not
+ * read. On error c->plan is scratch. */
+kc_status kc_ctrl_plan_cart_from(kc_ctrl *c, const kc_goal *g, const kc_pose *from);
+
+/* A line or an arc (kind) at tick j of the profile prof driving its u. */
+void kc_ctrl_interp_point(kc_goal_kind kind, const kc_interp_line *line, const kc_interp_arc *arc,
+                          const kc_profile *prof, int64_t j, kc_ctrl_seg_point *o);
+
+/* The active segment's point at its tick j (j < 0: its tick 0). */
+void kc_ctrl_seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o);
+
 /* Starts the next queued goal, if any; returns 1 when a segment is active. */
 int kc_ctrl_start_next(kc_ctrl *c, kc_ctrl_output *out);
 
@@ -142,6 +155,22 @@ void kc_ctrl_drive_state(const kc_ctrl *c, int64_t j, kc_profile_state *u);
 /* Computes the next setpoint of the active segment into q, qd, qdd. Returns
  * 1 when the segment has finished (at rest, at its end). */
 int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_output *out);
+
+/* ---- ctrl_blend.c: a replacing Cartesian goal superposed on the stop of
+ * the motion it replaces (kinctl/ctrl.h) ---- */
+
+/* Replacing goal g (line, arc or Cartesian path) takes over from the
+ * active line or arc, moving: the old segment stops on its path (kept in
+ * c->blend), g is planned from where that stop ends and starts at the
+ * earliest tick its sum with the stop keeps the Cartesian limits. Returns
+ * 1 when taken (ACCEPTED, PREEMPTED, STARTED emitted); 0 with the active
+ * segment unchanged when there is no such transition (the caller stops
+ * first). */
+int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out);
+
+/* The segment's point o at absolute tick k, composed with the replaced
+ * segment's stop at k while that stop lasts; the transition ends with it. */
+void kc_ctrl_blend_apply(kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o);
 
 /* ---- ctrl_stop.c: stops, resume, faults ---- */
 

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* ctrl_queue.c - events, the goal queue, and a goal taken in a tick:
- * servo updates, refusals, queueing, preemption and the retarget of a joint
- * move (kinctl/ctrl.h). */
+ * servo updates, refusals, queueing, preemption, the retarget of a joint
+ * move and the takeover of a Cartesian one (ctrl_blend.c) (kinctl/ctrl.h). */
 #include "ctrl_internal.h"
 
 #include <string.h>
@@ -122,6 +122,8 @@ static void take_retarget(kc_ctrl *c, const kc_goal *g)
     c->settle = 0;
     c->path_length = KC_R(0.0);
     c->jstop = 0; /* a servo's stop in joint space gives way too */
+    c->blend.on = 0; /* from the current state, whatever it was made of */
+    c->blend.lax = 0;
     c->active = 1;
     c->state = KC_CTRL_MOVING;
 }
@@ -177,8 +179,14 @@ void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
             kc_ctrl_emit(out, KC_EVENT_STARTED, g->id, KC_REASON_NONE, 0);
             return;
         }
+        if (kc_ctrl_blend_take(c, g, out))
+            return;
         queue_push(c, g);
-        kc_ctrl_emit(out, KC_EVENT_ACCEPTED, g->id, KC_REASON_NONE, 0);
+        /* Anything still moving stops first, and the answer says so. */
+        kc_ctrl_emit(out, KC_EVENT_ACCEPTED, g->id,
+                     c->active && (c->state == KC_CTRL_MOVING || c->state == KC_CTRL_STOPPING) ? KC_REASON_STOP_FIRST
+                                                                                               : KC_REASON_NONE,
+                     0);
         if (c->active && c->state == KC_CTRL_MOVING) {
             kc_ctrl_stop_on_path(c, INTENT_PREEMPT);
         } else if (c->active && c->state == KC_CTRL_STOPPING) {

@@ -39,8 +39,9 @@ kc_interp_limits kc_ctrl_cart_limits(const kc_ctrl *c, const kc_goal *g)
         (cfg).dt = (dt_);                                                                                              \
     } while (0)
 
-/* Plans path goal g through the current state and its points. */
-static kc_status plan_path(kc_ctrl *c, const kc_goal *g)
+/* Plans path goal g through the current state and its points (a
+ * Cartesian one from the tool pose *from). */
+static kc_status plan_path(kc_ctrl *c, const kc_goal *g, const kc_pose *from)
 {
     int n = c->chain->n_joints, m = g->n_points + 1;
     kc_real times[KC_PATH_MAX_KNOTS];
@@ -63,10 +64,8 @@ static kc_status plan_path(kc_ctrl *c, const kc_goal *g)
     }
     kc_vec3 p[KC_PATH_MAX_KNOTS];
     kc_quat r[KC_PATH_MAX_KNOTS];
-    kc_pose start;
-    kc_fk_eval(c->chain, c->q, &start);
-    p[0] = start.t;
-    kc_quat_from_mat3(&start.R, &r[0]);
+    p[0] = from->t;
+    kc_quat_from_mat3(&from->R, &r[0]);
     for (int i = 1; i < m; i++) {
         const kc_real *v = g->points[i - 1];
         p[i] = kc_vec3_make(v[0], v[1], v[2]);
@@ -123,32 +122,41 @@ kc_status kc_ctrl_plan_joint(const kc_ctrl *c, const kc_goal *g, const kc_real *
     return kc_interp_joint_plan_cfg_into(out, &cfg);
 }
 
+kc_status kc_ctrl_plan_cart_from(kc_ctrl *c, const kc_goal *g, const kc_pose *from)
+{
+    kc_interp_limits lim = kc_ctrl_cart_limits(c, g);
+    kc_status st = KC_E_ARG;
+    c->path_length = KC_R(0.0);
+    if (g->kind == KC_GOAL_LINE) {
+        st = kc_interp_line_plan(&c->plan.line, from, &g->pose, &lim, g->orient, c->cfg.dt);
+        c->path_length = c->plan.line.length;
+    } else if (g->kind == KC_GOAL_ARC) {
+        st = kc_interp_arc_plan(&c->plan.arc, from, &g->via, &g->pose.t, &lim, c->cfg.dt);
+        c->path_length = c->plan.arc.length;
+    } else if (g->kind == KC_GOAL_PATH_CART) {
+        st = plan_path(c, g, from);
+    }
+    return st;
+}
+
 kc_status kc_ctrl_plan_goal(kc_ctrl *c)
 {
     const kc_goal *g = &c->goal;
     kc_pose from;
-    kc_interp_limits lim = kc_ctrl_cart_limits(c, g);
-    /* The tool pose where the segment starts: the kinds that start from it
-     * (a Cartesian path takes it in plan_path). */
-    if (g->kind == KC_GOAL_LINE || g->kind == KC_GOAL_ARC || g->kind == KC_GOAL_SERVO)
+    /* The tool pose where the segment starts (the Cartesian kinds start
+     * from it). */
+    if (g->kind != KC_GOAL_JOINT)
         kc_fk_eval(c->chain, c->q, &from);
     c->path_length = KC_R(0.0);
     switch (g->kind) {
     case KC_GOAL_JOINT:
         return kc_ctrl_plan_joint(c, g, c->q, c->qd, c->qdd, &c->plan.joint);
-    case KC_GOAL_LINE: {
-        kc_status st = kc_interp_line_plan(&c->plan.line, &from, &g->pose, &lim, g->orient, c->cfg.dt);
-        c->path_length = c->plan.line.length;
-        return st;
-    }
-    case KC_GOAL_ARC: {
-        kc_status st = kc_interp_arc_plan(&c->plan.arc, &from, &g->via, &g->pose.t, &lim, c->cfg.dt);
-        c->path_length = c->plan.arc.length;
-        return st;
-    }
-    case KC_GOAL_PATH:
+    case KC_GOAL_LINE:
+    case KC_GOAL_ARC:
     case KC_GOAL_PATH_CART:
-        return plan_path(c, g);
+        return kc_ctrl_plan_cart_from(c, g, &from);
+    case KC_GOAL_PATH:
+        return plan_path(c, g, &from);
     case KC_GOAL_SERVO:
         c->servo_target = g->servo_twist ? from : g->pose;
         c->servo_last = c->cycle;
@@ -169,6 +177,8 @@ int kc_ctrl_start_next(kc_ctrl *c, kc_ctrl_output *out)
         c->drive = KC_DRIVE_NOMINAL;
         c->stop_intent = KC_CMD_NONE;
         c->settle = 0;
+        c->blend.on = 0;
+        c->blend.lax = 0;
         if (kc_ctrl_plan_goal(c) != KC_OK) {
             kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
             continue;
@@ -208,6 +218,8 @@ static void cart_point(kc_ctrl_seg_point *o, const kc_vec3 *p, const kc_quat *r,
 
 void kc_ctrl_drive_state(const kc_ctrl *c, int64_t j, kc_profile_state *u)
 {
+    if (j < 0)
+        j = 0; /* a segment that starts later (ctrl_blend.c) is at its start */
     if (c->drive == KC_DRIVE_PROFILE) {
         kc_profile_eval(&c->drive_prof, j, u);
         return;
@@ -276,8 +288,19 @@ static void halt_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
     o->progress = ticks > 0 ? kc_min((kc_real)j / (kc_real)ticks, KC_R(1.0)) : KC_R(1.0);
 }
 
-/* The segment's point at its tick j (j >= 0). */
-static void seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
+void kc_ctrl_interp_point(kc_goal_kind kind, const kc_interp_line *line, const kc_interp_arc *arc,
+                          const kc_profile *prof, int64_t j, kc_ctrl_seg_point *o)
+{
+    kc_interp_cart_state s;
+    kc_status st = kind == KC_GOAL_LINE ? kc_interp_line_eval_profile(line, prof, j, &s)
+                                        : kc_interp_arc_eval_profile(arc, prof, j, &s);
+    cart_point(o, &s.p, &s.q, &s.v, &s.w, KC_R(1.0));
+    o->progress = s.u;
+    o->s = s.s;
+    o->done = st == KC_DONE;
+}
+
+void kc_ctrl_seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
 {
     const kc_goal *g = &c->goal;
     int n = c->chain->n_joints;
@@ -309,18 +332,10 @@ static void seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
     }
     case KC_GOAL_LINE:
     case KC_GOAL_ARC: {
-        kc_interp_cart_state s;
-        kc_status st;
-        if (g->kind == KC_GOAL_LINE)
-            st = c->drive == KC_DRIVE_PROFILE ? kc_interp_line_eval_profile(&c->plan.line, &c->drive_prof, j, &s)
-                                              : kc_interp_line_eval(&c->plan.line, j, &s);
-        else
-            st = c->drive == KC_DRIVE_PROFILE ? kc_interp_arc_eval_profile(&c->plan.arc, &c->drive_prof, j, &s)
-                                              : kc_interp_arc_eval(&c->plan.arc, j, &s);
-        cart_point(o, &s.p, &s.q, &s.v, &s.w, KC_R(1.0));
-        o->progress = s.u;
-        o->s = s.s;
-        o->done = st == KC_DONE;
+        const kc_profile *prof = c->drive == KC_DRIVE_PROFILE ? &c->drive_prof
+                                 : g->kind == KC_GOAL_LINE    ? &c->plan.line.prof
+                                                              : &c->plan.arc.prof;
+        kc_ctrl_interp_point(g->kind, &c->plan.line, &c->plan.arc, prof, j, o);
         return;
     }
     case KC_GOAL_PATH:
@@ -400,7 +415,7 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
     if (cart)
         cart_timing(c, j, &now);
     else
-        seg_eval(c, j, &now);
+        kc_ctrl_seg_eval(c, j, &now);
     out->progress = now.progress;
     if (!cart) {
         memcpy(q, now.q, sizeof(kc_real) * (size_t)n);
@@ -411,7 +426,9 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
     /* Cartesian: the target where the segment is at the last setpoint's
      * instant, its twist fed forward; the step heads for tick j. */
     kc_ctrl_seg_point before;
-    seg_eval(c, j - 1, &before);
+    kc_ctrl_seg_eval(c, j - 1, &before);
+    if (c->blend.on)
+        kc_ctrl_blend_apply(c, c->cycle - 1, &before);
     if (c->goal.kind == KC_GOAL_SERVO && c->goal.servo_twist) {
         /* Move the servo target by the twist over one tick. */
         kc_vec3 w = kc_vec3_make(c->goal.twist[3] * c->cfg.dt, c->goal.twist[4] * c->cfg.dt, c->goal.twist[5] * c->cfg.dt);
@@ -429,9 +446,14 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
         qdd[i] = (qd[i] - c->qd[i]) / c->cfg.dt;
     /* A servo target may jump: the arm goes there within its limits, and
      * only a joint limit in the way is a fault. */
-    kc_real limit = c->goal.kind == KC_GOAL_SERVO    ? INF
-                    : c->state == KC_CTRL_STOPPING ? TRACK_GIVE_UP * c->cfg.track_tol
-                                                   : c->cfg.track_tol;
+    /* The replaced motion's stop in a superposition is followed as a stop
+     * is, until the tool is back within the tolerance after it, closing in. */
+    if (c->blend.lax && !c->blend.on && res.pos_err <= c->cfg.track_tol && res.pos_err < c->blend.err)
+        c->blend.lax = 0;
+    c->blend.err = res.pos_err;
+    kc_real limit = c->goal.kind == KC_GOAL_SERVO                     ? INF
+                    : c->state == KC_CTRL_STOPPING || c->blend.lax ? TRACK_GIVE_UP * c->cfg.track_tol
+                                                                    : c->cfg.track_tol;
     if (st == KC_E_ARG || res.pos_err > limit || st == KC_E_LIMIT) {
         kc_real where = c->path_length > KC_R(0.0) ? before.s : before.progress;
         if (c->state == KC_CTRL_STOPPING || st == KC_E_LIMIT || st == KC_E_ARG) {
@@ -451,7 +473,7 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
         kc_ctrl_fault(c, KC_REASON_TRACKING, where, 1, out);
         return -1;
     }
-    if (now.done && c->goal.kind != KC_GOAL_SERVO) {
+    if (now.done && c->goal.kind != KC_GOAL_SERVO && !c->blend.on) {
         /* The geometry has ended: finished once the tool has settled. */
         if (st == KC_DONE)
             return 1;

@@ -142,9 +142,12 @@ def _answer(c, gid, kind, args):
         err(f"goal {gid} ({kind}) REJECTED: {reason_text(st, args.deg)}")
         return 1
     if not args.wait:
-        say(f"goal {gid} ({kind}) {ev}" + ("" if ev != "ACCEPTED" else " (replacing)" if args.replace else ""))
+        note = ""
+        if ev == "ACCEPTED":  # a replacing goal that waits for a stop says so (stop_first)
+            note = f" ({st.reason})" if st.reason else " (replacing)" if args.replace else ""
+        say(f"goal {gid} ({kind}) {ev}{note}")
         return 0 if ev in ("ACCEPTED", "COMPLETED") else 1
-    say(f"goal {gid} ({kind}) ACCEPTED, waiting")
+    say(f"goal {gid} ({kind}) ACCEPTED" + (f" ({st.reason})" if st.reason else "") + ", waiting")
     t0 = time.monotonic()
     st = c.wait_end(gid, args.timeout)
     if st is None:

@@ -51,12 +51,57 @@
  * would pass its position limit (or, jerk-limited, its velocity or
  * acceleration limit: a start beyond the goal's limits is brought back
  * within them, never beyond the joint's), the retarget is not taken and
- * the goal starts as any other replacing goal does. Any other replacing goal (a line, an arc, a
- * path, a servo stream: their geometry starts at rest at the tool's pose)
- * waits while the active segment stops on its path at its acceleration
- * limits, and starts from where the arm comes to rest. Setpoints stay
- * continuous in position and velocity throughout, and in acceleration
- * through everything jerk-limited.
+ * the goal starts as any other replacing goal does. A joint goal replacing
+ * a Cartesian motion retargets the same way, from the joints' (q, qd, qdd)
+ * (qdd of a Cartesian motion: the change of qd over the last tick).
+ *
+ * A line, an arc or a Cartesian path replacing a moving line or arc takes
+ * over in the tick it arrives by superposition (ctrl_blend.c). The old
+ * segment M gets its stop on the path (the law of STOP, below), which
+ * would bring the tool to rest at pose P_s = (R_s, p_s) T_s ticks after
+ * the takeover; the new goal G is planned from P_s as if at rest there,
+ * and starts t0 ticks after the takeover. The Cartesian target is
+ *     p = p_M + (p_G - p_s),   R = A R_M,   A = R_G R_s^T (base frame),
+ *     v = v_M + v_G,           w = w_G + A w_M,
+ * so it is M's motion until G starts (G at rest at P_s) and G's alone from
+ * the tick M's stop ends (M at rest at P_s): continuous in pose and twist,
+ * and in acceleration as far as M's stop and G's start are (G starts from
+ * rest with no acceleration). t0 is the earliest of a bounded search over
+ * [0, T_s] (an even grid of 8, then bisection, judged on every 8th tick of
+ * the overlap; the t0 found is checked on every tick, and where that fails
+ * a bisection on every tick runs up to 8 ticks later, then to the next
+ * point of the grid: a takeover tick evaluates both segments a few T_s
+ * times, about 0.35 ms for T_s = 500 ticks in double on a PC, at most
+ * some ten T_s times) at which, on every tick of
+ * the overlap, the sum's tool-point speed and its change over the tick,
+ * and its angular speed and that one's change, stay within the larger of
+ * the two goals' Cartesian limits (or within what M or G alone does at
+ * that tick, where that is more: an arc's centripetal part). t0 = T_s,
+ * no overlap, always qualifies: the new motion starts the tick the old
+ * one stops, without waiting for the tool to settle. While M's stop lasts,
+ * and after it until the tool is back within cfg.track_tol and closing
+ * in, the tracking bound is a stop's (TRACK_GIVE_UP times it). Limits:
+ * the joints are not judged over the overlap beforehand (the dry run
+ * judges G from the arm at rest, as for every goal; the final check of
+ * every setpoint still holds, a joint that cannot follow faults as any
+ * Cartesian motion does), and a replacement that arrives while a
+ * superposition lasts stops first. A STOP or PAUSE (or that replacement)
+ * during the overlap stops the new segment on its path while the old one's
+ * stop goes on: for that time the two stops add, and the tool's
+ * deceleration may reach the sum of the two goals' limits.
+ *
+ * Every other replacement stops first: the active segment stops on its
+ * path, and the goal starts from where the arm comes to rest. Its ACCEPTED
+ * event carries KC_REASON_STOP_FIRST. These are a joint move whose
+ * retarget would pass a limit; a Cartesian goal replacing a joint move or
+ * a path (a joint move's stop is in joint space: superposed on a Cartesian
+ * start it would leave the new goal's geometry, and its Cartesian limits
+ * unbounded, during the overlap; the new geometry is kept exact instead);
+ * a Cartesian path that does not start at rest (Lagrange's); a joint path
+ * or a servo stream; a replacement during a superposition or a stop; and
+ * a goal that cannot be planned from P_s. Setpoints stay continuous in
+ * position and velocity throughout, and in acceleration through
+ * everything jerk-limited.
  *
  * Commands. STOP: stop on the path, drop the queue, back to idle. PAUSE:
  * stop on the path and hold; RESUME: continue the same segment from there.
@@ -231,6 +276,9 @@ typedef enum kc_ctrl_reason {
     KC_REASON_DUPLICATE_ID,  /* a goal with this id is active or queued */
     KC_REASON_EXTERNAL,      /* fault: the caller reported one (a drive, the field bus) */
     KC_REASON_ZONE,          /* a link volume would enter a forbidden zone's margin */
+    /* Accepted, replacing a motion with no continuous transition into it:
+     * the motion stops on its path first (the ACCEPTED event's reason). */
+    KC_REASON_STOP_FIRST,
     KC_REASON_COUNT
 } kc_ctrl_reason;
 
@@ -359,6 +407,25 @@ typedef enum kc_ctrl_drive {
     KC_DRIVE_HALT = 5           /* jerk-limited joint move stopping joint by joint: plan.halt */
 } kc_ctrl_drive;
 
+/* A replacing Cartesian goal's transition: the line or arc it replaced,
+ * stopping on its path, superposed on it (ctrl_blend.c). */
+typedef struct kc_ctrl_blend {
+    int on;
+    kc_goal_kind kind; /* the replaced segment: KC_GOAL_LINE or KC_GOAL_ARC */
+    union {
+        kc_interp_line line;
+        kc_interp_arc arc;
+    } plan;
+    kc_profile stop;   /* its u from the takeover to rest */
+    int64_t k0;        /* tick of the stop's start (its tick 0: the last setpoint before the takeover) */
+    kc_pose rest;      /* where the stop ends: P_s, where the new segment starts */
+    /* The tracking bound is a stop's (the replaced motion's stop is part of
+     * the target) until, after it, the tool's error (err, m, the last
+     * tick's) is within cfg.track_tol and falling. */
+    int lax;
+    kc_real err;
+} kc_ctrl_blend;
+
 /* The controller: caller-owned, large (the plan of a 32-knot Cartesian
  * path), never copied in the cycle. Read its fields, change them only
  * through the functions here. */
@@ -401,6 +468,8 @@ typedef struct kc_ctrl {
     kc_zone_hit zone_now, zone_hit;
     kc_real zone_lever[KC_MAX_JOINTS]; /* kc_zone_levers of the chain */
     kc_real zone_brake;                /* a of the servo's braking law (m/s^2) */
+    /* A replacing Cartesian goal taking over from a moving line or arc. */
+    kc_ctrl_blend blend;
 } kc_ctrl;
 
 /* Starts at rest at q0 (inside the limits), idle. chain must outlive ctrl

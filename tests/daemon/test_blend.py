@@ -1,0 +1,84 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""kinctld: a line replaced mid-motion by another line takes over in the
+cycle it arrives, without stopping (kinctl/ctrl.h: the old line's stop on
+its path superposed on the new line), through LCM. No logged setpoint
+jumps: consecutive cycles, each joint's q and qd changing within its
+limits times dt, the tool's position within the Cartesian speed times dt;
+the tool keeps moving through the takeover and ends on the new target. A
+replacement that must stop first (a line replacing a joint move) is
+accepted with the reason stop_first."""
+import math
+
+from kinctl_testing import (DT, END, EVENTS, QN, assert_smooth, close, finished, go_nominal, goal_line_t,
+                            setpoints_since)
+
+# The controller's default Cartesian speed (m/s), and the slack of the tool
+# speed measured on the published poses: the online IK law adds gain *
+# error (gain 100/s, errors of the order of its tolerance) to the target's
+# own speed.
+SPEED = 0.25
+TOOL_SLACK = 0.01
+
+
+def line(goal_id, position, orientation, replace=False):
+    g = goal_line_t()
+    g.goal_id = goal_id
+    g.mode = goal_line_t.REPLACE if replace else goal_line_t.QUEUE
+    g.position = list(position)
+    g.orientation = list(orientation)
+    return g
+
+
+def tool_speed(a, b):
+    return math.dist(a.position, b.position) / ((b.cycle - a.cycle) * DT)
+
+
+def test_line_replaced_by_line_without_stopping(kinctld):
+    d = kinctld()
+    s0 = go_nominal(d)
+    p, o = list(s0.position), list(s0.orientation)
+    first = [p[0], p[1] + 0.15, p[2]]
+    second = [p[0] + 0.04, p[1] + 0.2, p[2] - 0.03]
+    d.bus.send("GOAL_LINE", line(2, first, o))
+    d.bus.wait(lambda: any(s.goal_id == 2 for s in d.bus.setpoints[-3:]), 5.0, "motion")
+    d.bus.wait_setpoints(350)
+    d.bus.send("GOAL_LINE", line(3, second, o, replace=True))
+    assert d.bus.wait_event(2, ("PREEMPTED",) + END).event == EVENTS["PREEMPTED"]
+    accepted = d.bus.wait_event(3, ("ACCEPTED", "REJECTED"))
+    assert accepted.event == EVENTS["ACCEPTED"] and accepted.code == 0 and accepted.reason == "", accepted.reason
+    s = finished(d, 3)
+    assert close(s.position, second, 1e-6), s.position
+    stream = setpoints_since(d, s0.cycle)
+    assert_smooth(stream)
+    worst = max(tool_speed(a, b) for a, b in zip(stream, stream[1:]))
+    assert worst <= SPEED * (1 + TOOL_SLACK), worst
+    # The takeover: the first setpoint of goal 3 follows one of goal 2 in
+    # the next cycle, and the tool does not come to rest between the two
+    # lines (stopping first, it would: the new line starts from rest).
+    i = next(i for i, sp in enumerate(stream) if sp.goal_id == 3)
+    assert stream[i - 1].goal_id == 2 and stream[i].cycle == stream[i - 1].cycle + 1
+    moving = stream[i - 1:]
+    end = next(k for k, sp in enumerate(moving) if tool_speed(sp, moving[k + 1]) < 0.01)
+    slowest = min(tool_speed(a, b) for a, b in zip(moving[:end], moving[1:end + 1]))
+    assert tool_speed(stream[i - 1], stream[i]) > 0.05
+    # Where the speed first drops below 1 cm/s, the tool is at the end.
+    assert math.dist(moving[end].position, second) < 1e-3, (end, moving[end].position, slowest)
+    assert d.stop() == 0
+
+
+def test_line_replacing_a_joint_move_stops_first(kinctld):
+    d = kinctld()
+    s0 = go_nominal(d)
+    p, o = list(s0.position), list(s0.orientation)
+    d.bus.send_goal_joint(2, [q + 0.3 for q in QN])
+    d.bus.wait(lambda: any(s.goal_id == 2 for s in d.bus.setpoints[-3:]), 5.0, "motion")
+    d.bus.wait_setpoints(200)
+    target = [p[0], p[1] + 0.05, p[2]]
+    d.bus.send("GOAL_LINE", line(3, target, o, replace=True))
+    accepted = d.bus.wait_event(3, ("ACCEPTED", "REJECTED"))
+    assert accepted.event == EVENTS["ACCEPTED"] and accepted.code == 0, accepted.reason
+    assert accepted.reason.startswith("stop_first: "), accepted.reason
+    s = finished(d, 3)
+    assert close(s.position, target, 1e-6), s.position
+    assert_smooth(setpoints_since(d, s0.cycle))
+    assert d.stop() == 0

@@ -1,0 +1,573 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* test_ctrl_blend.c - goals replaced mid-motion (kinctl/ctrl.h): every
+ * ordered pair of a joint move, a line, an arc and a Cartesian path
+ * replacing one another at random ticks on the PUMA 560. A replacing line,
+ * arc or path takes over from a moving line or arc in the tick it arrives
+ * (the replaced motion's stop superposed on it); a joint goal retargets
+ * from the current state; the other pairs stop first and are accepted with
+ * KC_REASON_STOP_FIRST. Every tick: the joints inside their limits, each
+ * joint's change of q within qd_max dt, of qd within qdd_max dt (the
+ * continuity of the setpoint); the tool point's and the tool's angular
+ * speed, measured from the FK of consecutive setpoints, within the
+ * Cartesian limits during Cartesian motions. While a superposition lasts,
+ * its target, computed here from the two plans the controller holds, is
+ * checked on every tick against the Cartesian limits (speed, acceleration,
+ * angular speed and acceleration) and the tool against it; the tool's
+ * measured acceleration there is no worse than in the plain Cartesian
+ * motions of the same runs. The replacing goal ends at its target. A line
+ * continued along its direction is taken over with no change of speed.
+ * And the fallbacks: a replacement during a superposition, one of a
+ * Cartesian path, each with its reason. */
+#include <math.h>
+#include <string.h>
+
+#include "testutil.h"
+
+/* Rounding allowed in the joints' per-tick checks (relative to the limit),
+ * as the controller's own final check. */
+#ifdef KC_REAL_FLOAT
+#define SLACK 1e-4
+#define TOL_POSE 1e-4
+#define CASES 3
+#else
+#define SLACK 1e-6
+#define TOL_POSE 1e-6
+#define CASES 6
+#endif
+/* The tool's motion is measured on the FK of the joint setpoints, which
+ * follow the Cartesian target through one IK step a tick: the online law
+ * adds gain * error to the fed-forward twist (gain 100/s, errors of the
+ * order of the IK tolerance), and float rounds FK positions to ~1e-7 m,
+ * i.e. 1e-4 m/s over a 1 ms tick. Speeds: within 1 % of the limit plus
+ * 2e-4 m/s (rad/s). Accelerations, a difference of two such speeds over a
+ * tick, carry the law's correction gain * (change of the error): where a
+ * trapezoid's acceleration jumps (a stop starting, a line starting) the
+ * tool's measured acceleration overshoots the limit by tens of percent
+ * for a few ticks, superposed or not. So the superpositions' worst is held
+ * against the worst of the plain Cartesian motions of the same runs
+ * (each alone, and the stops of those that stopped first), within
+ * TOOL_REL_A of it. */
+#define TOOL_REL 0.01
+#define TOOL_ABS_V 2e-4
+#define TOOL_REL_A 0.02
+
+typedef struct harness {
+    kc_chain chain;
+    kc_ctrl_cfg cfg;
+    kc_ctrl ctrl;
+    kc_ctrl_output out;
+    double q_prev[KC_MAX_JOINTS], qd_prev[KC_MAX_JOINTS];
+    kc_pose pose_prev;
+    double v_prev[6]; /* the tool's speed vector (linear, angular) at the last tick */
+    int have_prev;
+    int events[8];
+} harness;
+
+static harness H; /* large: not on the stack */
+
+/* Worst ratios to the Cartesian limits measured during superpositions
+ * and during plain Cartesian motions: speed, acceleration, angular speed,
+ * angular acceleration. */
+static struct {
+    double blend[4], plain[4], target[4];
+} WORST;
+
+static const kc_real PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
+
+static void setup(void)
+{
+    memset(&H, 0, sizeof H);
+    assert_int_equal(kc_chain_init_model(&H.chain, KC_MODEL_PUMA560, NULL), KC_OK);
+    H.cfg = kc_ctrl_cfg_default();
+    /* Cartesian limits this arm follows around PUMA_Q0 within its joints'
+     * acceleration limits (at the defaults, 0.25 m/s and 0.5 m/s^2, the
+     * elbow's qdd_max binds while a line here stops, and the tool lags by
+     * more than the tracking tolerance: a motion the dry run refuses). */
+    H.cfg.cart_speed = KC_R(0.15);
+    H.cfg.cart_accel = KC_R(0.3);
+    assert_int_equal(kc_ctrl_init(&H.ctrl, &H.chain, &H.cfg, PUMA_Q0), KC_OK);
+    kc_fk_eval(&H.chain, PUMA_Q0, &H.pose_prev);
+    H.out.pose = H.pose_prev;
+    for (int j = 0; j < 6; j++)
+        H.q_prev[j] = (double)PUMA_Q0[j];
+}
+
+/* The Cartesian target of a superposition at absolute tick k, computed
+ * here from the two plans kc_ctrl holds (the replaced line or arc and its
+ * stop in ctrl.blend, the new segment in ctrl.plan) through the public
+ * evaluators, composed with quaternions (kinctl/ctrl.h's formula):
+ * p = p_M + p_G - p_s, r = r_G r_s^* r_M, v = v_M + v_G,
+ * w = w_G + rot(r_G r_s^*) w_M. */
+typedef struct target {
+    kc_vec3 p, v, w;
+    kc_quat r;
+} target;
+
+static target blend_target(int64_t k)
+{
+    const kc_ctrl *c = &H.ctrl;
+    kc_interp_cart_state m, gs;
+    int64_t jm = k - c->blend.k0, jg = k - c->k0;
+    jm = jm < 0 ? 0 : jm;
+    jg = jg < 0 ? 0 : jg;
+    if (c->blend.kind == KC_GOAL_LINE)
+        kc_interp_line_eval_profile(&c->blend.plan.line, &c->blend.stop, jm, &m);
+    else
+        kc_interp_arc_eval_profile(&c->blend.plan.arc, &c->blend.stop, jm, &m);
+    target g;
+    if (c->goal.kind == KC_GOAL_PATH_CART) {
+        kc_path_pose pp;
+        kc_path_cart_eval_time(&c->plan.path_cart, (kc_real)jg * c->cfg.dt, &pp);
+        g.p = pp.p;
+        g.r = pp.r;
+        g.v = pp.v;
+        g.w = pp.w;
+    } else {
+        if (c->goal.kind == KC_GOAL_LINE)
+            kc_interp_line_eval(&c->plan.line, jg, &gs);
+        else
+            kc_interp_arc_eval(&c->plan.arc, jg, &gs);
+        g.p = gs.p;
+        g.r = gs.q;
+        g.v = gs.v;
+        g.w = gs.w;
+    }
+    kc_quat rs, rs_conj, a, r;
+    kc_quat_from_mat3(&c->blend.rest.R, &rs);
+    kc_quat_conj(&rs, &rs_conj);
+    kc_quat_mul(&g.r, &rs_conj, &a);
+    kc_quat_mul(&a, &m.q, &r);
+    target t;
+    kc_vec3 aw;
+    kc_quat_rotate(&a, &m.w, &aw);
+    for (int i = 0; i < 3; i++) {
+        t.p.v[i] = m.p.v[i] + g.p.v[i] - c->blend.rest.t.v[i];
+        t.v.v[i] = m.v.v[i] + g.v.v[i];
+        t.w.v[i] = g.w.v[i] + aw.v[i];
+    }
+    t.r = r;
+    return t;
+}
+
+/* The superposition's target from tick k - 1 to k (the setpoint of tick k
+ * heads for it): its position continues by its speed, its speed and
+ * angular speed within the larger of the two goals' limits, and their
+ * changes over the tick within the acceleration limits or what M's stop or
+ * G alone changes over it, where that is more (an arc's centripetal part);
+ * and the tool within the tracking bound of a stop of it. Not once the new
+ * segment is itself stopping (a STOP, or a replacement, during the
+ * superposition: two stops add up, kinctl/ctrl.h). */
+static void check_target(int64_t k)
+{
+    const kc_ctrl *c = &H.ctrl;
+    if (c->drive != KC_DRIVE_NOMINAL || c->state != KC_CTRL_MOVING)
+        return;
+    double e = 1.0 + (double)H.cfg.limit_slack, dt = (double)H.cfg.dt;
+    target t0 = blend_target(k - 1), t1 = blend_target(k);
+    /* The components alone over the same tick. */
+    kc_interp_cart_state m0, m1;
+    int64_t jm = k - c->blend.k0;
+    if (c->blend.kind == KC_GOAL_LINE) {
+        kc_interp_line_eval_profile(&c->blend.plan.line, &c->blend.stop, jm - 1 < 0 ? 0 : jm - 1, &m0);
+        kc_interp_line_eval_profile(&c->blend.plan.line, &c->blend.stop, jm < 0 ? 0 : jm, &m1);
+    } else {
+        kc_interp_arc_eval_profile(&c->blend.plan.arc, &c->blend.stop, jm - 1 < 0 ? 0 : jm - 1, &m0);
+        kc_interp_arc_eval_profile(&c->blend.plan.arc, &c->blend.stop, jm < 0 ? 0 : jm, &m1);
+    }
+    kc_vec3 dv, dw, dvm, dwm, step;
+    kc_vec3_sub(&t1.v, &t0.v, &dv);
+    kc_vec3_sub(&t1.w, &t0.w, &dw);
+    kc_vec3_sub(&m1.v, &m0.v, &dvm);
+    kc_vec3_sub(&m1.w, &m0.w, &dwm);
+    kc_vec3_sub(&t1.p, &t0.p, &step);
+    double lv = (double)H.cfg.cart_speed, la = (double)H.cfg.cart_accel;
+    double lw = (double)H.cfg.cart_omega, ldw = (double)H.cfg.cart_alpha;
+    /* G alone changes by at most its own limits, or its arc's centripetal
+     * v^2 / R; M's stop by what it does. */
+    double g_a = la, g_dw = ldw;
+    if (c->goal.kind == KC_GOAL_ARC)
+        g_a = fmax(la, (double)(c->plan.arc.u_vmax * c->plan.arc.angle) * (double)(c->plan.arc.u_vmax * c->plan.arc.angle) *
+                           (double)c->plan.arc.radius * 2.0);
+    double a_bound = fmax(g_a, (double)kc_vec3_norm(&dvm) / dt), dw_bound = fmax(g_dw, (double)kc_vec3_norm(&dwm) / dt);
+    double sv = (double)kc_vec3_norm(&t1.v), sw = (double)kc_vec3_norm(&t1.w);
+    double sa = (double)kc_vec3_norm(&dv) / dt, sdw = (double)kc_vec3_norm(&dw) / dt;
+    double sp = (double)kc_vec3_norm(&step) / dt;
+    if (!(sv <= lv * e && sw <= lw * e && sa <= a_bound * e && sdw <= dw_bound * e && sp <= lv * e))
+        fail_msg("cycle %ld (superposed target): speed %.6g, angular %.6g, acceleration %.6g of %.6g, angular %.6g of "
+                 "%.6g, step %.6g m/s",
+                 (long)k, sv, sw, sa, a_bound, sdw, dw_bound, sp);
+    WORST.target[0] = fmax(WORST.target[0], sv / lv);
+    WORST.target[1] = fmax(WORST.target[1], sa / la);
+    WORST.target[2] = fmax(WORST.target[2], sw / lw);
+    WORST.target[3] = fmax(WORST.target[3], sdw / ldw);
+    /* The tool heads for it: within the tracking bound of a stop. */
+    kc_vec3 err;
+    kc_vec3_sub(&H.out.pose.t, &t1.p, &err);
+    if (!(kc_vec3_norm(&err) <= 4 * H.cfg.track_tol))
+        fail_msg("cycle %ld: the tool %.3g m from the superposed target", (long)k, (double)kc_vec3_norm(&err));
+}
+
+/* One tick, every check above on its setpoint. */
+static void tick(const kc_goal *g)
+{
+    kc_ctrl_input in = {g, KC_CMD_NONE, 0, KC_REASON_NONE};
+    int blending = H.ctrl.blend.on;
+    assert_int_equal(kc_ctrl_step(&H.ctrl, &in, &H.out), KC_OK);
+    blending = blending || H.ctrl.blend.on;
+    double dt = (double)H.cfg.dt;
+    if (H.ctrl.blend.on)
+        check_target(H.out.cycle);
+    for (int j = 0; j < H.chain.n_joints; j++) {
+        const kc_joint_limits *l = &H.chain.joints[j].limits;
+        double q = (double)H.out.q[j], qd = (double)H.out.qd[j];
+        double dq = fabs(q - H.q_prev[j]), dv = fabs(qd - H.qd_prev[j]);
+        if (!(q >= (double)l->q_min && q <= (double)l->q_max && fabs(qd) <= (double)l->qd_max * (1.0 + SLACK) &&
+              dq <= (double)l->qd_max * dt * (1.0 + SLACK) &&
+              dv <= (double)l->qdd_max * dt * (1.0 + SLACK) + SLACK * fabs(H.qd_prev[j])))
+            fail_msg("cycle %ld joint %d: q %.9g, |qd| %.6g, q step %.4g, qd step %.4g", (long)H.out.cycle, j, q,
+                     fabs(qd), dq, dv);
+        H.q_prev[j] = q;
+        H.qd_prev[j] = qd;
+    }
+    /* The tool's twist from the FK of consecutive setpoints: the position
+     * difference, and the rotation R_k R_{k-1}^T as a rotation vector. */
+    kc_mat3 dR;
+    kc_quat dq;
+    kc_vec3 w;
+    double v[6];
+    kc_mat3_transpose(&H.pose_prev.R, &dR);
+    kc_mat3_mul(&H.out.pose.R, &dR, &dR);
+    kc_quat_from_mat3(&dR, &dq);
+    kc_quat_log(&dq, &w);
+    for (int i = 0; i < 3; i++) {
+        v[i] = ((double)H.out.pose.t.v[i] - (double)H.pose_prev.t.v[i]) / dt;
+        v[3 + i] = (double)w.v[i] / dt;
+    }
+    double sv = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), sw = sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5]);
+    double lv = (double)H.cfg.cart_speed, lw = (double)H.cfg.cart_omega;
+    /* Joint moves (and their stops) are bounded in the joints only. */
+    int cart_motion = H.ctrl.active && H.ctrl.goal.kind != KC_GOAL_JOINT;
+    if (cart_motion && !(sv <= lv * (1.0 + TOOL_REL) + TOOL_ABS_V && sw <= lw * (1.0 + TOOL_REL) + TOOL_ABS_V))
+        fail_msg("cycle %ld: tool speed %.6g m/s, %.6g rad/s", (long)H.out.cycle, sv, sw);
+    if (cart_motion && H.have_prev) {
+        double a[6];
+        for (int i = 0; i < 6; i++)
+            a[i] = (v[i] - H.v_prev[i]) / dt;
+        double sa = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        double sdw = sqrt(a[3] * a[3] + a[4] * a[4] + a[5] * a[5]);
+        double la = (double)H.cfg.cart_accel, ldw = (double)H.cfg.cart_alpha;
+        double *w4 = blending ? WORST.blend : WORST.plain;
+        w4[0] = fmax(w4[0], sv / lv);
+        w4[1] = fmax(w4[1], sa / la);
+        w4[2] = fmax(w4[2], sw / lw);
+        w4[3] = fmax(w4[3], sdw / ldw);
+    }
+    memcpy(H.v_prev, v, sizeof v);
+    H.have_prev = 1;
+    H.pose_prev = H.out.pose;
+    for (int e = 0; e < H.out.n_events; e++)
+        H.events[H.out.events[e].kind]++;
+}
+
+/* The reason of the last output's event of that kind for goal id, or -1. */
+static int event_reason(kc_ctrl_event_kind kind, int64_t id)
+{
+    for (int e = 0; e < H.out.n_events; e++)
+        if (H.out.events[e].kind == kind && H.out.events[e].goal_id == id)
+            return (int)H.out.events[e].reason;
+    return -1;
+}
+
+/* Ticks until goal id completes, at most max. */
+static void run_until_completed(int64_t id, int max)
+{
+    for (int k = 1; k <= max; k++) {
+        tick(NULL);
+        if (event_reason(KC_EVENT_COMPLETED, id) >= 0)
+            return;
+        if (H.events[KC_EVENT_FAULT] > 0 || H.out.state == KC_CTRL_FAULT || H.out.state == KC_CTRL_ESTOP)
+            fail_msg("cycle %ld: fault (%s) while moving to goal %ld", (long)H.out.cycle,
+                     kc_ctrl_reason_str(H.ctrl.fault_reason), (long)id);
+    }
+    fail_msg("goal %ld not completed in %d ticks", (long)id, max);
+}
+
+static kc_vec3 random_offset(kt_rng *r, double lo, double hi)
+{
+    kc_vec3 d = kt_rand_unit(r), o;
+    kc_vec3_scale(&d, (kc_real)kt_uniform(r, lo, hi), &o);
+    return o;
+}
+
+static const kc_goal_kind KINDS[4] = {KC_GOAL_JOINT, KC_GOAL_LINE, KC_GOAL_ARC, KC_GOAL_PATH_CART};
+
+/* Where the tool comes to rest if the motion stops on its path now: where
+ * a replacing Cartesian goal starts, superposed or not (the same stop),
+ * found by running a copy of the controller through a STOP. */
+static kc_ctrl SIM;
+static kc_pose rest_ahead(void)
+{
+    kc_ctrl_output out;
+    kc_ctrl_input in = {NULL, KC_CMD_STOP, 0, KC_REASON_NONE};
+    SIM = H.ctrl;
+    for (int k = 0; k < 20000; k++) {
+        assert_int_equal(kc_ctrl_step(&SIM, &in, &out), KC_OK);
+        in.command = KC_CMD_NONE;
+        if (out.state == KC_CTRL_IDLE)
+            return out.pose;
+    }
+    fail_msg("the stop did not end");
+    return out.pose;
+}
+
+/* A random goal of that kind near the tool pose home (within reach of
+ * PUMA_Q0's: a joint move is near PUMA_Q0). */
+static kc_goal random_goal(kt_rng *r, kc_goal_kind kind, int64_t id, kc_pose home)
+{
+    kc_goal g;
+    memset(&g, 0, sizeof g);
+    g.id = id;
+    g.kind = kind;
+    g.replace = 0;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    g.orient = KC_INTERP_SLERP;
+    if (kind == KC_GOAL_JOINT) {
+        for (int j = 0; j < 6; j++)
+            g.q[j] = PUMA_Q0[j] + (kc_real)kt_uniform(r, -0.08, 0.08);
+    } else if (kind == KC_GOAL_LINE) {
+        kc_vec3 d = random_offset(r, 0.03, 0.08), axis = kt_rand_unit(r), rv;
+        kc_mat3 dR;
+        kc_quat dq;
+        kc_vec3_scale(&axis, (kc_real)kt_uniform(r, 0.0, 0.1), &rv);
+        kc_quat_exp(&rv, &dq);
+        kc_quat_to_mat3(&dq, &dR);
+        g.pose = home;
+        kc_vec3_add(&home.t, &d, &g.pose.t);
+        kc_mat3_mul(&dR, &home.R, &g.pose.R);
+    } else if (kind == KC_GOAL_ARC) {
+        /* A gentle arc from home's tool point ahead 6-10 cm along a
+         * random direction, bent by 3-8 % of its chord, in a plane near
+         * the one across the last joint's axis (the PUMA's wrist roll,
+         * whose range is the widest): the tool turns with the arc about
+         * its normal. */
+        kc_vec3 n, t = kt_rand_unit(r), d, e;
+        kc_jacobian jac;
+        kc_fk_jacobian(&H.chain, PUMA_Q0, &jac, NULL);
+        for (int k = 0; k < 3; k++)
+            n.v[k] = jac.m[3 + k][5] + KC_R(0.2) * t.v[k];
+        t = kt_rand_unit(r);
+        kc_vec3_cross(&n, &t, &d);
+        kc_vec3_scale(&d, KC_R(1.0) / kc_vec3_norm(&d), &d);
+        kc_vec3_cross(&n, &d, &e);
+        kc_vec3_scale(&e, KC_R(1.0) / kc_vec3_norm(&e), &e);
+        kc_real chord = (kc_real)kt_uniform(r, 0.06, 0.1), bend = chord * (kc_real)kt_uniform(r, 0.03, 0.08);
+        g.pose = home;
+        for (int k = 0; k < 3; k++) {
+            g.via.v[k] = home.t.v[k] + chord / 2 * d.v[k] + bend * e.v[k];
+            g.pose.t.v[k] = home.t.v[k] + chord * d.v[k];
+        }
+    } else {
+        kc_quat q;
+        kc_quat_from_mat3(&home.R, &q);
+        g.method = KC_PATH_BLEND;
+        g.n_points = 2;
+        for (int i = 0; i < 2; i++) {
+            kc_vec3 d = random_offset(r, 0.03, 0.06);
+            for (int k = 0; k < 3; k++)
+                g.points[i][k] = home.t.v[k] + d.v[k];
+            g.points[i][3] = q.w;
+            g.points[i][4] = q.x;
+            g.points[i][5] = q.y;
+            g.points[i][6] = q.z;
+        }
+    }
+    return g;
+}
+
+/* The active segment's length in ticks as planned (a Cartesian segment's
+ * geometry; the tool settles after it). */
+static int64_t planned_ticks(void)
+{
+    const kc_ctrl *c = &H.ctrl;
+    switch (c->goal.kind) {
+    case KC_GOAL_JOINT: return c->plan.joint.ticks;
+    case KC_GOAL_LINE: return c->plan.line.prof.ticks;
+    case KC_GOAL_ARC: return c->plan.arc.prof.ticks;
+    default: return (int64_t)(c->plan.path_cart.pos.duration / c->cfg.dt);
+    }
+}
+
+/* Goal b's end reached: a joint move exactly, a Cartesian one within the
+ * IK's tolerance. */
+static void check_end(const kc_goal *b)
+{
+    if (b->kind == KC_GOAL_JOINT) {
+        for (int j = 0; j < 6; j++)
+            kt_near((double)H.out.q[j], (double)b->q[j], 0.0, "joint move's end");
+        return;
+    }
+    kc_vec3 end = b->kind == KC_GOAL_PATH_CART ? kc_vec3_make(b->points[1][0], b->points[1][1], b->points[1][2])
+                                               : b->pose.t;
+    kt_near_vec3(&H.out.pose.t, &end, TOL_POSE, "Cartesian end");
+    if (b->kind == KC_GOAL_LINE)
+        kt_near_mat3(&H.out.pose.R, &b->pose.R, TOL_POSE, "line's end orientation");
+}
+
+static int cart(kc_goal_kind k) { return k != KC_GOAL_JOINT; }
+
+static void test_every_pair(void **state)
+{
+    (void)state;
+    kt_rng r = kt_rng_make(1919);
+    int superposed = 0, overlapped = 0, retargeted = 0, stopped_first = 0;
+    for (int ia = 0; ia < 4; ia++)
+        for (int ib = 0; ib < 4; ib++)
+            for (int c = 0; c < CASES; c++) {
+                setup();
+                kc_goal a = random_goal(&r, KINDS[ia], 1, H.out.pose), b;
+                tick(&a);
+                int64_t len = planned_ticks();
+                int64_t at = 1 + (int64_t)kt_uniform(&r, 0.0, (double)(len > 3 ? len - 3 : 1));
+                for (int64_t k = 1; k < at; k++)
+                    tick(NULL);
+                b = random_goal(&r, KINDS[ib], 2, rest_ahead());
+                b.replace = 1;
+                tick(&b);
+                int blend = (a.kind == KC_GOAL_LINE || a.kind == KC_GOAL_ARC) && cart(b.kind);
+                if (event_reason(KC_EVENT_STARTED, b.id) >= 0) {
+                    assert_int_equal(event_reason(KC_EVENT_PREEMPTED, a.id), KC_REASON_NONE);
+                    assert_int_equal(event_reason(KC_EVENT_ACCEPTED, b.id), KC_REASON_NONE);
+                    if (blend) {
+                        superposed++;
+                        assert_true(H.ctrl.blend.on);
+                        if (H.ctrl.k0 - H.ctrl.blend.k0 < H.ctrl.blend.stop.ticks)
+                            overlapped++;
+                    } else {
+                        assert_int_equal(b.kind, KC_GOAL_JOINT);
+                        retargeted++;
+                    }
+                } else {
+                    /* Stops first: only where no transition is built (a
+                     * joint retarget may find its position limit). */
+                    if (blend)
+                        fail_msg("pair %d -> %d case %d: not superposed", a.kind, b.kind, c);
+                    assert_int_equal(event_reason(KC_EVENT_ACCEPTED, b.id), KC_REASON_STOP_FIRST);
+                    assert_int_equal(H.out.state, KC_CTRL_STOPPING);
+                    stopped_first++;
+                }
+                run_until_completed(b.id, 20000);
+                check_end(&b);
+                assert_int_equal(H.events[KC_EVENT_FAULT], 0);
+                assert_int_equal(H.events[KC_EVENT_ABORTED], 0);
+            }
+    print_message("%d superposed (%d overlapping the stop), %d retargeted, %d stopped first; worst of the limits "
+                  "(speed, acceleration, angular speed, angular acceleration): superposed targets %.4f %.4f %.4f "
+                  "%.4f; measured on the tool superposed %.4f %.4f %.4f %.4f, in plain Cartesian motions %.4f %.4f "
+                  "%.4f %.4f\n",
+                  superposed, overlapped, retargeted, stopped_first, WORST.target[0], WORST.target[1],
+                  WORST.target[2], WORST.target[3], WORST.blend[0], WORST.blend[1], WORST.blend[2], WORST.blend[3],
+                  WORST.plain[0], WORST.plain[1], WORST.plain[2], WORST.plain[3]);
+    for (int i = 1; i < 4; i += 2)
+        if (!(WORST.blend[i] <= fmax(1.0, WORST.plain[i]) * (1.0 + TOOL_REL_A)))
+            fail_msg("superposed: %.4f of an acceleration limit, plain motions %.4f", WORST.blend[i], WORST.plain[i]);
+    assert_int_equal(superposed, 2 * 3 * CASES);
+    assert_true(overlapped > 0);
+}
+
+/* A line replaced mid-cruise by a line on along its direction: the new one
+ * starts in the same tick (t0 = 0: the stop's deceleration and the start's
+ * acceleration cancel), the tool keeps its speed through the takeover and
+ * arrives sooner than after a stop. */
+static void test_line_continued(void **state)
+{
+    (void)state;
+    setup();
+    kc_pose home;
+    kc_fk_eval(&H.chain, PUMA_Q0, &home);
+    kc_goal a, b;
+    memset(&a, 0, sizeof a);
+    a.id = 1;
+    a.kind = KC_GOAL_LINE;
+    a.vel_scale = a.acc_scale = KC_R(1.0);
+    a.orient = KC_INTERP_SLERP;
+    a.pose = home;
+    a.pose.t.v[1] += KC_R(0.2);
+    b = a;
+    b.id = 2;
+    b.replace = 1;
+    b.pose.t.v[1] += KC_R(0.08);
+    tick(&a);
+    /* Into the cruise (0.15 m/s after 0.5 s at 0.3 m/s^2): the stop
+     * from there ends 0.078 m along, and the new line, 0.2 m long from
+     * there, reaches the full speed as the stop ends. */
+    for (int64_t k = 1; k < 520; k++)
+        tick(NULL);
+    double v0 = H.v_prev[1];
+    tick(&b);
+    assert_int_equal(event_reason(KC_EVENT_STARTED, b.id), KC_REASON_NONE);
+    assert_true(H.ctrl.k0 == H.ctrl.blend.k0);
+    int64_t ts = H.ctrl.blend.stop.ticks, tg = H.ctrl.plan.line.prof.ticks;
+    for (int64_t k = 1; k < ts; k++) {
+        tick(NULL);
+        kt_near(H.v_prev[1], v0, 1e-3 * v0 + TOOL_ABS_V, "speed through the takeover");
+    }
+    int64_t start = H.out.cycle;
+    run_until_completed(b.id, 20000);
+    check_end(&b);
+    /* Sooner than a stop and then the new line: it ends with G's plan
+     * (plus the tool's settling), T_s before the stop-then-start would. */
+    assert_true(H.out.cycle - start + ts < ts + tg);
+}
+
+/* Where no transition is built the replacement stops first and says so:
+ * a second replacement while a superposition lasts, and the replacement
+ * of a Cartesian path. Both still continuous and ending at their goal. */
+static void test_fallbacks(void **state)
+{
+    (void)state;
+    kt_rng r = kt_rng_make(7);
+    setup();
+    kc_goal a = random_goal(&r, KC_GOAL_LINE, 1, H.out.pose), b, c;
+    tick(&a);
+    for (int k = 0; k < 300; k++)
+        tick(NULL);
+    b = random_goal(&r, KC_GOAL_LINE, 2, rest_ahead());
+    b.replace = 1;
+    tick(&b);
+    assert_true(H.ctrl.blend.on);
+    tick(NULL);
+    c = random_goal(&r, KC_GOAL_ARC, 3, rest_ahead());
+    c.replace = 1;
+    tick(&c);
+    assert_int_equal(event_reason(KC_EVENT_ACCEPTED, c.id), KC_REASON_STOP_FIRST);
+    assert_int_equal(H.out.state, KC_CTRL_STOPPING);
+    run_until_completed(c.id, 20000);
+    check_end(&c);
+    assert_int_equal(H.events[KC_EVENT_PREEMPTED], 2);
+
+    setup();
+    a = random_goal(&r, KC_GOAL_PATH_CART, 1, H.out.pose);
+    tick(&a);
+    for (int k = 0; k < 200; k++)
+        tick(NULL);
+    b = random_goal(&r, KC_GOAL_LINE, 2, rest_ahead());
+    b.replace = 1;
+    tick(&b);
+    assert_int_equal(event_reason(KC_EVENT_ACCEPTED, b.id), KC_REASON_STOP_FIRST);
+    assert_string_equal(kc_ctrl_reason_str(KC_REASON_STOP_FIRST),
+                        "no continuous transition from the motion it replaces: that motion stops first");
+    run_until_completed(b.id, 20000);
+    check_end(&b);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_every_pair),
+        cmocka_unit_test(test_line_continued),
+        cmocka_unit_test(test_fallbacks),
+    };
+    int rc = cmocka_run_group_tests(tests, NULL, NULL);
+    kt_report("ctrl_blend");
+    return rc;
+}
