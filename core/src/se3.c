@@ -7,15 +7,6 @@
 
 /* ---- vec3 ---- */
 
-kc_vec3 kc_vec3_make(kc_real x, kc_real y, kc_real z)
-{
-    kc_vec3 v;
-    v.v[0] = x;
-    v.v[1] = y;
-    v.v[2] = z;
-    return v;
-}
-
 void kc_vec3_add(const kc_vec3 *a, const kc_vec3 *b, kc_vec3 *dest)
 {
     for (int i = 0; i < 3; i++)
