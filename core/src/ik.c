@@ -174,21 +174,35 @@ static void problem_init(kc_ik_problem *p, const kc_chain *chain, const kc_ik_cf
  * for size, only the full task keeps its unrolled copy, which the IK
  * step's instruction budget on a Cortex-M4F needs (4,900 against 7,900
  * rolled); the position and axis tasks share the rolled kernel (1.4 KB
- * less). */
+ * less). The unrolled copy is then a function of its own, so that the
+ * rolled kernel's frame is never stacked on top of its frame. */
+#ifdef __OPTIMIZE_SIZE__
+static __attribute__((noinline)) kc_real dls_full(const kc_ik_problem *p, kc_real jt[6][KC_MAX_JOINTS],
+                                                  const kc_real *u, kc_real lambda2, kc_real null_scale,
+                                                  kc_real null_bound, const kc_real *q, const uint8_t *frozen,
+                                                  kc_real *dq)
+{
+    return kc_ik_dls_kernel(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq, 6);
+}
+
+static kc_real dls_solve(const kc_ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], const kc_real *u, kc_real lambda2,
+                         kc_real null_scale, kc_real null_bound, const kc_real *q, const uint8_t *frozen, kc_real *dq)
+{
+    if (p->r != 6)
+        return kc_ik_dls_rolled(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq);
+    return dls_full(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq);
+}
+#else
 static kc_real dls_solve(const kc_ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], const kc_real *u, kc_real lambda2,
                          kc_real null_scale, kc_real null_bound, const kc_real *q, const uint8_t *frozen, kc_real *dq)
 {
     switch (p->r) {
-#ifdef __OPTIMIZE_SIZE__
-    case 3:
-    case 5: return kc_ik_dls_rolled(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq);
-#else
     case 3: return kc_ik_dls_kernel(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq, 3);
     case 5: return kc_ik_dls_kernel(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq, 5);
-#endif
     default: return kc_ik_dls_kernel(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq, 6);
     }
 }
+#endif
 
 /* Solves, then freezes every joint at a limit that the step would push
  * beyond and solves again (at most twice: freezing only grows). */
