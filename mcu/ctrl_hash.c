@@ -9,8 +9,16 @@
  * C, the same IEEE single-precision operations (-ffp-contract=off), the
  * same bits.
  *
- * Prints one line per goal kind (ticks, end event, hash so far) and then
- * "hash <16 hex digits>". Exit status 1 when a goal does not end as it
+ * Then the IK's position task, which no goal uses and which a build for
+ * size solves with a kernel of rolled loops (core/src/ik_rolled.c) where
+ * the host's is unrolled: online steps and solves on the PUMA 560
+ * (redundant: the null-space term too) and the RRR arm, their joint
+ * values, rates and residuals hashed too. (The axis task's error goes
+ * through atan2f, whose last bit glibc and newlib do not agree on;
+ * tests/unit/test_ik_rolled.c compares its kernels bit for bit.)
+ *
+ * Prints one line per goal kind (ticks, end event, hash so far), one for
+ * the IK task, and then "hash <16 hex digits>". Exit status 1 when a goal does not end as it
  * should (completed; the servo aborted by its timeout) within its bound.
  */
 #include <stdio.h>
@@ -46,6 +54,53 @@ static uint64_t hash_output(uint64_t h, const kc_ctrl_output *o, int n)
     for (int e = 0; e < o->n_events; e++) {
         int32_t ev[3] = {(int32_t)o->events[e].kind, (int32_t)o->events[e].goal_id, (int32_t)o->events[e].reason};
         h = fnv(h, ev, sizeof ev);
+    }
+    return h;
+}
+
+/* IK_TICKS online steps of the position task towards a target from
+ * scn_q0, then a solve from scn_q0 to each of three targets (the tool
+ * positions of scn_q0 with every joint moved by 0.1, 0.3 and 0.6 rad). */
+#define IK_TICKS 200
+
+static uint64_t hash_ik_position(uint64_t h, int *failures)
+{
+    static const kc_model models[2] = {KC_MODEL_PUMA560, KC_MODEL_RRR3};
+    for (int m = 0; m < 2; m++) {
+        kc_chain c;
+        if (kc_chain_init_model(&c, models[m], NULL) != KC_OK) {
+            (*failures)++;
+            continue;
+        }
+        kc_ik_cfg cfg = kc_ik_cfg_default();
+        cfg.mask = KC_IK_MASK_POSITION;
+        kc_real q[KC_MAX_JOINTS] = {0}, qd[KC_MAX_JOINTS] = {0}, goal[KC_MAX_JOINTS];
+        size_t bytes = sizeof(kc_real) * (size_t)c.n_joints;
+        memcpy(q, scn_q0, bytes);
+        for (int t = 1; t <= 3; t++) {
+            kc_pose target;
+            kc_ik_result res;
+            for (int j = 0; j < c.n_joints; j++)
+                goal[j] = scn_q0[j] + (kc_real)(t * t + t) * KC_R(0.05);
+            kc_fk_eval(&c, goal, &target);
+            for (int i = 0; i < IK_TICKS && t == 1; i++) {
+                kc_real qn[KC_MAX_JOINTS], qdn[KC_MAX_JOINTS];
+                kc_status st = kc_ik_step(&c, &cfg, &target, NULL, KC_R(0.001), q, qd, qn, qdn, &res);
+                if (st < 0 && st != KC_E_LIMIT && st != KC_E_SINGULAR)
+                    (*failures)++;
+                memcpy(q, qn, bytes);
+                memcpy(qd, qdn, bytes);
+                h = fnv(h, q, bytes);
+                h = fnv(h, qd, bytes);
+            }
+            kc_real solved[KC_MAX_JOINTS];
+            if (kc_ik_solve(&c, &cfg, &target, scn_q0, solved, &res) != KC_OK)
+                (*failures)++;
+            h = fnv(h, solved, bytes);
+            int32_t words[3] = {(int32_t)res.status, (int32_t)res.steps, (int32_t)res.restarts};
+            h = fnv(h, words, sizeof words);
+            h = fnv(h, &res.pos_err, sizeof res.pos_err);
+        }
     }
     return h;
 }
@@ -101,6 +156,11 @@ int main(void)
         if (ended <= 0)
             failures++;
     }
+    int ik_failures = 0;
+    h = hash_ik_position(h, &ik_failures);
+    printf("%-9s %6d steps  %s  hash %08lx%08lx\n", "ik pos", 2 * IK_TICKS, ik_failures ? "FAILED" : "solved",
+           hi32(h), lo32(h));
+    failures += ik_failures;
     printf("hash %08lx%08lx\n", hi32(h), lo32(h));
     return failures ? 1 : 0;
 }

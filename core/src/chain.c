@@ -423,85 +423,92 @@ static kc_status build_rm01(kc_chain *c)
  * the base start 0.15 m above it, so a table top under the base is clear.
  * Radii are assumptions of the links' thickness. */
 
-static kc_status add_seg(kc_chain *c, int kind, int frame, kc_real x0, kc_real y0, kc_real z0, kc_real x1, kc_real y1,
-                         kc_real z1, kc_real r)
-{
-    kc_vec3 p0 = kc_vec3_make(x0, y0, z0), p1 = kc_vec3_make(x1, y1, z1);
-    kc_shape s;
-    kc_status st = kc_shape_segment(kind, &p0, &p1, r, &s);
-    return st == KC_OK ? kc_chain_add_volume(c, frame, &s) : st;
-}
+/* A segment volume (capsule or cylinder) of a built-in arm: its frame,
+ * kind, end points (m, in the frame) and radius (m). */
+typedef struct seg_row {
+    int frame, kind;
+    kc_vec3 p0, p1;
+    kc_real r;
+} seg_row;
 
-static kc_status add_caps(kc_chain *c, int frame, kc_real x0, kc_real y0, kc_real z0, kc_real x1, kc_real y1, kc_real z1,
-                          kc_real r)
+/* A capsule row of literals. */
+#define CAPS(frame, x0, y0, z0, x1, y1, z1, r)                                                                \
+    {                                                                                                        \
+        frame, KC_SHAPE_CAPSULE, {{KC_R(x0), KC_R(y0), KC_R(z0)}}, {{KC_R(x1), KC_R(y1), KC_R(z1)}}, KC_R(r) \
+    }
+
+static kc_status add_rows(kc_chain *c, const seg_row *rows, int n)
 {
-    return add_seg(c, KC_SHAPE_CAPSULE, frame, x0, y0, z0, x1, y1, z1, r);
+    kc_status st = KC_OK;
+    for (int i = 0; i < n && st == KC_OK; i++) {
+        kc_shape s;
+        st = kc_shape_segment(rows[i].kind, &rows[i].p0, &rows[i].p1, rows[i].r, &s);
+        if (st == KC_OK)
+            st = kc_chain_add_volume(c, rows[i].frame, &s);
+    }
+    return st;
 }
 
 static kc_status volumes_rrr3(kc_chain *c, const kc_real len[3])
 {
     kc_real z = KC_R(0.0), col = kc_max(len[0] - KC_R(0.15), KC_R(0.5) * len[0]);
-    kc_status st = add_caps(c, 0, z, -col, z, z, z, z, KC_R(0.05));
-    if (st == KC_OK)
-        st = add_caps(c, 1, -len[1], z, z, z, z, z, KC_R(0.04));
-    if (st == KC_OK)
-        st = add_caps(c, 2, -len[2], z, z, z, z, z, KC_R(0.035));
-    return st;
+    seg_row rows[3] = {
+        {0, KC_SHAPE_CAPSULE, {{z, -col, z}}, {{z, z, z}}, KC_R(0.05)},
+        {1, KC_SHAPE_CAPSULE, {{-len[1], z, z}}, {{z, z, z}}, KC_R(0.04)},
+        {2, KC_SHAPE_CAPSULE, {{-len[2], z, z}}, {{z, z, z}}, KC_R(0.035)},
+    };
+    return add_rows(c, rows, 3);
 }
 
 static kc_status volumes_planar2(kc_chain *c, const kc_real len[2])
 {
     kc_real z = KC_R(0.0);
-    kc_status st = add_caps(c, 0, -len[0], z, z, z, z, z, KC_R(0.04));
-    return st == KC_OK ? add_caps(c, 1, -len[1], z, z, z, z, z, KC_R(0.03)) : st;
+    seg_row rows[2] = {
+        {0, KC_SHAPE_CAPSULE, {{-len[0], z, z}}, {{z, z, z}}, KC_R(0.04)},
+        {1, KC_SHAPE_CAPSULE, {{-len[1], z, z}}, {{z, z, z}}, KC_R(0.03)},
+    };
+    return add_rows(c, rows, 2);
 }
 
 static kc_status volumes_puma560(kc_chain *c)
 {
-    kc_real z = KC_R(0.0);
     /* column (d1 = 0.672, alpha1 = pi/2), upper arm (a2), the elbow's
      * d3/a3 offset, forearm (d4), wrist and flange */
-    kc_status st = add_caps(c, 0, z, KC_R(-0.52), z, z, z, z, KC_R(0.10));
-    if (st == KC_OK)
-        st = add_caps(c, 1, KC_R(-0.4318), z, z, z, z, z, KC_R(0.08));
-    if (st == KC_OK)
-        st = add_caps(c, 2, KC_R(-0.0203), KC_R(0.15005), z, KC_R(-0.0203), z, z, KC_R(0.06));
-    if (st == KC_OK)
-        st = add_caps(c, 3, z, KC_R(-0.4318), z, z, z, z, KC_R(0.05));
-    if (st == KC_OK)
-        st = add_caps(c, 5, z, z, KC_R(-0.03), z, z, KC_R(0.06), KC_R(0.04));
-    return st;
+    static const seg_row rows[5] = {
+        CAPS(0, 0.0, -0.52, 0.0, 0.0, 0.0, 0.0, 0.10),
+        CAPS(1, -0.4318, 0.0, 0.0, 0.0, 0.0, 0.0, 0.08),
+        CAPS(2, -0.0203, 0.15005, 0.0, -0.0203, 0.0, 0.0, 0.06),
+        CAPS(3, 0.0, -0.4318, 0.0, 0.0, 0.0, 0.0, 0.05),
+        CAPS(5, 0.0, 0.0, -0.03, 0.0, 0.0, 0.06, 0.04),
+    };
+    return add_rows(c, rows, 5);
 }
 
 static kc_status volumes_panda(kc_chain *c)
 {
-    kc_real z = KC_R(0.0);
     /* link 1 (d1 = 0.333), upper arm (d3 = 0.316), the elbow's a = +-0.0825
      * offsets, forearm (d5 = 0.384), the wrist's a = 0.088, flange (d7 =
      * 0.107), then the hand: a box 0.2 m wide across the fingers, turned
      * like the tool (Rz(-pi/4)). */
-    kc_status st = add_caps(c, 0, z, z, KC_R(-0.19), z, z, z, KC_R(0.08));
-    if (st == KC_OK)
-        st = add_caps(c, 2, z, z, KC_R(-0.316), z, z, z, KC_R(0.07));
-    if (st == KC_OK)
-        st = add_caps(c, 2, z, z, z, KC_R(0.0825), z, z, KC_R(0.07));
-    if (st == KC_OK)
-        st = add_caps(c, 3, z, z, z, KC_R(-0.0825), z, z, KC_R(0.07));
-    if (st == KC_OK)
-        st = add_caps(c, 4, z, z, KC_R(-0.384), z, z, z, KC_R(0.06));
-    if (st == KC_OK)
-        st = add_caps(c, 5, z, z, z, KC_R(0.088), z, z, KC_R(0.06));
-    if (st == KC_OK)
-        st = add_caps(c, 6, z, z, KC_R(-0.107), z, z, z, KC_R(0.05));
+    static const seg_row rows[7] = {
+        CAPS(0, 0.0, 0.0, -0.19, 0.0, 0.0, 0.0, 0.08),
+        CAPS(2, 0.0, 0.0, -0.316, 0.0, 0.0, 0.0, 0.07),
+        CAPS(2, 0.0, 0.0, 0.0, 0.0825, 0.0, 0.0, 0.07),
+        CAPS(3, 0.0, 0.0, 0.0, -0.0825, 0.0, 0.0, 0.07),
+        CAPS(4, 0.0, 0.0, -0.384, 0.0, 0.0, 0.0, 0.06),
+        CAPS(5, 0.0, 0.0, 0.0, 0.088, 0.0, 0.0, 0.06),
+        CAPS(6, 0.0, 0.0, -0.107, 0.0, 0.0, 0.0, 0.05),
+    };
+    kc_status st = add_rows(c, rows, 7);
     if (st == KC_OK) {
         kc_shape hand;
         hand.kind = KC_SHAPE_BOX;
         kc_mat3_rot(KC_AXIS_Z, -KC_PI / KC_R(4.0), &hand.pose.R);
-        hand.pose.t = kc_vec3_make(z, z, KC_R(0.05));
+        hand.pose.t = kc_vec3_make(KC_R(0.0), KC_R(0.0), KC_R(0.05));
         hand.dim[0] = KC_R(0.03);
         hand.dim[1] = KC_R(0.10);
         hand.dim[2] = KC_R(0.04);
-        hand.dim[3] = hand.dim[4] = z;
+        hand.dim[3] = hand.dim[4] = KC_R(0.0);
         st = kc_chain_add_volume(c, 6, &hand);
     }
     return st;
@@ -509,14 +516,15 @@ static kc_status volumes_panda(kc_chain *c)
 
 static kc_status volumes_rb211(kc_chain *c)
 {
-    kc_real z = KC_R(0.0);
     /* Seed 003 on RB-211: a cylinder of revolution in O_3 and a truncated
      * pyramid in O_4 (frames 2 and 3 here), capsules elsewhere. */
-    kc_status st = add_caps(c, 0, z, z, KC_R(0.15), z, z, KC_R(0.5), KC_R(0.08));
-    if (st == KC_OK)
-        st = add_caps(c, 1, z, z, z, z, z, KC_R(0.4), KC_R(0.06));
-    if (st == KC_OK)
-        st = add_seg(c, KC_SHAPE_CYLINDER, 2, z, z, z, z, z, KC_R(0.3), KC_R(0.05));
+    static const seg_row rows[4] = {
+        CAPS(0, 0.0, 0.0, 0.15, 0.0, 0.0, 0.5, 0.08),
+        CAPS(1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.4, 0.06),
+        {2, KC_SHAPE_CYLINDER, {{KC_R(0.0), KC_R(0.0), KC_R(0.0)}}, {{KC_R(0.0), KC_R(0.0), KC_R(0.3)}}, KC_R(0.05)},
+        CAPS(5, 0.0, 0.0, 0.0, 0.0, 0.0, 0.08, 0.03),
+    };
+    kc_status st = add_rows(c, rows, 3); /* the frustum comes fourth */
     if (st == KC_OK) {
         kc_shape f;
         f.kind = KC_SHAPE_FRUSTUM;
@@ -527,23 +535,21 @@ static kc_status volumes_rb211(kc_chain *c)
         f.dim[4] = KC_R(0.05);
         st = kc_chain_add_volume(c, 3, &f);
     }
-    if (st == KC_OK)
-        st = add_caps(c, 5, z, z, z, z, z, KC_R(0.08), KC_R(0.03));
-    return st;
+    return st == KC_OK ? add_rows(c, rows + 3, 1) : st;
 }
 
 static kc_status volumes_rm01(kc_chain *c)
 {
-    kc_real z = KC_R(0.0);
-    kc_status st = add_caps(c, 1, z, z, KC_R(-0.51), z, z, z, KC_R(0.09));
-    if (st == KC_OK)
-        st = add_caps(c, 3, z, z, z, z, z, KC_R(0.43), KC_R(0.07));
-    if (st == KC_OK)
-        st = add_caps(c, 6, z, z, z, z, z, KC_R(0.43), KC_R(0.05));
-    if (st == KC_OK)
-        st = add_caps(c, 7, z, z, z, z, z, KC_R(0.06), KC_R(0.04));
-    return st;
+    static const seg_row rows[4] = {
+        CAPS(1, 0.0, 0.0, -0.51, 0.0, 0.0, 0.0, 0.09),
+        CAPS(3, 0.0, 0.0, 0.0, 0.0, 0.0, 0.43, 0.07),
+        CAPS(6, 0.0, 0.0, 0.0, 0.0, 0.0, 0.43, 0.05),
+        CAPS(7, 0.0, 0.0, 0.0, 0.0, 0.0, 0.06, 0.04),
+    };
+    return add_rows(c, rows, 4);
 }
+
+#undef CAPS
 
 static const char *const model_names[KC_MODEL_COUNT] = {"rrr3", "planar2", "puma560", "panda", "rb211", "rm01"};
 

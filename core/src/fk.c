@@ -83,7 +83,7 @@ static void walk(const kc_chain *chain, const kc_real *q, kc_pose *frames, kc_ja
             v = q[j] + chain->joints[j].offset;
             code += KC_CODE_RX - KC_CODE_RX_JOINT; /* now as its constant twin */
             if (code <= KC_CODE_RZ)
-                kc_sincos(v, &s, &c);
+                kc_sincos_inline(v, &s, &c);
             if (jac != NULL) {
                 /* The axis is unchanged by the motion along it. */
                 int k = code <= KC_CODE_RZ ? code - KC_CODE_RX : code - KC_CODE_TX;

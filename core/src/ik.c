@@ -5,7 +5,7 @@
 #include "kinctl/ik.h"
 
 #include "fk_internal.h"
-#include "linalg_internal.h"
+#include "ik_internal.h"
 
 kc_ik_cfg kc_ik_cfg_default(void)
 {
@@ -147,18 +147,7 @@ static kc_real (*task_jacobian(kc_ik_mask mask, kc_jacobian *jac, const kc_pose 
 
 /* ---- one damped least-squares step ---- */
 
-typedef struct ik_problem {
-    const kc_chain *chain;
-    const kc_ik_cfg *cfg;
-    int n, r;
-    int singular_damping; /* add the Nakamura-Hanafusa term (online step) */
-    kc_real lo[KC_MAX_JOINTS], hi[KC_MAX_JOINTS];
-    /* The redundancy objective's, set only when the task leaves a null
-     * space (n > r): nothing else reads them. */
-    kc_real rest[KC_MAX_JOINTS], range[KC_MAX_JOINTS];
-} ik_problem;
-
-static void problem_init(ik_problem *p, const kc_chain *chain, const kc_ik_cfg *cfg)
+static void problem_init(kc_ik_problem *p, const kc_chain *chain, const kc_ik_cfg *cfg)
 {
     p->chain = chain;
     p->cfg = cfg;
@@ -180,157 +169,44 @@ static void problem_init(ik_problem *p, const kc_chain *chain, const kc_ik_cfg *
     }
 }
 
-/* Gradient of the redundancy objective H (see ik.h). */
-static void null_gradient(const ik_problem *p, const kc_real *q, kc_real *g)
-{
-    for (int j = 0; j < p->n; j++) {
-        kc_real range = p->range[j];
-        kc_real gj = (q[j] - p->rest[j]) / (range * range);
-        kc_real margin = p->cfg->limit_margin * range;
-        if (margin > KC_R(0.0)) {
-            /* Quadratic barrier inside the margin, 100 times the rest pull. */
-            kc_real over_hi = q[j] - (p->hi[j] - margin), over_lo = (p->lo[j] + margin) - q[j];
-            if (over_hi > KC_R(0.0))
-                gj += KC_R(100.0) * over_hi / (margin * margin);
-            if (over_lo > KC_R(0.0))
-                gj -= KC_R(100.0) * over_lo / (margin * margin);
-        }
-        g[j] = gj;
-    }
-}
-
-/*
- * The damped least-squares step with the frozen joints' columns removed:
- *     dq = Jt^T A^-1 u + (z - Jt^T A^-1 Jt z),  A = Jt Jt^T + lambda^2 I,
- * task part first, then z = -grad H projected into the null space (on
- * redundant tasks). The null part is bounded by half of null_bound on its own
- * (it does not move the tool, so shrinking it never slows the task). lambda2
- * is the error damping; the singularity damping is added here. Returns the
- * manipulability of the unfrozen task Jacobian.
- */
-KC_ALWAYS_INLINE kc_real dls_kernel(const ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], const kc_real *u,
-                                 kc_real lambda2, kc_real null_scale, kc_real null_bound, const kc_real *q,
-                                 const uint8_t *frozen, kc_real *dq, const int r)
-{
-    int n = p->n;
-    kc_real a[KC_LINALG_MAX][KC_LINALG_MAX];
-    kc_real z[KC_MAX_JOINTS];
-    kc_real y[KC_LINALG_MAX], yz[KC_LINALG_MAX];
-    kc_real jf[6][KC_MAX_JOINTS];
-    int redundant = n > r && null_scale > KC_R(0.0);
-    int any_frozen = 0;
-
-    /* Frozen joints: work on a copy with their columns zeroed, so the loops
-     * below stay branch-free. */
-    for (int j = 0; j < n; j++)
-        any_frozen |= frozen[j];
-    if (any_frozen) {
-        for (int i = 0; i < r; i++)
-            for (int j = 0; j < n; j++)
-                jf[i][j] = frozen[j] ? KC_R(0.0) : jt[i][j];
-        jt = jf;
-    }
-    if (redundant) {
-        null_gradient(p, q, z);
-        for (int j = 0; j < n; j++)
-            z[j] = frozen[j] ? KC_R(0.0) : -null_scale * z[j];
-    }
-    /* A = Jt Jt^T and Jt z, column by column: the r x r work inside is of
-     * constant size and unrolls. */
-    KC_UNROLL
-    for (int i = 0; i < r; i++) {
-        KC_UNROLL
-        for (int k = 0; k <= i; k++)
-            a[i][k] = KC_R(0.0);
-        y[i] = u[i];
-        yz[i] = KC_R(0.0);
-    }
-    for (int j = 0; j < n; j++) {
-        kc_real c[6];
-        KC_UNROLL
-        for (int i = 0; i < r; i++)
-            c[i] = jt[i][j];
-        KC_UNROLL
-        for (int i = 0; i < r; i++) {
-            KC_UNROLL
-            for (int k = 0; k <= i; k++)
-                a[i][k] += c[i] * c[k];
-        }
-        if (redundant) {
-            KC_UNROLL
-            for (int i = 0; i < r; i++)
-                yz[i] += c[i] * z[j];
-        }
-    }
-    /* Only the lower triangle of A is filled: the factorisation and the
-     * solves read no other. */
-
-    kc_real damp = lambda2, w = KC_REAL_MAX;
-    if (p->singular_damping) {
-        /* Manipulability sqrt(det(J J^T)) from an undamped factorisation. */
-        kc_real l[KC_LINALG_MAX][KC_LINALG_MAX], det = KC_R(0.0);
-        KC_UNROLL
-        for (int i = 0; i < r; i++) {
-            KC_UNROLL
-            for (int k = 0; k <= i; k++)
-                l[i][k] = a[i][k];
-        }
-        kc_cholesky(l, r, &det);
-        w = kc_sqrt(kc_max(det, KC_R(0.0)));
-        if (w < p->cfg->manip_threshold) {
-            kc_real f = KC_R(1.0) - w / p->cfg->manip_threshold;
-            damp += p->cfg->damping_max * p->cfg->damping_max * f * f;
-        }
-    }
-    /* A floor keeps the factorisation defined at an exact singularity. */
-    damp = kc_max(damp, KC_REAL_EPS);
-    for (int i = 0; i < r; i++)
-        a[i][i] += damp;
-    if (!kc_cholesky(a, r, NULL)) {
-        for (int j = 0; j < n; j++)
-            dq[j] = KC_R(0.0);
-        return KC_R(0.0);
-    }
-    kc_cholesky_solve(a, r, y);
-    for (int j = 0; j < n; j++) {
-        kc_real t = KC_R(0.0);
-        KC_UNROLL
-        for (int i = 0; i < r; i++)
-            t += jt[i][j] * y[i];
-        dq[j] = t;
-    }
-    if (redundant) {
-        kc_cholesky_solve(a, r, yz);
-        kc_real null_max = KC_R(0.0);
-        for (int j = 0; j < n; j++) {
-            kc_real t = KC_R(0.0);
-            for (int i = 0; i < r; i++)
-                t += jt[i][j] * yz[i];
-            z[j] -= t; /* zero for frozen joints: their column is zero */
-            null_max = kc_max(null_max, kc_fabs(z[j]));
-        }
-        kc_real ns = null_max > KC_R(0.5) * null_bound ? KC_R(0.5) * null_bound / null_max : KC_R(1.0);
-        for (int j = 0; j < n; j++)
-            dq[j] += ns * z[j];
-    }
-    return w;
-}
-
 /* The kernel with the task size as a constant, so that the compiler
- * unrolls the r x r products and the factorisation for each task. */
-static kc_real dls_solve(const ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], const kc_real *u, kc_real lambda2,
+ * unrolls the r x r products and the factorisation for each task. Built
+ * for size, only the full task keeps its unrolled copy, which the IK
+ * step's instruction budget on a Cortex-M4F needs (4,900 against 7,900
+ * rolled); the position and axis tasks share the rolled kernel (1.4 KB
+ * less). The unrolled copy is then a function of its own, so that the
+ * rolled kernel's frame is never stacked on top of its frame. */
+#ifdef __OPTIMIZE_SIZE__
+static __attribute__((noinline)) kc_real dls_full(const kc_ik_problem *p, kc_real jt[6][KC_MAX_JOINTS],
+                                                  const kc_real *u, kc_real lambda2, kc_real null_scale,
+                                                  kc_real null_bound, const kc_real *q, const uint8_t *frozen,
+                                                  kc_real *dq)
+{
+    return kc_ik_dls_kernel(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq, 6);
+}
+
+static kc_real dls_solve(const kc_ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], const kc_real *u, kc_real lambda2,
+                         kc_real null_scale, kc_real null_bound, const kc_real *q, const uint8_t *frozen, kc_real *dq)
+{
+    if (p->r != 6)
+        return kc_ik_dls_rolled(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq);
+    return dls_full(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq);
+}
+#else
+static kc_real dls_solve(const kc_ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], const kc_real *u, kc_real lambda2,
                          kc_real null_scale, kc_real null_bound, const kc_real *q, const uint8_t *frozen, kc_real *dq)
 {
     switch (p->r) {
-    case 3: return dls_kernel(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq, 3);
-    case 5: return dls_kernel(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq, 5);
-    default: return dls_kernel(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq, 6);
+    case 3: return kc_ik_dls_kernel(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq, 3);
+    case 5: return kc_ik_dls_kernel(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq, 5);
+    default: return kc_ik_dls_kernel(p, jt, u, lambda2, null_scale, null_bound, q, frozen, dq, 6);
     }
 }
+#endif
 
 /* Solves, then freezes every joint at a limit that the step would push
  * beyond and solves again (at most twice: freezing only grows). */
-static kc_real limited_step(const ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], const kc_real *u, kc_real lambda2,
+static kc_real limited_step(const kc_ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], const kc_real *u, kc_real lambda2,
                             kc_real null_scale, kc_real null_bound, const kc_real *q, kc_real *dq, int *n_frozen)
 {
     uint8_t frozen[KC_MAX_JOINTS] = {0};
@@ -354,7 +230,7 @@ static kc_real limited_step(const ik_problem *p, kc_real jt[6][KC_MAX_JOINTS], c
     return w;
 }
 
-static void clamp_q(const ik_problem *p, kc_real *q)
+static void clamp_q(const kc_ik_problem *p, kc_real *q)
 {
     for (int j = 0; j < p->n; j++)
         q[j] = kc_clamp(q[j], p->lo[j], p->hi[j]);
@@ -406,7 +282,7 @@ static uint64_t next_random(uint64_t *state)
     return z ^ (z >> 31);
 }
 
-static void random_q(const ik_problem *p, uint64_t *state, kc_real *q)
+static void random_q(const kc_ik_problem *p, uint64_t *state, kc_real *q)
 {
     for (int j = 0; j < p->n; j++) {
         kc_real u = (kc_real)(next_random(state) >> 11) * (kc_real)(1.0 / 9007199254740992.0);
@@ -429,13 +305,13 @@ KC_ALWAYS_INLINE int q_valid(const kc_chain *chain, const kc_real *q)
  * singular task Jacobian (manipulability below the threshold: the arm
  * cannot move towards the target, e.g. beyond a stretched elbow), else
  * plain non-convergence. */
-static kc_status classify_miss(const ik_problem *p, const kc_dquat *target_dq, const kc_pose *target, const kc_real *q)
+static kc_status classify_miss(const kc_ik_problem *p, const kc_dquat *target_dq, const kc_pose *target, const kc_real *q)
 {
     kc_jacobian jac;
     kc_pose cur;
     kc_real e[6], pos_err, rot_err, dq[KC_MAX_JOINTS];
     uint8_t frozen[KC_MAX_JOINTS] = {0};
-    ik_problem probe = *p;
+    kc_ik_problem probe = *p;
     probe.singular_damping = 1; /* to get the manipulability back */
     kc_fk_jacobian_checked(p->chain, q, &jac, &cur);
     task_error(p->cfg->mask, &cur, target_dq, target, e, &pos_err, &rot_err);
@@ -468,7 +344,7 @@ kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose
         return KC_E_UNREACHABLE;
     }
 
-    ik_problem p;
+    kc_ik_problem p;
     problem_init(&p, chain, cfg);
     /* The error damping and the step bound keep solve's steps finite at a
      * singularity; extra damping there would only slow the last digits. */
@@ -593,7 +469,7 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
         !q_valid(chain, q) || !q_valid(chain, qd))
         return KC_E_ARG;
 
-    ik_problem p;
+    kc_ik_problem p;
     problem_init(&p, chain, cfg);
     kc_dquat target_dq;
     kc_dquat_from_pose(target, &target_dq);

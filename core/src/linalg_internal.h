@@ -18,8 +18,12 @@
 #endif
 
 /* Complete unrolling of a loop with a small constant trip count, which -O2
- * does not do on its own for nested triangular loops. */
-#if defined(__clang__)
+ * does not do on its own for nested triangular loops. A file that defines
+ * KC_LINALG_ROLLED before including this one gets plain loops (for a trip
+ * count that is not a constant, where the pragma would only add copies). */
+#if defined(KC_LINALG_ROLLED)
+#define KC_UNROLL
+#elif defined(__clang__)
 #define KC_UNROLL _Pragma("unroll")
 #elif defined(__GNUC__)
 #define KC_UNROLL _Pragma("GCC unroll 8")

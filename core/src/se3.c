@@ -5,48 +5,19 @@
 
 #include <string.h>
 
+#include "vec3_internal.h"
+
 /* ---- vec3 ---- */
 
-kc_vec3 kc_vec3_make(kc_real x, kc_real y, kc_real z)
-{
-    kc_vec3 v;
-    v.v[0] = x;
-    v.v[1] = y;
-    v.v[2] = z;
-    return v;
-}
+void kc_vec3_add(const kc_vec3 *a, const kc_vec3 *b, kc_vec3 *dest) { *dest = kc_v3_add(*a, *b); }
 
-void kc_vec3_add(const kc_vec3 *a, const kc_vec3 *b, kc_vec3 *dest)
-{
-    for (int i = 0; i < 3; i++)
-        dest->v[i] = a->v[i] + b->v[i];
-}
+void kc_vec3_sub(const kc_vec3 *a, const kc_vec3 *b, kc_vec3 *dest) { *dest = kc_v3_sub(*a, *b); }
 
-void kc_vec3_sub(const kc_vec3 *a, const kc_vec3 *b, kc_vec3 *dest)
-{
-    for (int i = 0; i < 3; i++)
-        dest->v[i] = a->v[i] - b->v[i];
-}
+void kc_vec3_scale(const kc_vec3 *a, kc_real s, kc_vec3 *dest) { *dest = kc_v3_scale(*a, s); }
 
-void kc_vec3_scale(const kc_vec3 *a, kc_real s, kc_vec3 *dest)
-{
-    for (int i = 0; i < 3; i++)
-        dest->v[i] = a->v[i] * s;
-}
+kc_real kc_vec3_dot(const kc_vec3 *a, const kc_vec3 *b) { return kc_v3_dot(*a, *b); }
 
-kc_real kc_vec3_dot(const kc_vec3 *a, const kc_vec3 *b)
-{
-    return a->v[0] * b->v[0] + a->v[1] * b->v[1] + a->v[2] * b->v[2];
-}
-
-void kc_vec3_cross(const kc_vec3 *a, const kc_vec3 *b, kc_vec3 *dest)
-{
-    kc_vec3 r;
-    r.v[0] = a->v[1] * b->v[2] - a->v[2] * b->v[1];
-    r.v[1] = a->v[2] * b->v[0] - a->v[0] * b->v[2];
-    r.v[2] = a->v[0] * b->v[1] - a->v[1] * b->v[0];
-    *dest = r;
-}
+void kc_vec3_cross(const kc_vec3 *a, const kc_vec3 *b, kc_vec3 *dest) { *dest = kc_v3_cross(*a, *b); }
 
 kc_real kc_vec3_norm(const kc_vec3 *a) { return kc_sqrt(kc_vec3_dot(a, a)); }
 

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* test_real.c - the scalar layer: kc_sincos against libm, angle wrapping. */
+/* test_real.c - the scalar layer: kc_sincos against libm and its two
+ * forms against each other, angle wrapping. */
 #include "testutil.h"
 
 /* kc_sincos is a polynomial of its own (real.h): within 2 ulps of the
@@ -48,6 +49,30 @@ static void test_sincos_special(void **state)
     assert_true(s != s && c != c);
 }
 
+/* The called copy (built for size) and the inlined one are the same
+ * operations: the same bits for every argument, also beyond the polynomial's
+ * range and for NaN. */
+static void same_forms(kc_real x)
+{
+    kc_real s1, c1, s2, c2;
+    kc_sincos_inline(x, &s1, &c1);
+    kc_sincos_outline(x, &s2, &c2);
+    assert_memory_equal(&s1, &s2, sizeof s1);
+    assert_memory_equal(&c1, &c2, sizeof c1);
+}
+
+static void test_sincos_forms(void **state)
+{
+    (void)state;
+    kt_rng r = kt_rng_make(7);
+    for (int i = 0; i < 20000; i++) {
+        same_forms((kc_real)kt_uniform(&r, -7.0, 7.0));
+        same_forms((kc_real)kt_uniform(&r, -1e7, 1e7));
+    }
+    same_forms((kc_real)NAN);
+    same_forms((kc_real)-0.0);
+}
+
 static void test_wrap_angle(void **state)
 {
     (void)state;
@@ -65,6 +90,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sincos_random),
         cmocka_unit_test(test_sincos_special),
+        cmocka_unit_test(test_sincos_forms),
         cmocka_unit_test(test_wrap_angle),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);

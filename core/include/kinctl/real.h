@@ -135,7 +135,7 @@ static inline kc_real kc_sincos_poly_cos(kc_real z)
     return KC_R(1.0) + z * p;
 }
 
-static inline void kc_sincos(kc_real x, kc_real *s, kc_real *c)
+static inline void kc_sincos_inline(kc_real x, kc_real *s, kc_real *c)
 {
 #ifdef KC_REAL_FLOAT
     /* pi/2 = hi + mid + lo, hi with 17 bits: n hi is exact for |n| < 128. */
@@ -165,6 +165,25 @@ static inline void kc_sincos(kc_real x, kc_real *s, kc_real *c)
     case 2: *s = -sr; *c = -cr; break;
     default: *s = -cr; *c = sr; break;
     }
+}
+
+/*
+ * kc_sincos: the above, called where code is built for size
+ * (__OPTIMIZE_SIZE__, -Os): one copy of it in the library (src/real.c)
+ * instead of one inlined into each of the seven modules that use it (1.9 KB
+ * on a Cortex-M4F). The FK walk, which runs it for every joint of every
+ * call, inlines kc_sincos_inline itself. The same operations either way:
+ * the same bits.
+ */
+void kc_sincos_outline(kc_real x, kc_real *s, kc_real *c);
+
+static inline void kc_sincos(kc_real x, kc_real *s, kc_real *c)
+{
+#ifdef __OPTIMIZE_SIZE__
+    kc_sincos_outline(x, s, c);
+#else
+    kc_sincos_inline(x, s, c);
+#endif
 }
 
 /* Nonzero when x is neither NaN nor infinite. */

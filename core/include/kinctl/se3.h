@@ -59,7 +59,17 @@ typedef struct kc_dquat {
 typedef enum kc_axis { KC_AXIS_X = 0, KC_AXIS_Y = 1, KC_AXIS_Z = 2 } kc_axis;
 
 /* ---- vec3 ---- */
-kc_vec3 kc_vec3_make(kc_real x, kc_real y, kc_real z);
+/* Inline: as a call, each use cost more code than the three stores (426 B
+ * over the core on a Cortex-M4F at -Os). */
+static inline kc_vec3 kc_vec3_make(kc_real x, kc_real y, kc_real z)
+{
+    kc_vec3 v;
+    v.v[0] = x;
+    v.v[1] = y;
+    v.v[2] = z;
+    return v;
+}
+
 void kc_vec3_add(const kc_vec3 *a, const kc_vec3 *b, kc_vec3 *dest);
 void kc_vec3_sub(const kc_vec3 *a, const kc_vec3 *b, kc_vec3 *dest);
 void kc_vec3_scale(const kc_vec3 *a, kc_real s, kc_vec3 *dest);
