@@ -294,11 +294,11 @@ static int joint_limits_of(calc_ctx *ctx, const json_t *req, const char *key, co
     return 0;
 }
 
-static int too_many_rows(calc_ctx *ctx, const kc_profile *prof)
+static int too_many_rows(calc_ctx *ctx, kc_real T, int64_t ticks)
 {
-    if (prof->ticks + 1 > MAX_ROWS)
+    if (ticks + 1 > MAX_ROWS)
         return calc_fail(ctx, "the motion lasts %.6g s = %lld ticks: more than %d rows; use a larger --dt",
-                         (double)prof->T, (long long)prof->ticks, MAX_ROWS);
+                         (double)T, (long long)ticks, MAX_ROWS);
     return 0;
 }
 
@@ -395,9 +395,8 @@ static int run_interp_joint(const json_t *req, calc_ctx *ctx)
     }
     if (st != KC_OK)
         return plan_failed(ctx, "joint move", st);
-    if (plan.ticks + 1 > MAX_ROWS)
-        return calc_fail(ctx, "the motion lasts %.6g s = %lld ticks: more than %d rows; use a larger --dt",
-                         (double)plan.T, (long long)plan.ticks, MAX_ROWS);
+    if (too_many_rows(ctx, plan.T, plan.ticks) != 0)
+        return -1;
     if (!ctx->csv) {
         /* Batch only: the leading joint (1-based, 0 when nothing moves) and the move's duration (s). */
         char lead[16];
@@ -446,26 +445,22 @@ static int run_interp_joint(const json_t *req, calc_ctx *ctx)
 
 static const char *const cart_names[11] = {"t", "x", "y", "z", "qw", "qx", "qy", "qz", "s", "sd", "sdd"};
 
-/* Rows of a Cartesian segment (what: its name) once its planning returned
- * st; quaternions signed like the start the user gave (user_q), the sign
+/* Rows of a planned Cartesian segment of `ticks` ticks lasting T; quaternions signed like the start the user gave (user_q), the sign
  * kinctl keeps continuous along the segment. */
-static int cart_rows(calc_ctx *ctx, const char *what, kc_status st, const void *plan,
-                     kc_status (*eval)(const void *, int64_t, kc_interp_cart_state *), const kc_profile *prof,
-                     const kc_quat *plan_q1, const kc_quat *user_q)
+static int cart_rows(calc_ctx *ctx, const void *plan, kc_status (*eval)(const void *, int64_t, kc_interp_cart_state *),
+                     kc_real T, int64_t ticks, kc_real dt, const kc_quat *plan_q1, const kc_quat *user_q)
 {
-    if (st != KC_OK)
-        return plan_failed(ctx, what, st);
-    if (too_many_rows(ctx, prof) != 0)
+    if (too_many_rows(ctx, T, ticks) != 0)
         return -1;
     kc_real sign = plan_q1->w * user_q->w + plan_q1->x * user_q->x + plan_q1->y * user_q->y + plan_q1->z * user_q->z <
                            KC_R(0.0)
                        ? KC_R(-1.0)
                        : KC_R(1.0);
     calc_rows_begin(ctx, 11, cart_names);
-    for (int64_t k = 0; k <= prof->ticks; k++) {
+    for (int64_t k = 0; k <= ticks; k++) {
         kc_interp_cart_state s;
         eval(plan, k, &s);
-        kc_real row[11] = {(kc_real)k * prof->dt,
+        kc_real row[11] = {(kc_real)k * dt,
                            s.p.v[0],
                            s.p.v[1],
                            s.p.v[2],
@@ -516,7 +511,9 @@ static int run_interp_line(const json_t *req, calc_ctx *ctx)
         !kc_isfinite(lim.dw))
         return calc_fail(ctx, "a pure rotation (from and to at the same position) runs its speed law on the angle: "
                               "give --omega and --epsilon");
-    return cart_rows(ctx, "line", st, &plan, line_eval, &plan.prof, &plan.q1, &qf);
+    if (st != KC_OK)
+        return plan_failed(ctx, "line", st);
+    return cart_rows(ctx, &plan, line_eval, plan.T, plan.ticks, dt, &plan.q1, &qf);
 }
 
 static int run_interp_arc(const json_t *req, calc_ctx *ctx)
@@ -534,7 +531,9 @@ static int run_interp_arc(const json_t *req, calc_ctx *ctx)
     if (st == KC_E_SINGULAR)
         return calc_fail(ctx, "the start, via and end points are collinear or two of them coincide: no unique "
                               "circle passes through them");
-    return cart_rows(ctx, "arc", st, &plan, arc_eval, &plan.prof, &plan.q1, &qf);
+    if (st != KC_OK)
+        return plan_failed(ctx, "arc", st);
+    return cart_rows(ctx, &plan, arc_eval, plan.T, plan.ticks, dt, &plan.q1, &qf);
 }
 
 /* ---- path (interp_path.c) ---- */
