@@ -22,6 +22,13 @@ kc_interp_limits kc_ctrl_cart_limits(const kc_ctrl *c, const kc_goal *g)
     l.a = g->accel > KC_R(0.0) ? g->accel : c->cfg.cart_accel;
     l.w = g->omega > KC_R(0.0) ? g->omega : c->cfg.cart_omega;
     l.dw = g->alpha > KC_R(0.0) ? g->alpha : c->cfg.cart_alpha;
+    /* The trapezoid: jerk unbounded (kc_interp_limits_default's). */
+    int trapezoid = g->profile == KC_GOAL_PROFILE_TRAPEZOID ||
+                    (g->profile == KC_GOAL_PROFILE_CFG && c->cfg.profile == KC_PROFILE_TRAPEZOID);
+    if (!trapezoid) {
+        l.j = g->jerk > KC_R(0.0) ? g->jerk : c->cfg.cart_jerk;
+        l.dj = g->angular_jerk > KC_R(0.0) ? g->angular_jerk : c->cfg.cart_angular_jerk;
+    }
     return l;
 }
 
@@ -206,10 +213,55 @@ static void cart_point(kc_ctrl_seg_point *o, const kc_vec3 *p, const kc_quat *r,
     }
 }
 
+/* A jerk-limited profile's state as kc_ctrl_drive_state gives it. */
+static kc_status scurve_drive_state(const kc_scurve *prof, int64_t j, kc_profile_state *u)
+{
+    kc_scurve_state s;
+    kc_status st = kc_scurve_eval(prof, j, &s);
+    u->p = s.p;
+    u->v = s.v;
+    u->a = s.a;
+    u->phase = s.phase;
+    return st;
+}
+
+/* The jerk-limited u profile driving a line or an arc at its own timing,
+ * or NULL for a trapezoid. */
+static const kc_scurve *cart_own_scurve(const kc_ctrl *c)
+{
+    if (c->goal.kind == KC_GOAL_LINE && c->plan.line.kind == KC_PROFILE_JERK)
+        return &c->plan.line.su;
+    if (c->goal.kind == KC_GOAL_ARC && c->plan.arc.kind == KC_PROFILE_JERK)
+        return &c->plan.arc.su;
+    return NULL;
+}
+
+/* The u profile state of a line or an arc at its tick j, and whether it
+ * has ended (KC_DONE), under any drive. */
+static kc_status cart_u_state(const kc_ctrl *c, int64_t j, kc_profile_state *u)
+{
+    const kc_scurve *own = cart_own_scurve(c);
+    if (c->drive == KC_DRIVE_PROFILE)
+        return kc_profile_eval(&c->drive_prof, j, u);
+    if (c->drive == KC_DRIVE_SCURVE)
+        return scurve_drive_state(&c->drive_scurve, j, u);
+    if (own != NULL)
+        return scurve_drive_state(own, j, u);
+    return kc_profile_eval(c->goal.kind == KC_GOAL_LINE ? &c->plan.line.prof : &c->plan.arc.prof, j, u);
+}
+
 void kc_ctrl_drive_state(const kc_ctrl *c, int64_t j, kc_profile_state *u)
 {
     if (c->drive == KC_DRIVE_PROFILE) {
         kc_profile_eval(&c->drive_prof, j, u);
+        return;
+    }
+    if (c->goal.kind == KC_GOAL_LINE || c->goal.kind == KC_GOAL_ARC) {
+        cart_u_state(c, j, u);
+        return;
+    }
+    if (c->drive == KC_DRIVE_SCURVE) {
+        scurve_drive_state(&c->drive_scurve, j, u);
         return;
     }
     if (kc_ctrl_is_path(c->goal.kind)) {
@@ -219,10 +271,7 @@ void kc_ctrl_drive_state(const kc_ctrl *c, int64_t j, kc_profile_state *u)
         u->phase = 2;
         return;
     }
-    const kc_profile *prof = c->goal.kind == KC_GOAL_JOINT ? &c->plan.joint.prof
-                             : c->goal.kind == KC_GOAL_LINE ? &c->plan.line.prof
-                                                            : &c->plan.arc.prof;
-    kc_profile_eval(prof, j, u);
+    kc_profile_eval(&c->plan.joint.prof, j, u);
 }
 
 /* Joint path at plan time tau with rate tau' and tau'': chain rule. */
@@ -312,11 +361,13 @@ static void seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
         kc_interp_cart_state s;
         kc_status st;
         if (g->kind == KC_GOAL_LINE)
-            st = c->drive == KC_DRIVE_PROFILE ? kc_interp_line_eval_profile(&c->plan.line, &c->drive_prof, j, &s)
-                                              : kc_interp_line_eval(&c->plan.line, j, &s);
+            st = c->drive == KC_DRIVE_PROFILE  ? kc_interp_line_eval_profile(&c->plan.line, &c->drive_prof, j, &s)
+                 : c->drive == KC_DRIVE_SCURVE ? kc_interp_line_eval_scurve(&c->plan.line, &c->drive_scurve, j, &s)
+                                               : kc_interp_line_eval(&c->plan.line, j, &s);
         else
-            st = c->drive == KC_DRIVE_PROFILE ? kc_interp_arc_eval_profile(&c->plan.arc, &c->drive_prof, j, &s)
-                                              : kc_interp_arc_eval(&c->plan.arc, j, &s);
+            st = c->drive == KC_DRIVE_PROFILE  ? kc_interp_arc_eval_profile(&c->plan.arc, &c->drive_prof, j, &s)
+                 : c->drive == KC_DRIVE_SCURVE ? kc_interp_arc_eval_scurve(&c->plan.arc, &c->drive_scurve, j, &s)
+                                               : kc_interp_arc_eval(&c->plan.arc, j, &s);
         cart_point(o, &s.p, &s.q, &s.v, &s.w, KC_R(1.0));
         o->progress = s.u;
         o->s = s.s;
@@ -369,10 +420,7 @@ static void cart_timing(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
     if (j < 0)
         j = 0;
     if (g->kind == KC_GOAL_LINE || g->kind == KC_GOAL_ARC) {
-        const kc_profile *prof = c->drive == KC_DRIVE_PROFILE ? &c->drive_prof
-                                 : g->kind == KC_GOAL_LINE    ? &c->plan.line.prof
-                                                              : &c->plan.arc.prof;
-        kc_status st = kc_profile_eval(prof, j, &u);
+        kc_status st = cart_u_state(c, j, &u);
         o->progress = st == KC_DONE && u.p >= KC_R(1.0) ? KC_R(1.0) : u.p;
         o->done = st == KC_DONE;
     } else if (g->kind == KC_GOAL_PATH_CART) {

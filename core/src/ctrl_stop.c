@@ -163,6 +163,29 @@ static void jerk_stop(kc_ctrl *c)
     c->k0 = c->cycle - 1;
 }
 
+/* The bounds of u's first three derivatives of the active joint move,
+ * line or arc, and its speed law; a zero motion (infinite bounds: nothing
+ * to stop or resume) gets bounds of 1. */
+static kc_profile_kind seg_u_bounds(const kc_ctrl *c, kc_real *v, kc_real *a, kc_real *jm)
+{
+    kc_profile_kind kind;
+    if (c->goal.kind == KC_GOAL_JOINT) {
+        *v = c->plan.joint.u_vmax, *a = c->plan.joint.u_amax, *jm = c->plan.joint.u_jmax;
+        kind = c->plan.joint.kind;
+    } else if (c->goal.kind == KC_GOAL_LINE) {
+        *v = c->plan.line.u_vmax, *a = c->plan.line.u_amax, *jm = c->plan.line.u_jmax;
+        kind = c->plan.line.kind;
+    } else {
+        *v = c->plan.arc.u_vmax, *a = c->plan.arc.u_amax, *jm = c->plan.arc.u_jmax;
+        kind = c->plan.arc.kind;
+    }
+    if (!kc_isfinite(*a))
+        *a = KC_R(1.0);
+    if (!kc_isfinite(*jm))
+        *jm = KC_R(1.0);
+    return kind;
+}
+
 void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
 {
     c->stop_intent = intent;
@@ -201,11 +224,16 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
         }
         kc_profile_plan_stop(&c->drive_prof, u.p, u.v, dec, c->cfg.dt);
     } else {
-        kc_real amax = c->goal.kind == KC_GOAL_JOINT ? c->plan.joint.u_amax
-                       : c->goal.kind == KC_GOAL_LINE ? c->plan.line.u_amax
-                                                      : c->plan.arc.u_amax;
-        if (!kc_isfinite(amax))
-            amax = KC_R(1.0); /* a zero motion: nothing to stop */
+        kc_real vmax, amax, jmax;
+        kc_profile_kind kind = seg_u_bounds(c, &vmax, &amax, &jmax);
+        /* A jerk-limited line or arc stops jerk-limited, from (u, u', u''),
+         * but for a fault (kinctl/ctrl.h: stopping soonest matters more). */
+        if (kind == KC_PROFILE_JERK && c->fault_reason == KC_REASON_NONE && c->drive != KC_DRIVE_PROFILE &&
+            kc_scurve_plan_stop(&c->drive_scurve, u.p, u.v, u.a, amax, jmax, c->cfg.dt) == KC_OK) {
+            c->drive = KC_DRIVE_SCURVE;
+            c->k0 = c->cycle - 1;
+            return;
+        }
         kc_profile_plan_stop(&c->drive_prof, u.p, u.v, amax, c->cfg.dt);
     }
     c->drive = KC_DRIVE_PROFILE;
@@ -222,7 +250,8 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
         c->servo_last = c->cycle;
         return;
     }
-    if (c->drive == KC_DRIVE_RETARGET || c->drive == KC_DRIVE_SCURVE || c->drive == KC_DRIVE_HALT) {
+    if (c->goal.kind == KC_GOAL_JOINT &&
+        (c->drive == KC_DRIVE_RETARGET || c->drive == KC_DRIVE_SCURVE || c->drive == KC_DRIVE_HALT)) {
         /* At rest a retarget, or a jerk-limited move stopped, is an
          * ordinary joint move from here. */
         c->drive = KC_DRIVE_NOMINAL;
@@ -242,15 +271,15 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
             C = KC_R(1.0); /* the rates tried all fail: the gentlest ramp there is */
         kc_profile_plan(&c->drive_prof, u.p, KC_R(0.0), T, KC_R(1.0), C, c->cfg.dt);
     } else {
-        const kc_interp_joint *pj = &c->plan.joint;
-        kc_real vmax = c->goal.kind == KC_GOAL_JOINT ? pj->u_vmax
-                       : c->goal.kind == KC_GOAL_LINE ? c->plan.line.u_vmax
-                                                      : c->plan.arc.u_vmax;
-        kc_real amax = c->goal.kind == KC_GOAL_JOINT ? pj->u_amax
-                       : c->goal.kind == KC_GOAL_LINE ? c->plan.line.u_amax
-                                                      : c->plan.arc.u_amax;
-        if (!kc_isfinite(amax))
-            amax = KC_R(1.0);
+        kc_real vmax, amax, jmax;
+        if (seg_u_bounds(c, &vmax, &amax, &jmax) == KC_PROFILE_JERK &&
+            kc_scurve_plan(&c->drive_scurve, u.p, KC_R(0.0), KC_R(0.0), KC_R(1.0), vmax, amax, jmax, c->cfg.dt) ==
+                KC_OK) {
+            /* A jerk-limited line or arc resumes jerk-limited. */
+            c->drive = KC_DRIVE_SCURVE;
+            c->k0 = c->cycle - 1;
+            return;
+        }
         kc_profile_plan(&c->drive_prof, u.p, KC_R(0.0), KC_R(1.0), vmax, amax, c->cfg.dt);
     }
     c->drive = KC_DRIVE_PROFILE;

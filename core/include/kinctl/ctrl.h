@@ -18,7 +18,11 @@
  *                   limits times vel_scale and acc_scale (the jerk limit
  *                   is the joint's own);
  *   line, arc       kc_interp_line / kc_interp_arc (labs 5, 6) from the tool
- *                   pose of the current joints;
+ *                   pose of the current joints: jerk-limited by default
+ *                   (the goal's jerk and angular_jerk, or cfg.cart_jerk and
+ *                   cfg.cart_angular_jerk), or the seed's trapezoid (jerk
+ *                   limits infinite) when cfg.profile or the goal's
+ *                   profile says so;
  *   path            kc_path through the current joints and the goal's
  *                   points, or kc_path_cart through the current pose and the
  *                   goal's poses (lab 7);
@@ -66,13 +70,19 @@
  * zone, a Cartesian motion that cannot be followed) are
  * acceleration-limited, not jerk-limited: the acceleration jumps to the
  * limit in one tick, because stopping soonest matters more there than
- * smoothness. STOP, PAUSE and RESUME of a jerk-limited joint move are
- * jerk-limited (below).
+ * smoothness. STOP, PAUSE and RESUME of a jerk-limited joint move, line
+ * or arc are jerk-limited (below).
  * RESET: leaves FAULT or ESTOP (at rest) for IDLE.
  *
  * Stopping on the path. Interpolated segments are driven by a profile of
  * their path parameter u; a stop replaces it with kc_profile_plan_stop at
  * the plan's own bound on u'', resume with a profile from there to u = 1.
+ * A jerk-limited line or arc stops by kc_scurve_plan_stop of u from
+ * (u, u', u'') within the plan's bounds on u'' and u''' (never past
+ * u = 1), and resumes by the rest-to-rest kc_scurve from there to 1
+ * within its bounds on u', u'' and u'''; the stop of a fault on its path
+ * is the acceleration-limited one (kc_profile_plan_stop from (u, u'):
+ * u'' jumps to its bound).
  * A jerk-limited joint move on a straight line (synchronised by phase)
  * stops on it by kc_scurve_plan_stop of u from (u, u', u'') within the
  * plan's bounds on the second and third derivatives of u (the stop of
@@ -180,7 +190,7 @@ typedef struct kc_goal {
     int64_t id;        /* chosen by the client, echoed in events and setpoints */
     kc_goal_kind kind;
     int replace;       /* 0: queue behind the others; 1: preempt */
-    kc_goal_profile profile; /* joint move: its motion law */
+    kc_goal_profile profile; /* joint move, line, arc, path: its motion law */
     /* Fractions of the joints' velocity and acceleration limits, (0, 1]. */
     kc_real vel_scale, acc_scale;
     /* Cartesian speed and acceleration of the tool point (m/s, m/s^2) and
@@ -188,6 +198,11 @@ typedef struct kc_goal {
      * takes the configured defaults. */
     kc_real speed, accel;
     kc_real omega, alpha;
+    /* Line, arc, Cartesian path: the jerk bounds of the tool point along
+     * its path (m/s^3) and of the tool's rotation (rad/s^3); 0 takes
+     * cfg.cart_jerk and cfg.cart_angular_jerk. The trapezoid (profile, or
+     * cfg.profile) ignores them. */
+    kc_real jerk, angular_jerk;
     kc_interp_orient orient;             /* line */
     /* Numbers per target or knot as the client gave them (joint move and
      * joint path: its joint count; Cartesian path: 7); 0 takes what the
@@ -294,20 +309,26 @@ typedef struct kc_ctrl_cfg {
     kc_real dt;                    /* tick period (s) */
     kc_real cart_speed, cart_accel; /* defaults for Cartesian goals (m/s, m/s^2) */
     kc_real cart_omega, cart_alpha; /* tool angular speed and acceleration bound (rad/s, rad/s^2) */
+    /* Jerk bounds for jerk-limited Cartesian goals: of the tool point along
+     * its path (m/s^3) and of the tool's rotation (rad/s^3). */
+    kc_real cart_jerk, cart_angular_jerk;
     kc_real track_tol;             /* largest tool position error while following (m) */
     kc_real limit_slack;           /* relative slack of the final limit check */
     int64_t servo_timeout_ticks;   /* default servo staleness */
-    /* Joint moves' motion law unless a goal says otherwise:
-     * KC_PROFILE_JERK (the default) or KC_PROFILE_TRAPEZOID. A chain with
-     * a joint without a jerk limit (qddd_max infinite) moves by trapezoids
-     * whatever is asked. */
+    /* The motion law unless a goal says otherwise: KC_PROFILE_JERK (the
+     * default) or KC_PROFILE_TRAPEZOID. Joint moves: a chain with a joint
+     * without a jerk limit (qddd_max infinite) moves by trapezoids
+     * whatever is asked. Lines, arcs and paths: the trapezoid takes the
+     * jerk limits as infinite. */
     kc_profile_kind profile;
     kc_ik_cfg ik;                  /* the online law for Cartesian motion */
     /* Forbidden zones, or NULL; must outlive the controller, unchanged. */
     const kc_zone_set *zones;
 } kc_ctrl_cfg;
 
-/* 1 kHz, 0.25 m/s and 0.5 m/s^2, 1 rad/s and 4 rad/s^2, tracking 1 mm,
+/* 1 kHz, 0.25 m/s and 0.5 m/s^2, 1 rad/s and 4 rad/s^2, jerk bounds
+ * KC_INTERP_JERK_PER_ACCEL (10/s) times the acceleration ones (5 m/s^3,
+ * 40 rad/s^3), tracking 1 mm,
  * slack 1e-6 (1e-4 in float), servo timeout 100 ticks, jerk-limited joint
  * moves, kc_ik_cfg_default, no zones. */
 kc_ctrl_cfg kc_ctrl_cfg_default(void);
@@ -355,7 +376,7 @@ typedef enum kc_ctrl_drive {
     KC_DRIVE_PROFILE = 1, /* interp: u from drive_prof; path: tau from drive_prof */
     KC_DRIVE_STOPPING_WAIT = 2, /* path: a stop is pending until it is feasible */
     KC_DRIVE_RETARGET = 3,      /* trapezoid joint move from a moving state: plan.retarget per joint */
-    KC_DRIVE_SCURVE = 4,        /* jerk-limited joint move on its line: u from drive_scurve */
+    KC_DRIVE_SCURVE = 4,        /* jerk-limited joint move on its line, line, arc: u from drive_scurve */
     KC_DRIVE_HALT = 5           /* jerk-limited joint move stopping joint by joint: plan.halt */
 } kc_ctrl_drive;
 
@@ -430,6 +451,8 @@ typedef enum kc_ctrl_cfg_field {
     KC_CFG_FIELD_CART_ACCEL,
     KC_CFG_FIELD_CART_OMEGA,
     KC_CFG_FIELD_CART_ALPHA,
+    KC_CFG_FIELD_CART_JERK,
+    KC_CFG_FIELD_CART_ANGULAR_JERK,
     KC_CFG_FIELD_TRACK_TOL,
     KC_CFG_FIELD_LIMIT_SLACK,
     KC_CFG_FIELD_SERVO_TIMEOUT,
