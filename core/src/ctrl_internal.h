@@ -151,6 +151,15 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
  * rates tried does. */
 kc_real kc_ctrl_path_ramp_rate(const kc_ctrl *c, kc_real tau0);
 
+/* The bound on tau''' of a jerk-limited change of a path's rate over plan
+ * times [tau0, tau1] (kinctl/ctrl.h): every joint's qddd_max (Cartesian:
+ * the goal's jerk over the tool point's speed, its angular jerk over the
+ * tool's angular speed) over the largest |q'| on sampled instants, so the
+ * jerk the change adds through tau''' stays within the limit. Infinite
+ * for the trapezoid (cfg.profile or the goal's, or a chain without jerk
+ * limits) and for a path that stands still there. */
+kc_real kc_ctrl_path_tau_jerk(const kc_ctrl *c, kc_real tau0, kc_real tau1);
+
 /* Whether the planned path starts at rest (every knot method but Lagrange). */
 int kc_ctrl_path_starts_at_rest(const kc_ctrl *c);
 

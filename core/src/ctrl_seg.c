@@ -184,13 +184,18 @@ int kc_ctrl_start_next(kc_ctrl *c, kc_ctrl_output *out)
             /* Lagrange's polynomial moves at its first and last knot: run
              * it on a tau' that ramps up from rest and down into the end. */
             kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
-            kc_real C = kc_ctrl_path_ramp_rate(c, KC_R(0.0));
-            if (!(C > KC_R(0.0)) ||
-                kc_profile_plan(&c->drive_prof, KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, c->cfg.dt) != KC_OK) {
+            kc_real C = kc_ctrl_path_ramp_rate(c, KC_R(0.0)), Jt = kc_ctrl_path_tau_jerk(c, KC_R(0.0), T);
+            /* Jerk-limited (tau'' continuous) where the law is (kinctl/ctrl.h). */
+            kc_status st = !(C > KC_R(0.0)) ? KC_E_LIMIT
+                           : kc_isfinite(Jt)
+                               ? kc_scurve_plan(&c->drive_scurve, KC_R(0.0), KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, Jt,
+                                                c->cfg.dt)
+                               : kc_profile_plan(&c->drive_prof, KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, c->cfg.dt);
+            if (st != KC_OK) {
                 kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
                 continue;
             }
-            c->drive = KC_DRIVE_PROFILE;
+            c->drive = kc_isfinite(Jt) ? KC_DRIVE_SCURVE : KC_DRIVE_PROFILE;
         }
         c->active = 1;
         c->state = KC_CTRL_MOVING;
@@ -272,6 +277,17 @@ void kc_ctrl_drive_state(const kc_ctrl *c, int64_t j, kc_profile_state *u)
         return;
     }
     kc_profile_eval(&c->plan.joint.prof, j, u);
+}
+
+/* Whether a path has ended at its tick j: its drive profile has, or at its
+ * own timing `end`. */
+static int path_drive_done(const kc_ctrl *c, int64_t j, int end)
+{
+    if (c->drive == KC_DRIVE_PROFILE)
+        return c->drive_prof.ticks <= j;
+    if (c->drive == KC_DRIVE_SCURVE)
+        return c->drive_scurve.ticks <= j;
+    return end;
 }
 
 /* Joint path at plan time tau with rate tau' and tau'': chain rule. */
@@ -382,13 +398,13 @@ static void seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
         o->progress = T > KC_R(0.0) ? kc_min(u.p / T, KC_R(1.0)) : KC_R(1.0);
         if (g->kind == KC_GOAL_PATH) {
             int end = path_joint_at(&c->plan.path, u.p, u.v, u.a, n, o);
-            o->done = c->drive == KC_DRIVE_PROFILE ? c->drive_prof.ticks <= j : end;
+            o->done = path_drive_done(c, j, end);
         } else {
             kc_path_pose s;
             kc_status st = kc_path_cart_eval_time(&c->plan.path_cart, kc_max(u.p, KC_R(0.0)), &s);
             cart_point(o, &s.p, &s.r, &s.v, &s.w, u.v);
             o->s = s.s;
-            o->done = c->drive == KC_DRIVE_PROFILE ? c->drive_prof.ticks <= j : st == KC_DONE;
+            o->done = path_drive_done(c, j, st == KC_DONE);
         }
         return;
     }
@@ -427,7 +443,7 @@ static void cart_timing(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
         kc_ctrl_drive_state(c, j, &u);
         kc_real T = c->plan.path_cart.pos.duration;
         o->progress = T > KC_R(0.0) ? kc_min(u.p / T, KC_R(1.0)) : KC_R(1.0);
-        o->done = c->drive == KC_DRIVE_PROFILE ? c->drive_prof.ticks <= j : kc_max(u.p, KC_R(0.0)) >= T;
+        o->done = path_drive_done(c, j, kc_max(u.p, KC_R(0.0)) >= T);
     }
 }
 

@@ -86,6 +86,42 @@ kc_real kc_ctrl_path_ramp_rate(const kc_ctrl *c, kc_real tau0)
     return KC_R(0.0);
 }
 
+kc_real kc_ctrl_path_tau_jerk(const kc_ctrl *c, kc_real tau0, kc_real tau1)
+{
+    const kc_goal *g = &c->goal;
+    kc_real J = INF;
+    kc_interp_limits lim = kc_ctrl_cart_limits(c, g);
+    if (g->kind == KC_GOAL_PATH ? kc_ctrl_goal_profile(c, g) == KC_PROFILE_TRAPEZOID : !kc_isfinite(lim.j))
+        return INF;
+    /* A rate between two samples h apart exceeds the nearer one by about
+     * h / 2 times the derivative there: each sample counts with it (the
+     * tool's angular speed, whose derivative a path pose does not carry,
+     * as sampled). */
+    kc_real h = (tau1 - tau0) / (kc_real)STOP_SAMPLES;
+    for (int i = 0; i <= STOP_SAMPLES; i++) {
+        kc_real tau = kc_max(tau0 + h * (kc_real)i, KC_R(0.0));
+        if (g->kind == KC_GOAL_PATH) {
+            kc_real q[KC_MAX_JOINTS], d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
+            kc_path_eval_time(&c->plan.path, tau, q, d1, d2);
+            for (int j = 0; j < c->chain->n_joints; j++) {
+                kc_real v = kc_fabs(d1[j]) + KC_R(0.5) * h * kc_fabs(d2[j]);
+                if (v > KC_R(0.0))
+                    J = kc_min(J, c->chain->joints[j].limits.qddd_max / v);
+            }
+        } else {
+            kc_path_pose s;
+            kc_path_cart_eval_time(&c->plan.path_cart, tau, &s);
+            kc_real v = kc_vec3_norm(&s.v) + KC_R(0.5) * h * kc_vec3_norm(&s.a);
+            kc_real w = kc_vec3_norm(&s.w);
+            if (v > KC_R(0.0))
+                J = kc_min(J, lim.j / v);
+            if (w > KC_R(0.0))
+                J = kc_min(J, lim.dj / w);
+        }
+    }
+    return J;
+}
+
 int kc_ctrl_path_starts_at_rest(const kc_ctrl *c)
 {
     if (c->goal.kind == KC_GOAL_PATH) {
@@ -186,6 +222,26 @@ static kc_profile_kind seg_u_bounds(const kc_ctrl *c, kc_real *v, kc_real *a, kc
     return kind;
 }
 
+/* A jerk-limited stop of a path's tau from the state u at deceleration
+ * dec into drive_scurve, its bound on tau''' from the path's rates where
+ * it goes (kc_ctrl_path_tau_jerk): over twice the distance of the
+ * constant-rate stop first, then again over the distance the stop took
+ * while that is longer (a lower bound makes a longer stop; at most four
+ * plans). 0 for the trapezoid's law, or no plan. */
+static int path_scurve_stop(kc_ctrl *c, const kc_profile_state *u, kc_real dec)
+{
+    kc_real end = u->p + u->v * u->v / dec;
+    for (int i = 0; i < 4; i++) {
+        kc_real Jt = kc_ctrl_path_tau_jerk(c, u->p, end);
+        if (!kc_isfinite(Jt) || kc_scurve_plan_stop(&c->drive_scurve, u->p, u->v, u->a, dec, Jt, c->cfg.dt) != KC_OK)
+            return 0;
+        if (c->drive_scurve.p1 <= end)
+            break;
+        end = c->drive_scurve.p1;
+    }
+    return 1;
+}
+
 void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
 {
     c->stop_intent = intent;
@@ -219,7 +275,13 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
     if (kc_ctrl_is_path(c->goal.kind)) {
         kc_real dec = path_stop_rate(c, u.p, u.v);
         if (!(dec > KC_R(0.0))) {
-            c->drive = c->drive == KC_DRIVE_PROFILE ? KC_DRIVE_PROFILE : KC_DRIVE_STOPPING_WAIT;
+            c->drive = c->drive == KC_DRIVE_PROFILE || c->drive == KC_DRIVE_SCURVE ? c->drive : KC_DRIVE_STOPPING_WAIT;
+            return;
+        }
+        /* Jerk-limited from (tau, tau', tau''), but for a fault. */
+        if (c->fault_reason == KC_REASON_NONE && path_scurve_stop(c, &u, dec)) {
+            c->drive = KC_DRIVE_SCURVE;
+            c->k0 = c->cycle - 1;
             return;
         }
         kc_profile_plan_stop(&c->drive_prof, u.p, u.v, dec, c->cfg.dt);
@@ -269,6 +331,13 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
         kc_real C = kc_ctrl_path_ramp_rate(c, u.p);
         if (!(C > KC_R(0.0)))
             C = KC_R(1.0); /* the rates tried all fail: the gentlest ramp there is */
+        kc_real Jt = kc_ctrl_path_tau_jerk(c, u.p, T);
+        if (kc_isfinite(Jt) &&
+            kc_scurve_plan(&c->drive_scurve, u.p, KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, Jt, c->cfg.dt) == KC_OK) {
+            c->drive = KC_DRIVE_SCURVE;
+            c->k0 = c->cycle - 1;
+            return;
+        }
         kc_profile_plan(&c->drive_prof, u.p, KC_R(0.0), T, KC_R(1.0), C, c->cfg.dt);
     } else {
         kc_real vmax, amax, jmax;

@@ -57,8 +57,8 @@
  * within them, never beyond the joint's), the retarget is not taken and
  * the goal starts as any other replacing goal does. Any other replacing goal (a line, an arc, a
  * path, a servo stream: their geometry starts at rest at the tool's pose)
- * waits while the active segment stops on its path at its acceleration
- * limits, and starts from where the arm comes to rest. Setpoints stay
+ * waits while the active segment stops on its path (jerk-limited by
+ * default, below), and starts from where the arm comes to rest. Setpoints stay
  * continuous in position and velocity throughout, and in acceleration
  * through everything jerk-limited.
  *
@@ -93,9 +93,26 @@
  * limits it was planned or checked within). Either resumes as a
  * jerk-limited move from where it rests to the goal's target.
  * Paths are driven by their plan time tau; a stop makes tau' fall from 1 to
- * 0 at a constant rate c, chosen (and its start delayed while the path is
- * itself braking hard) so that every joint's q'' tau'^2 + q' tau'' stays
- * within its limit on sampled instants of the stop.
+ * 0 at a rate c, chosen (and its start delayed while the path is itself
+ * braking hard) so that every joint's q'' tau'^2 + q' tau'' stays within
+ * its limit on sampled instants of a stop at that constant rate. Where the
+ * controller chooses the time law of a path - that stop, the resume, and
+ * the ramps of tau' from rest and into the end of a path that does not
+ * start at rest (Lagrange's) - it is jerk-limited by default: tau follows
+ * kc_scurve_plan_stop from (tau, tau', tau'') within c (the stop), or the
+ * rest-to-rest kc_scurve to the path's end with tau' <= 1 and tau'' <= the
+ * ramp's rate (the ramps, the resume), so tau'' is continuous; its bound
+ * on tau''' comes from the jerk limits: every joint's
+ * qddd_max (a Cartesian path: the goal's jerk and angular jerk) over the
+ * largest |q'| (speed, angular speed) on sampled instants of the stretch
+ * it runs over, each with half a sample spacing times its derivative, so
+ * the jerk the law adds through tau''' (q' tau''') stays within the
+ * limits. Between those, tau' = 1: the path's own law, which its knot
+ * times fix (blends, splines, quintics with given or computed times; the
+ * path's own jerk there is the method's, kinctl/path.h). The trapezoid
+ * (cfg.profile, the goal's profile, or a chain without jerk limits) keeps
+ * constant-rate ramps and stops, and a fault's stop on the path is the
+ * constant-rate one.
  *
  * Every setpoint is checked before it leaves: finite, inside the position
  * limits, |qd| within the velocity limits, and the change of qd within
