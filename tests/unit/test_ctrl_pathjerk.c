@@ -76,22 +76,24 @@ static void tick(const kc_goal *g, kc_ctrl_command cmd)
             return;
     }
     int64_t j = c->cycle - c->k0;
-    double tau, rate, rate_dot, J = 0.0, Jnow = 0.0, T = (double)c->plan.path.duration, dt = (double)H.cfg.dt;
+    double tau = (double)j * (double)H.cfg.dt, rate = 1.0, rate_dot = 0.0, J = 0.0, Jnow = 0.0, T = (double)c->plan.path.duration, dt = (double)H.cfg.dt;
     double E = (double)KC_REAL_EPS;
     if (c->drive == KC_DRIVE_SCURVE) {
         kc_scurve_state s;
         kc_scurve_eval(&c->drive_scurve, j, &s);
-        tau = (double)s.p, rate = (double)s.v, rate_dot = (double)s.a;
+        tau = (double)s.p;
+        rate = (double)s.v;
+        rate_dot = (double)s.a;
         J = scurve_jmax(&c->drive_scurve);
         Jnow = fabs((double)s.j);
         H.scurve_ticks++;
     } else if (c->drive == KC_DRIVE_PROFILE) {
         kc_profile_state s;
         kc_profile_eval(&c->drive_prof, j, &s);
-        tau = (double)s.p, rate = (double)s.v, rate_dot = (double)s.a;
+        tau = (double)s.p;
+        rate = (double)s.v;
+        rate_dot = (double)s.a;
         J = INFINITY;
-    } else {
-        tau = (double)j * dt, rate = 1.0, rate_dot = 0.0;
     }
     assert_true(rate >= -LIMIT_SLACK && rate <= 1.0 + LIMIT_SLACK + 4.0 * E * T);
     if (H.active && isfinite(J)) {
@@ -107,7 +109,9 @@ static void tick(const kc_goal *g, kc_ctrl_command cmd)
                 fail_msg("cycle %ld joint %d: tau''' |q'| = %g over qddd_max %g", (long)H.out.cycle, i,
                          Jnow * fabs((double)d1[i]), (double)H.chain.joints[i].limits.qddd_max);
     }
-    H.tau = tau, H.rate = rate, H.rate_dot = rate_dot;
+    H.tau = tau;
+    H.rate = rate;
+    H.rate_dot = rate_dot;
     H.active = 1;
 }
 
