@@ -288,11 +288,17 @@ typedef struct kc_interp_cart_state {
  * rest at 1 (kinctl/scurve.h, rest to rest, with vmax = V, amax = A,
  * jmax = J: seven phases, fewer when short): s = S u keeps
  * |s'| <= v, |s''| <= a and |s'''| <= j, the rotation angle Theta u keeps
- * w, dw and dj; kind is KC_PROFILE_JERK and su holds the profile. J
- * infinite (j = dj = infinity, the default) is the trapezoid, exactly as
- * before (kind KC_PROFILE_TRAPEZOID, prof). dw bounds the part of the angular acceleration along the
- * angular velocity; two rotations also turn the velocity's direction,
- * adding u'^2 |theta phi| that dw does not bound (slerp has no such term).
+ * w, dw and dj (the jerk changes s'' by at most j dt per tick,
+ * kinctl/scurve.h); kind is KC_PROFILE_JERK and su holds the profile. J
+ * infinite (j = dj = infinity, the default; or a pure rotation without
+ * dj) is the trapezoid, exactly as the seed's (kind
+ * KC_PROFILE_TRAPEZOID, prof). A stop on the path from a moving state
+ * (kc_scurve_plan_stop of (u, u', u'') within u_amax and u_jmax) and a
+ * resume (kc_scurve_plan from rest at u to 1) drive the same geometry
+ * through kc_interp_line_eval_scurve. dw bounds the part of the angular
+ * acceleration along the angular velocity; two rotations also turn the
+ * velocity's direction, adding u'^2 |theta phi| that dw does not bound
+ * (slerp has no such term); likewise dj bounds the angular jerk along it.
  *
  * Degenerate cases: a_x = a_y = 0 sets psi = 0 as the seed says (theta is
  * then 0 or pi). A pure rotation (S = 0, seed's K_theta = theta / S
