@@ -327,7 +327,7 @@ static void test_trapezoid_kept(void **state)
         assert_int_equal(H.ctrl.plan.line.kind, KC_PROFILE_TRAPEZOID);
         assert_true(H.ctrl.plan.line.prof.T == want.prof.T && H.ctrl.plan.line.ticks == want.prof.ticks);
         take_law(&g);
-        H.j = INFINITY; /* the trapezoid's jerk is impulses */
+        H.j = (double)INFINITY; /* the trapezoid's jerk is impulses */
         run_until(KC_EVENT_COMPLETED, g.id, 100000);
     }
 }

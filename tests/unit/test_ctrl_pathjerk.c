@@ -93,7 +93,7 @@ static void tick(const kc_goal *g, kc_ctrl_command cmd)
         tau = (double)s.p;
         rate = (double)s.v;
         rate_dot = (double)s.a;
-        J = INFINITY;
+        J = (double)INFINITY;
     }
     assert_true(rate >= -LIMIT_SLACK && rate <= 1.0 + LIMIT_SLACK + 4.0 * E * T);
     if (H.active && isfinite(J)) {
