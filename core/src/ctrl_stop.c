@@ -223,22 +223,28 @@ static kc_profile_kind seg_u_bounds(const kc_ctrl *c, kc_real *v, kc_real *a, kc
 }
 
 /* A jerk-limited stop of a path's tau from the state u at deceleration
- * dec into drive_scurve, its bound on tau''' from the path's rates where
- * it goes (kc_ctrl_path_tau_jerk): over twice the distance of the
- * constant-rate stop first, then again over the distance the stop took
- * while that is longer (a lower bound makes a longer stop; at most four
- * plans). 0 for the trapezoid's law, or no plan. */
-static int path_scurve_stop(kc_ctrl *c, const kc_profile_state *u, kc_real dec)
+ * dec, its bound on tau''' from the path's rates where it goes
+ * (kc_ctrl_path_tau_jerk): over twice the distance of the constant-rate
+ * stop first, then again over the distance the stop took while that is
+ * longer (a lower bound makes a longer stop; at most four plans). 1: in
+ * drive_scurve; 0 for the trapezoid's law, or no plan; -1 when it would
+ * pass the path's end T, where the drive under way comes to rest sooner
+ * (every drive of a path ends at rest at T). */
+static int path_scurve_stop(kc_ctrl *c, const kc_profile_state *u, kc_real dec, kc_real T)
 {
+    kc_scurve s;
     kc_real end = u->p + u->v * u->v / dec;
     for (int i = 0; i < 4; i++) {
-        kc_real Jt = kc_ctrl_path_tau_jerk(c, u->p, end);
-        if (!kc_isfinite(Jt) || kc_scurve_plan_stop(&c->drive_scurve, u->p, u->v, u->a, dec, Jt, c->cfg.dt) != KC_OK)
+        kc_real Jt = kc_ctrl_path_tau_jerk(c, u->p, kc_min(end, T));
+        if (!kc_isfinite(Jt) || kc_scurve_plan_stop(&s, u->p, u->v, u->a, dec, Jt, c->cfg.dt) != KC_OK)
             return 0;
-        if (c->drive_scurve.p1 <= end)
+        if (s.p1 <= end)
             break;
-        end = c->drive_scurve.p1;
+        end = s.p1;
     }
+    if (s.p1 > T)
+        return -1;
+    c->drive_scurve = s;
     return 1;
 }
 
@@ -279,7 +285,11 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
             return;
         }
         /* Jerk-limited from (tau, tau', tau''), but for a fault. */
-        if (c->fault_reason == KC_REASON_NONE && path_scurve_stop(c, &u, dec)) {
+        kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
+        int st = c->fault_reason == KC_REASON_NONE ? path_scurve_stop(c, &u, dec, T) : 0;
+        if (st < 0)
+            return; /* the drive under way stops at the end first */
+        if (st > 0) {
             c->drive = KC_DRIVE_SCURVE;
             c->k0 = c->cycle - 1;
             return;
@@ -328,6 +338,8 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
     kc_ctrl_drive_state(c, j, &u);
     if (kc_ctrl_is_path(c->goal.kind)) {
         kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
+        /* (a constant-rate stop may have come to rest past the end) */
+        u.p = kc_min(u.p, T);
         kc_real C = kc_ctrl_path_ramp_rate(c, u.p);
         if (!(C > KC_R(0.0)))
             C = KC_R(1.0); /* the rates tried all fail: the gentlest ramp there is */

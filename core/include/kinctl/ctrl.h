@@ -107,7 +107,9 @@
  * largest |q'| (speed, angular speed) on sampled instants of the stretch
  * it runs over, each with half a sample spacing times its derivative, so
  * the jerk the law adds through tau''' (q' tau''') stays within the
- * limits. Between those, tau' = 1: the path's own law, which its knot
+ * limits. A stop that would carry tau past the path's end leaves the law
+ * under way, which comes to rest there sooner (every path's law in the
+ * controller ends at rest at its end). Between those, tau' = 1: the path's own law, which its knot
  * times fix (blends, splines, quintics with given or computed times; the
  * path's own jerk there is the method's, kinctl/path.h). The trapezoid
  * (cfg.profile, the goal's profile, or a chain without jerk limits) keeps
