@@ -245,6 +245,8 @@ static int refuse_ctrl(const kd_config *cfg, const char *path)
         [KC_CFG_FIELD_CART_ACCEL] = "controller.cartesian.accel",
         [KC_CFG_FIELD_CART_OMEGA] = "controller.cartesian.omega",
         [KC_CFG_FIELD_CART_ALPHA] = "controller.cartesian.alpha",
+        [KC_CFG_FIELD_CART_JERK] = "controller.cartesian.jerk",
+        [KC_CFG_FIELD_CART_ANGULAR_JERK] = "controller.cartesian.angular_jerk",
         [KC_CFG_FIELD_TRACK_TOL] = "controller.cartesian.track_tol",
         [KC_CFG_FIELD_LIMIT_SLACK] = "the limit slack",
         [KC_CFG_FIELD_SERVO_TIMEOUT] = "controller.servo_timeout_ms",

@@ -25,7 +25,8 @@ static int read_controller(kc_cfg *r, const config_setting_t *c, kd_config *cfg,
     static const char *const overrun_keys[] = {"missed_cycles", "action", NULL};
     static const char *const rt_keys[] = {"enable", "priority", "cpu", "mlock", NULL};
     static const char *const plant_keys[] = {"lag_s", NULL};
-    static const char *const cart_keys[] = {"speed", "accel", "omega", "alpha", "track_tol", NULL};
+    static const char *const cart_keys[] = {"speed",        "accel", "omega", "alpha", "jerk", "angular_jerk",
+                                            "track_tol",    NULL};
     const config_setting_t *s, *g;
     const char *str = NULL;
     double v, ms;
@@ -163,14 +164,21 @@ static int read_controller(kc_cfg *r, const config_setting_t *c, kd_config *cfg,
     if (g != NULL) {
         double speed = (double)cfg->ctrl.cart_speed, accel = (double)cfg->ctrl.cart_accel;
         double omega = (double)cfg->ctrl.cart_omega, alpha = (double)cfg->ctrl.cart_alpha;
-        double tol = (double)cfg->ctrl.track_tol;
+        double tol = (double)cfg->ctrl.track_tol, jerk = -1.0, angular_jerk = -1.0;
         if (kc_cfg_check_keys(r, g, "controller.cartesian", cart_keys) != 0 ||
             kc_cfg_lookup_number(r, g, "speed", "controller.cartesian", 1e-6, 100.0, &speed) != 0 ||
             kc_cfg_lookup_number(r, g, "accel", "controller.cartesian", 1e-6, 1000.0, &accel) != 0 ||
             kc_cfg_lookup_number(r, g, "omega", "controller.cartesian", 1e-6, 1000.0, &omega) != 0 ||
             kc_cfg_lookup_number(r, g, "alpha", "controller.cartesian", 1e-6, 10000.0, &alpha) != 0 ||
+            kc_cfg_lookup_number(r, g, "jerk", "controller.cartesian", 1e-6, 1e6, &jerk) != 0 ||
+            kc_cfg_lookup_number(r, g, "angular_jerk", "controller.cartesian", 1e-6, 1e7, &angular_jerk) != 0 ||
             kc_cfg_lookup_number(r, g, "track_tol", "controller.cartesian", 1e-9, 1.0, &tol) != 0)
             return -1;
+        /* Jerk bounds not given follow the acceleration bounds, as the
+         * core's defaults do (KC_INTERP_JERK_PER_ACCEL). */
+        cfg->ctrl.cart_jerk = jerk > 0.0 ? (kc_real)jerk : KC_INTERP_JERK_PER_ACCEL * (kc_real)accel;
+        cfg->ctrl.cart_angular_jerk =
+            angular_jerk > 0.0 ? (kc_real)angular_jerk : KC_INTERP_JERK_PER_ACCEL * (kc_real)alpha;
         cfg->ctrl.cart_speed = (kc_real)speed;
         cfg->ctrl.cart_accel = (kc_real)accel;
         cfg->ctrl.cart_omega = (kc_real)omega;

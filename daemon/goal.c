@@ -47,15 +47,17 @@ static void vec3_of(const double *v, kc_vec3 *dest)
     dest->v[2] = (kc_real)v[2];
 }
 
-/* A Cartesian motion's speed and acceleration bounds (0: the configured
- * ones) and the fractions of the joints' limits. */
-static void cart_rates(kc_goal *g, double speed, double accel, double omega, double alpha, double vel_scale,
-                       double acc_scale)
+/* A Cartesian motion's speed, acceleration and jerk bounds (0: the
+ * configured ones) and the fractions of the joints' limits. */
+static void cart_rates(kc_goal *g, double speed, double accel, double omega, double alpha, double jerk,
+                       double angular_jerk, double vel_scale, double acc_scale)
 {
     g->speed = (kc_real)speed;
     g->accel = (kc_real)accel;
     g->omega = (kc_real)omega;
     g->alpha = (kc_real)alpha;
+    g->jerk = (kc_real)jerk;
+    g->angular_jerk = (kc_real)angular_jerk;
     g->vel_scale = scale_of(vel_scale);
     g->acc_scale = scale_of(acc_scale);
 }
@@ -85,7 +87,8 @@ static int line_goal(const kinctl_goal_line_t *m, kc_goal *g, kc_verdict *v)
     if (rotation_of(m->orientation, &g->pose.R, v) != 0)
         return -1;
     g->orient = m->orientation_method == KINCTL_GOAL_LINE_T_SLERP ? KC_INTERP_SLERP : KC_INTERP_TWO_ROTATIONS;
-    cart_rates(g, m->speed, m->accel, m->angular_speed, m->angular_accel, m->vel_scale, m->acc_scale);
+    cart_rates(g, m->speed, m->accel, m->angular_speed, m->angular_accel, m->jerk, m->angular_jerk, m->vel_scale,
+               m->acc_scale);
     return 0;
 }
 
@@ -98,7 +101,8 @@ static int arc_goal(const kinctl_goal_arc_t *m, kc_goal *g, kc_verdict *v)
     vec3_of(m->via, &g->via);
     if (rotation_of(m->orientation, &g->pose.R, v) != 0)
         return -1;
-    cart_rates(g, m->speed, m->accel, m->angular_speed, m->angular_accel, m->vel_scale, m->acc_scale);
+    cart_rates(g, m->speed, m->accel, m->angular_speed, m->angular_accel, m->jerk, m->angular_jerk, m->vel_scale,
+               m->acc_scale);
     return 0;
 }
 
@@ -128,10 +132,7 @@ static void path_goal(const kinctl_goal_path_t *m, kc_goal *g)
         for (i = 0; i < m->n_points && i < KC_PATH_MAX_KNOTS - 1; i++)
             g->times[i] = (kc_real)m->times[i];
     g->blend_time = (kc_real)m->blend_time;
-    g->speed = (kc_real)m->speed;
-    g->accel = (kc_real)m->accel;
-    g->vel_scale = scale_of(m->vel_scale);
-    g->acc_scale = scale_of(m->acc_scale);
+    cart_rates(g, m->speed, m->accel, 0.0, 0.0, m->jerk, m->angular_jerk, m->vel_scale, m->acc_scale);
 }
 
 static int servo_goal(const kinctl_goal_servo_t *m, double timeout_max_s, kc_goal *g, int64_t *timeout_ns,

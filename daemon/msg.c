@@ -72,10 +72,10 @@ static const kd_msg_glue glue[KD_MSG_TYPE_COUNT] = {
  * empty reason. */
 static const kd_msg_info info[KD_MSG_TYPE_COUNT] = {
     {"goal_joint_t", "GOAL_JOINT", 1, 8 + 8 + 8 + 1 + 4 + 16 * 8 + 8 + 8 + 1},
-    {"goal_line_t", "GOAL_LINE", 1, 8 + 8 + 8 + 1 + 3 * 8 + 4 * 8 + 4 * 8 + 1 + 2 * 8},
-    {"goal_arc_t", "GOAL_ARC", 1, 8 + 8 + 8 + 1 + 3 * 8 + 3 * 8 + 4 * 8 + 4 * 8 + 2 * 8},
+    {"goal_line_t", "GOAL_LINE", 1, 8 + 8 + 8 + 1 + 3 * 8 + 4 * 8 + 6 * 8 + 1 + 2 * 8},
+    {"goal_arc_t", "GOAL_ARC", 1, 8 + 8 + 8 + 1 + 3 * 8 + 3 * 8 + 4 * 8 + 6 * 8 + 2 * 8},
     {"goal_path_t", "GOAL_PATH", 1,
-     8 + 8 + 8 + 5 * 1 + 2 * 4 + 31 * 16 * 8 + 1 + 31 * 8 + 5 * 8},
+     8 + 8 + 8 + 5 * 1 + 2 * 4 + 31 * 16 * 8 + 1 + 31 * 8 + 7 * 8},
     {"goal_servo_t", "GOAL_SERVO", 1, 8 + 8 + 8 + 2 * 1 + 3 * 8 + 4 * 8 + 6 * 8 + 8},
     {"command_t", "COMMAND", 1, 8 + 8 + 1},
     {"setpoint_t", "SETPOINT", 0, 8 + 8 + 8 + 8 + 1 + 4 + 3 * 16 * 8 + 3 * 8 + 4 * 8 + 8 + 1 + 1 + 1 + 1},
@@ -288,6 +288,13 @@ static kd_msg_status check_cart_limits(kd_reason *r, const char *ty, double spee
     return check_nonneg(r, ty, "angular_accel", angular_accel);
 }
 
+/* A Cartesian move's own jerk limits (0 meaning the configured ones). */
+static kd_msg_status check_cart_jerk(kd_reason *r, const char *ty, double jerk, double angular_jerk)
+{
+    CHECK(check_nonneg(r, ty, "jerk", jerk));
+    return check_nonneg(r, ty, "angular_jerk", angular_jerk);
+}
+
 /* The fractions of the limits a goal moves at. */
 static kd_msg_status check_scales(kd_reason *r, const char *ty, double vel_scale, double acc_scale)
 {
@@ -316,6 +323,7 @@ static kd_msg_status validate_goal_line(kd_reason *r, const kinctl_goal_line_t *
                      KINCTL_GOAL_LINE_T_TWO_ROTATIONS, KINCTL_GOAL_LINE_T_SLERP));
     CHECK(check_pose(r, ty, m->position, m->orientation));
     CHECK(check_cart_limits(r, ty, m->speed, m->accel, m->angular_speed, m->angular_accel));
+    CHECK(check_cart_jerk(r, ty, m->jerk, m->angular_jerk));
     return check_scales(r, ty, m->vel_scale, m->acc_scale);
 }
 
@@ -327,6 +335,7 @@ static kd_msg_status validate_goal_arc(kd_reason *r, const kinctl_goal_arc_t *m)
     CHECK(check_finite(r, ty, "via", m->via, 3));
     CHECK(check_pose(r, ty, m->position, m->orientation));
     CHECK(check_cart_limits(r, ty, m->speed, m->accel, m->angular_speed, m->angular_accel));
+    CHECK(check_cart_jerk(r, ty, m->jerk, m->angular_jerk));
     return check_scales(r, ty, m->vel_scale, m->acc_scale);
 }
 
@@ -362,6 +371,7 @@ static kd_msg_status validate_goal_path(kd_reason *r, const kinctl_goal_path_t *
     CHECK(check_nonneg(r, ty, "blend_time", m->blend_time));
     CHECK(check_nonneg(r, ty, "speed", m->speed));
     CHECK(check_nonneg(r, ty, "accel", m->accel));
+    CHECK(check_cart_jerk(r, ty, m->jerk, m->angular_jerk));
     return check_scales(r, ty, m->vel_scale, m->acc_scale);
 }
 

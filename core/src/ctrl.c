@@ -14,6 +14,8 @@ kc_ctrl_cfg kc_ctrl_cfg_default(void)
     c.cart_accel = KC_R(0.5);
     c.cart_omega = KC_R(1.0);
     c.cart_alpha = KC_R(4.0);
+    c.cart_jerk = KC_INTERP_JERK_PER_ACCEL * c.cart_accel;
+    c.cart_angular_jerk = KC_INTERP_JERK_PER_ACCEL * c.cart_alpha;
     c.track_tol = KC_R(0.001);
 #ifdef KC_REAL_FLOAT
     c.limit_slack = KC_R(1e-4);
@@ -57,6 +59,10 @@ static kc_ctrl_cfg_field cfg_problem(const kc_ctrl_cfg *cfg, const kc_chain *cha
         return KC_CFG_FIELD_CART_OMEGA;
     if (!positive(cfg->cart_alpha))
         return KC_CFG_FIELD_CART_ALPHA;
+    if (!positive(cfg->cart_jerk))
+        return KC_CFG_FIELD_CART_JERK;
+    if (!positive(cfg->cart_angular_jerk))
+        return KC_CFG_FIELD_CART_ANGULAR_JERK;
     if (!positive(cfg->track_tol))
         return KC_CFG_FIELD_TRACK_TOL;
     if (!kc_isfinite(cfg->limit_slack) || cfg->limit_slack < KC_R(0.0))

@@ -31,13 +31,15 @@
 /* The bounds a tick of the sum is held to: the larger of the two goals'
  * Cartesian limits (a sum may do what either motion alone may). */
 typedef struct blend_bounds {
-    kc_real v, a, w, dw;
+    kc_real v, a, j; /* the tool point's speed, acceleration and jerk */
+    kc_real w, dw, dj; /* its angular ones */
 } blend_bounds;
 
 /* The replaced segment's stop at its tick j. */
 static void stop_point(const kc_ctrl_blend *b, int64_t j, kc_ctrl_seg_point *o)
 {
-    kc_ctrl_interp_point(b->kind, &b->plan.line, &b->plan.arc, &b->stop, j < 0 ? 0 : j, o);
+    kc_ctrl_interp_point(b->kind, &b->plan.line, &b->plan.arc, b->stop_drive, &b->stop.prof, &b->stop.scurve,
+                         j < 0 ? 0 : j, o);
 }
 
 /* o (G's point) composed with m (M's stop at the same instant), in place. */
@@ -59,53 +61,91 @@ static void compose(const kc_ctrl_blend *b, const kc_ctrl_seg_point *m, kc_ctrl_
         o->twist[3 + i] += awm.v[i];
 }
 
-/* |x| of the first or last three twist components. */
-static kc_real norm3(const kc_real *x)
+/* The twists of M's stop, of G and of their sum at one tick, and their
+ * tool points (p). */
+typedef struct blend_twists {
+    kc_real m[6], g[6], s[6];
+    kc_real pm[3], pg[3], ps[3];
+} blend_twists;
+
+/* The twists at M's tick j with G started at t0; m and g are scratch. */
+static void twists_at(const kc_ctrl *c, int64_t t0, int64_t j, kc_ctrl_seg_point *m, kc_ctrl_seg_point *g,
+                      blend_twists *out)
 {
-    kc_vec3 v = kc_vec3_make(x[0], x[1], x[2]);
+    stop_point(&c->blend, j, m);
+    kc_ctrl_seg_eval(c, j - t0, g);
+    for (int i = 0; i < 6; i++) {
+        out->m[i] = m->twist[i];
+        out->g[i] = g->twist[i];
+    }
+    for (int i = 0; i < 3; i++) {
+        out->pm[i] = m->pose.t.v[i];
+        out->pg[i] = g->pose.t.v[i];
+    }
+    compose(&c->blend, m, g);
+    for (int i = 0; i < 6; i++)
+        out->s[i] = g->twist[i];
+    for (int i = 0; i < 3; i++)
+        out->ps[i] = g->pose.t.v[i];
+}
+
+/* |x0 + c1 x1 + c2 x2| of three components (x2 may be NULL). */
+static kc_real comb3(const kc_real *x0, kc_real c1, const kc_real *x1, kc_real c2, const kc_real *x2)
+{
+    kc_vec3 v;
+    for (int i = 0; i < 3; i++)
+        v.v[i] = x0[i] + c1 * x1[i] + (x2 != NULL ? c2 * x2[i] : KC_R(0.0));
     return kc_vec3_norm(&v);
 }
 
-/* |x - y| of three components. */
-static kc_real dist3(const kc_real *x, const kc_real *y)
-{
-    kc_vec3 v = kc_vec3_make(x[0] - y[0], x[1] - y[1], x[2] - y[2]);
-    return kc_vec3_norm(&v);
-}
+/* |x| of three components. */
+static kc_real norm3(const kc_real *x) { return comb3(x, KC_R(0.0), x, KC_R(0.0), NULL); }
 
 /* Whether the sum with G starting at t0 keeps, on every stride-th tick j
- * of the overlap (t0 <= j <= T_s, M's ticks), its speed, acceleration (the
- * change of the twist over the tick), angular speed and angular
- * acceleration within the bounds, or within what M or G alone does at that
- * tick when that is more (an arc's centripetal part). */
+ * of the overlap (t0 <= j <= T_s, M's ticks), its speed (at the tick, and
+ * the tool point's step over it), acceleration (the change of the twist
+ * over the tick), jerk (the change of that change, from M's tick 2 on: the
+ * ticks before the takeover are M's own) and their angular counterparts
+ * within the bounds, or within what M or G alone does at that tick when
+ * that is more (an arc's centripetal part). */
 static int admissible(const kc_ctrl *c, const blend_bounds *lim, int64_t t0, int64_t stride)
 {
     const kc_ctrl_blend *b = &c->blend;
     kc_real dt = c->cfg.dt, e = KC_R(1.0) + c->cfg.limit_slack;
-    kc_ctrl_seg_point m0, g0, s0, m1, g1, s1;
-    int64_t j = t0 > 0 ? t0 : 1, last = -1; /* last: the tick m0, g0, s0 hold */
-    for (; j <= b->stop.ticks; j += stride) {
-        if (last != j - 1) {
-            stop_point(b, j - 1, &m0);
-            kc_ctrl_seg_eval(c, j - 1 - t0, &g0);
-            s0 = g0;
-            compose(b, &m0, &s0);
-        }
-        stop_point(b, j, &m1);
-        kc_ctrl_seg_eval(c, j - t0, &g1);
-        s1 = g1;
-        compose(b, &m1, &s1);
+    kc_ctrl_seg_point m, g;
+    blend_twists w[3]; /* ticks j - 2, j - 1, j at w[(j - 2) % 3] ... */
+    int64_t j = t0 > 0 ? t0 : 1, have = -1; /* have: the last tick w holds (and those before it) */
+    for (; j <= b->stop_ticks; j += stride) {
+        for (int64_t i = (have >= j - 2 ? have + 1 : j - 2); i <= j; i++)
+            if (i >= 0)
+                twists_at(c, t0, i, &m, &g, &w[i % 3]);
+        have = j;
+        const blend_twists *t1 = &w[j % 3], *t0w = &w[(j - 1) % 3], *tm = j >= 2 ? &w[(j - 2) % 3] : NULL;
         for (int k = 0; k < 6; k += 3) {
             kc_real vmax = k == 0 ? lim->v : lim->w, amax = k == 0 ? lim->a : lim->dw;
-            vmax = kc_max(vmax, kc_max(norm3(&m1.twist[k]), norm3(&g1.twist[k])));
-            amax = kc_max(amax, kc_max(dist3(&m1.twist[k], &m0.twist[k]), dist3(&g1.twist[k], &g0.twist[k])) / dt);
-            if (!(norm3(&s1.twist[k]) <= vmax * e && dist3(&s1.twist[k], &s0.twist[k]) <= amax * dt * e))
+            kc_real jmax = k == 0 ? lim->j : lim->dj;
+            vmax = kc_max(vmax, kc_max(norm3(&t1->m[k]), norm3(&t1->g[k])));
+            amax = kc_max(amax, kc_max(comb3(&t1->m[k], -1, &t0w->m[k], 0, NULL),
+                                       comb3(&t1->g[k], -1, &t0w->g[k], 0, NULL)) / dt);
+            if (!(norm3(&t1->s[k]) <= vmax * e &&
+                  comb3(&t1->s[k], -1, &t0w->s[k], 0, NULL) <= amax * dt * e))
+                return 0;
+            if (k == 0) {
+                /* The step, with the rounding of the two positions it is
+                 * the difference of (a few units of KC_REAL_EPS |p|). */
+                kc_real step = kc_max(vmax, kc_max(comb3(t1->pm, -1, t0w->pm, 0, NULL),
+                                                   comb3(t1->pg, -1, t0w->pg, 0, NULL)) / dt);
+                kc_real round = KC_R(4.0) * KC_REAL_EPS * norm3(t1->ps);
+                if (!(comb3(t1->ps, -1, t0w->ps, 0, NULL) <= step * dt * e + round))
+                    return 0;
+            }
+            if (tm == NULL)
+                continue;
+            jmax = kc_max(jmax, kc_max(comb3(&t1->m[k], -2, &t0w->m[k], 1, &tm->m[k]),
+                                       comb3(&t1->g[k], -2, &t0w->g[k], 1, &tm->g[k])) / (dt * dt));
+            if (!(comb3(&t1->s[k], -2, &t0w->s[k], 1, &tm->s[k]) <= jmax * dt * dt * e))
                 return 0;
         }
-        m0 = m1;
-        g0 = g1;
-        s0 = s1;
-        last = j;
     }
     return 1;
 }
@@ -113,7 +153,7 @@ static int admissible(const kc_ctrl *c, const blend_bounds *lim, int64_t t0, int
 /* The earliest admissible t0 the search finds (T_s when none before). */
 static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
 {
-    int64_t ts = c->blend.stop.ticks, step = (ts + BLEND_GRID - 1) / BLEND_GRID;
+    int64_t ts = c->blend.stop_ticks, step = (ts + BLEND_GRID - 1) / BLEND_GRID;
     int64_t lo = -1, hi = ts; /* lo refused (or none), hi admitted */
     if (step < 1)
         return ts;
@@ -158,21 +198,29 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
         (g->kind != KC_GOAL_LINE && g->kind != KC_GOAL_ARC && g->kind != KC_GOAL_PATH_CART))
         return 0;
     kc_interp_limits lm = kc_ctrl_cart_limits(c, &c->goal), lg = kc_ctrl_cart_limits(c, g);
-    blend_bounds lim = {kc_max(lm.v, lg.v), kc_max(lm.a, lg.a), kc_max(lm.w, lg.w), kc_max(lm.dw, lg.dw)};
+    blend_bounds lim = {kc_max(lm.v, lg.v), kc_max(lm.a, lg.a), kc_max(lm.j, lg.j),
+                        kc_max(lm.w, lg.w), kc_max(lm.dw, lg.dw), kc_max(lm.dj, lg.dj)};
     kc_real old_length = c->path_length;
     kc_ctrl_stop_on_path(c, INTENT_PREEMPT);
-    if (c->drive != KC_DRIVE_PROFILE)
-        return 0; /* a stop that is not a profile of u (none is today): it goes on, the goal waits for it */
+    if (c->drive != KC_DRIVE_PROFILE && c->drive != KC_DRIVE_SCURVE)
+        return 0; /* a stop that is not a profile of u: it goes on, the goal waits for it */
     /* M moves out of c->plan (a line or an arc: small), G is planned there. */
     b->kind = c->goal.kind;
     if (b->kind == KC_GOAL_LINE)
         b->plan.line = c->plan.line;
     else
         b->plan.arc = c->plan.arc;
-    b->stop = c->drive_prof;
+    b->stop_drive = c->drive;
+    if (c->drive == KC_DRIVE_SCURVE) {
+        b->stop.scurve = c->drive_scurve;
+        b->stop_ticks = c->drive_scurve.ticks;
+    } else {
+        b->stop.prof = c->drive_prof;
+        b->stop_ticks = c->drive_prof.ticks;
+    }
     b->k0 = c->k0;
     kc_ctrl_seg_point rest;
-    stop_point(b, b->stop.ticks, &rest);
+    stop_point(b, b->stop_ticks, &rest);
     b->rest = rest.pose;
     kc_status st = kc_ctrl_plan_cart_from(c, g, &b->rest);
     if (st == KC_OK && g->kind == KC_GOAL_PATH_CART) {
@@ -212,7 +260,7 @@ void kc_ctrl_blend_apply(kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o)
 {
     kc_ctrl_blend *b = &c->blend;
     int64_t j = k - b->k0;
-    if (j >= b->stop.ticks) {
+    if (j >= b->stop_ticks) {
         b->on = 0; /* M rests at P_s: the sum is G alone from here */
         return;
     }

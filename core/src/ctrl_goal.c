@@ -132,7 +132,8 @@ kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *g, kc_verdict
         (unsigned)g->profile > (unsigned)KC_GOAL_PROFILE_JERK)
         return bad(v);
     if (!kc_isfinite(g->speed) || g->speed < KC_R(0.0) || !kc_isfinite(g->accel) || g->accel < KC_R(0.0) ||
-        !kc_isfinite(g->omega) || g->omega < KC_R(0.0) || !kc_isfinite(g->alpha) || g->alpha < KC_R(0.0))
+        !kc_isfinite(g->omega) || g->omega < KC_R(0.0) || !kc_isfinite(g->alpha) || g->alpha < KC_R(0.0) ||
+        !kc_isfinite(g->jerk) || g->jerk < KC_R(0.0) || !kc_isfinite(g->angular_jerk) || g->angular_jerk < KC_R(0.0))
         return bad(v);
     switch (g->kind) {
     case KC_GOAL_JOINT:

@@ -139,9 +139,12 @@ kc_status kc_ctrl_plan_goal(kc_ctrl *c);
  * read. On error c->plan is scratch. */
 kc_status kc_ctrl_plan_cart_from(kc_ctrl *c, const kc_goal *g, const kc_pose *from);
 
-/* A line or an arc (kind) at tick j of the profile prof driving its u. */
+/* A line or an arc (kind) at tick j of its drive: its own law
+ * (KC_DRIVE_NOMINAL), the profile prof (KC_DRIVE_PROFILE) or the
+ * jerk-limited profile sc (KC_DRIVE_SCURVE) of its u. */
 void kc_ctrl_interp_point(kc_goal_kind kind, const kc_interp_line *line, const kc_interp_arc *arc,
-                          const kc_profile *prof, int64_t j, kc_ctrl_seg_point *o);
+                          kc_ctrl_drive drive, const kc_profile *prof, const kc_scurve *sc, int64_t j,
+                          kc_ctrl_seg_point *o);
 
 /* The active segment's point at its tick j (j < 0: its tick 0). */
 void kc_ctrl_seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o);
@@ -179,6 +182,15 @@ void kc_ctrl_blend_apply(kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o);
  * start or end at rest, Lagrange's, and every resume); 0 when none of the
  * rates tried does. */
 kc_real kc_ctrl_path_ramp_rate(const kc_ctrl *c, kc_real tau0);
+
+/* The bound on tau''' of a jerk-limited change of a path's rate over plan
+ * times [tau0, tau1] (kinctl/ctrl.h): every joint's qddd_max (Cartesian:
+ * the goal's jerk over the tool point's speed, its angular jerk over the
+ * tool's angular speed) over the largest |q'| on sampled instants, so the
+ * jerk the change adds through tau''' stays within the limit. Infinite
+ * for the trapezoid (cfg.profile or the goal's, or a chain without jerk
+ * limits) and for a path that stands still there. */
+kc_real kc_ctrl_path_tau_jerk(const kc_ctrl *c, kc_real tau0, kc_real tau1);
 
 /* Whether the planned path starts at rest (every knot method but Lagrange). */
 int kc_ctrl_path_starts_at_rest(const kc_ctrl *c);

@@ -22,6 +22,13 @@ kc_interp_limits kc_ctrl_cart_limits(const kc_ctrl *c, const kc_goal *g)
     l.a = g->accel > KC_R(0.0) ? g->accel : c->cfg.cart_accel;
     l.w = g->omega > KC_R(0.0) ? g->omega : c->cfg.cart_omega;
     l.dw = g->alpha > KC_R(0.0) ? g->alpha : c->cfg.cart_alpha;
+    /* The trapezoid: jerk unbounded (kc_interp_limits_default's). */
+    int trapezoid = g->profile == KC_GOAL_PROFILE_TRAPEZOID ||
+                    (g->profile == KC_GOAL_PROFILE_CFG && c->cfg.profile == KC_PROFILE_TRAPEZOID);
+    if (!trapezoid) {
+        l.j = g->jerk > KC_R(0.0) ? g->jerk : c->cfg.cart_jerk;
+        l.dj = g->angular_jerk > KC_R(0.0) ? g->angular_jerk : c->cfg.cart_angular_jerk;
+    }
     return l;
 }
 
@@ -187,13 +194,18 @@ int kc_ctrl_start_next(kc_ctrl *c, kc_ctrl_output *out)
             /* Lagrange's polynomial moves at its first and last knot: run
              * it on a tau' that ramps up from rest and down into the end. */
             kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
-            kc_real C = kc_ctrl_path_ramp_rate(c, KC_R(0.0));
-            if (!(C > KC_R(0.0)) ||
-                kc_profile_plan(&c->drive_prof, KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, c->cfg.dt) != KC_OK) {
+            kc_real C = kc_ctrl_path_ramp_rate(c, KC_R(0.0)), Jt = kc_ctrl_path_tau_jerk(c, KC_R(0.0), T);
+            /* Jerk-limited (tau'' continuous) where the law is (kinctl/ctrl.h). */
+            kc_status st = !(C > KC_R(0.0)) ? KC_E_LIMIT
+                           : kc_isfinite(Jt)
+                               ? kc_scurve_plan(&c->drive_scurve, KC_R(0.0), KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, Jt,
+                                                c->cfg.dt)
+                               : kc_profile_plan(&c->drive_prof, KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, c->cfg.dt);
+            if (st != KC_OK) {
                 kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
                 continue;
             }
-            c->drive = KC_DRIVE_PROFILE;
+            c->drive = kc_isfinite(Jt) ? KC_DRIVE_SCURVE : KC_DRIVE_PROFILE;
         }
         c->active = 1;
         c->state = KC_CTRL_MOVING;
@@ -216,12 +228,57 @@ static void cart_point(kc_ctrl_seg_point *o, const kc_vec3 *p, const kc_quat *r,
     }
 }
 
+/* A jerk-limited profile's state as kc_ctrl_drive_state gives it. */
+static kc_status scurve_drive_state(const kc_scurve *prof, int64_t j, kc_profile_state *u)
+{
+    kc_scurve_state s;
+    kc_status st = kc_scurve_eval(prof, j, &s);
+    u->p = s.p;
+    u->v = s.v;
+    u->a = s.a;
+    u->phase = s.phase;
+    return st;
+}
+
+/* The jerk-limited u profile driving a line or an arc at its own timing,
+ * or NULL for a trapezoid. */
+static const kc_scurve *cart_own_scurve(const kc_ctrl *c)
+{
+    if (c->goal.kind == KC_GOAL_LINE && c->plan.line.kind == KC_PROFILE_JERK)
+        return &c->plan.line.su;
+    if (c->goal.kind == KC_GOAL_ARC && c->plan.arc.kind == KC_PROFILE_JERK)
+        return &c->plan.arc.su;
+    return NULL;
+}
+
+/* The u profile state of a line or an arc at its tick j, and whether it
+ * has ended (KC_DONE), under any drive. */
+static kc_status cart_u_state(const kc_ctrl *c, int64_t j, kc_profile_state *u)
+{
+    const kc_scurve *own = cart_own_scurve(c);
+    if (c->drive == KC_DRIVE_PROFILE)
+        return kc_profile_eval(&c->drive_prof, j, u);
+    if (c->drive == KC_DRIVE_SCURVE)
+        return scurve_drive_state(&c->drive_scurve, j, u);
+    if (own != NULL)
+        return scurve_drive_state(own, j, u);
+    return kc_profile_eval(c->goal.kind == KC_GOAL_LINE ? &c->plan.line.prof : &c->plan.arc.prof, j, u);
+}
+
 void kc_ctrl_drive_state(const kc_ctrl *c, int64_t j, kc_profile_state *u)
 {
     if (j < 0)
         j = 0; /* a segment that starts later (ctrl_blend.c) is at its start */
     if (c->drive == KC_DRIVE_PROFILE) {
         kc_profile_eval(&c->drive_prof, j, u);
+        return;
+    }
+    if (c->goal.kind == KC_GOAL_LINE || c->goal.kind == KC_GOAL_ARC) {
+        cart_u_state(c, j, u);
+        return;
+    }
+    if (c->drive == KC_DRIVE_SCURVE) {
+        scurve_drive_state(&c->drive_scurve, j, u);
         return;
     }
     if (kc_ctrl_is_path(c->goal.kind)) {
@@ -231,10 +288,18 @@ void kc_ctrl_drive_state(const kc_ctrl *c, int64_t j, kc_profile_state *u)
         u->phase = 2;
         return;
     }
-    const kc_profile *prof = c->goal.kind == KC_GOAL_JOINT ? &c->plan.joint.prof
-                             : c->goal.kind == KC_GOAL_LINE ? &c->plan.line.prof
-                                                            : &c->plan.arc.prof;
-    kc_profile_eval(prof, j, u);
+    kc_profile_eval(&c->plan.joint.prof, j, u);
+}
+
+/* Whether a path has ended at its tick j: its drive profile has, or at its
+ * own timing `end`. */
+static int path_drive_done(const kc_ctrl *c, int64_t j, int end)
+{
+    if (c->drive == KC_DRIVE_PROFILE)
+        return c->drive_prof.ticks <= j;
+    if (c->drive == KC_DRIVE_SCURVE)
+        return c->drive_scurve.ticks <= j;
+    return end;
 }
 
 /* Joint path at plan time tau with rate tau' and tau'': chain rule. */
@@ -289,11 +354,19 @@ static void halt_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
 }
 
 void kc_ctrl_interp_point(kc_goal_kind kind, const kc_interp_line *line, const kc_interp_arc *arc,
-                          const kc_profile *prof, int64_t j, kc_ctrl_seg_point *o)
+                          kc_ctrl_drive drive, const kc_profile *prof, const kc_scurve *sc, int64_t j,
+                          kc_ctrl_seg_point *o)
 {
     kc_interp_cart_state s;
-    kc_status st = kind == KC_GOAL_LINE ? kc_interp_line_eval_profile(line, prof, j, &s)
-                                        : kc_interp_arc_eval_profile(arc, prof, j, &s);
+    kc_status st;
+    if (kind == KC_GOAL_LINE)
+        st = drive == KC_DRIVE_PROFILE  ? kc_interp_line_eval_profile(line, prof, j, &s)
+             : drive == KC_DRIVE_SCURVE ? kc_interp_line_eval_scurve(line, sc, j, &s)
+                                        : kc_interp_line_eval(line, j, &s);
+    else
+        st = drive == KC_DRIVE_PROFILE  ? kc_interp_arc_eval_profile(arc, prof, j, &s)
+             : drive == KC_DRIVE_SCURVE ? kc_interp_arc_eval_scurve(arc, sc, j, &s)
+                                        : kc_interp_arc_eval(arc, j, &s);
     cart_point(o, &s.p, &s.q, &s.v, &s.w, KC_R(1.0));
     o->progress = s.u;
     o->s = s.s;
@@ -332,10 +405,7 @@ void kc_ctrl_seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
     }
     case KC_GOAL_LINE:
     case KC_GOAL_ARC: {
-        const kc_profile *prof = c->drive == KC_DRIVE_PROFILE ? &c->drive_prof
-                                 : g->kind == KC_GOAL_LINE    ? &c->plan.line.prof
-                                                              : &c->plan.arc.prof;
-        kc_ctrl_interp_point(g->kind, &c->plan.line, &c->plan.arc, prof, j, o);
+        kc_ctrl_interp_point(g->kind, &c->plan.line, &c->plan.arc, c->drive, &c->drive_prof, &c->drive_scurve, j, o);
         return;
     }
     case KC_GOAL_PATH:
@@ -346,13 +416,13 @@ void kc_ctrl_seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
         o->progress = T > KC_R(0.0) ? kc_min(u.p / T, KC_R(1.0)) : KC_R(1.0);
         if (g->kind == KC_GOAL_PATH) {
             int end = path_joint_at(&c->plan.path, u.p, u.v, u.a, n, o);
-            o->done = c->drive == KC_DRIVE_PROFILE ? c->drive_prof.ticks <= j : end;
+            o->done = path_drive_done(c, j, end);
         } else {
             kc_path_pose s;
             kc_status st = kc_path_cart_eval_time(&c->plan.path_cart, kc_max(u.p, KC_R(0.0)), &s);
             cart_point(o, &s.p, &s.r, &s.v, &s.w, u.v);
             o->s = s.s;
-            o->done = c->drive == KC_DRIVE_PROFILE ? c->drive_prof.ticks <= j : st == KC_DONE;
+            o->done = path_drive_done(c, j, st == KC_DONE);
         }
         return;
     }
@@ -384,17 +454,14 @@ static void cart_timing(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
     if (j < 0)
         j = 0;
     if (g->kind == KC_GOAL_LINE || g->kind == KC_GOAL_ARC) {
-        const kc_profile *prof = c->drive == KC_DRIVE_PROFILE ? &c->drive_prof
-                                 : g->kind == KC_GOAL_LINE    ? &c->plan.line.prof
-                                                              : &c->plan.arc.prof;
-        kc_status st = kc_profile_eval(prof, j, &u);
+        kc_status st = cart_u_state(c, j, &u);
         o->progress = st == KC_DONE && u.p >= KC_R(1.0) ? KC_R(1.0) : u.p;
         o->done = st == KC_DONE;
     } else if (g->kind == KC_GOAL_PATH_CART) {
         kc_ctrl_drive_state(c, j, &u);
         kc_real T = c->plan.path_cart.pos.duration;
         o->progress = T > KC_R(0.0) ? kc_min(u.p / T, KC_R(1.0)) : KC_R(1.0);
-        o->done = c->drive == KC_DRIVE_PROFILE ? c->drive_prof.ticks <= j : kc_max(u.p, KC_R(0.0)) >= T;
+        o->done = path_drive_done(c, j, kc_max(u.p, KC_R(0.0)) >= T);
     }
 }
 

@@ -86,6 +86,42 @@ kc_real kc_ctrl_path_ramp_rate(const kc_ctrl *c, kc_real tau0)
     return KC_R(0.0);
 }
 
+kc_real kc_ctrl_path_tau_jerk(const kc_ctrl *c, kc_real tau0, kc_real tau1)
+{
+    const kc_goal *g = &c->goal;
+    kc_real J = INF;
+    kc_interp_limits lim = kc_ctrl_cart_limits(c, g);
+    if (g->kind == KC_GOAL_PATH ? kc_ctrl_goal_profile(c, g) == KC_PROFILE_TRAPEZOID : !kc_isfinite(lim.j))
+        return INF;
+    /* A rate between two samples h apart exceeds the nearer one by about
+     * h / 2 times the derivative there: each sample counts with it (the
+     * tool's angular speed, whose derivative a path pose does not carry,
+     * as sampled). */
+    kc_real h = (tau1 - tau0) / (kc_real)STOP_SAMPLES;
+    for (int i = 0; i <= STOP_SAMPLES; i++) {
+        kc_real tau = kc_max(tau0 + h * (kc_real)i, KC_R(0.0));
+        if (g->kind == KC_GOAL_PATH) {
+            kc_real q[KC_MAX_JOINTS], d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
+            kc_path_eval_time(&c->plan.path, tau, q, d1, d2);
+            for (int j = 0; j < c->chain->n_joints; j++) {
+                kc_real v = kc_fabs(d1[j]) + KC_R(0.5) * h * kc_fabs(d2[j]);
+                if (v > KC_R(0.0))
+                    J = kc_min(J, c->chain->joints[j].limits.qddd_max / v);
+            }
+        } else {
+            kc_path_pose s;
+            kc_path_cart_eval_time(&c->plan.path_cart, tau, &s);
+            kc_real v = kc_vec3_norm(&s.v) + KC_R(0.5) * h * kc_vec3_norm(&s.a);
+            kc_real w = kc_vec3_norm(&s.w);
+            if (v > KC_R(0.0))
+                J = kc_min(J, lim.j / v);
+            if (w > KC_R(0.0))
+                J = kc_min(J, lim.dj / w);
+        }
+    }
+    return J;
+}
+
 int kc_ctrl_path_starts_at_rest(const kc_ctrl *c)
 {
     if (c->goal.kind == KC_GOAL_PATH) {
@@ -163,6 +199,55 @@ static void jerk_stop(kc_ctrl *c)
     c->k0 = c->cycle - 1;
 }
 
+/* The bounds of u's first three derivatives of the active joint move,
+ * line or arc, and its speed law; a zero motion (infinite bounds: nothing
+ * to stop or resume) gets bounds of 1. */
+static kc_profile_kind seg_u_bounds(const kc_ctrl *c, kc_real *v, kc_real *a, kc_real *jm)
+{
+    kc_profile_kind kind;
+    if (c->goal.kind == KC_GOAL_JOINT) {
+        *v = c->plan.joint.u_vmax, *a = c->plan.joint.u_amax, *jm = c->plan.joint.u_jmax;
+        kind = c->plan.joint.kind;
+    } else if (c->goal.kind == KC_GOAL_LINE) {
+        *v = c->plan.line.u_vmax, *a = c->plan.line.u_amax, *jm = c->plan.line.u_jmax;
+        kind = c->plan.line.kind;
+    } else {
+        *v = c->plan.arc.u_vmax, *a = c->plan.arc.u_amax, *jm = c->plan.arc.u_jmax;
+        kind = c->plan.arc.kind;
+    }
+    if (!kc_isfinite(*a))
+        *a = KC_R(1.0);
+    if (!kc_isfinite(*jm))
+        *jm = KC_R(1.0);
+    return kind;
+}
+
+/* A jerk-limited stop of a path's tau from the state u at deceleration
+ * dec, its bound on tau''' from the path's rates where it goes
+ * (kc_ctrl_path_tau_jerk): over twice the distance of the constant-rate
+ * stop first, then again over the distance the stop took while that is
+ * longer (a lower bound makes a longer stop; at most four plans). 1: in
+ * drive_scurve; 0 for the trapezoid's law, or no plan; -1 when it would
+ * pass the path's end T, where the drive under way comes to rest sooner
+ * (every drive of a path ends at rest at T). */
+static int path_scurve_stop(kc_ctrl *c, const kc_profile_state *u, kc_real dec, kc_real T)
+{
+    kc_scurve s;
+    kc_real end = u->p + u->v * u->v / dec;
+    for (int i = 0; i < 4; i++) {
+        kc_real Jt = kc_ctrl_path_tau_jerk(c, u->p, kc_min(end, T));
+        if (!kc_isfinite(Jt) || kc_scurve_plan_stop(&s, u->p, u->v, u->a, dec, Jt, c->cfg.dt) != KC_OK)
+            return 0;
+        if (s.p1 <= end)
+            break;
+        end = s.p1;
+    }
+    if (s.p1 > T)
+        return -1;
+    c->drive_scurve = s;
+    return 1;
+}
+
 void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
 {
     c->stop_intent = intent;
@@ -196,16 +281,31 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
     if (kc_ctrl_is_path(c->goal.kind)) {
         kc_real dec = path_stop_rate(c, u.p, u.v);
         if (!(dec > KC_R(0.0))) {
-            c->drive = c->drive == KC_DRIVE_PROFILE ? KC_DRIVE_PROFILE : KC_DRIVE_STOPPING_WAIT;
+            c->drive = c->drive == KC_DRIVE_PROFILE || c->drive == KC_DRIVE_SCURVE ? c->drive : KC_DRIVE_STOPPING_WAIT;
+            return;
+        }
+        /* Jerk-limited from (tau, tau', tau''), but for a fault. */
+        kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
+        int st = c->fault_reason == KC_REASON_NONE ? path_scurve_stop(c, &u, dec, T) : 0;
+        if (st < 0)
+            return; /* the drive under way stops at the end first */
+        if (st > 0) {
+            c->drive = KC_DRIVE_SCURVE;
+            c->k0 = c->cycle - 1;
             return;
         }
         kc_profile_plan_stop(&c->drive_prof, u.p, u.v, dec, c->cfg.dt);
     } else {
-        kc_real amax = c->goal.kind == KC_GOAL_JOINT ? c->plan.joint.u_amax
-                       : c->goal.kind == KC_GOAL_LINE ? c->plan.line.u_amax
-                                                      : c->plan.arc.u_amax;
-        if (!kc_isfinite(amax))
-            amax = KC_R(1.0); /* a zero motion: nothing to stop */
+        kc_real vmax, amax, jmax;
+        kc_profile_kind kind = seg_u_bounds(c, &vmax, &amax, &jmax);
+        /* A jerk-limited line or arc stops jerk-limited, from (u, u', u''),
+         * but for a fault (kinctl/ctrl.h: stopping soonest matters more). */
+        if (kind == KC_PROFILE_JERK && c->fault_reason == KC_REASON_NONE && c->drive != KC_DRIVE_PROFILE &&
+            kc_scurve_plan_stop(&c->drive_scurve, u.p, u.v, u.a, amax, jmax, c->cfg.dt) == KC_OK) {
+            c->drive = KC_DRIVE_SCURVE;
+            c->k0 = c->cycle - 1;
+            return;
+        }
         kc_profile_plan_stop(&c->drive_prof, u.p, u.v, amax, c->cfg.dt);
     }
     c->drive = KC_DRIVE_PROFILE;
@@ -222,7 +322,8 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
         c->servo_last = c->cycle;
         return;
     }
-    if (c->drive == KC_DRIVE_RETARGET || c->drive == KC_DRIVE_SCURVE || c->drive == KC_DRIVE_HALT) {
+    if (c->goal.kind == KC_GOAL_JOINT &&
+        (c->drive == KC_DRIVE_RETARGET || c->drive == KC_DRIVE_SCURVE || c->drive == KC_DRIVE_HALT)) {
         /* At rest a retarget, or a jerk-limited move stopped, is an
          * ordinary joint move from here. */
         c->drive = KC_DRIVE_NOMINAL;
@@ -237,20 +338,29 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
     kc_ctrl_drive_state(c, j, &u);
     if (kc_ctrl_is_path(c->goal.kind)) {
         kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
+        /* (a constant-rate stop may have come to rest past the end) */
+        u.p = kc_min(u.p, T);
         kc_real C = kc_ctrl_path_ramp_rate(c, u.p);
         if (!(C > KC_R(0.0)))
             C = KC_R(1.0); /* the rates tried all fail: the gentlest ramp there is */
+        kc_real Jt = kc_ctrl_path_tau_jerk(c, u.p, T);
+        if (kc_isfinite(Jt) &&
+            kc_scurve_plan(&c->drive_scurve, u.p, KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, Jt, c->cfg.dt) == KC_OK) {
+            c->drive = KC_DRIVE_SCURVE;
+            c->k0 = c->cycle - 1;
+            return;
+        }
         kc_profile_plan(&c->drive_prof, u.p, KC_R(0.0), T, KC_R(1.0), C, c->cfg.dt);
     } else {
-        const kc_interp_joint *pj = &c->plan.joint;
-        kc_real vmax = c->goal.kind == KC_GOAL_JOINT ? pj->u_vmax
-                       : c->goal.kind == KC_GOAL_LINE ? c->plan.line.u_vmax
-                                                      : c->plan.arc.u_vmax;
-        kc_real amax = c->goal.kind == KC_GOAL_JOINT ? pj->u_amax
-                       : c->goal.kind == KC_GOAL_LINE ? c->plan.line.u_amax
-                                                      : c->plan.arc.u_amax;
-        if (!kc_isfinite(amax))
-            amax = KC_R(1.0);
+        kc_real vmax, amax, jmax;
+        if (seg_u_bounds(c, &vmax, &amax, &jmax) == KC_PROFILE_JERK &&
+            kc_scurve_plan(&c->drive_scurve, u.p, KC_R(0.0), KC_R(0.0), KC_R(1.0), vmax, amax, jmax, c->cfg.dt) ==
+                KC_OK) {
+            /* A jerk-limited line or arc resumes jerk-limited. */
+            c->drive = KC_DRIVE_SCURVE;
+            c->k0 = c->cycle - 1;
+            return;
+        }
         kc_profile_plan(&c->drive_prof, u.p, KC_R(0.0), KC_R(1.0), vmax, amax, c->cfg.dt);
     }
     c->drive = KC_DRIVE_PROFILE;

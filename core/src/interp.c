@@ -508,13 +508,45 @@ kc_status kc_interp_joint_eval_scurve(const kc_interp_joint *plan, const kc_scur
 
 kc_interp_limits kc_interp_limits_default(void)
 {
-    kc_interp_limits l = {KC_R(0.0), KC_R(0.0), INF, INF};
+    kc_interp_limits l = {KC_R(0.0), KC_R(0.0), INF, INF, INF, INF};
     return l;
 }
 
 static int limits_ok(const kc_interp_limits *l)
 {
-    return l->v > KC_R(0.0) && l->a > KC_R(0.0) && kc_isfinite(l->a) && l->w > KC_R(0.0) && l->dw > KC_R(0.0);
+    return l->v > KC_R(0.0) && l->a > KC_R(0.0) && kc_isfinite(l->a) && l->w > KC_R(0.0) && l->dw > KC_R(0.0) &&
+           l->j > KC_R(0.0) && l->dj > KC_R(0.0);
+}
+
+/* The speed law of a Cartesian segment whose tool point moves by S and
+ * turns by Theta (kinctl/interp.h, the line's "Speed law"): u's bounds
+ * u_lim[0..2] on its first three derivatives, then the trapezoid into
+ * *prof or, with a finite bound on u''', the jerk-limited profile into
+ * *su; *kind, *T and *ticks say which and how long. */
+static kc_status plan_cart_u(kc_real S, kc_real Theta, const kc_interp_limits *lim, kc_real dt, kc_real *u_lim,
+                             kc_profile_kind *kind, kc_profile *prof, kc_scurve *su, kc_real *T, int64_t *ticks)
+{
+    kc_real V = INF, A = INF, J = INF, unused = INF;
+    bound_u(S, lim->v, lim->a, &V, &A);
+    bound_u(Theta, lim->w, lim->dw, &V, &A);
+    bound_u(S, lim->j, INF, &J, &unused);
+    bound_u(Theta, lim->dj, INF, &J, &unused);
+    u_lim[0] = V;
+    u_lim[1] = A;
+    u_lim[2] = J;
+    kc_status st;
+    if (kc_isfinite(J) && kc_isfinite(A)) {
+        *kind = KC_PROFILE_JERK;
+        st = kc_scurve_plan(su, KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(1.0), V, A, J, dt);
+        *T = su->T;
+        *ticks = su->ticks;
+    } else {
+        *kind = KC_PROFILE_TRAPEZOID;
+        st = plan_u(prof, V, A, KC_R(0.0), dt);
+        *T = prof->T;
+        *ticks = prof->ticks;
+    }
+    return st;
 }
 
 static int pose_ok(const kc_pose *p)
@@ -569,6 +601,22 @@ static void state_law(kc_interp_cart_state *out, kc_real D, const kc_profile_sta
 /* A Cartesian plan's state for one state of a u profile (line_at, arc_at). */
 typedef kc_status (*cart_at_fn)(const void *plan, kc_status st, const kc_profile_state *u,
                                 kc_interp_cart_state *out);
+
+/* A Cartesian plan at tick k of the jerk-limited u profile prof, drawn by
+ * at (which takes u, u' and u'': the geometry needs no more). */
+static kc_status cart_eval_scurve(const void *plan, const kc_scurve *prof, int64_t k, cart_at_fn at,
+                                  kc_interp_cart_state *out)
+{
+    kc_scurve_state s;
+    if (plan == NULL || prof == NULL || out == NULL)
+        return KC_E_ARG;
+    kc_status st = kc_scurve_eval(prof, k, &s);
+    if (st >= 0) {
+        kc_profile_state u = {s.p, s.v, s.a, s.phase};
+        at(plan, st == KC_DONE && s.p >= KC_R(1.0) ? KC_DONE : KC_OK, &u, out);
+    }
+    return st;
+}
 
 /* A Cartesian plan at tick k of the u profile prof, drawn by at. */
 static kc_status cart_eval(const void *plan, const kc_profile *prof, int64_t k, cart_at_fn at,
@@ -685,12 +733,11 @@ kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const k
     kc_real Theta = r.angle > KC_R(16.0) * KC_REAL_EPS ? r.angle : KC_R(0.0);
     if (r.length == KC_R(0.0) && Theta > KC_R(0.0) && !kc_isfinite(lim->dw))
         return KC_E_ARG; /* a pure rotation needs an angular acceleration limit */
-    kc_real V = INF, A = INF;
-    bound_u(r.length, lim->v, lim->a, &V, &A);
-    bound_u(Theta, lim->w, lim->dw, &V, &A);
-    r.u_vmax = V;
-    r.u_amax = A;
-    kc_status st = plan_u(&r.prof, V, A, KC_R(0.0), dt);
+    kc_real u_lim[3];
+    kc_status st = plan_cart_u(r.length, Theta, lim, dt, u_lim, &r.kind, &r.prof, &r.su, &r.T, &r.ticks);
+    r.u_vmax = u_lim[0];
+    r.u_amax = u_lim[1];
+    r.u_jmax = u_lim[2];
     if (st != KC_OK)
         return st;
     /* The end orientation, signed as the path arrives there. */
@@ -730,7 +777,16 @@ static kc_status line_at(const void *line, kc_status st, const kc_profile_state 
 
 kc_status kc_interp_line_eval(const kc_interp_line *plan, int64_t k, kc_interp_cart_state *out)
 {
-    return plan == NULL ? KC_E_ARG : kc_interp_line_eval_profile(plan, &plan->prof, k, out);
+    if (plan == NULL)
+        return KC_E_ARG;
+    return plan->kind == KC_PROFILE_JERK ? kc_interp_line_eval_scurve(plan, &plan->su, k, out)
+                                         : kc_interp_line_eval_profile(plan, &plan->prof, k, out);
+}
+
+kc_status kc_interp_line_eval_scurve(const kc_interp_line *plan, const kc_scurve *prof, int64_t k,
+                                     kc_interp_cart_state *out)
+{
+    return cart_eval_scurve(plan, prof, k, line_at, out);
 }
 
 kc_status kc_interp_line_eval_profile(const kc_interp_line *plan, const kc_profile *prof, int64_t k,
@@ -795,13 +851,13 @@ kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_
     kc_sincos(KC_R(0.5) * r.angle, &s, &c);
     kc_quat turn = {c, s * r.normal.v[0], s * r.normal.v[1], s * r.normal.v[2]};
     kc_quat_mul(&turn, &r.q1, &r.q3);
-    /* Speed law on the angle: alpha' <= min(v / R, w), alpha'' <= min(a / R, dw). */
-    kc_real V = INF, A = INF;
-    bound_u(r.length, lim->v, lim->a, &V, &A);
-    bound_u(r.angle, lim->w, lim->dw, &V, &A);
-    r.u_vmax = V;
-    r.u_amax = A;
-    kc_status st = plan_u(&r.prof, V, A, KC_R(0.0), dt);
+    /* Speed law on the angle: alpha' <= min(v / R, w), alpha'' <= min(a / R, dw),
+     * alpha''' <= min(j / R, dj). */
+    kc_real u_lim[3];
+    kc_status st = plan_cart_u(r.length, r.angle, lim, dt, u_lim, &r.kind, &r.prof, &r.su, &r.T, &r.ticks);
+    r.u_vmax = u_lim[0];
+    r.u_amax = u_lim[1];
+    r.u_jmax = u_lim[2];
     if (st != KC_OK)
         return st;
     *plan = r;
@@ -839,7 +895,16 @@ static kc_status arc_at(const void *arc, kc_status st, const kc_profile_state *u
 
 kc_status kc_interp_arc_eval(const kc_interp_arc *plan, int64_t k, kc_interp_cart_state *out)
 {
-    return plan == NULL ? KC_E_ARG : kc_interp_arc_eval_profile(plan, &plan->prof, k, out);
+    if (plan == NULL)
+        return KC_E_ARG;
+    return plan->kind == KC_PROFILE_JERK ? kc_interp_arc_eval_scurve(plan, &plan->su, k, out)
+                                         : kc_interp_arc_eval_profile(plan, &plan->prof, k, out);
+}
+
+kc_status kc_interp_arc_eval_scurve(const kc_interp_arc *plan, const kc_scurve *prof, int64_t k,
+                                    kc_interp_cart_state *out)
+{
+    return cart_eval_scurve(plan, prof, k, arc_at, out);
 }
 
 kc_status kc_interp_arc_eval_profile(const kc_interp_arc *plan, const kc_profile *prof, int64_t k,

@@ -387,7 +387,7 @@ LINE_ARGS = [(c["case"], c) for c in LINE["cases"]]
 def test_line_vectors(name, case):
     header, rows = csv_rows(["interp", "line", "--from", nums(flat(case["P1_corrected"])),
                              "--to", nums(flat(case["P2_corrected"])), "--v", case["v"], "--a", case["A_used"],
-                             "--dt", "0.01"])
+                             "--profile", "trapezoid", "--dt", "0.01"])
     assert header == ["t", "x", "y", "z", "qw", "qx", "qy", "qz", "s", "sd", "sdd"]
     s, tm = case["samples"], case["timing"]
     bounds = [tm["t_p"], tm["t_p"] + tm["t_pv"], tm["T_total"]]
@@ -427,6 +427,62 @@ def test_line_slerp_and_pure_rotation():
     assert all(row[4] == -1.0 for row in rows)
 
 
+def check_cart_jerk_rows(rows, V, A, J, dt, end):
+    """A jerk-limited line or arc's rows: sd within V, sdd within A, sdd changing by at most J dt per row
+    (slack as check_jerk_rows'), at rest on the first and last rows, the last exactly at the end point."""
+    T = rows[-1][0]
+    assert rows[0][9] == 0.0 and rows[0][10] == 0.0 and rows[-1][9] == 0.0 and rows[-1][10] == 0.0
+    assert exact(rows[-1][1:4], end)
+    for prev, row in zip(rows, rows[1:]):
+        assert abs(row[9]) <= V * (1 + 16 * EPS) + 4 * EPS * A * T, row[0]
+        assert abs(row[10]) <= A * (1 + 16 * EPS) + 4 * EPS * J * T, row[0]
+        assert abs(row[10] - prev[10]) <= J * dt + 8 * EPS * (A + J * T) + 16 * EPS * J * dt, row[0]
+
+
+def test_line_and_arc_jerk_random():
+    # Seeded random lines (translation only: the path's own limits bind) and arcs in a plane, jerk-limited by
+    # default with --jmax or its default 10/s times --a: limits and jerk per row, exact ends, and the duration
+    # is the independent rest-to-rest optimum of the path length rounded up to the tick.
+    import random
+    rng = random.Random(1919)
+    for case in range(16):
+        dt = rng.choice([0.001, 0.002, 0.005])
+        V, A = round(rng.uniform(0.1, 1.0), 4), round(rng.uniform(0.5, 5.0), 4)
+        J = round(rng.uniform(2.0, 100.0), 4) if case % 2 else 10.0 * A
+        jerk = ["--jmax", J] if case % 2 else []
+        if case % 4 < 2:
+            p0 = [round(rng.uniform(-1, 1), 6) for _ in range(3)]
+            p1 = [round(rng.uniform(-1, 1), 6) for _ in range(3)]
+            D = math.dist(p0, p1)
+            _, rows = csv_rows(["interp", "line", "--from", nums(p0 + [1, 0, 0, 0]), "--to", nums(p1 + [1, 0, 0, 0]),
+                                "--v", V, "--a", A, "--dt", dt] + jerk)
+            end = p1
+        else:
+            R, alpha = rng.uniform(0.1, 1.0), rng.uniform(0.5, 5.5)
+            pts = [[R * math.cos(a), R * math.sin(a), 0.3] for a in (0.0, alpha / 2, alpha)]
+            D = R * alpha
+            _, rows = csv_rows(["interp", "arc", "--from", nums(pts[0] + [1, 0, 0, 0]), "--via", nums(pts[1]),
+                                "--to", nums(pts[2]), "--v", V, "--a", A, "--dt", dt] + jerk)
+            end = pts[2]
+        check_cart_jerk_rows(rows, V, A, J, dt, end)
+        T = rest_to_rest_time(D, V, A, J)
+        assert (len(rows) - 2) * dt < T * (1 + 1e-6) and (len(rows) - 1) * dt >= T * (1 - 1e-6), \
+            (case, len(rows) - 1, T / dt)
+        near(rows[-1][8], D, 1e-9 if not FLOAT else 1e-5, "s ends at the path length")
+
+
+def test_line_trapezoid_and_jerk_flags():
+    # --profile trapezoid is the trapezoid (acceleration jumps to A in one row) and refuses jerk limits.
+    base = ["interp", "line", "--from", "0,0,0,1,0,0,0", "--to", "1,0,0,1,0,0,0", "--v", "1", "--a", "2", "--dt", "0.01"]
+    _, trap = csv_rows(base + ["--profile", "trapezoid"])
+    assert trap[1][10] == 2.0
+    _, jerk = csv_rows(base + ["--jmax", "50"])
+    near(jerk[1][10], 50 * 0.01, 1e-12 if not FLOAT else 1e-6, "acceleration ramps at the jerk limit")
+    for extra in (["--jmax", "5"], ["--angular-jmax", "5"]):
+        r = run(base + ["--profile", "trapezoid"] + extra)
+        assert r.returncode == 2 and "do not apply to --profile trapezoid" in r.stderr
+
+
 # ---- circle.json ----
 
 CIRCLE_ARGS = [(c["case"], c) for c in CIRCLE["cases"]]
@@ -436,7 +492,7 @@ CIRCLE_ARGS = [(c["case"], c) for c in CIRCLE["cases"]]
 def test_circle_vectors(name, case):
     header, rows = csv_rows(["interp", "arc", "--from", nums(flat(case["T1_corrected"])),
                              "--via", nums(case["T2_position"]), "--to", nums(case["T3_position"]),
-                             "--v", case["v"], "--a", case["A_used"], "--dt", "0.01"])
+                             "--v", case["v"], "--a", case["A_used"], "--profile", "trapezoid", "--dt", "0.01"])
     assert header == ["t", "x", "y", "z", "qw", "qx", "qy", "qz", "s", "sd", "sdd"]
     s, tm, R = case["samples"], case["timing"], case["radius"]
     bounds = [tm["t_p"], tm["t_p"] + tm["t_pv"], tm["T_total"]]

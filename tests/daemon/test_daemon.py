@@ -315,7 +315,7 @@ def test_check_model_file_and_controller_section(tmp_path):
                 'controller = { period_us = 500; prefix = "LAB."; queue_size = 100;\n'
                 '  overrun = { missed_cycles = 20; action = "estop"; };\n'
                 '  rt = { enable = false; }; plant = { lag_s = 0.01; };\n'
-                '  cartesian = { speed = 0.1; };\n'
+                '  cartesian = { speed = 0.1; jerk = 2.0; angular_jerk = 30.0; };\n'
                 '  angles = "deg"; home = [0.0, 0.0, 0.0, -90.0, 0.0, 90.0, 0.0]; };\n')
     r = run_kinctld("--config", cfg, "--check")
     assert r.returncode == 0, r.stderr
@@ -338,6 +338,9 @@ def test_check_model_file_and_controller_section(tmp_path):
     ("controller = {\n  check_budget_ms = 0.5;\n};\n", [],
      "k.cfg:2: controller.check_budget_ms = 0.5 is outside 1 .. 600000"),
     ("controller = {\n  vel_scale = 0.0;\n};\n", [], "k.cfg:2: controller.vel_scale must be > 0"),
+    ("controller = {\n  cartesian = { jerk = 0.0; };\n};\n", [], "k.cfg:2: controller.cartesian.jerk = 0 is outside"),
+    ("controller = {\n  cartesian = { angular_jerk = -3.0; };\n};\n", [],
+     "k.cfg:2: controller.cartesian.angular_jerk = -3 is outside"),
     ("controller = {\n  home = [0.0, 0.0];\n};\n", [], "k.cfg:2: controller.home has 2 values"),
     ("controller = {\n  home = [9.0, 0.0, 0.0, 0.0, 0.0, 0.0];\n};\n", [], "controller.home[0] is outside"),
     ("controller = {\n  prefix = \"A B\";\n};\n", [], "k.cfg:2: controller.prefix \"A B\" may hold only"),

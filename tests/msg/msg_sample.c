@@ -77,6 +77,8 @@ void msg_sample(kd_msg_type type, uint32_t seed, kd_msg_any *m, char *reason_buf
         g->accel = uniform(s, 0.0, 10.0);
         g->angular_speed = uniform(s, 0.0, 3.0);
         g->angular_accel = uniform(s, 0.0, 30.0);
+        g->jerk = uniform(s, 0.0, 100.0);
+        g->angular_jerk = uniform(s, 0.0, 300.0);
         g->orientation_method = (int8_t)pick(s, 0, 1);
         g->vel_scale = uniform(s, 0.0, 1.0);
         g->acc_scale = uniform(s, 0.0, 1.0);
@@ -94,6 +96,8 @@ void msg_sample(kd_msg_type type, uint32_t seed, kd_msg_any *m, char *reason_buf
         g->accel = uniform(s, 0.0, 10.0);
         g->angular_speed = uniform(s, 0.0, 3.0);
         g->angular_accel = uniform(s, 0.0, 30.0);
+        g->jerk = uniform(s, 0.0, 100.0);
+        g->angular_jerk = uniform(s, 0.0, 300.0);
         g->vel_scale = uniform(s, 0.0, 1.0);
         g->acc_scale = uniform(s, 0.0, 1.0);
         break;
@@ -118,6 +122,8 @@ void msg_sample(kd_msg_type type, uint32_t seed, kd_msg_any *m, char *reason_buf
         g->blend_time = uniform(s, 0.0, 0.5);
         g->speed = uniform(s, 0.0, 2.0);
         g->accel = uniform(s, 0.0, 10.0);
+        g->jerk = uniform(s, 0.0, 100.0);
+        g->angular_jerk = uniform(s, 0.0, 300.0);
         g->vel_scale = uniform(s, 0.0, 1.0);
         g->acc_scale = uniform(s, 0.0, 1.0);
         break;

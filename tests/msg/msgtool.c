@@ -51,6 +51,7 @@ static void print_json(kd_msg_type t, const kd_msg_any *m)
         pd("position", g->position, 3, 1); pd("orientation", g->orientation, 4, 1);
         pd("speed", &g->speed, 1, 0); pd("accel", &g->accel, 1, 0);
         pd("angular_speed", &g->angular_speed, 1, 0); pd("angular_accel", &g->angular_accel, 1, 0);
+        pd("jerk", &g->jerk, 1, 0); pd("angular_jerk", &g->angular_jerk, 1, 0);
         pi("orientation_method", g->orientation_method);
         pd("vel_scale", &g->vel_scale, 1, 0); pd("acc_scale", &g->acc_scale, 1, 0);
         break;
@@ -62,6 +63,7 @@ static void print_json(kd_msg_type t, const kd_msg_any *m)
         pd("orientation", g->orientation, 4, 1);
         pd("speed", &g->speed, 1, 0); pd("accel", &g->accel, 1, 0);
         pd("angular_speed", &g->angular_speed, 1, 0); pd("angular_accel", &g->angular_accel, 1, 0);
+        pd("jerk", &g->jerk, 1, 0); pd("angular_jerk", &g->angular_jerk, 1, 0);
         pd("vel_scale", &g->vel_scale, 1, 0); pd("acc_scale", &g->acc_scale, 1, 0);
         break;
     }
@@ -81,7 +83,8 @@ static void print_json(kd_msg_type t, const kd_msg_any *m)
         printf("], ");
         pi("has_times", g->has_times); pd("times", g->times, KINCTL_GOAL_PATH_T_MAX_POINTS, 1);
         pd("blend_time", &g->blend_time, 1, 0); pd("speed", &g->speed, 1, 0);
-        pd("accel", &g->accel, 1, 0); pd("vel_scale", &g->vel_scale, 1, 0);
+        pd("accel", &g->accel, 1, 0); pd("jerk", &g->jerk, 1, 0);
+        pd("angular_jerk", &g->angular_jerk, 1, 0); pd("vel_scale", &g->vel_scale, 1, 0);
         pd("acc_scale", &g->acc_scale, 1, 0);
         break;
     }

@@ -698,6 +698,9 @@ static void test_servo(void **state)
     kc_pose here = H.out.pose, to = here;
     to.t.v[2] += KC_R(0.2);
     kc_goal l = line_goal(62, &to);
+    /* The trapezoid's stop, whose length makes the target move the 2 cm
+     * below while the servo goal waits. */
+    l.profile = KC_GOAL_PROFILE_TRAPEZOID;
     tick(&l, KC_CMD_NONE);
     for (int k = 0; k < 300; k++)
         tick(NULL, KC_CMD_NONE);

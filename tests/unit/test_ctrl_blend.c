@@ -70,6 +70,7 @@ static harness H; /* large: not on the stack */
  * angular acceleration. */
 static struct {
     double blend[4], plain[4], target[4];
+    double jerk; /* the superposed targets' jerk over the limit */
 } WORST;
 
 static const kc_real PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
@@ -103,6 +104,24 @@ typedef struct target {
     kc_quat r;
 } target;
 
+/* The replaced line or arc at tick jm (>= 0) of its stop: jerk-limited or
+ * a trapezoid's, as the controller planned it. */
+static void stop_eval(int64_t jm, kc_interp_cart_state *m)
+{
+    const kc_ctrl_blend *b = &H.ctrl.blend;
+    jm = jm < 0 ? 0 : jm;
+    if (b->stop_drive == KC_DRIVE_SCURVE) {
+        if (b->kind == KC_GOAL_LINE)
+            kc_interp_line_eval_scurve(&b->plan.line, &b->stop.scurve, jm, m);
+        else
+            kc_interp_arc_eval_scurve(&b->plan.arc, &b->stop.scurve, jm, m);
+    } else if (b->kind == KC_GOAL_LINE) {
+        kc_interp_line_eval_profile(&b->plan.line, &b->stop.prof, jm, m);
+    } else {
+        kc_interp_arc_eval_profile(&b->plan.arc, &b->stop.prof, jm, m);
+    }
+}
+
 static target blend_target(int64_t k)
 {
     const kc_ctrl *c = &H.ctrl;
@@ -110,10 +129,7 @@ static target blend_target(int64_t k)
     int64_t jm = k - c->blend.k0, jg = k - c->k0;
     jm = jm < 0 ? 0 : jm;
     jg = jg < 0 ? 0 : jg;
-    if (c->blend.kind == KC_GOAL_LINE)
-        kc_interp_line_eval_profile(&c->blend.plan.line, &c->blend.stop, jm, &m);
-    else
-        kc_interp_arc_eval_profile(&c->blend.plan.arc, &c->blend.stop, jm, &m);
+    stop_eval(jm, &m);
     target g;
     if (c->goal.kind == KC_GOAL_PATH_CART) {
         kc_path_pose pp;
@@ -167,13 +183,8 @@ static void check_target(int64_t k)
     /* The components alone over the same tick. */
     kc_interp_cart_state m0, m1;
     int64_t jm = k - c->blend.k0;
-    if (c->blend.kind == KC_GOAL_LINE) {
-        kc_interp_line_eval_profile(&c->blend.plan.line, &c->blend.stop, jm - 1 < 0 ? 0 : jm - 1, &m0);
-        kc_interp_line_eval_profile(&c->blend.plan.line, &c->blend.stop, jm < 0 ? 0 : jm, &m1);
-    } else {
-        kc_interp_arc_eval_profile(&c->blend.plan.arc, &c->blend.stop, jm - 1 < 0 ? 0 : jm - 1, &m0);
-        kc_interp_arc_eval_profile(&c->blend.plan.arc, &c->blend.stop, jm < 0 ? 0 : jm, &m1);
-    }
+    stop_eval(jm - 1, &m0);
+    stop_eval(jm, &m1);
     kc_vec3 dv, dw, dvm, dwm, step;
     kc_vec3_sub(&t1.v, &t0.v, &dv);
     kc_vec3_sub(&t1.w, &t0.w, &dw);
@@ -191,11 +202,38 @@ static void check_target(int64_t k)
     double a_bound = fmax(g_a, (double)kc_vec3_norm(&dvm) / dt), dw_bound = fmax(g_dw, (double)kc_vec3_norm(&dwm) / dt);
     double sv = (double)kc_vec3_norm(&t1.v), sw = (double)kc_vec3_norm(&t1.w);
     double sa = (double)kc_vec3_norm(&dv) / dt, sdw = (double)kc_vec3_norm(&dw) / dt;
+    /* The step is a difference of two positions of the target, each the
+     * sum of three rounded ones: 8 units of KC_REAL_EPS |p| cover it. */
     double sp = (double)kc_vec3_norm(&step) / dt;
-    if (!(sv <= lv * e && sw <= lw * e && sa <= a_bound * e && sdw <= dw_bound * e && sp <= lv * e))
+    double sp_round = 8.0 * (double)KC_REAL_EPS * (double)kc_vec3_norm(&t1.p) / dt;
+    if (!(sv <= lv * e && sw <= lw * e && sa <= a_bound * e && sdw <= dw_bound * e && sp <= lv * e + sp_round))
         fail_msg("cycle %ld (superposed target): speed %.6g, angular %.6g, acceleration %.6g of %.6g, angular %.6g of "
                  "%.6g, step %.6g m/s",
                  (long)k, sv, sw, sa, a_bound, sdw, dw_bound, sp);
+    /* The tool point's jerk (the second difference of the target's
+     * velocity over two ticks) within the goals' jerk limit, or what M's
+     * stop or G alone (v_G = v - v_M) does where that is more; from M's
+     * third tick, the ticks before being M's own. Rounding: 8 units of
+     * KC_REAL_EPS |v| over dt^2. */
+    if (jm >= 2) {
+        target tm = blend_target(k - 2);
+        kc_interp_cart_state mm;
+        stop_eval(jm - 2, &mm);
+        double jt = 0.0, jmm = 0.0, jg = 0.0, vmag = (double)kc_vec3_norm(&t1.v);
+        for (int i = 0; i < 3; i++) {
+            double d2t = (double)t1.v.v[i] - 2.0 * (double)t0.v.v[i] + (double)tm.v.v[i];
+            double d2m = (double)m1.v.v[i] - 2.0 * (double)m0.v.v[i] + (double)mm.v.v[i];
+            jt += d2t * d2t;
+            jmm += d2m * d2m;
+            jg += (d2t - d2m) * (d2t - d2m);
+        }
+        jt = sqrt(jt) / (dt * dt);
+        double j_bound = fmax((double)H.cfg.cart_jerk, fmax(sqrt(jmm), sqrt(jg)) / (dt * dt));
+        double j_round = 8.0 * (double)KC_REAL_EPS * vmag / (dt * dt);
+        if (!(jt <= j_bound * e + j_round))
+            fail_msg("cycle %ld (superposed target): jerk %.6g of %.6g m/s^3", (long)k, jt, j_bound);
+        WORST.jerk = fmax(WORST.jerk, jt / (double)H.cfg.cart_jerk);
+    }
     WORST.target[0] = fmax(WORST.target[0], sv / lv);
     WORST.target[1] = fmax(WORST.target[1], sa / la);
     WORST.target[2] = fmax(WORST.target[2], sw / lw);
@@ -391,8 +429,8 @@ static int64_t planned_ticks(void)
     const kc_ctrl *c = &H.ctrl;
     switch (c->goal.kind) {
     case KC_GOAL_JOINT: return c->plan.joint.ticks;
-    case KC_GOAL_LINE: return c->plan.line.prof.ticks;
-    case KC_GOAL_ARC: return c->plan.arc.prof.ticks;
+    case KC_GOAL_LINE: return c->plan.line.ticks;
+    case KC_GOAL_ARC: return c->plan.arc.ticks;
     default: return (int64_t)(c->plan.path_cart.pos.duration / c->cfg.dt);
     }
 }
@@ -440,7 +478,7 @@ static void test_every_pair(void **state)
                     if (blend) {
                         superposed++;
                         assert_true(H.ctrl.blend.on);
-                        if (H.ctrl.k0 - H.ctrl.blend.k0 < H.ctrl.blend.stop.ticks)
+                        if (H.ctrl.k0 - H.ctrl.blend.k0 < H.ctrl.blend.stop_ticks)
                             overlapped++;
                     } else {
                         assert_int_equal(b.kind, KC_GOAL_JOINT);
@@ -463,10 +501,10 @@ static void test_every_pair(void **state)
     print_message("%d superposed (%d overlapping the stop), %d retargeted, %d stopped first; worst of the limits "
                   "(speed, acceleration, angular speed, angular acceleration): superposed targets %.4f %.4f %.4f "
                   "%.4f; measured on the tool superposed %.4f %.4f %.4f %.4f, in plain Cartesian motions %.4f %.4f "
-                  "%.4f %.4f\n",
+                  "%.4f %.4f; superposed targets' jerk %.4f of the limit\n",
                   superposed, overlapped, retargeted, stopped_first, WORST.target[0], WORST.target[1],
                   WORST.target[2], WORST.target[3], WORST.blend[0], WORST.blend[1], WORST.blend[2], WORST.blend[3],
-                  WORST.plain[0], WORST.plain[1], WORST.plain[2], WORST.plain[3]);
+                  WORST.plain[0], WORST.plain[1], WORST.plain[2], WORST.plain[3], WORST.jerk);
     for (int i = 1; i < 4; i += 2)
         if (!(WORST.blend[i] <= fmax(1.0, WORST.plain[i]) * (1.0 + TOOL_REL_A)))
             fail_msg("superposed: %.4f of an acceleration limit, plain motions %.4f", WORST.blend[i], WORST.plain[i]);
@@ -497,16 +535,18 @@ static void test_line_continued(void **state)
     b.replace = 1;
     b.pose.t.v[1] += KC_R(0.08);
     tick(&a);
-    /* Into the cruise (0.15 m/s after 0.5 s at 0.3 m/s^2): the stop
-     * from there ends 0.078 m along, and the new line, 0.2 m long from
-     * there, reaches the full speed as the stop ends. */
-    for (int64_t k = 1; k < 520; k++)
+    /* Into the cruise (0.15 m/s after 0.56 s, jerk-limited at 0.3 m/s^2
+     * and the default 5 m/s^3, 0.042 m along): at 0.7 s the line is 0.063
+     * m along, its stop ends 0.042 m further, and the new line, 0.175 m
+     * long from there, reaches the full speed as the stop ends, by the same
+     * ramp mirrored. */
+    for (int64_t k = 1; k < 700; k++)
         tick(NULL);
     double v0 = H.v_prev[1];
     tick(&b);
     assert_int_equal(event_reason(KC_EVENT_STARTED, b.id), KC_REASON_NONE);
     assert_true(H.ctrl.k0 == H.ctrl.blend.k0);
-    int64_t ts = H.ctrl.blend.stop.ticks, tg = H.ctrl.plan.line.prof.ticks;
+    int64_t ts = H.ctrl.blend.stop_ticks, tg = H.ctrl.plan.line.ticks;
     for (int64_t k = 1; k < ts; k++) {
         tick(NULL);
         kt_near(H.v_prev[1], v0, 1e-3 * v0 + TOOL_ABS_V, "speed through the takeover");

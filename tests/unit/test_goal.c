@@ -124,6 +124,8 @@ static void test_line_and_arc(void **state)
     m->accel = 0.6;
     m->angular_speed = 0.7;
     m->angular_accel = 2.0;
+    m->jerk = 3.0;
+    m->angular_jerk = 20.0;
     m->orientation_method = KINCTL_GOAL_LINE_T_SLERP;
     m->vel_scale = 0.25;
     m->acc_scale = 1.0;
@@ -138,6 +140,7 @@ static void test_line_and_arc(void **state)
     assert_int_equal(g.orient, KC_INTERP_SLERP);
     assert_true(g.speed == (kc_real)0.2 && g.accel == (kc_real)0.6);
     assert_true(g.omega == (kc_real)0.7 && g.alpha == (kc_real)2.0);
+    assert_true(g.jerk == (kc_real)3.0 && g.angular_jerk == (kc_real)20.0);
     assert_true(g.vel_scale == (kc_real)0.25 && g.acc_scale == KC_R(1.0));
 
     /* within 1e-3 of unit norm: normalised */

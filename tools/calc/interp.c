@@ -99,7 +99,13 @@ static json_t *conv_points(const char *arg, char *err, size_t errlen)
     {"--omega", "omega", CALC_VALUE, calc_conv_real, "W",                                                        \
      "angular speed limit of the tool (rad/s); default: none (the two-rotations method's own timing)"},          \
     {"--epsilon", "epsilon", CALC_VALUE, calc_conv_real, "E",                                                    \
-     "angular acceleration limit of the tool (rad/s^2); default: none; needed by a pure rotation"}
+     "angular acceleration limit of the tool (rad/s^2); default: none; needed by a pure rotation"},              \
+    {"--jmax", "jmax", CALC_VALUE, calc_conv_real, "J",                                                          \
+     "jerk limit along the path (m/s^3; jerk profile only); default: 10/s times --a"},                          \
+    {"--angular-jmax", "angular_jmax", CALC_VALUE, calc_conv_real, "J",                                          \
+     "angular jerk limit of the tool (rad/s^3; jerk profile only); default: 10/s times --epsilon, if given"},   \
+    {"--profile", "profile", CALC_VALUE, calc_conv_string, "jerk|trapezoid",                                     \
+     "speed law: jerk-limited (default, as the controller's) or the seed's trapezoid"}
 
 static const calc_opt joint_opts[] = {
     CALC_CHAIN_OPTS,
@@ -182,6 +188,7 @@ const calc_opt interp_opts[] = {
     {"--a", "a", CALC_VALUE, NULL, NULL, NULL},
     {"--omega", "omega", CALC_VALUE, NULL, NULL, NULL},
     {"--epsilon", "epsilon", CALC_VALUE, NULL, NULL, NULL},
+    {"--angular-jmax", "angular_jmax", CALC_VALUE, NULL, NULL, NULL},
     {"--orientation", "orientation", CALC_VALUE, NULL, NULL, NULL},
     {"--space", "space", CALC_VALUE, NULL, NULL, NULL},
     {"--method", "method", CALC_VALUE, NULL, NULL, NULL},
@@ -243,12 +250,43 @@ static int point_of(calc_ctx *ctx, const json_t *req, const char *key, kc_vec3 *
     return 0;
 }
 
+/* --profile: jerk (default, as the controller's) or trapezoid. */
+static int profile_of(calc_ctx *ctx, const json_t *req, kc_profile_kind *kind)
+{
+    const json_t *v = json_object_get(req, "profile");
+    *kind = KC_PROFILE_JERK;
+    if (v == NULL)
+        return 0;
+    const char *s = json_string_value(v);
+    if (s != NULL && strcmp(s, "trapezoid") == 0) {
+        *kind = KC_PROFILE_TRAPEZOID;
+        return 0;
+    }
+    if (s != NULL && strcmp(s, "jerk") == 0)
+        return 0;
+    return calc_fail(ctx, "profile must be trapezoid or jerk, not %s", s != NULL ? s : "a non-string");
+}
+
+/* The Cartesian limits; with the jerk-limited profile (the default) the
+ * jerk limits too: given, or KC_INTERP_JERK_PER_ACCEL times the
+ * acceleration limits (the angular one only when --epsilon is given). */
 static int cart_limits_of(calc_ctx *ctx, const json_t *req, kc_interp_limits *lim)
 {
+    kc_profile_kind kind;
     *lim = kc_interp_limits_default();
     if (req_positive(ctx, req, "v", 1, "m/s", &lim->v) != 0 || req_positive(ctx, req, "a", 1, "m/s^2", &lim->a) != 0 ||
         req_positive(ctx, req, "omega", 0, "rad/s", &lim->w) != 0 ||
-        req_positive(ctx, req, "epsilon", 0, "rad/s^2", &lim->dw) != 0)
+        req_positive(ctx, req, "epsilon", 0, "rad/s^2", &lim->dw) != 0 || profile_of(ctx, req, &kind) != 0)
+        return -1;
+    if (kind == KC_PROFILE_TRAPEZOID) {
+        if (json_object_get(req, "jmax") != NULL || json_object_get(req, "angular_jmax") != NULL)
+            return calc_fail(ctx, "jmax and angular_jmax do not apply to --profile trapezoid (its jerk is not limited)");
+        return 0;
+    }
+    lim->j = KC_INTERP_JERK_PER_ACCEL * lim->a;
+    lim->dj = KC_INTERP_JERK_PER_ACCEL * lim->dw;
+    if (req_positive(ctx, req, "jmax", 0, "m/s^3", &lim->j) != 0 ||
+        req_positive(ctx, req, "angular_jmax", 0, "rad/s^3", &lim->dj) != 0)
         return -1;
     return 0;
 }
@@ -294,11 +332,11 @@ static int joint_limits_of(calc_ctx *ctx, const json_t *req, const char *key, co
     return 0;
 }
 
-static int too_many_rows(calc_ctx *ctx, const kc_profile *prof)
+static int too_many_rows(calc_ctx *ctx, kc_real T, int64_t ticks)
 {
-    if (prof->ticks + 1 > MAX_ROWS)
+    if (ticks + 1 > MAX_ROWS)
         return calc_fail(ctx, "the motion lasts %.6g s = %lld ticks: more than %d rows; use a larger --dt",
-                         (double)prof->T, (long long)prof->ticks, MAX_ROWS);
+                         (double)T, (long long)ticks, MAX_ROWS);
     return 0;
 }
 
@@ -311,23 +349,6 @@ static int plan_failed(calc_ctx *ctx, const char *what, kc_status st)
 }
 
 /* ---- joint ---- */
-
-/* --profile: jerk (default, as the controller's) or trapezoid. */
-static int profile_of(calc_ctx *ctx, const json_t *req, kc_profile_kind *kind)
-{
-    const json_t *v = json_object_get(req, "profile");
-    *kind = KC_PROFILE_JERK;
-    if (v == NULL)
-        return 0;
-    const char *s = json_string_value(v);
-    if (s != NULL && strcmp(s, "trapezoid") == 0) {
-        *kind = KC_PROFILE_TRAPEZOID;
-        return 0;
-    }
-    if (s != NULL && strcmp(s, "jerk") == 0)
-        return 0;
-    return calc_fail(ctx, "profile must be trapezoid or jerk, not %s", s != NULL ? s : "a non-string");
-}
 
 /* --qd0, --qdd0: the start's velocity or acceleration, one per joint
  * (deg/s, deg/s^2 with --deg for revolute joints), zero when absent. */
@@ -395,9 +416,8 @@ static int run_interp_joint(const json_t *req, calc_ctx *ctx)
     }
     if (st != KC_OK)
         return plan_failed(ctx, "joint move", st);
-    if (plan.ticks + 1 > MAX_ROWS)
-        return calc_fail(ctx, "the motion lasts %.6g s = %lld ticks: more than %d rows; use a larger --dt",
-                         (double)plan.T, (long long)plan.ticks, MAX_ROWS);
+    if (too_many_rows(ctx, plan.T, plan.ticks) != 0)
+        return -1;
     if (!ctx->csv) {
         /* Batch only: the leading joint (1-based, 0 when nothing moves) and the move's duration (s). */
         char lead[16];
@@ -446,26 +466,22 @@ static int run_interp_joint(const json_t *req, calc_ctx *ctx)
 
 static const char *const cart_names[11] = {"t", "x", "y", "z", "qw", "qx", "qy", "qz", "s", "sd", "sdd"};
 
-/* Rows of a Cartesian segment (what: its name) once its planning returned
- * st; quaternions signed like the start the user gave (user_q), the sign
+/* Rows of a planned Cartesian segment of `ticks` ticks lasting T; quaternions signed like the start the user gave (user_q), the sign
  * kinctl keeps continuous along the segment. */
-static int cart_rows(calc_ctx *ctx, const char *what, kc_status st, const void *plan,
-                     kc_status (*eval)(const void *, int64_t, kc_interp_cart_state *), const kc_profile *prof,
-                     const kc_quat *plan_q1, const kc_quat *user_q)
+static int cart_rows(calc_ctx *ctx, const void *plan, kc_status (*eval)(const void *, int64_t, kc_interp_cart_state *),
+                     kc_real T, int64_t ticks, kc_real dt, const kc_quat *plan_q1, const kc_quat *user_q)
 {
-    if (st != KC_OK)
-        return plan_failed(ctx, what, st);
-    if (too_many_rows(ctx, prof) != 0)
+    if (too_many_rows(ctx, T, ticks) != 0)
         return -1;
     kc_real sign = plan_q1->w * user_q->w + plan_q1->x * user_q->x + plan_q1->y * user_q->y + plan_q1->z * user_q->z <
                            KC_R(0.0)
                        ? KC_R(-1.0)
                        : KC_R(1.0);
     calc_rows_begin(ctx, 11, cart_names);
-    for (int64_t k = 0; k <= prof->ticks; k++) {
+    for (int64_t k = 0; k <= ticks; k++) {
         kc_interp_cart_state s;
         eval(plan, k, &s);
-        kc_real row[11] = {(kc_real)k * prof->dt,
+        kc_real row[11] = {(kc_real)k * dt,
                            s.p.v[0],
                            s.p.v[1],
                            s.p.v[2],
@@ -516,7 +532,9 @@ static int run_interp_line(const json_t *req, calc_ctx *ctx)
         !kc_isfinite(lim.dw))
         return calc_fail(ctx, "a pure rotation (from and to at the same position) runs its speed law on the angle: "
                               "give --omega and --epsilon");
-    return cart_rows(ctx, "line", st, &plan, line_eval, &plan.prof, &plan.q1, &qf);
+    if (st != KC_OK)
+        return plan_failed(ctx, "line", st);
+    return cart_rows(ctx, &plan, line_eval, plan.T, plan.ticks, dt, &plan.q1, &qf);
 }
 
 static int run_interp_arc(const json_t *req, calc_ctx *ctx)
@@ -534,7 +552,9 @@ static int run_interp_arc(const json_t *req, calc_ctx *ctx)
     if (st == KC_E_SINGULAR)
         return calc_fail(ctx, "the start, via and end points are collinear or two of them coincide: no unique "
                               "circle passes through them");
-    return cart_rows(ctx, "arc", st, &plan, arc_eval, &plan.prof, &plan.q1, &qf);
+    if (st != KC_OK)
+        return plan_failed(ctx, "arc", st);
+    return cart_rows(ctx, &plan, arc_eval, plan.T, plan.ticks, dt, &plan.q1, &qf);
 }
 
 /* ---- path (interp_path.c) ---- */
@@ -573,8 +593,10 @@ static const calc_cmd kinds[] = {
      joint_opts, run_interp_joint},
     {"line", "Cartesian straight line",
      "kinctl-calc interp line --from X,Y,Z,QW,QX,QY,QZ --to X,Y,Z,QW,QX,QY,QZ --v V --a A\n"
-     "       [--omega W --epsilon E] [--orientation two-rotations|slerp] --dt DT\n"
-     "The tool point moves on the straight line with a trapezoidal speed law (v, a) along the path;\n"
+     "       [--omega W --epsilon E] [--jmax J] [--angular-jmax J] [--profile jerk|trapezoid]\n"
+     "       [--orientation two-rotations|slerp] --dt DT\n"
+     "The tool point moves on the straight line with a jerk-limited speed law (v, a, jmax; default, as\n"
+     "kinctld's; jmax defaults to 10/s times a) or the seed's trapezoid (v, a) along the path;\n"
      "the orientation turns by the two-rotations method (about a fixed axis, then about the tool's z)\n"
      "or by slerp, within --omega and --epsilon if given. A pure rotation needs them: its speed law\n"
      "runs on the angle, and s is then the angle turned (rad).\n"
@@ -584,10 +606,10 @@ static const calc_cmd kinds[] = {
      line_opts, run_interp_line},
     {"arc", "circular arc through three points",
      "kinctl-calc interp arc --from X,Y,Z,QW,QX,QY,QZ --via X,Y,Z --to X,Y,Z --v V --a A\n"
-     "       [--omega W --epsilon E] --dt DT\n"
+     "       [--omega W --epsilon E] [--jmax J] [--angular-jmax J] [--profile jerk|trapezoid] --dt DT\n"
      "The arc of the circle through the three points that passes through --via (more than half a\n"
      "circle if need be); the tool's orientation turns with the arc (6.1); speed law on the angle\n"
-     "with omega = v/R, epsilon = a/R.\n"
+     "with omega = v/R, epsilon = a/R (jerk-limited by default with jmax/R, as for a line).\n"
      "Prints CSV: t,x,y,z,qw,qx,qy,qz,s,sd,sdd (s: arc length so far), one row per tick.\n"
      "Example: kinctl-calc interp arc --from 0.5,0,0.3,1,0,0,0 --via 0.4,0.1,0.3 --to 0.3,0,0.3 "
      "--v 0.2 --a 1 --dt 0.001",

@@ -102,27 +102,28 @@ def make_goal_joint(q, goal_id=None, replace=False, vel_scale=0.0, acc_scale=0.0
     return g
 
 
-def _cartesian(g, speed, accel, angular_speed, angular_accel, vel_scale, acc_scale):
+def _cartesian(g, speed, accel, angular_speed, angular_accel, vel_scale, acc_scale, jerk=0.0, angular_jerk=0.0):
     g.speed, g.accel = _nonneg("speed", speed), _nonneg("accel", accel)
     g.angular_speed = _nonneg("angular_speed", angular_speed)
     g.angular_accel = _nonneg("angular_accel", angular_accel)
+    g.jerk, g.angular_jerk = _nonneg("jerk", jerk), _nonneg("angular_jerk", angular_jerk)
     g.vel_scale, g.acc_scale = _scale("vel_scale", vel_scale), _scale("acc_scale", acc_scale)
 
 
 def make_goal_line(to, goal_id=None, replace=False, speed=0.0, accel=0.0, angular_speed=0.0,
-              angular_accel=0.0, slerp=False, vel_scale=0.0, acc_scale=0.0):
+              angular_accel=0.0, slerp=False, vel_scale=0.0, acc_scale=0.0, jerk=0.0, angular_jerk=0.0):
     """Straight line of the tool to pose to = x, y, z (m), qw, qx, qy, qz. Returns the message."""
     g = goal_line_t()
     g.goal_id = goal_id or new_goal_id()
     g.mode = MODES[bool(replace)]
     g.position, g.orientation = _pose("to", to)
-    _cartesian(g, speed, accel, angular_speed, angular_accel, vel_scale, acc_scale)
+    _cartesian(g, speed, accel, angular_speed, angular_accel, vel_scale, acc_scale, jerk, angular_jerk)
     g.orientation_method = goal_line_t.SLERP if slerp else goal_line_t.TWO_ROTATIONS
     return g
 
 
 def make_goal_arc(via, to, goal_id=None, replace=False, speed=0.0, accel=0.0, angular_speed=0.0,
-             angular_accel=0.0, vel_scale=0.0, acc_scale=0.0):
+             angular_accel=0.0, vel_scale=0.0, acc_scale=0.0, jerk=0.0, angular_jerk=0.0):
     """Arc of the tool through via = x, y, z to pose to. Returns the message."""
     g = goal_arc_t()
     _count("via", via, 3)
@@ -131,13 +132,13 @@ def make_goal_arc(via, to, goal_id=None, replace=False, speed=0.0, accel=0.0, an
     g.mode = MODES[bool(replace)]
     g.via = list(via)
     g.position, g.orientation = _pose("to", to)
-    _cartesian(g, speed, accel, angular_speed, angular_accel, vel_scale, acc_scale)
+    _cartesian(g, speed, accel, angular_speed, angular_accel, vel_scale, acc_scale, jerk, angular_jerk)
     return g
 
 
 def make_goal_path(points, space="joint", method="blend", times=None, blend_time=0.0, goal_id=None,
               replace=False, speed=0.0, accel=0.0, vel_scale=0.0, acc_scale=0.0, shape="quartic",
-              ends="clamped"):
+              ends="clamped", jerk=0.0, angular_jerk=0.0):
     """Multi-point path through points (joint vectors, or x,y,z,qw,qx,qy,qz poses for
     space "cartesian"); method blend, spline, quintic or lagrange; times (s) optional. Returns the message."""
     g = goal_path_t()
@@ -183,6 +184,7 @@ def make_goal_path(points, space="joint", method="blend", times=None, blend_time
         g.times = [0.0] * goal_path_t.MAX_POINTS
     g.blend_time = _nonneg("blend_time", blend_time)
     g.speed, g.accel = _nonneg("speed", speed), _nonneg("accel", accel)
+    g.jerk, g.angular_jerk = _nonneg("jerk", jerk), _nonneg("angular_jerk", angular_jerk)
     g.vel_scale, g.acc_scale = _scale("vel_scale", vel_scale), _scale("acc_scale", acc_scale)
     return g
 

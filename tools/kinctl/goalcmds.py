@@ -104,6 +104,12 @@ def _goal_options(p, cartesian):
         g.add_argument("--accel", type=nonneg, default=0.0, metavar="M_S2",
                        help="tool acceleration (m/s^2); 0 or absent: the controller's default"
                             + both.replace("speed", "accel"))
+        g.add_argument("--jerk", type=nonneg, default=0.0, metavar="M_S3",
+                       help="tool jerk (m/s^3); 0 or absent: the controller's default"
+                            + (" (Cartesian paths only)" if cartesian == "path" else ""))
+        g.add_argument("--angular-jerk", type=nonneg, default=0.0, metavar="J",
+                       help="tool angular jerk limit (rad/s^3, deg/s^3 with --deg); 0: default"
+                            + (" (Cartesian paths only)" if cartesian == "path" else ""))
         g.add_argument("--joint-speed", type=fraction, default=0.0, metavar="SCALE",
                        help="fraction of the joint velocity limits the motion may use, (0, 1]")
         g.add_argument("--joint-accel", type=fraction, default=0.0, metavar="SCALE",
@@ -178,7 +184,8 @@ def cmd_goal(args):
         kind = "joint"
     elif args.kind in ("line", "arc"):
         cart = dict(speed=args.speed, accel=args.accel, angular_speed=args.angular_speed * deg,
-                    angular_accel=args.angular_accel * deg, vel_scale=args.joint_speed, acc_scale=args.joint_accel)
+                    angular_accel=args.angular_accel * deg, jerk=args.jerk, angular_jerk=args.angular_jerk * deg,
+                    vel_scale=args.joint_speed, acc_scale=args.joint_accel)
         if args.kind == "line":
             msg = kc.make_goal_line(args.to, slerp=args.slerp, **cart, **common)
         else:
@@ -190,7 +197,8 @@ def cmd_goal(args):
             rates = dict(speed=0.0, accel=0.0, vel_scale=args.joint_speed or args.speed,
                          acc_scale=args.joint_accel or args.accel)
         else:
-            rates = dict(speed=args.speed, accel=args.accel, vel_scale=args.joint_speed, acc_scale=args.joint_accel)
+            rates = dict(speed=args.speed, accel=args.accel, jerk=args.jerk, angular_jerk=args.angular_jerk * deg,
+                         vel_scale=args.joint_speed, acc_scale=args.joint_accel)
 
         def path_msg(to_si):
             return kc.make_goal_path([to_si(p) for p in args.points], space=args.space, method=args.method,

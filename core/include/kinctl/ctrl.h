@@ -18,7 +18,11 @@
  *                   limits times vel_scale and acc_scale (the jerk limit
  *                   is the joint's own);
  *   line, arc       kc_interp_line / kc_interp_arc (labs 5, 6) from the tool
- *                   pose of the current joints;
+ *                   pose of the current joints: jerk-limited by default
+ *                   (the goal's jerk and angular_jerk, or cfg.cart_jerk and
+ *                   cfg.cart_angular_jerk), or the seed's trapezoid (jerk
+ *                   limits infinite) when cfg.profile or the goal's
+ *                   profile says so;
  *   path            kc_path through the current joints and the goal's
  *                   points, or kc_path_cart through the current pose and the
  *                   goal's poses (lab 7);
@@ -57,7 +61,8 @@
  *
  * A line, an arc or a Cartesian path replacing a moving line or arc takes
  * over in the tick it arrives by superposition (ctrl_blend.c). The old
- * segment M gets its stop on the path (the law of STOP, below), which
+ * segment M gets its stop on the path (the law of STOP, below:
+ * jerk-limited by default, a trapezoid's for a trapezoid line or arc), which
  * would bring the tool to rest at pose P_s = (R_s, p_s) T_s ticks after
  * the takeover; the new goal G is planned from P_s as if at rest there,
  * and starts t0 ticks after the takeover. The Cartesian target is
@@ -73,9 +78,10 @@
  * point of the grid: a takeover tick evaluates both segments a few T_s
  * times, about 0.35 ms for T_s = 500 ticks in double on a PC, at most
  * some ten T_s times) at which, on every tick of
- * the overlap, the sum's tool-point speed and its change over the tick,
- * and its angular speed and that one's change, stay within the larger of
- * the two goals' Cartesian limits (or within what M or G alone does at
+ * the overlap, the sum's tool-point speed (and its step over the tick),
+ * its change over the tick (acceleration) and the change of that change
+ * (jerk), and the same three of its angular velocity, stay within the
+ * larger of the two goals' Cartesian limits (or within what M or G alone does at
  * that tick, where that is more: an arc's centripetal part). t0 = T_s,
  * no overlap, always qualifies: the new motion starts the tick the old
  * one stops, without waiting for the tool to settle. While M's stop lasts,
@@ -111,13 +117,19 @@
  * zone, a Cartesian motion that cannot be followed) are
  * acceleration-limited, not jerk-limited: the acceleration jumps to the
  * limit in one tick, because stopping soonest matters more there than
- * smoothness. STOP, PAUSE and RESUME of a jerk-limited joint move are
- * jerk-limited (below).
+ * smoothness. STOP, PAUSE and RESUME of a jerk-limited joint move, line
+ * or arc are jerk-limited (below).
  * RESET: leaves FAULT or ESTOP (at rest) for IDLE.
  *
  * Stopping on the path. Interpolated segments are driven by a profile of
  * their path parameter u; a stop replaces it with kc_profile_plan_stop at
  * the plan's own bound on u'', resume with a profile from there to u = 1.
+ * A jerk-limited line or arc stops by kc_scurve_plan_stop of u from
+ * (u, u', u'') within the plan's bounds on u'' and u''' (never past
+ * u = 1), and resumes by the rest-to-rest kc_scurve from there to 1
+ * within its bounds on u', u'' and u'''; the stop of a fault on its path
+ * is the acceleration-limited one (kc_profile_plan_stop from (u, u'):
+ * u'' jumps to its bound).
  * A jerk-limited joint move on a straight line (synchronised by phase)
  * stops on it by kc_scurve_plan_stop of u from (u, u', u'') within the
  * plan's bounds on the second and third derivatives of u (the stop of
@@ -128,9 +140,28 @@
  * limits it was planned or checked within). Either resumes as a
  * jerk-limited move from where it rests to the goal's target.
  * Paths are driven by their plan time tau; a stop makes tau' fall from 1 to
- * 0 at a constant rate c, chosen (and its start delayed while the path is
- * itself braking hard) so that every joint's q'' tau'^2 + q' tau'' stays
- * within its limit on sampled instants of the stop.
+ * 0 at a rate c, chosen (and its start delayed while the path is itself
+ * braking hard) so that every joint's q'' tau'^2 + q' tau'' stays within
+ * its limit on sampled instants of a stop at that constant rate. Where the
+ * controller chooses the time law of a path - that stop, the resume, and
+ * the ramps of tau' from rest and into the end of a path that does not
+ * start at rest (Lagrange's) - it is jerk-limited by default: tau follows
+ * kc_scurve_plan_stop from (tau, tau', tau'') within c (the stop), or the
+ * rest-to-rest kc_scurve to the path's end with tau' <= 1 and tau'' <= the
+ * ramp's rate (the ramps, the resume), so tau'' is continuous; its bound
+ * on tau''' comes from the jerk limits: every joint's
+ * qddd_max (a Cartesian path: the goal's jerk and angular jerk) over the
+ * largest |q'| (speed, angular speed) on sampled instants of the stretch
+ * it runs over, each with half a sample spacing times its derivative, so
+ * the jerk the law adds through tau''' (q' tau''') stays within the
+ * limits. A stop that would carry tau past the path's end leaves the law
+ * under way, which comes to rest there sooner (every path's law in the
+ * controller ends at rest at its end). Between those, tau' = 1: the path's own law, which its knot
+ * times fix (blends, splines, quintics with given or computed times; the
+ * path's own jerk there is the method's, kinctl/path.h). The trapezoid
+ * (cfg.profile, the goal's profile, or a chain without jerk limits) keeps
+ * constant-rate ramps and stops, and a fault's stop on the path is the
+ * constant-rate one.
  *
  * Every setpoint is checked before it leaves: finite, inside the position
  * limits, |qd| within the velocity limits, and the change of qd within
@@ -225,7 +256,7 @@ typedef struct kc_goal {
     int64_t id;        /* chosen by the client, echoed in events and setpoints */
     kc_goal_kind kind;
     int replace;       /* 0: queue behind the others; 1: preempt */
-    kc_goal_profile profile; /* joint move: its motion law */
+    kc_goal_profile profile; /* joint move, line, arc, path: its motion law */
     /* Fractions of the joints' velocity and acceleration limits, (0, 1]. */
     kc_real vel_scale, acc_scale;
     /* Cartesian speed and acceleration of the tool point (m/s, m/s^2) and
@@ -233,6 +264,11 @@ typedef struct kc_goal {
      * takes the configured defaults. */
     kc_real speed, accel;
     kc_real omega, alpha;
+    /* Line, arc, Cartesian path: the jerk bounds of the tool point along
+     * its path (m/s^3) and of the tool's rotation (rad/s^3); 0 takes
+     * cfg.cart_jerk and cfg.cart_angular_jerk. The trapezoid (profile, or
+     * cfg.profile) ignores them. */
+    kc_real jerk, angular_jerk;
     kc_interp_orient orient;             /* line */
     /* Numbers per target or knot as the client gave them (joint move and
      * joint path: its joint count; Cartesian path: 7); 0 takes what the
@@ -342,20 +378,26 @@ typedef struct kc_ctrl_cfg {
     kc_real dt;                    /* tick period (s) */
     kc_real cart_speed, cart_accel; /* defaults for Cartesian goals (m/s, m/s^2) */
     kc_real cart_omega, cart_alpha; /* tool angular speed and acceleration bound (rad/s, rad/s^2) */
+    /* Jerk bounds for jerk-limited Cartesian goals: of the tool point along
+     * its path (m/s^3) and of the tool's rotation (rad/s^3). */
+    kc_real cart_jerk, cart_angular_jerk;
     kc_real track_tol;             /* largest tool position error while following (m) */
     kc_real limit_slack;           /* relative slack of the final limit check */
     int64_t servo_timeout_ticks;   /* default servo staleness */
-    /* Joint moves' motion law unless a goal says otherwise:
-     * KC_PROFILE_JERK (the default) or KC_PROFILE_TRAPEZOID. A chain with
-     * a joint without a jerk limit (qddd_max infinite) moves by trapezoids
-     * whatever is asked. */
+    /* The motion law unless a goal says otherwise: KC_PROFILE_JERK (the
+     * default) or KC_PROFILE_TRAPEZOID. Joint moves: a chain with a joint
+     * without a jerk limit (qddd_max infinite) moves by trapezoids
+     * whatever is asked. Lines, arcs and paths: the trapezoid takes the
+     * jerk limits as infinite. */
     kc_profile_kind profile;
     kc_ik_cfg ik;                  /* the online law for Cartesian motion */
     /* Forbidden zones, or NULL; must outlive the controller, unchanged. */
     const kc_zone_set *zones;
 } kc_ctrl_cfg;
 
-/* 1 kHz, 0.25 m/s and 0.5 m/s^2, 1 rad/s and 4 rad/s^2, tracking 1 mm,
+/* 1 kHz, 0.25 m/s and 0.5 m/s^2, 1 rad/s and 4 rad/s^2, jerk bounds
+ * KC_INTERP_JERK_PER_ACCEL (10/s) times the acceleration ones (5 m/s^3,
+ * 40 rad/s^3), tracking 1 mm,
  * slack 1e-6 (1e-4 in float), servo timeout 100 ticks, jerk-limited joint
  * moves, kc_ik_cfg_default, no zones. */
 kc_ctrl_cfg kc_ctrl_cfg_default(void);
@@ -403,7 +445,7 @@ typedef enum kc_ctrl_drive {
     KC_DRIVE_PROFILE = 1, /* interp: u from drive_prof; path: tau from drive_prof */
     KC_DRIVE_STOPPING_WAIT = 2, /* path: a stop is pending until it is feasible */
     KC_DRIVE_RETARGET = 3,      /* trapezoid joint move from a moving state: plan.retarget per joint */
-    KC_DRIVE_SCURVE = 4,        /* jerk-limited joint move on its line: u from drive_scurve */
+    KC_DRIVE_SCURVE = 4,        /* jerk-limited joint move on its line, line, arc: u from drive_scurve */
     KC_DRIVE_HALT = 5           /* jerk-limited joint move stopping joint by joint: plan.halt */
 } kc_ctrl_drive;
 
@@ -416,7 +458,15 @@ typedef struct kc_ctrl_blend {
         kc_interp_line line;
         kc_interp_arc arc;
     } plan;
-    kc_profile stop;   /* its u from the takeover to rest */
+    /* Its u from the takeover to rest: a jerk-limited stop (stop_drive
+     * KC_DRIVE_SCURVE, stop.scurve) or a trapezoid's (KC_DRIVE_PROFILE,
+     * stop.prof); stop_ticks ticks. */
+    kc_ctrl_drive stop_drive;
+    union {
+        kc_profile prof;
+        kc_scurve scurve;
+    } stop;
+    int64_t stop_ticks;
     int64_t k0;        /* tick of the stop's start (its tick 0: the last setpoint before the takeover) */
     kc_pose rest;      /* where the stop ends: P_s, where the new segment starts */
     /* The tracking bound is a stop's (the replaced motion's stop is part of
@@ -499,6 +549,8 @@ typedef enum kc_ctrl_cfg_field {
     KC_CFG_FIELD_CART_ACCEL,
     KC_CFG_FIELD_CART_OMEGA,
     KC_CFG_FIELD_CART_ALPHA,
+    KC_CFG_FIELD_CART_JERK,
+    KC_CFG_FIELD_CART_ANGULAR_JERK,
     KC_CFG_FIELD_TRACK_TOL,
     KC_CFG_FIELD_LIMIT_SLACK,
     KC_CFG_FIELD_SERVO_TIMEOUT,

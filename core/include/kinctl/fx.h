@@ -185,7 +185,8 @@ typedef struct kc_fx_line {
 } kc_fx_line;
 
 /* Converts a plan; KC_E_ARG as kc_fx_joint_init (or a position outside
- * Q8.24). Floating point, outside the cycle. */
+ * Q8.24; or a jerk-limited plan: the ramp is the trapezoid's, plan->prof).
+ * Floating point, outside the cycle. */
 kc_status kc_fx_line_init(kc_fx_line *line, const kc_interp_line *plan);
 
 /* Position (Q8.24) and orientation (Q2.30, w x y z) at tick k (>= 0):

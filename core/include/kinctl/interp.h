@@ -10,8 +10,7 @@
  * kinctl/profile.h profile of the fraction u of the segment (0 at the start,
  * 1 at the end) and the geometry; kc_interp_<kind>_eval(plan, k, out) gives
  * the setpoint at tick k (t = k dt, dt fixed at planning) in O(1) time with
- * no allocation. The duration in ticks is plan->prof.ticks (joint move:
- * plan->ticks): eval returns
+ * no allocation. The duration in ticks is plan->ticks: eval returns
  * KC_OK for k < ticks and KC_DONE from then on, with the state exactly at
  * the segment's end (target position, velocity and acceleration zero). eval
  * is pure and safe to call in the control cycle and from several threads on
@@ -27,7 +26,8 @@
  * smallest of these bounds. Where one quantity binds, this is exactly the
  * seed's trapezoid on it (lab 4 eqs. 4.6-4.12, see kinctl/profile.h). The
  * joint move may instead be jerk-limited (kc_interp_joint_plan_cfg,
- * kinctl/scurve.h).
+ * kinctl/scurve.h), and so may lines and arcs: given a finite jerk limit,
+ * u follows a jerk-limited profile (kc_scurve) with u''' <= jmax / D too.
  *
  * Units: positions in m (joint moves: rad or m per joint), times in s,
  * angles in rad; everything in the base frame unless said otherwise.
@@ -215,14 +215,27 @@ kc_status kc_interp_joint_eval_scurve(const kc_interp_joint *plan, const kc_scur
  * acceleration of the tool point along its path (m/s, m/s^2; a finite);
  * w and dw bound the tool's angular speed and angular acceleration (rad/s,
  * rad/s^2), +infinity meaning unlimited: the seed's methods, where the
- * orientation simply follows the path parameter. All must be > 0. */
+ * orientation simply follows the path parameter. j and dj bound the jerk
+ * of the tool point along its path (m/s^3) and the tool's angular jerk
+ * (rad/s^3); both infinite (the default) give the seed's trapezoid, and a
+ * finite one a jerk-limited speed law (see the line's "Speed law"). All
+ * must be > 0. */
 typedef struct kc_interp_limits {
     kc_real v, a;
     kc_real w, dw;
+    kc_real j, dj;
 } kc_interp_limits;
 
-/* Angular limits off (infinite), v and a zero: set them before planning. */
+/* Angular limits and jerk limits off (infinite), v and a zero: set them
+ * before planning. */
 kc_interp_limits kc_interp_limits_default(void);
+
+/* The default jerk limit of a Cartesian motion, where a caller needs one
+ * and none is given: this many times its acceleration limit (1/s), i.e.
+ * the acceleration builds up in a tenth of a second (the controller's
+ * cart_jerk and cart_angular_jerk defaults, kinctl-calc interp line and
+ * arc). */
+#define KC_INTERP_JERK_PER_ACCEL KC_R(10.0)
 
 /* Setpoint of a Cartesian segment. */
 typedef struct kc_interp_cart_state {
@@ -268,9 +281,24 @@ typedef struct kc_interp_cart_state {
  * Speed law: trapezoid on u with u' <= min(v / S, w / Theta) and
  * u'' <= min(a / S, dw / Theta), Theta = sqrt(theta^2 + phi^2) or alpha;
  * with w = dw = infinity this is the seed's trapezoid on the path length S
- * (5.3-5.7.3). dw bounds the part of the angular acceleration along the
- * angular velocity; two rotations also turn the velocity's direction,
- * adding u'^2 |theta phi| that dw does not bound (slerp has no such term).
+ * (5.3-5.7.3). With a finite jerk bound
+ *     u''' <= J = min(j / S, dj / Theta)
+ * (terms with an infinite limit, or a zero S or Theta, impose nothing) u
+ * instead follows the time-optimal jerk-limited profile from rest at 0 to
+ * rest at 1 (kinctl/scurve.h, rest to rest, with vmax = V, amax = A,
+ * jmax = J: seven phases, fewer when short): s = S u keeps
+ * |s'| <= v, |s''| <= a and |s'''| <= j, the rotation angle Theta u keeps
+ * w, dw and dj (the jerk changes s'' by at most j dt per tick,
+ * kinctl/scurve.h); kind is KC_PROFILE_JERK and su holds the profile. J
+ * infinite (j = dj = infinity, the default; or a pure rotation without
+ * dj) is the trapezoid, exactly as the seed's (kind
+ * KC_PROFILE_TRAPEZOID, prof). A stop on the path from a moving state
+ * (kc_scurve_plan_stop of (u, u', u'') within u_amax and u_jmax) and a
+ * resume (kc_scurve_plan from rest at u to 1) drive the same geometry
+ * through kc_interp_line_eval_scurve. dw bounds the part of the angular
+ * acceleration along the angular velocity; two rotations also turn the
+ * velocity's direction, adding u'^2 |theta phi| that dw does not bound
+ * (slerp has no such term); likewise dj bounds the angular jerk along it.
  *
  * Degenerate cases: a_x = a_y = 0 sets psi = 0 as the seed says (theta is
  * then 0 or pi). A pure rotation (S = 0, seed's K_theta = theta / S
@@ -296,10 +324,15 @@ typedef struct kc_interp_line {
     kc_vec3 k1;              /* two rotations: first axis (-sin psi, cos psi, 0) in the start frame */
     kc_vec3 axis;            /* slerp: unit axis in the start frame */
     kc_real angle;           /* Theta: sqrt(theta^2 + phi^2), or slerp's angle (rad) */
-    kc_profile prof;         /* u from 0 to 1 */
-    /* The bounds of u' and u'' the profile was planned with (1/s, 1/s^2;
-     * infinite for a zero motion): a stop on the path uses u_amax. */
-    kc_real u_vmax, u_amax;
+    kc_profile prof;         /* u from 0 to 1 (the trapezoid; all zero when jerk-limited) */
+    /* The bounds of u', u'' and u''' the profile was planned with (1/s,
+     * 1/s^2, 1/s^3; infinite for a zero motion, u_jmax for the
+     * trapezoid): a stop on the path uses u_amax (and u_jmax). */
+    kc_real u_vmax, u_amax, u_jmax;
+    kc_profile_kind kind; /* the speed law: trapezoid (prof) or jerk-limited (su) */
+    kc_scurve su;         /* u from 0 to 1 when jerk-limited (all zero otherwise) */
+    kc_real T;            /* duration (s), either kind */
+    int64_t ticks;        /* duration in ticks: at the end from this tick on */
 } kc_interp_line;
 
 /* Plans a line from `from` to `to` (rotations orthonormal within
@@ -311,47 +344,21 @@ typedef struct kc_interp_line {
 kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const kc_pose *to,
                               const kc_interp_limits *lim, kc_interp_orient orient, kc_real dt);
 
-/* Plans a joint move from a request: KC_PROFILE_TRAPEZOID is exactly
- * kc_interp_joint_plan. KC_PROFILE_JERK: every joint's time-optimal
- * jerk-limited move (kinctl/scurve.h, rest to rest) with its own qd_max,
- * qdd_max and qddd_max; the move lasts T, the longest of these (or the
- * requested duration, if longer), and every joint starts on tick 0 and
- * arrives on the same tick. Two ways to synchronise, tried in order (as
- * Ruckig's phase and time synchronisation, Berscheid & Kroeger 2021):
- *   phase: one jerk-limited profile of u from 0 to 1 with the bounds
- *     min_i qd_max_i / |dq_i|, min_i qdd_max_i / |dq_i| and
- *     min_i qddd_max_i / |dq_i| on its three derivatives: a straight line
- *     in joint space like the trapezoid's, taken when it lasts no longer
- *     than T (always so with equal limits: the leading joint sets all
- *     three bounds);
- *   time: each joint's own profile stretched to T (amax and jmax kept,
- *     cruise lowered): not a straight line, but each joint moves
- *     monotonically from q0_i to q1_i, so a box of position limits that
- *     holds both ends holds the move.
- * From a moving start (qd0, qdd0 not all zero): time synchronisation,
- * every joint's own profile from its start state (kinctl/scurve.h) to
- * rest at q1_i, stretched to T, the longest optimum, by
- * kc_scurve_plan_duration_from; where a joint's stretch falls into a
- * blocked interval, T grows by 2^m / 1024 of itself, m = 0..15, until
- * every joint plans (KC_E_LIMIT if none does), and the step is then
- * halved ten times between the last blocked and the first free duration,
- * so T exceeds the end of the blocked interval by at most 2^(m-10) / 1024
- * of itself. Each joint stays within its
- * limits as far as its start allows (kinctl/scurve.h).
- * Returns as kc_interp_joint_plan; KC_E_ARG also for a NULL cfg, an
- * unknown kind, a non-finite start velocity or acceleration, a moving
- * start with the trapezoid, or (jerk) a qddd_max of a joint that moves and
- * is not > 0 and finite. plan is untouched on error. */
-kc_status kc_interp_joint_plan_cfg(kc_interp_joint *plan, const kc_interp_joint_cfg *cfg);
-
 /* Setpoint at tick k >= 0: KC_OK while moving, KC_DONE from
- * plan->prof.ticks on (exactly the end pose: p2, q2; velocities zero),
+ * plan->ticks on (exactly the end pose: p2, q2; velocities zero),
  * KC_E_ARG for NULL arguments or k < 0 (out untouched). */
 kc_status kc_interp_line_eval(const kc_interp_line *plan, int64_t k, kc_interp_cart_state *out);
 
 /* As kc_interp_joint_eval_profile, for the line. */
 kc_status kc_interp_line_eval_profile(const kc_interp_line *plan, const kc_profile *prof, int64_t k,
                                       kc_interp_cart_state *out);
+
+/* As kc_interp_joint_eval_scurve, for the line: its geometry driven by a
+ * jerk-limited profile of u (the stop on the path, kc_scurve_plan_stop
+ * from (u, u', u''), or a resume from there to 1). Return codes as
+ * kc_scurve_eval. */
+kc_status kc_interp_line_eval_scurve(const kc_interp_line *plan, const kc_scurve *prof, int64_t k,
+                                     kc_interp_cart_state *out);
 
 /* ======================================================================
  * Arc (seed 001 lab 6) from pose T1 through the via point T2 to the end
@@ -376,7 +383,9 @@ kc_status kc_interp_line_eval_profile(const kc_interp_line *plan, const kc_profi
  *
  * Speed law on the angle (6.23-6.25 corrected, #27): the lab 4 trapezoid on
  * alpha with omega = v / R and epsilon = a / R, further bounded by w and dw
- * (the tool turns at alpha'), run on u = alpha_i / alpha. a bounds the
+ * (the tool turns at alpha'), run on u = alpha_i / alpha; with a finite
+ * jerk limit the line's jerk-limited law on the same measures, u''' <=
+ * min(j / (R alpha), dj / alpha). a bounds the
  * tangential acceleration only, as in the seed: the centripetal part
  * (R alpha'^2 = v^2 / R at speed v) is not limited; lower v to
  * sqrt(a_n R) to bound it by a_n. s = R alpha_i.
@@ -396,10 +405,14 @@ typedef struct kc_interp_arc {
     kc_real length;    /* R alpha (m) */
     kc_vec3 p1, p3;    /* start and end position */
     kc_quat q1, q3;    /* start orientation, and the end orientation by (6.1) */
-    kc_profile prof;   /* u = alpha_i / alpha from 0 to 1 */
-    /* The bounds of u' and u'' the profile was planned with (1/s, 1/s^2;
-     * infinite for a zero motion): a stop on the path uses u_amax. */
-    kc_real u_vmax, u_amax;
+    kc_profile prof;   /* u = alpha_i / alpha from 0 to 1 (the trapezoid) */
+    /* As the line's: the bounds of u's derivatives, the speed law, the
+     * jerk-limited profile, the duration. */
+    kc_real u_vmax, u_amax, u_jmax;
+    kc_profile_kind kind;
+    kc_scurve su;
+    kc_real T;
+    int64_t ticks;
 } kc_interp_arc;
 
 /* Plans an arc from `from` through `via` to `to` (positions in m) with
@@ -410,46 +423,17 @@ typedef struct kc_interp_arc {
 kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_vec3 *via, const kc_vec3 *to,
                              const kc_interp_limits *lim, kc_real dt);
 
-/* Plans a joint move from a request: KC_PROFILE_TRAPEZOID is exactly
- * kc_interp_joint_plan. KC_PROFILE_JERK: every joint's time-optimal
- * jerk-limited move (kinctl/scurve.h, rest to rest) with its own qd_max,
- * qdd_max and qddd_max; the move lasts T, the longest of these (or the
- * requested duration, if longer), and every joint starts on tick 0 and
- * arrives on the same tick. Two ways to synchronise, tried in order (as
- * Ruckig's phase and time synchronisation, Berscheid & Kroeger 2021):
- *   phase: one jerk-limited profile of u from 0 to 1 with the bounds
- *     min_i qd_max_i / |dq_i|, min_i qdd_max_i / |dq_i| and
- *     min_i qddd_max_i / |dq_i| on its three derivatives: a straight line
- *     in joint space like the trapezoid's, taken when it lasts no longer
- *     than T (always so with equal limits: the leading joint sets all
- *     three bounds);
- *   time: each joint's own profile stretched to T (amax and jmax kept,
- *     cruise lowered): not a straight line, but each joint moves
- *     monotonically from q0_i to q1_i, so a box of position limits that
- *     holds both ends holds the move.
- * From a moving start (qd0, qdd0 not all zero): time synchronisation,
- * every joint's own profile from its start state (kinctl/scurve.h) to
- * rest at q1_i, stretched to T, the longest optimum, by
- * kc_scurve_plan_duration_from; where a joint's stretch falls into a
- * blocked interval, T grows by 2^m / 1024 of itself, m = 0..15, until
- * every joint plans (KC_E_LIMIT if none does), and the step is then
- * halved ten times between the last blocked and the first free duration,
- * so T exceeds the end of the blocked interval by at most 2^(m-10) / 1024
- * of itself. Each joint stays within its
- * limits as far as its start allows (kinctl/scurve.h).
- * Returns as kc_interp_joint_plan; KC_E_ARG also for a NULL cfg, an
- * unknown kind, a non-finite start velocity or acceleration, a moving
- * start with the trapezoid, or (jerk) a qddd_max of a joint that moves and
- * is not > 0 and finite. plan is untouched on error. */
-kc_status kc_interp_joint_plan_cfg(kc_interp_joint *plan, const kc_interp_joint_cfg *cfg);
-
 /* Setpoint at tick k >= 0: KC_OK while moving, KC_DONE from
- * plan->prof.ticks on (exactly p3 and q3, velocities zero), KC_E_ARG for
+ * plan->ticks on (exactly p3 and q3, velocities zero), KC_E_ARG for
  * NULL arguments or k < 0 (out untouched). */
 kc_status kc_interp_arc_eval(const kc_interp_arc *plan, int64_t k, kc_interp_cart_state *out);
 
 /* As kc_interp_joint_eval_profile, for the arc. */
 kc_status kc_interp_arc_eval_profile(const kc_interp_arc *plan, const kc_profile *prof, int64_t k,
                                      kc_interp_cart_state *out);
+
+/* As kc_interp_line_eval_scurve, for the arc. */
+kc_status kc_interp_arc_eval_scurve(const kc_interp_arc *plan, const kc_scurve *prof, int64_t k,
+                                    kc_interp_cart_state *out);
 
 #endif /* KINCTL_INTERP_H */

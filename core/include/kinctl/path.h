@@ -88,6 +88,13 @@
  * not checked. A segment with no motion gets T_i = 0 and is KC_E_ARG (except
  * for blends, where T_i >= 2 t_acc).
  *
+ * Time law. A plan is a function of its plan time: the knot times fix how
+ * fast the path runs and so its velocity, acceleration and jerk; nothing
+ * here changes them. A caller that runs a path on another time law (the
+ * controller's ramps of a path that does not start at rest, its stops on
+ * the path and resumes, jerk-limited by default: kinctl/ctrl.h) evaluates
+ * it at its own tau and applies the chain rule.
+ *
  * Ticks: a plan keeps its tick period dt; tick k is plan time t = k dt
  * (computed from k, never accumulated), i.e. knot time t_origin + k dt.
  * kc_path.ticks is the first k with k dt >= duration (up to rounding of a
