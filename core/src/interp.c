@@ -212,6 +212,61 @@ static kc_status stretches_all(const kc_interp_joint *out, const kc_interp_joint
     return KC_OK;
 }
 
+/* Every joint's optimum in out->sj replaced by its stretch to T, in
+ * place: the plan needs each stretch once. When one falls into a blocked
+ * interval (KC_E_LIMIT), the optima of the joints already stretched are
+ * planned again, so that out->sj holds every optimum as before. */
+static kc_status stretch_in_place(kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl, kc_real T)
+{
+    for (int i = 0; i < c->n; i++) {
+        kc_status st = kc_scurve_stretch(&out->sj[i], &out->sj[i], c->qd_max[i], c->qdd_max[i], jl[i], T);
+        if (st == KC_OK)
+            continue;
+        for (int k = 0; k < i && st == KC_E_LIMIT; k++) {
+            kc_status sk = kc_scurve_plan(&out->sj[k], out->q0[k], c->qd0[k], c->qdd0[k], out->q1[k], c->qd_max[k],
+                                          c->qdd_max[k], jl[k], c->dt);
+            if (sk != KC_OK)
+                return sk;
+        }
+        return st;
+    }
+    return KC_OK;
+}
+
+/* Some joint's stretch to T falls into a blocked interval: the shortest
+ * duration past it, found by growing T by 2^m / 1024 of itself until
+ * every joint stretches, then halving the step between the last blocked
+ * and the first free duration (blocked durations are intervals,
+ * kinctl/scurve.h) ten times. The optima stay in out->sj while searching
+ * (one profile of scratch); then each is replaced by its stretch. */
+static kc_status stretch_past_blocked(kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl, kc_real T)
+{
+    kc_scurve tmp;
+    kc_real lo = T, hi = T + T * (KC_R(1.0) / KC_R(1024.0)), grow = KC_R(2.0) / KC_R(1024.0);
+    kc_status st;
+    for (int m = 1;; m++) {
+        st = stretches_all(out, c, jl, hi, &tmp);
+        if (st == KC_OK)
+            break;
+        if (st != KC_E_LIMIT || m == 15)
+            return st;
+        lo = hi;
+        hi += hi * grow;
+        grow *= KC_R(2.0);
+    }
+    for (int i = 0; i < 10; i++) {
+        kc_real mid = lo + KC_R(0.5) * (hi - lo);
+        st = stretches_all(out, c, jl, mid, &tmp);
+        if (st == KC_OK)
+            hi = mid;
+        else if (st == KC_E_LIMIT)
+            lo = mid;
+        else
+            return st;
+    }
+    return stretch_in_place(out, c, jl, hi);
+}
+
 /* A start moving along the line to the target: qd0 = lv dq and
  * qdd0 = la dq for every joint, within the rounding of dq = q1 - q0 (a
  * replacing goal with the target of a move synchronised by phase). Sets
@@ -297,42 +352,13 @@ static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cf
             return KC_E_LIMIT;
         T = kc_max(T, c->duration);
     }
-    /* The shortest T every joint can be stretched to: T itself, or past a
-     * blocked interval, found by growing T by 2^m / 1024 of itself until
-     * every joint stretches, then halving the step between the last
-     * blocked and the first free duration (blocked durations are
-     * intervals, kinctl/scurve.h) ten times. The optima stay in out->sj
-     * while searching (one profile of scratch); then each is replaced by
-     * its stretch. */
-    kc_scurve tmp;
-    kc_real lo = T, hi = T, grow = KC_R(1.0) / KC_R(1024.0);
-    int m = 0;
-    for (;; m++) {
-        st = stretches_all(out, c, jl, hi, &tmp);
-        if (st == KC_OK)
-            break;
-        if (st != KC_E_LIMIT || m == 15)
-            return st;
-        lo = hi;
-        hi += hi * grow;
-        grow *= KC_R(2.0);
-    }
-    for (int i = 0; i < 10 && m > 0; i++) {
-        kc_real mid = lo + KC_R(0.5) * (hi - lo);
-        st = stretches_all(out, c, jl, mid, &tmp);
-        if (st == KC_OK)
-            hi = mid;
-        else if (st == KC_E_LIMIT)
-            lo = mid;
-        else
-            return st;
-    }
-    for (int i = 0; i < c->n; i++) {
-        st = kc_scurve_stretch(&tmp, &out->sj[i], c->qd_max[i], c->qdd_max[i], jl[i], hi);
-        if (st != KC_OK)
-            return st;
-        out->sj[i] = tmp;
-    }
+    /* The shortest T every joint can be stretched to: T itself (each
+     * joint stretched once, in place), or past a blocked interval. */
+    st = stretch_in_place(out, c, jl, T);
+    if (st == KC_E_LIMIT)
+        st = stretch_past_blocked(out, c, jl, T);
+    if (st != KC_OK)
+        return st;
     out->T = out->sj[out->lead].T;
     out->ticks = out->sj[out->lead].ticks;
     line_from_moving(out, c);

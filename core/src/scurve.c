@@ -144,17 +144,21 @@ static kc_real gap_dist(kc_real s, kc_real v0, kc_real a0, kc_real A, kc_real J,
 }
 
 /* The duration of the plain plan through vp with the cruise that covers d
- * (kinctl/scurve.h, "from a moving start"). */
-static kc_real cruise_time_of(kc_real vp, kc_real d, kc_real v0, kc_real a0, kc_real A, kc_real J)
+ * (kinctl/scurve.h, "from a moving start"); the cruise's time into *tc
+ * when given. */
+static kc_real cruise_time_of(kc_real vp, kc_real d, kc_real v0, kc_real a0, kc_real A, kc_real J, kc_real *tc)
 {
     kc_real dv, t = change_stop_time(vp, v0, a0, A, J, &dv);
-    return t + (d - dv) / vp;
+    kc_real c = (d - dv) / vp;
+    if (tc != NULL)
+        *tc = c;
+    return t + c;
 }
 
 static kc_real dfun_eval(const dfun *f, kc_real x)
 {
     if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
-        return cruise_time_of(KC_R(1.0) / x, f->d, f->v0, f->a0, f->A, f->J);
+        return cruise_time_of(KC_R(1.0) / x, f->d, f->v0, f->a0, f->A, f->J, NULL);
     return f->gap ? gap_dist(x, f->v0, f->a0, f->A, f->J, NULL, NULL, NULL) : dist_of(x, f->v0, f->a0, f->A, f->J);
 }
 
@@ -600,16 +604,18 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
         }
     }
     dfun t = {2, v0, a0, A, J, d};
-    kc_real th = cruise_time_of(vh, d, v0, a0, A, J) - duration;
+    /* The optimum through vh is fast itself: its duration is T(vh). */
+    kc_real th = (vh == fast->vp && !fast->gap ? fast->T : cruise_time_of(vh, d, v0, a0, A, J, NULL)) - duration;
     if (!(th <= KC_R(0.0)))
         return KC_E_LIMIT; /* between the optimum and the slowest cruise this side allows */
     /* vl: where the cruise alone, e / vp, would fill the duration, then
      * halved until the plan lasts at least that long (the cruise grows as
      * 1 / vp: rarely more than a halving). */
-    kc_real vl = kc_min(kc_fabs(e) / duration, kc_fabs(vh)) * s, tl = cruise_time_of(vl, d, v0, a0, A, J) - duration;
+    kc_real vl = kc_min(kc_fabs(e) / duration, kc_fabs(vh)) * s;
+    kc_real tl = cruise_time_of(vl, d, v0, a0, A, J, NULL) - duration, tc = KC_R(-1.0);
     for (int i = 0; i < KC_SCURVE_MAX_ITER && tl < KC_R(0.0); i++) {
         vl *= KC_R(0.5);
-        tl = cruise_time_of(vl, d, v0, a0, A, J) - duration;
+        tl = cruise_time_of(vl, d, v0, a0, A, J, NULL) - duration;
     }
     if (!(tl >= KC_R(0.0)) || !kc_isfinite(tl))
         return KC_E_CAPACITY;
@@ -618,10 +624,10 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
      * quadratic in vp: fitted through vh, vl and their harmonic mean, its
      * root is exact there and a close first guess elsewhere. */
     kc_real vm = KC_R(2.0) / (KC_R(1.0) / vh + KC_R(1.0) / vl);
-    kc_real tm = cruise_time_of(vm, d, v0, a0, A, J) - duration;
+    kc_real tm = cruise_time_of(vm, d, v0, a0, A, J, NULL) - duration;
     kc_real vp = quad_root(vh, th * vh, vm, tm * vm, vl, tl * vl);
     if (vp != KC_R(0.0)) {
-        kc_real tq = cruise_time_of(vp, d, v0, a0, A, J) - duration;
+        kc_real tq = cruise_time_of(vp, d, v0, a0, A, J, &tc) - duration;
         if (kc_fabs(tq) > KC_R(4.0) * KC_REAL_EPS * duration) {
             narrow(vp, tq, &vh, &th, &vl, &tl);
             vp = KC_R(0.0);
@@ -634,8 +640,8 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
         kc_real xh = KC_R(1.0) / vh, xl = KC_R(1.0) / vl;
         kc_real x = s > KC_R(0.0) ? root(&t, xh, xl, th, tl, duration) : root(&t, xl, xh, tl, th, duration);
         vp = KC_R(1.0) / x;
+        tc = (d - dist_of(vp, v0, a0, A, J)) / vp;
     }
-    kc_real tc = (d - dist_of(vp, v0, a0, A, J)) / vp;
     if (!(tc >= KC_R(0.0)))
         return KC_E_LIMIT;
     return build_vp(prof, p0, v0, a0, p1, vp, tc, A, J, duration, dt);
@@ -664,7 +670,8 @@ kc_status kc_scurve_stretch(kc_scurve *prof, const kc_scurve *fast, kc_real vmax
     if (duration <= fast->T) {
         if (duration < fast->T * (KC_R(1.0) - KC_R(8.0) * KC_REAL_EPS))
             return KC_E_LIMIT;
-        *prof = *fast;
+        if (prof != fast)
+            *prof = *fast;
         return KC_OK;
     }
     if (fast->v0 == KC_R(0.0) && fast->a0 == KC_R(0.0))
