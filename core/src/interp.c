@@ -6,6 +6,7 @@
 
 #include "interp_internal.h"
 
+#include <stddef.h>
 #include <string.h>
 
 #define INF ((kc_real)INFINITY)
@@ -43,6 +44,12 @@ static kc_real move_time(kc_real D, kc_real v, kc_real a)
     return KC_R(2.0) * kc_sqrt(D / a); /* triangle */
 }
 
+/* The bytes of a plan of n joints: all but the profiles sj[n..], which
+ * nothing reads (a plan is 7.5 KB for the 16 joints it has room for, and
+ * clearing and copying it all would cost a planning as much as stretching
+ * two joints). */
+static size_t plan_size(int n) { return offsetof(kc_interp_joint, sj) + (size_t)n * sizeof(kc_scurve); }
+
 /* kc_interp_joint_plan into *out, which is scratch on error: the planners
  * below fill their own plan with it instead of copying one more (a plan
  * holds a jerk-limited profile a joint: its copies are the planning's
@@ -57,7 +64,7 @@ static kc_status plan_trap(kc_interp_joint *out, int n, const kc_real *q0, const
         return KC_E_CAPACITY;
     if (!kc_isfinite(duration) || duration < KC_R(0.0) || !(dt > KC_R(0.0)) || !kc_isfinite(dt))
         return KC_E_ARG;
-    memset(out, 0, sizeof *out);
+    memset(out, 0, plan_size(n));
     out->n = n;
     out->lead = out->lead_vel = out->lead_acc = -1;
     for (int i = 0; i < n; i++) {
@@ -107,7 +114,7 @@ kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, 
         return KC_E_ARG;
     kc_status st = plan_trap(&r, n, q0, q1, qd_max, qdd_max, duration, dt);
     if (st == KC_OK)
-        *plan = r;
+        memcpy(plan, &r, plan_size(r.n));
     return st;
 }
 
@@ -395,7 +402,7 @@ kc_status kc_interp_joint_plan_cfg(kc_interp_joint *plan, const kc_interp_joint_
         return KC_E_ARG;
     kc_status st = kc_interp_joint_plan_cfg_into(&r, cfg);
     if (st == KC_OK)
-        *plan = r;
+        memcpy(plan, &r, plan_size(r.n));
     return st;
 }
 

@@ -351,11 +351,14 @@ kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc
         if (i == 64 || !kc_isfinite(V))
             return KC_E_CAPACITY;
     }
-    kc_real dh = dist_of(V, v0, a0, A, J), dl = dist_of(-V, v0, a0, A, J);
-    if (!kc_isfinite(dh) || !kc_isfinite(dl))
+    kc_real dh = dist_of(V, v0, a0, A, J);
+    if (!kc_isfinite(dh))
         return KC_E_CAPACITY;
     if (d >= dh)
         return build_vp(prof, p0, v0, a0, p1, V, (d - dh) / V, A, J, KC_R(0.0), dt);
+    kc_real dl = dist_of(-V, v0, a0, A, J);
+    if (!kc_isfinite(dl))
+        return KC_E_CAPACITY;
     if (d <= dl)
         return build_vp(prof, p0, v0, a0, p1, -V, (dl - d) / V, A, J, KC_R(0.0), dt);
     /* dl < d < dh, Tc = 0. The plain branches are vp <= min(vn, 0) and
@@ -382,7 +385,8 @@ kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc
             best = tw;
         }
     }
-    kc_real g0 = gap_dist(KC_R(0.0), v0, a0, A, J, NULL, NULL, NULL) - d;
+    /* s = 0 is the stop at once, d(0): d1 or d2. */
+    kc_real g0 = (m1 == KC_R(0.0) ? d1 : d2) - d;
     kc_real g1 = gap_dist(KC_R(1.0), v0, a0, A, J, NULL, NULL, NULL) - d;
     /* Signs compared, not multiplied: a product of small distances may
      * underflow to zero in float. */
@@ -555,6 +559,23 @@ static kc_real quad_root(kc_real v1, kc_real g1, kc_real v2, kc_real g2, kc_real
     return KC_R(0.0);
 }
 
+/* Whether the plain plans through every vp from vl to vh (one sign, vl !=
+ * vh) have a change that holds amax for a while, or starts beyond it, on
+ * one side sg of vn (into *sg) and a stop that reaches amax
+ * (kinctl/scurve.h, "Velocity change"): their durations are then linear
+ * in vp and their distances quadratic. Each condition is monotonic in vp
+ * on one side of vn, so the ends decide. */
+static int exact_fit(kc_real v0, kc_real a0, kc_real vl, kc_real vh, kc_real A, kc_real J, kc_real *sg)
+{
+    kc_real vn = v0 + a0 * kc_fabs(a0) / (KC_R(2.0) * J);
+    if (vl == vh || !(kc_fabs(vl) * J >= A * A && kc_fabs(vh) * J >= A * A) || vl == vn || vh == vn ||
+        (vl > vn) != (vh > vn))
+        return 0;
+    *sg = vl > vn ? KC_R(1.0) : KC_R(-1.0);
+    kc_real as = *sg * a0, full = (KC_R(2.0) * A * A - as * as) / (KC_R(2.0) * J);
+    return as > A || (*sg * (vl - v0) >= full && *sg * (vh - v0) >= full);
+}
+
 /* Keeps the bracket (vh: T - duration <= 0, vl: >= 0) tight with a new
  * point v of value f. */
 static void narrow(kc_real v, kc_real f, kc_real *vh, kc_real *th, kc_real *vl, kc_real *tl)
@@ -622,11 +643,25 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
     /* Where the change and the stop both reach amax, d(vp) is quadratic
      * and the duration linear in vp, so (T(vp) - duration) vp is a
      * quadratic in vp: fitted through vh, vl and their harmonic mean, its
-     * root is exact there and a close first guess elsewhere. */
-    kc_real vm = KC_R(2.0) / (KC_R(1.0) / vh + KC_R(1.0) / vl);
-    kc_real tm = cruise_time_of(vm, d, v0, a0, A, J, NULL) - duration;
+     * root is exact there and a close first guess elsewhere. When both
+     * reach amax all the way from vl to vh (exact_fit), the quadratic's
+     * leading coefficient is known, (sg + s) / (2A): the change's time
+     * grows as sg vp / A and the stop's as s vp / A, and their distances
+     * as vp^2 / (2A) of the same signs, which the cruise gives back. Then
+     * vh and vl alone fix the quadratic, and its root needs no check. */
+    kc_real vm = KC_R(2.0) / (KC_R(1.0) / vh + KC_R(1.0) / vl), tm, sg;
+    int exact = exact_fit(v0, a0, vl, vh, A, J, &sg);
+    if (exact) {
+        kc_real c2 = (sg + s) / (KC_R(2.0) * A), fh = th * vh, fl = tl * vl;
+        kc_real c1 = (fh - fl) / (vh - vl) - c2 * (vh + vl), c0 = fh - vh * (c2 * vh + c1);
+        tm = c0 / vm + c1 + c2 * vm;
+    } else {
+        tm = cruise_time_of(vm, d, v0, a0, A, J, NULL) - duration;
+    }
     kc_real vp = quad_root(vh, th * vh, vm, tm * vm, vl, tl * vl);
-    if (vp != KC_R(0.0)) {
+    if (vp != KC_R(0.0) && exact) {
+        tc = KC_R(0.0); /* within the bracket, which the cruise covers */
+    } else if (vp != KC_R(0.0)) {
         kc_real tq = cruise_time_of(vp, d, v0, a0, A, J, &tc) - duration;
         if (kc_fabs(tq) > KC_R(4.0) * KC_REAL_EPS * duration) {
             narrow(vp, tq, &vh, &th, &vl, &tl);
