@@ -5,6 +5,7 @@
 #include "kinctl/interp.h"
 
 #include "interp_internal.h"
+#include "scurve_internal.h"
 
 #include <stddef.h>
 #include <string.h>
@@ -230,8 +231,8 @@ static kc_status stretch_in_place(kc_interp_joint *out, const kc_interp_joint_cf
         if (st == KC_OK)
             continue;
         for (int k = 0; k < i && st == KC_E_LIMIT; k++) {
-            kc_status sk = kc_scurve_plan(&out->sj[k], out->q0[k], c->qd0[k], c->qdd0[k], out->q1[k], c->qd_max[k],
-                                          c->qdd_max[k], jl[k], c->dt);
+            kc_status sk = kc_scurve_plan_time(&out->sj[k], out->q0[k], c->qd0[k], c->qdd0[k], out->q1[k],
+                                               c->qd_max[k], c->qdd_max[k], jl[k], c->dt);
             if (sk != KC_OK)
                 return sk;
         }
@@ -335,16 +336,18 @@ static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cf
     out->sync = KC_INTERP_SYNC_TIME;
     out->lead = -1;
     out->u_jmax = INF;
-    /* Each joint's optimum into out->sj[i] (a joint at rest on its target: a
-     * zero-length plan, stretched into a wait). */
+    /* Each joint's optimum into out->sj[i], its duration without its
+     * phases (kc_scurve_plan_time: the slowest joint's are laid out when
+     * it is stretched to its own duration, the others' never are); a joint
+     * at rest on its target: a zero-length plan, stretched into a wait. */
     kc_real jl[KC_MAX_JOINTS];
     for (int i = 0; i < c->n; i++) {
         int still = out->dq[i] == KC_R(0.0) && c->qd0[i] == KC_R(0.0) && c->qdd0[i] == KC_R(0.0);
         if (!still && (!(c->qddd_max[i] > KC_R(0.0)) || !kc_isfinite(c->qddd_max[i])))
             return KC_E_ARG;
         jl[i] = still ? KC_R(1.0) : c->qddd_max[i];
-        st = kc_scurve_plan(&out->sj[i], out->q0[i], c->qd0[i], c->qdd0[i], out->q1[i], c->qd_max[i], c->qdd_max[i], jl[i],
-                            c->dt);
+        st = kc_scurve_plan_time(&out->sj[i], out->q0[i], c->qd0[i], c->qdd0[i], out->q1[i], c->qd_max[i],
+                                 c->qdd_max[i], jl[i], c->dt);
         if (st != KC_OK)
             return st;
         if (out->sj[i].T > T) {

@@ -7,6 +7,7 @@
 
 #include "kinctl/profile.h"
 #include "profile_internal.h"
+#include "scurve_internal.h"
 
 /* One velocity change: at most three phases of constant jerk. */
 typedef struct vchange {
@@ -289,6 +290,53 @@ static kc_status build_vp(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, k
     return build(prof, p0, v0, a0, p1, &c, vp, tc, &s, duration, dt);
 }
 
+/* What build() makes of the same phases but the phases themselves: the
+ * start, target, vp, T (summed as build() sums it, so that laying the
+ * phases later gives the same T) and ticks, with n = -1
+ * (scurve_internal.h). */
+static kc_status build_header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, const vchange *c,
+                              kc_real vp, kc_real tc, const vchange *s, kc_real dt)
+{
+    kc_real t = KC_R(0.0), t_stop = KC_R(0.0);
+    for (int i = 0; i < c->n; i++)
+        t += c->t[i];
+    for (int i = 0; i < s->n; i++)
+        t_stop += s->t[i];
+    kc_real T = t + kc_max(tc, KC_R(0.0)) + t_stop;
+    int64_t ticks = kc_isfinite(T) ? kc_profile_ticks(T, dt) : -1;
+    if (ticks < 0)
+        return KC_E_CAPACITY;
+    prof->p0 = p0;
+    prof->v0 = v0;
+    prof->a0 = a0;
+    prof->p1 = p1;
+    prof->vp = vp;
+    prof->gap = 0;
+    prof->n = -1;
+    prof->T = T;
+    prof->dt = dt;
+    prof->ticks = ticks;
+    return KC_OK;
+}
+
+/* The end of a time-optimal plan: the profile (lay), or its header alone. */
+static kc_status finish(kc_scurve *prof, int lay, kc_real p0, kc_real v0, kc_real a0, kc_real p1, const vchange *c,
+                        kc_real vp, kc_real tc, const vchange *s, kc_real dt)
+{
+    return lay ? build(prof, p0, v0, a0, p1, c, vp, tc, s, KC_R(0.0), dt)
+               : build_header(prof, p0, v0, a0, p1, c, vp, tc, s, dt);
+}
+
+/* finish() for the plain plan through vp (build_vp). */
+static kc_status finish_vp(kc_scurve *prof, int lay, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vp,
+                           kc_real tc, kc_real A, kc_real J, kc_real dt)
+{
+    vchange c, s;
+    vchange_plan(&c, v0, a0, vp, A, J);
+    vchange_plan(&s, vp, KC_R(0.0), KC_R(0.0), A, J);
+    return finish(prof, lay, p0, v0, a0, p1, &c, vp, tc, &s, dt);
+}
+
 /* Rest to rest over D >= 0 (kinctl/scurve.h, Biagiotti & Melchiorri 3.4):
  * the peak speed and the cruise time. */
 static void rest_to_rest(kc_real D, kc_real V, kc_real A, kc_real J, kc_real *vpeak, kc_real *tc)
@@ -320,8 +368,10 @@ static void rest_to_rest(kc_real D, kc_real V, kc_real A, kc_real J, kc_real *vp
     *vpeak = kc_min(*vpeak, V);
 }
 
-kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
-                         kc_real amax, kc_real jmax, kc_real dt)
+/* kc_scurve_plan, laying out the phases (lay) or making the header alone
+ * (kc_scurve_plan_time). */
+static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax, kc_real amax,
+                      kc_real jmax, kc_real dt, int lay)
 {
     if (prof == NULL || !kc_isfinite(p0) || !kc_isfinite(v0) || !kc_isfinite(a0) || !kc_isfinite(p1) ||
         !limits_ok(vmax, amax, jmax, dt))
@@ -333,9 +383,9 @@ kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc
     if (v0 == KC_R(0.0) && a0 == KC_R(0.0)) {
         kc_real vpeak, tc;
         if (d == KC_R(0.0))
-            return build_vp(prof, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, J, KC_R(0.0), dt);
+            return finish_vp(prof, lay, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, J, dt);
         rest_to_rest(kc_fabs(d), vmax, A, J, &vpeak, &tc);
-        return build_vp(prof, p0, v0, a0, p1, d > KC_R(0.0) ? vpeak : -vpeak, tc, A, J, KC_R(0.0), dt);
+        return finish_vp(prof, lay, p0, v0, a0, p1, d > KC_R(0.0) ? vpeak : -vpeak, tc, A, J, dt);
     }
     /* The velocity range to search: vmax, or without a speed limit a bound
      * that brackets d, found by doubling (at most 64 times). */
@@ -355,12 +405,12 @@ kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc
     if (!kc_isfinite(dh))
         return KC_E_CAPACITY;
     if (d >= dh)
-        return build_vp(prof, p0, v0, a0, p1, V, (d - dh) / V, A, J, KC_R(0.0), dt);
+        return finish_vp(prof, lay, p0, v0, a0, p1, V, (d - dh) / V, A, J, dt);
     kc_real dl = dist_of(-V, v0, a0, A, J);
     if (!kc_isfinite(dl))
         return KC_E_CAPACITY;
     if (d <= dl)
-        return build_vp(prof, p0, v0, a0, p1, -V, (dl - d) / V, A, J, KC_R(0.0), dt);
+        return finish_vp(prof, lay, p0, v0, a0, p1, -V, (dl - d) / V, A, J, dt);
     /* dl < d < dh, Tc = 0. The plain branches are vp <= min(vn, 0) and
      * vp >= max(vn, 0), where the change ends on the other side of zero
      * acceleration than the stop starts, so vp is a true extremum; d
@@ -401,14 +451,26 @@ kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc
     if (s_gap >= KC_R(0.0)) {
         vchange c, st;
         gap_dist(s_gap, v0, a0, A, J, &c, &st, NULL);
-        kc_status r = build(prof, p0, v0, a0, p1, &c, KC_R(0.0), KC_R(0.0), &st, KC_R(0.0), dt);
+        kc_status r = finish(prof, lay, p0, v0, a0, p1, &c, KC_R(0.0), KC_R(0.0), &st, dt);
         if (r == KC_OK)
             prof->gap = 1;
         return r;
     }
     if (best < KC_R(0.0))
         vp = root(&f, m1, m2, d1 - d, d2 - d, d);
-    return build_vp(prof, p0, v0, a0, p1, vp, KC_R(0.0), A, J, KC_R(0.0), dt);
+    return finish_vp(prof, lay, p0, v0, a0, p1, vp, KC_R(0.0), A, J, dt);
+}
+
+kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
+                         kc_real amax, kc_real jmax, kc_real dt)
+{
+    return plan(prof, p0, v0, a0, p1, vmax, amax, jmax, dt, 1);
+}
+
+kc_status kc_scurve_plan_time(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
+                              kc_real amax, kc_real jmax, kc_real dt)
+{
+    return plan(prof, p0, v0, a0, p1, vmax, amax, jmax, dt, 0);
 }
 
 kc_status kc_scurve_plan_stop(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real amax, kc_real jmax,
@@ -705,6 +767,8 @@ kc_status kc_scurve_stretch(kc_scurve *prof, const kc_scurve *fast, kc_real vmax
     if (duration <= fast->T) {
         if (duration < fast->T * (KC_R(1.0) - KC_R(8.0) * KC_REAL_EPS))
             return KC_E_LIMIT;
+        if (fast->n < 0) /* its header alone (kc_scurve_plan_time): lay it out */
+            return kc_scurve_plan(prof, fast->p0, fast->v0, fast->a0, fast->p1, vmax, amax, jmax, fast->dt);
         if (prof != fast)
             *prof = *fast;
         return KC_OK;
