@@ -205,6 +205,57 @@ static kc_real root(const dfun *f, kc_real lo, kc_real hi, kc_real flo, kc_real 
     return kc_fabs(flo) <= kc_fabs(fhi) ? lo : hi;
 }
 
+/* The root of d(vp) = d on a plain branch [lo, hi] ([max(vn, 0), V] or
+ * [-V, min(vn, 0)]; dlo, dhi: d at its ends, bracketing d). Along the
+ * branch the change ends beyond vn (sg = s, the branch's sign). Where it
+ * holds amax (or starts beyond it) and the stop reaches amax, from vb to
+ * the branch's far end +-V, d(vp) is a quadratic with the leading
+ * coefficient s / A: the change's and the stop's distances each grow as
+ * vp^2 / (2A) (kinctl/scurve.h, "Velocity change"). A root there comes
+ * from d at two points of that stretch and is checked with one more
+ * evaluation; elsewhere, or when the check fails, regula falsi (root()). */
+static kc_real plain_root(const dfun *f, kc_real lo, kc_real hi, kc_real dlo, kc_real dhi, kc_real d)
+{
+    kc_real v0 = f->v0, a0 = f->a0, A = f->A, J = f->J;
+    kc_real s = hi > KC_R(0.0) ? KC_R(1.0) : KC_R(-1.0);
+    kc_real v_near = s > KC_R(0.0) ? lo : hi, d_near = s > KC_R(0.0) ? dlo : dhi;
+    kc_real v_far = s > KC_R(0.0) ? hi : lo, d_far = s > KC_R(0.0) ? dhi : dlo;
+    kc_real as = s * a0, vn = s * v0 + as * kc_fabs(as) / (KC_R(2.0) * J);
+    kc_real vb = s * kc_max(A * A / J, as > A ? vn : s * v0 + (KC_R(2.0) * A * A - as * as) / (KC_R(2.0) * J));
+    if (!(s * vb < s * v_far))
+        return root(f, lo, hi, dlo - d, dhi - d, d);
+    if (s * vb > s * v_near) {
+        kc_real db = dist_of(vb, v0, a0, A, J);
+        if (s * (d - db) < KC_R(0.0)) /* between the v_near end and vb */
+            return s > KC_R(0.0) ? root(f, lo, vb, dlo - d, db - d, d) : root(f, vb, hi, db - d, dhi - d, d);
+        v_near = vb;
+        d_near = db;
+    }
+    /* c2 x^2 + c1 x + c0 = 0 through (v_near, d_near - d), (v_far, d_far - d),
+     * its root between them (the two roots without cancellation). */
+    kc_real c2 = s / A, c1 = (d_far - d_near) / (v_far - v_near) - c2 * (v_far + v_near);
+    kc_real c0 = d_near - d - v_near * (c2 * v_near + c1), disc = c1 * c1 - KC_R(4.0) * c2 * c0;
+    kc_real q = KC_R(-0.5) * (c1 + (c1 >= KC_R(0.0) ? kc_sqrt(kc_max(disc, KC_R(0.0))) : -kc_sqrt(kc_max(disc, KC_R(0.0)))));
+    kc_real x = q / c2, x2 = q != KC_R(0.0) ? c0 / q : x;
+    kc_real a = kc_min(v_near, v_far), b = kc_max(v_near, v_far);
+    if (!(x >= a && x <= b))
+        x = x2;
+    if (x >= a && x <= b) {
+        kc_real fx = dist_of(x, v0, a0, A, J) - d;
+        if (kc_fabs(fx) <= KC_R(4.0) * KC_REAL_EPS * kc_fabs(d))
+            return x;
+        /* Narrow the stretch's bracket with x for regula falsi. */
+        if ((fx < KC_R(0.0)) == (d_near - d < KC_R(0.0))) {
+            v_near = x;
+            d_near = fx + d;
+        } else {
+            v_far = x;
+            d_far = fx + d;
+        }
+    }
+    return s > KC_R(0.0) ? root(f, v_near, v_far, d_near - d, d_far - d, d) : root(f, v_far, v_near, d_far - d, d_near - d, d);
+}
+
 static int limits_ok(kc_real vmax, kc_real amax, kc_real jmax, kc_real dt)
 {
     /* Written with ! so that NaN fails every test into an error. */
@@ -424,11 +475,11 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     kc_real vp = KC_R(0.0), best = KC_R(-1.0), s_gap = KC_R(-1.0);
     dfun f = {0, v0, a0, A, J, KC_R(0.0)}, g = {1, v0, a0, A, J, KC_R(0.0)};
     if (d <= d1) {
-        vp = root(&f, -V, m1, dl - d, d1 - d, d);
+        vp = plain_root(&f, -V, m1, dl, d1, d);
         best = change_stop_time(vp, v0, a0, A, J, NULL);
     }
     if (d >= d2) {
-        kc_real w = root(&f, m2, V, d2 - d, dh - d, d);
+        kc_real w = plain_root(&f, m2, V, d2, dh, d);
         kc_real tw = change_stop_time(w, v0, a0, A, J, NULL);
         if (best < KC_R(0.0) || tw < best) {
             vp = w;
