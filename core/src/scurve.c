@@ -818,7 +818,13 @@ kc_status kc_scurve_stretch(kc_scurve *prof, const kc_scurve *fast, kc_real vmax
     if (duration <= fast->T) {
         if (duration < fast->T * (KC_R(1.0) - KC_R(8.0) * KC_REAL_EPS))
             return KC_E_LIMIT;
-        if (fast->n < 0) /* its header alone (kc_scurve_plan_time): lay it out */
+        /* Its header alone (kc_scurve_plan_time): a plain plan is laid out
+         * from vp to last T, its cruise (if any) filling the time between
+         * the change and the stop; a gap plan is planned again. */
+        if (fast->n < 0 && !fast->gap)
+            return build_vp(prof, fast->p0, fast->v0, fast->a0, fast->p1, fast->vp, KC_R(0.0), amax, jmax, fast->T,
+                            fast->dt);
+        if (fast->n < 0)
             return kc_scurve_plan(prof, fast->p0, fast->v0, fast->a0, fast->p1, vmax, amax, jmax, fast->dt);
         if (prof != fast)
             *prof = *fast;

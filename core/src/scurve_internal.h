@@ -12,7 +12,7 @@
  * the plan it stretches: p0, v0, a0, p1, vp, gap, T, dt and ticks (the same
  * values as kc_scurve_plan's), with n = -1 for the phases not laid out.
  * Such a plan is never evaluated: kc_scurve_stretch makes a profile of it,
- * laying out the optimum (kc_scurve_plan) for a duration at most its T.
+ * laying out the optimum itself for a duration at most its T.
  * Errors as kc_scurve_plan's. */
 kc_status kc_scurve_plan_time(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
                               kc_real amax, kc_real jmax, kc_real dt);
