@@ -34,17 +34,18 @@ static void vchange_plan(vchange *c, kc_real v, kc_real a, kc_real w, kc_real A,
         vchange_add(c, a > KC_R(0.0) ? -J : J, kc_fabs(a) / J);
         return;
     }
-    /* Work along sg, the side the acceleration must go to. */
-    kc_real sg = w > vn ? KC_R(1.0) : KC_R(-1.0);
+    /* Work along sg, the side the acceleration must go to. One division
+     * by J for the phases (they are on every planning's path). */
+    kc_real sg = w > vn ? KC_R(1.0) : KC_R(-1.0), iJ = KC_R(1.0) / J;
     kc_real as = sg * a, dw = sg * (w - v), dn = sg * (w - vn);
     if (as > A) {
         /* Outside the limit: ramp down to A, hold, ramp to zero. */
-        vchange_add(c, -sg * J, (as - A) / J);
+        vchange_add(c, -sg * J, (as - A) * iJ);
         vchange_add(c, KC_R(0.0), dn / A);
-        vchange_add(c, -sg * J, A / J);
+        vchange_add(c, -sg * J, A * iJ);
         return;
     }
-    kc_real full = (KC_R(2.0) * A * A - as * as) / (KC_R(2.0) * J);
+    kc_real full = (KC_R(2.0) * A * A - as * as) * (KC_R(0.5) * iJ);
     kc_real ap = A, th = KC_R(0.0);
     if (dw >= full) {
         th = (dw - full) / A;
@@ -53,16 +54,16 @@ static void vchange_plan(vchange *c, kc_real v, kc_real a, kc_real w, kc_real A,
         /* dn > 0 makes ap > max(as, 0) exactly; keep it so under rounding. */
         ap = kc_min(kc_max(ap, kc_max(as, KC_R(0.0))), A);
     }
-    vchange_add(c, sg * J, (ap - as) / J);
+    vchange_add(c, sg * J, (ap - as) * iJ);
     vchange_add(c, KC_R(0.0), th);
-    vchange_add(c, -sg * J, ap / J);
+    vchange_add(c, -sg * J, ap * iJ);
 }
 
 /* Advances (p, v, a) by a phase of jerk j over tau (which may be
  * negative: backwards). */
 static void advance(kc_real *p, kc_real *v, kc_real *a, kc_real j, kc_real tau)
 {
-    *p += tau * (*v + tau * (KC_R(0.5) * *a + tau * j / KC_R(6.0)));
+    *p += tau * (*v + tau * (KC_R(0.5) * *a + tau * j * (KC_R(1.0) / KC_R(6.0))));
     *v += tau * (*a + KC_R(0.5) * tau * j);
     *a += j * tau;
 }
@@ -342,8 +343,8 @@ static kc_status build_vp(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, k
 }
 
 /* What build() makes of the same phases but the phases themselves: the
- * start, target, vp, T (summed as build() sums it, so that laying the
- * phases later gives the same T) and ticks, with n = -1
+ * start, target, vp and T (summed as build() sums it, so that laying the
+ * phases later gives the same T), with n = -1 and ticks = -1
  * (scurve_internal.h). */
 static kc_status build_header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, const vchange *c,
                               kc_real vp, kc_real tc, const vchange *s, kc_real dt)
@@ -354,8 +355,7 @@ static kc_status build_header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a
     for (int i = 0; i < s->n; i++)
         t_stop += s->t[i];
     kc_real T = t + kc_max(tc, KC_R(0.0)) + t_stop;
-    int64_t ticks = kc_isfinite(T) ? kc_profile_ticks(T, dt) : -1;
-    if (ticks < 0)
+    if (!kc_isfinite(T))
         return KC_E_CAPACITY;
     prof->p0 = p0;
     prof->v0 = v0;
@@ -366,7 +366,7 @@ static kc_status build_header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a
     prof->n = -1;
     prof->T = T;
     prof->dt = dt;
-    prof->ticks = ticks;
+    prof->ticks = -1; /* not counted: the stretch counts its own */
     return KC_OK;
 }
 
@@ -689,6 +689,26 @@ static int exact_fit(kc_real v0, kc_real a0, kc_real vl, kc_real vh, kc_real A, 
     return as > A || (*sg * (vl - v0) >= full && *sg * (vh - v0) >= full);
 }
 
+/* cruise_time_of in closed form where exact_fit holds (sg its side):
+ * in the frame of sg (u = sg v, as = sg a0), the change's first phase
+ * takes the acceleration to amax in t1, reaching u1 over x1; the hold
+ * takes u1 to u2 = sg vp - A^2 / (2J) in (u2 - u1) / A over
+ * (u2^2 - u1^2) / (2A); the last phase adds A / J and u2 A / J +
+ * A^3 / (3 J^2). The stop lasts |vp| / A + A / J over half of vp times
+ * that, and the cruise covers the rest of d. */
+static kc_real held_time(kc_real vp, kc_real sg, kc_real d, kc_real v0, kc_real a0, kc_real A, kc_real J)
+{
+    kc_real u0 = sg * v0, as = sg * a0, jt = as > A ? -J : J;
+    kc_real t1 = (as > A ? as - A : A - as) / J;
+    kc_real u1 = u0 + (A * A - as * as) / (KC_R(2.0) * jt); /* u0 + as t1 + jt t1^2 / 2 */
+    kc_real x1 = t1 * (u0 + t1 * (KC_R(0.5) * as + t1 * jt * (KC_R(1.0) / KC_R(6.0))));
+    kc_real u2 = sg * vp - A * A / (KC_R(2.0) * J), tj = A / J;
+    kc_real t_change = t1 + (u2 - u1) / A + tj;
+    kc_real d_change = sg * (x1 + (u2 * u2 - u1 * u1) / (KC_R(2.0) * A) + u2 * tj + A * tj * tj / KC_R(3.0));
+    kc_real ts = kc_fabs(vp) / A + tj;
+    return t_change + ts + (d - d_change - KC_R(0.5) * vp * ts) / vp;
+}
+
 /* Keeps the bracket (vh: T - duration <= 0, vl: >= 0) tight with a new
  * point v of value f. */
 static void narrow(kc_real v, kc_real f, kc_real *vh, kc_real *th, kc_real *vl, kc_real *tl)
@@ -744,12 +764,15 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
         return KC_E_LIMIT; /* between the optimum and the slowest cruise this side allows */
     /* vl: where the cruise alone, e / vp, would fill the duration, then
      * halved until the plan lasts at least that long (the cruise grows as
-     * 1 / vp: rarely more than a halving). */
-    kc_real vl = kc_min(kc_fabs(e) / duration, kc_fabs(vh)) * s;
-    kc_real tl = cruise_time_of(vl, d, v0, a0, A, J, NULL) - duration, tc = KC_R(-1.0);
+     * 1 / vp: rarely more than a halving); its duration in closed form
+     * where exact_fit holds. */
+    kc_real vl = kc_min(kc_fabs(e) / duration, kc_fabs(vh)) * s, tl = KC_R(-1.0), tc = KC_R(-1.0), sg;
+    int exact = 0;
     for (int i = 0; i < KC_SCURVE_MAX_ITER && tl < KC_R(0.0); i++) {
-        vl *= KC_R(0.5);
-        tl = cruise_time_of(vl, d, v0, a0, A, J, NULL) - duration;
+        if (i > 0)
+            vl *= KC_R(0.5);
+        exact = exact_fit(v0, a0, vl, vh, A, J, &sg);
+        tl = (exact ? held_time(vl, sg, d, v0, a0, A, J) : cruise_time_of(vl, d, v0, a0, A, J, NULL)) - duration;
     }
     if (!(tl >= KC_R(0.0)) || !kc_isfinite(tl))
         return KC_E_CAPACITY;
@@ -762,8 +785,7 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
      * grows as sg vp / A and the stop's as s vp / A, and their distances
      * as vp^2 / (2A) of the same signs, which the cruise gives back. Then
      * vh and vl alone fix the quadratic, and its root needs no check. */
-    kc_real vm = KC_R(2.0) / (KC_R(1.0) / vh + KC_R(1.0) / vl), tm, sg;
-    int exact = exact_fit(v0, a0, vl, vh, A, J, &sg);
+    kc_real vm = KC_R(2.0) / (KC_R(1.0) / vh + KC_R(1.0) / vl), tm;
     if (exact) {
         kc_real c2 = (sg + s) / (KC_R(2.0) * A), fh = th * vh, fl = tl * vl;
         kc_real c1 = (fh - fl) / (vh - vl) - c2 * (vh + vl), c0 = fh - vh * (c2 * vh + c1);

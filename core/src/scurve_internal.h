@@ -9,8 +9,10 @@
 #include "kinctl/scurve.h"
 
 /* As kc_scurve_plan, but *prof gets only what kc_scurve_stretch reads of
- * the plan it stretches: p0, v0, a0, p1, vp, gap, T, dt and ticks (the same
- * values as kc_scurve_plan's), with n = -1 for the phases not laid out.
+ * the plan it stretches: p0, v0, a0, p1, vp, gap, T and dt (the same
+ * values as kc_scurve_plan's), with n = -1 for the phases not laid out and
+ * ticks = -1 (not counted: a duration beyond KC_PROFILE_MAX_TICKS is
+ * KC_E_CAPACITY when the stretch lays out its profile).
  * Such a plan is never evaluated: kc_scurve_stretch makes a profile of it,
  * laying out the optimum itself for a duration at most its T.
  * Errors as kc_scurve_plan's. */
