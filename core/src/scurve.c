@@ -206,6 +206,28 @@ static kc_real root(const dfun *f, kc_real lo, kc_real hi, kc_real flo, kc_real 
     return kc_fabs(flo) <= kc_fabs(fhi) ? lo : hi;
 }
 
+/* The root strictly between lo and hi of qa x^2 + qb x + qc (the two
+ * roots without cancellation), or 0 when it has none there. */
+static kc_real poly2_root(kc_real qa, kc_real qb, kc_real qc, kc_real lo, kc_real hi)
+{
+    kc_real r1, r2;
+    if (qa == KC_R(0.0)) {
+        r1 = r2 = -qc / qb;
+    } else {
+        kc_real disc = qb * qb - KC_R(4.0) * qa * qc;
+        if (!(disc >= KC_R(0.0)))
+            return KC_R(0.0);
+        kc_real q = KC_R(-0.5) * (qb + (qb >= KC_R(0.0) ? kc_sqrt(disc) : -kc_sqrt(disc)));
+        r1 = q / qa;
+        r2 = q != KC_R(0.0) ? qc / q : r1;
+    }
+    if (r1 > lo && r1 < hi)
+        return r1;
+    if (r2 > lo && r2 < hi)
+        return r2;
+    return KC_R(0.0);
+}
+
 /* The root of d(vp) = d on a plain branch [lo, hi] ([max(vn, 0), V] or
  * [-V, min(vn, 0)]; dlo, dhi: d at its ends, bracketing d). Along the
  * branch the change ends beyond vn (sg = s, the branch's sign). Where it
@@ -235,13 +257,9 @@ static kc_real plain_root(const dfun *f, kc_real lo, kc_real hi, kc_real dlo, kc
     /* c2 x^2 + c1 x + c0 = 0 through (v_near, d_near - d), (v_far, d_far - d),
      * its root between them (the two roots without cancellation). */
     kc_real c2 = s / A, c1 = (d_far - d_near) / (v_far - v_near) - c2 * (v_far + v_near);
-    kc_real c0 = d_near - d - v_near * (c2 * v_near + c1), disc = c1 * c1 - KC_R(4.0) * c2 * c0;
-    kc_real q = KC_R(-0.5) * (c1 + (c1 >= KC_R(0.0) ? kc_sqrt(kc_max(disc, KC_R(0.0))) : -kc_sqrt(kc_max(disc, KC_R(0.0)))));
-    kc_real x = q / c2, x2 = q != KC_R(0.0) ? c0 / q : x;
-    kc_real a = kc_min(v_near, v_far), b = kc_max(v_near, v_far);
-    if (!(x >= a && x <= b))
-        x = x2;
-    if (x >= a && x <= b) {
+    kc_real c0 = d_near - d - v_near * (c2 * v_near + c1);
+    kc_real x = poly2_root(c2, c1, c0, kc_min(v_near, v_far), kc_max(v_near, v_far));
+    if (x != KC_R(0.0)) {
         kc_real fx = dist_of(x, v0, a0, A, J) - d;
         if (kc_fabs(fx) <= KC_R(4.0) * KC_REAL_EPS * kc_fabs(d))
             return x;
@@ -653,23 +671,7 @@ static kc_real quad_root(kc_real v1, kc_real g1, kc_real v2, kc_real g2, kc_real
     kc_real f12 = (g2 - g1) / (v2 - v1), f23 = (g3 - g2) / (v3 - v2);
     kc_real qa = (f23 - f12) / (v3 - v1);
     kc_real qb = f12 - qa * (v1 + v2), qc = g1 - v1 * (f12 - qa * v2);
-    kc_real lo = kc_min(v1, v3), hi = kc_max(v1, v3), r1, r2;
-    if (qa == KC_R(0.0)) {
-        r1 = r2 = -qc / qb;
-    } else {
-        kc_real disc = qb * qb - KC_R(4.0) * qa * qc;
-        if (!(disc >= KC_R(0.0)))
-            return KC_R(0.0);
-        /* The two roots without cancellation. */
-        kc_real q = KC_R(-0.5) * (qb + (qb >= KC_R(0.0) ? kc_sqrt(disc) : -kc_sqrt(disc)));
-        r1 = q / qa;
-        r2 = q != KC_R(0.0) ? qc / q : r1;
-    }
-    if (r1 > lo && r1 < hi)
-        return r1;
-    if (r2 > lo && r2 < hi)
-        return r2;
-    return KC_R(0.0);
+    return poly2_root(qa, qb, qc, kc_min(v1, v3), kc_max(v1, v3));
 }
 
 /* Whether the plain plans through every vp from vl to vh (one sign, vl !=
@@ -698,14 +700,16 @@ static int exact_fit(kc_real v0, kc_real a0, kc_real vl, kc_real vh, kc_real A, 
  * that, and the cruise covers the rest of d. */
 static kc_real held_time(kc_real vp, kc_real sg, kc_real d, kc_real v0, kc_real a0, kc_real A, kc_real J)
 {
-    kc_real u0 = sg * v0, as = sg * a0, jt = as > A ? -J : J;
-    kc_real t1 = (as > A ? as - A : A - as) / J;
-    kc_real u1 = u0 + (A * A - as * as) / (KC_R(2.0) * jt); /* u0 + as t1 + jt t1^2 / 2 */
+    kc_real iJ = KC_R(1.0) / J, iA = KC_R(1.0) / A; /* three divisions in all */
+    kc_real u0 = sg * v0, as = sg * a0, jt = as > A ? -J : J, tj = A * iJ;
+    kc_real t1 = (as > A ? as - A : A - as) * iJ;
+    kc_real u1 = u0 + (as > A ? as * as - A * A : A * A - as * as) * (KC_R(0.5) * iJ); /* u0 + as t1 + jt t1^2 / 2 */
     kc_real x1 = t1 * (u0 + t1 * (KC_R(0.5) * as + t1 * jt * (KC_R(1.0) / KC_R(6.0))));
-    kc_real u2 = sg * vp - A * A / (KC_R(2.0) * J), tj = A / J;
-    kc_real t_change = t1 + (u2 - u1) / A + tj;
-    kc_real d_change = sg * (x1 + (u2 * u2 - u1 * u1) / (KC_R(2.0) * A) + u2 * tj + A * tj * tj / KC_R(3.0));
-    kc_real ts = kc_fabs(vp) / A + tj;
+    kc_real u2 = sg * vp - KC_R(0.5) * A * tj;
+    kc_real t_change = t1 + (u2 - u1) * iA + tj;
+    kc_real d_change =
+        sg * (x1 + (u2 * u2 - u1 * u1) * (KC_R(0.5) * iA) + u2 * tj + A * tj * tj * (KC_R(1.0) / KC_R(3.0)));
+    kc_real ts = kc_fabs(vp) * iA + tj;
     return t_change + ts + (d - d_change - KC_R(0.5) * vp * ts) / vp;
 }
 
@@ -785,25 +789,26 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
      * grows as sg vp / A and the stop's as s vp / A, and their distances
      * as vp^2 / (2A) of the same signs, which the cruise gives back. Then
      * vh and vl alone fix the quadratic, and its root needs no check. */
-    kc_real vm = KC_R(2.0) / (KC_R(1.0) / vh + KC_R(1.0) / vl), tm;
+    kc_real vp = KC_R(0.0);
     if (exact) {
         kc_real c2 = (sg + s) / (KC_R(2.0) * A), fh = th * vh, fl = tl * vl;
         kc_real c1 = (fh - fl) / (vh - vl) - c2 * (vh + vl), c0 = fh - vh * (c2 * vh + c1);
-        tm = c0 / vm + c1 + c2 * vm;
-    } else {
-        tm = cruise_time_of(vm, d, v0, a0, A, J, NULL) - duration;
-    }
-    kc_real vp = quad_root(vh, th * vh, vm, tm * vm, vl, tl * vl);
-    if (vp != KC_R(0.0) && exact) {
+        vp = poly2_root(c2, c1, c0, kc_min(vl, vh), kc_max(vl, vh));
         tc = KC_R(0.0); /* within the bracket, which the cruise covers */
-    } else if (vp != KC_R(0.0)) {
-        kc_real tq = cruise_time_of(vp, d, v0, a0, A, J, &tc) - duration;
-        if (kc_fabs(tq) > KC_R(4.0) * KC_REAL_EPS * duration) {
-            narrow(vp, tq, &vh, &th, &vl, &tl);
-            vp = KC_R(0.0);
-        }
     }
-    narrow(vm, tm, &vh, &th, &vl, &tl);
+    if (vp == KC_R(0.0)) {
+        kc_real vm = KC_R(2.0) / (KC_R(1.0) / vh + KC_R(1.0) / vl);
+        kc_real tm = cruise_time_of(vm, d, v0, a0, A, J, NULL) - duration;
+        vp = quad_root(vh, th * vh, vm, tm * vm, vl, tl * vl);
+        if (vp != KC_R(0.0)) {
+            kc_real tq = cruise_time_of(vp, d, v0, a0, A, J, &tc) - duration;
+            if (kc_fabs(tq) > KC_R(4.0) * KC_REAL_EPS * duration) {
+                narrow(vp, tq, &vh, &th, &vl, &tl);
+                vp = KC_R(0.0);
+            }
+        }
+        narrow(vm, tm, &vh, &th, &vl, &tl);
+    }
     if (vp == KC_R(0.0)) {
         /* In x = 1 / vp, ascending: 1 / vh < 1 / vl for s > 0, the other
          * way round for s < 0. */
