@@ -51,14 +51,16 @@ static kc_real move_time(kc_real D, kc_real v, kc_real a)
  * two joints). */
 static size_t plan_size(int n) { return offsetof(kc_interp_joint, sj) + (size_t)n * sizeof(kc_scurve); }
 
-/* kc_interp_joint_plan into *out, which is scratch on error: the planners
- * below fill their own plan with it instead of copying one more (a plan
- * holds a jerk-limited profile a joint: its copies are the planning's
- * stack). */
-static kc_status plan_trap(kc_interp_joint *out, int n, const kc_real *q0, const kc_real *q1, const kc_real *qd_max,
-                           const kc_real *qdd_max, kc_real duration, kc_real dt)
+/* What every joint move starts from, into *out (scratch on error): the
+ * arguments checked, *out cleared (but for its profiles sj[n..]), q0, q1,
+ * dq, the joints that set V and A (lead_vel, lead_acc) and the bounds of u
+ * (u_vmax, u_amax); no leading joint yet (lead = -1). The planners below
+ * fill their own plan with it instead of copying one more (a plan holds a
+ * jerk-limited profile a joint: its copies are the planning's stack). */
+static kc_status plan_common(kc_interp_joint *out, int n, const kc_real *q0, const kc_real *q1, const kc_real *qd_max,
+                             const kc_real *qdd_max, kc_real duration, kc_real dt)
 {
-    kc_real V = INF, A = INF, T_lead = KC_R(-1.0), best_v = KC_R(0.0), best_a = KC_R(0.0);
+    kc_real V = INF, A = INF, best_v = KC_R(0.0), best_a = KC_R(0.0);
     if (q0 == NULL || q1 == NULL || qd_max == NULL || qdd_max == NULL || n < 1)
         return KC_E_ARG;
     if (n > KC_MAX_JOINTS)
@@ -81,11 +83,6 @@ static kc_status plan_trap(kc_interp_joint *out, int n, const kc_real *q0, const
         if (D == KC_R(0.0))
             continue;
         /* Strict comparisons: ties go to the lowest index, as in (4.2). */
-        kc_real Ti = move_time(D, qd_max[i], qdd_max[i]);
-        if (Ti > T_lead) {
-            T_lead = Ti;
-            out->lead = i;
-        }
         if (D / qd_max[i] > best_v) {
             best_v = D / qd_max[i];
             out->lead_vel = i;
@@ -98,7 +95,30 @@ static kc_status plan_trap(kc_interp_joint *out, int n, const kc_real *q0, const
     }
     out->u_vmax = V;
     out->u_amax = A;
-    kc_status st = plan_u(&out->prof, V, A, duration, dt);
+    return KC_OK;
+}
+
+/* kc_interp_joint_plan into *out, which is scratch on error: plan_common,
+ * the leading joint (4.2) and the trapezoid of u. */
+static kc_status plan_trap(kc_interp_joint *out, int n, const kc_real *q0, const kc_real *q1, const kc_real *qd_max,
+                           const kc_real *qdd_max, kc_real duration, kc_real dt)
+{
+    kc_real T_lead = KC_R(-1.0);
+    kc_status st = plan_common(out, n, q0, q1, qd_max, qdd_max, duration, dt);
+    if (st != KC_OK)
+        return st;
+    for (int i = 0; i < n; i++) {
+        kc_real D = kc_fabs(out->dq[i]);
+        if (D == KC_R(0.0))
+            continue;
+        /* Strict comparison: ties go to the lowest index, as in (4.2). */
+        kc_real Ti = move_time(D, qd_max[i], qdd_max[i]);
+        if (Ti > T_lead) {
+            T_lead = Ti;
+            out->lead = i;
+        }
+    }
+    st = plan_u(&out->prof, out->u_vmax, out->u_amax, duration, dt);
     if (st != KC_OK)
         return st;
     out->kind = KC_PROFILE_TRAPEZOID;
@@ -136,7 +156,7 @@ static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
     kc_status st;
     /* The limits, the start and the leading joints as the trapezoid has
      * them (u_vmax, u_amax, lead_vel, lead_acc). */
-    st = plan_trap(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
+    st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
     if (st != KC_OK)
         return st;
     memset(&out->prof, 0, sizeof out->prof);
@@ -327,7 +347,7 @@ static void line_from_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 {
     kc_real T = KC_R(0.0);
-    kc_status st = plan_trap(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
+    kc_status st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
     if (st != KC_OK)
         return st;
     memset(&out->prof, 0, sizeof out->prof);
