@@ -360,19 +360,12 @@ static kc_status build_vp(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, k
     return build(prof, p0, v0, a0, p1, &c, vp, tc, &s, duration, dt);
 }
 
-/* What build() makes of the same phases but the phases themselves: the
- * start, target, vp and T (summed as build() sums it, so that laying the
- * phases later gives the same T), with n = -1 and ticks = -1
- * (scurve_internal.h). */
-static kc_status build_header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, const vchange *c,
-                              kc_real vp, kc_real tc, const vchange *s, kc_real dt)
+/* A plan's header alone (scurve_internal.h): the start, target, vp and
+ * duration T, with n = -1 and ticks = -1 (not counted: the stretch counts
+ * its own). */
+static kc_status header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vp, kc_real T,
+                        kc_real dt)
 {
-    kc_real t = KC_R(0.0), t_stop = KC_R(0.0);
-    for (int i = 0; i < c->n; i++)
-        t += c->t[i];
-    for (int i = 0; i < s->n; i++)
-        t_stop += s->t[i];
-    kc_real T = t + kc_max(tc, KC_R(0.0)) + t_stop;
     if (!kc_isfinite(T))
         return KC_E_CAPACITY;
     prof->p0 = p0;
@@ -384,8 +377,21 @@ static kc_status build_header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a
     prof->n = -1;
     prof->T = T;
     prof->dt = dt;
-    prof->ticks = -1; /* not counted: the stretch counts its own */
+    prof->ticks = -1;
     return KC_OK;
+}
+
+/* The header of the profile build() would make of these phases, T summed
+ * as build() sums it. */
+static kc_status build_header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, const vchange *c,
+                              kc_real vp, kc_real tc, const vchange *s, kc_real dt)
+{
+    kc_real t = KC_R(0.0), t_stop = KC_R(0.0);
+    for (int i = 0; i < c->n; i++)
+        t += c->t[i];
+    for (int i = 0; i < s->n; i++)
+        t_stop += s->t[i];
+    return header(prof, p0, v0, a0, p1, vp, t + kc_max(tc, KC_R(0.0)) + t_stop, dt);
 }
 
 /* The end of a time-optimal plan: the profile (lay), or its header alone. */
@@ -470,16 +476,20 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
         if (i == 64 || !kc_isfinite(V))
             return KC_E_CAPACITY;
     }
-    kc_real dh = dist_of(V, v0, a0, A, J);
+    /* A header's duration is the one its choice was made with: the
+     * change and the stop (change_stop_time) and the cruise. */
+    kc_real dh, dl, th = change_stop_time(V, v0, a0, A, J, &dh);
     if (!kc_isfinite(dh))
         return KC_E_CAPACITY;
     if (d >= dh)
-        return finish_vp(prof, lay, p0, v0, a0, p1, V, (d - dh) / V, A, J, dt);
-    kc_real dl = dist_of(-V, v0, a0, A, J);
+        return lay ? finish_vp(prof, lay, p0, v0, a0, p1, V, (d - dh) / V, A, J, dt)
+                   : header(prof, p0, v0, a0, p1, V, th + (d - dh) / V, dt);
+    kc_real tl = change_stop_time(-V, v0, a0, A, J, &dl);
     if (!kc_isfinite(dl))
         return KC_E_CAPACITY;
     if (d <= dl)
-        return finish_vp(prof, lay, p0, v0, a0, p1, -V, (dl - d) / V, A, J, dt);
+        return lay ? finish_vp(prof, lay, p0, v0, a0, p1, -V, (dl - d) / V, A, J, dt)
+                   : header(prof, p0, v0, a0, p1, -V, tl + (dl - d) / V, dt);
     /* dl < d < dh, Tc = 0. The plain branches are vp <= min(vn, 0) and
      * vp >= max(vn, 0), where the change ends on the other side of zero
      * acceleration than the stop starts, so vp is a true extremum; d
@@ -525,9 +535,12 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
             prof->gap = 1;
         return r;
     }
-    if (best < KC_R(0.0))
+    if (best < KC_R(0.0)) {
         vp = root(&f, m1, m2, d1 - d, d2 - d, d);
-    return finish_vp(prof, lay, p0, v0, a0, p1, vp, KC_R(0.0), A, J, dt);
+        best = lay ? best : change_stop_time(vp, v0, a0, A, J, NULL);
+    }
+    return lay ? finish_vp(prof, lay, p0, v0, a0, p1, vp, KC_R(0.0), A, J, dt)
+               : header(prof, p0, v0, a0, p1, vp, best, dt);
 }
 
 kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,

@@ -10,7 +10,9 @@
 
 /* As kc_scurve_plan, but *prof gets only what kc_scurve_stretch reads of
  * the plan it stretches: p0, v0, a0, p1, vp, gap, T and dt (the same
- * values as kc_scurve_plan's), with n = -1 for the phases not laid out and
+ * values as kc_scurve_plan's, T within its rounding: the duration the
+ * choice between the plans was made with, which the profile laid out
+ * from the header lasts exactly), with n = -1 for the phases not laid out and
  * ticks = -1 (not counted: a duration beyond KC_PROFILE_MAX_TICKS is
  * KC_E_CAPACITY when the stretch lays out its profile).
  * Such a plan is never evaluated: kc_scurve_stretch makes a profile of it,
