@@ -28,15 +28,19 @@ static void vchange_add(vchange *c, kc_real j, kc_real t)
  * limits A and J (kinctl/scurve.h, "Velocity change"). */
 static void vchange_plan(vchange *c, kc_real v, kc_real a, kc_real w, kc_real A, kc_real J)
 {
+    /* One division by J (this is on every planning's path). vn may differ
+     * in its last bit from a caller's v + a |a| / (2J): a w that misses it
+     * so takes the general branch below, whose phases are then the same
+     * ramp of a to zero (a hold of zero, ap = |a|). */
+    kc_real iJ = KC_R(1.0) / J;
     c->n = 0;
-    kc_real vn = v + a * kc_fabs(a) / (KC_R(2.0) * J);
+    kc_real vn = v + a * kc_fabs(a) * (KC_R(0.5) * iJ);
     if (w == vn) {
-        vchange_add(c, a > KC_R(0.0) ? -J : J, kc_fabs(a) / J);
+        vchange_add(c, a > KC_R(0.0) ? -J : J, kc_fabs(a) * iJ);
         return;
     }
-    /* Work along sg, the side the acceleration must go to. One division
-     * by J for the phases (they are on every planning's path). */
-    kc_real sg = w > vn ? KC_R(1.0) : KC_R(-1.0), iJ = KC_R(1.0) / J;
+    /* Work along sg, the side the acceleration must go to. */
+    kc_real sg = w > vn ? KC_R(1.0) : KC_R(-1.0);
     kc_real as = sg * a, dw = sg * (w - v), dn = sg * (w - vn);
     if (as > A) {
         /* Outside the limit: ramp down to A, hold, ramp to zero. */
