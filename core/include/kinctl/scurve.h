@@ -210,8 +210,10 @@ kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_re
  * the optimum (beyond 8 units of roundoff) and for one in a blocked
  * interval: longer than the optimum but shorter than the fastest cruise on
  * the side of e lasts (when the optimum lies on the other branch or in
- * the gap family); other errors as kc_scurve_plan. prof is untouched on
- * error. */
+ * the gap family), or needing a cruise below vn where the change and the
+ * stop alone already pass the target (d(vp) > d: a shape this family
+ * lacks, seen with jerk limits of a few rad/s^3; docs/testing.md); other
+ * errors as kc_scurve_plan. prof is untouched on error. */
 kc_status kc_scurve_plan_duration_from(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
                                        kc_real amax, kc_real jmax, kc_real duration, kc_real dt);
 
