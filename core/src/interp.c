@@ -5,7 +5,9 @@
 #include "kinctl/interp.h"
 
 #include "interp_internal.h"
+#include "scurve_internal.h"
 
+#include <stddef.h>
 #include <string.h>
 
 #define INF ((kc_real)INFINITY)
@@ -43,21 +45,29 @@ static kc_real move_time(kc_real D, kc_real v, kc_real a)
     return KC_R(2.0) * kc_sqrt(D / a); /* triangle */
 }
 
-/* kc_interp_joint_plan into *out, which is scratch on error: the planners
- * below fill their own plan with it instead of copying one more (a plan
- * holds a jerk-limited profile a joint: its copies are the planning's
- * stack). */
-static kc_status plan_trap(kc_interp_joint *out, int n, const kc_real *q0, const kc_real *q1, const kc_real *qd_max,
-                           const kc_real *qdd_max, kc_real duration, kc_real dt)
+/* The bytes of a plan of n joints: all but the profiles sj[n..], which
+ * nothing reads (a plan is 7.5 KB for the 16 joints it has room for, and
+ * clearing and copying it all would cost a planning as much as stretching
+ * two joints). */
+static size_t plan_size(int n) { return offsetof(kc_interp_joint, sj) + (size_t)n * sizeof(kc_scurve); }
+
+/* What every joint move starts from, into *out (scratch on error): the
+ * arguments checked, *out cleared (but for its profiles sj[n..]), q0, q1,
+ * dq, the joints that set V and A (lead_vel, lead_acc) and the bounds of u
+ * (u_vmax, u_amax); no leading joint yet (lead = -1). The planners below
+ * fill their own plan with it instead of copying one more (a plan holds a
+ * jerk-limited profile a joint: its copies are the planning's stack). */
+static kc_status plan_common(kc_interp_joint *out, int n, const kc_real *q0, const kc_real *q1, const kc_real *qd_max,
+                             const kc_real *qdd_max, kc_real duration, kc_real dt)
 {
-    kc_real V = INF, A = INF, T_lead = KC_R(-1.0), best_v = KC_R(0.0), best_a = KC_R(0.0);
+    kc_real V = INF, A = INF, best_v = KC_R(0.0), best_a = KC_R(0.0);
     if (q0 == NULL || q1 == NULL || qd_max == NULL || qdd_max == NULL || n < 1)
         return KC_E_ARG;
     if (n > KC_MAX_JOINTS)
         return KC_E_CAPACITY;
     if (!kc_isfinite(duration) || duration < KC_R(0.0) || !(dt > KC_R(0.0)) || !kc_isfinite(dt))
         return KC_E_ARG;
-    memset(out, 0, sizeof *out);
+    memset(out, 0, plan_size(n));
     out->n = n;
     out->lead = out->lead_vel = out->lead_acc = -1;
     for (int i = 0; i < n; i++) {
@@ -73,11 +83,6 @@ static kc_status plan_trap(kc_interp_joint *out, int n, const kc_real *q0, const
         if (D == KC_R(0.0))
             continue;
         /* Strict comparisons: ties go to the lowest index, as in (4.2). */
-        kc_real Ti = move_time(D, qd_max[i], qdd_max[i]);
-        if (Ti > T_lead) {
-            T_lead = Ti;
-            out->lead = i;
-        }
         if (D / qd_max[i] > best_v) {
             best_v = D / qd_max[i];
             out->lead_vel = i;
@@ -90,7 +95,30 @@ static kc_status plan_trap(kc_interp_joint *out, int n, const kc_real *q0, const
     }
     out->u_vmax = V;
     out->u_amax = A;
-    kc_status st = plan_u(&out->prof, V, A, duration, dt);
+    return KC_OK;
+}
+
+/* kc_interp_joint_plan into *out, which is scratch on error: plan_common,
+ * the leading joint (4.2) and the trapezoid of u. */
+static kc_status plan_trap(kc_interp_joint *out, int n, const kc_real *q0, const kc_real *q1, const kc_real *qd_max,
+                           const kc_real *qdd_max, kc_real duration, kc_real dt)
+{
+    kc_real T_lead = KC_R(-1.0);
+    kc_status st = plan_common(out, n, q0, q1, qd_max, qdd_max, duration, dt);
+    if (st != KC_OK)
+        return st;
+    for (int i = 0; i < n; i++) {
+        kc_real D = kc_fabs(out->dq[i]);
+        if (D == KC_R(0.0))
+            continue;
+        /* Strict comparison: ties go to the lowest index, as in (4.2). */
+        kc_real Ti = move_time(D, qd_max[i], qdd_max[i]);
+        if (Ti > T_lead) {
+            T_lead = Ti;
+            out->lead = i;
+        }
+    }
+    st = plan_u(&out->prof, out->u_vmax, out->u_amax, duration, dt);
     if (st != KC_OK)
         return st;
     out->kind = KC_PROFILE_TRAPEZOID;
@@ -107,7 +135,7 @@ kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, 
         return KC_E_ARG;
     kc_status st = plan_trap(&r, n, q0, q1, qd_max, qdd_max, duration, dt);
     if (st == KC_OK)
-        *plan = r;
+        memcpy(plan, &r, plan_size(r.n));
     return st;
 }
 
@@ -128,7 +156,7 @@ static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
     kc_status st;
     /* The limits, the start and the leading joints as the trapezoid has
      * them (u_vmax, u_amax, lead_vel, lead_acc). */
-    st = plan_trap(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
+    st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
     if (st != KC_OK)
         return st;
     memset(&out->prof, 0, sizeof out->prof);
@@ -212,6 +240,61 @@ static kc_status stretches_all(const kc_interp_joint *out, const kc_interp_joint
     return KC_OK;
 }
 
+/* Every joint's optimum in out->sj replaced by its stretch to T, in
+ * place: the plan needs each stretch once. When one falls into a blocked
+ * interval (KC_E_LIMIT), the optima of the joints already stretched are
+ * planned again, so that out->sj holds every optimum as before. */
+static kc_status stretch_in_place(kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl, kc_real T)
+{
+    for (int i = 0; i < c->n; i++) {
+        kc_status st = kc_scurve_stretch(&out->sj[i], &out->sj[i], c->qd_max[i], c->qdd_max[i], jl[i], T);
+        if (st == KC_OK)
+            continue;
+        for (int k = 0; k < i && st == KC_E_LIMIT; k++) {
+            kc_status sk = kc_scurve_plan_time(&out->sj[k], out->q0[k], c->qd0[k], c->qdd0[k], out->q1[k],
+                                               c->qd_max[k], c->qdd_max[k], jl[k], c->dt);
+            if (sk != KC_OK)
+                return sk;
+        }
+        return st;
+    }
+    return KC_OK;
+}
+
+/* Some joint's stretch to T falls into a blocked interval: the shortest
+ * duration past it, found by growing T by 2^m / 1024 of itself until
+ * every joint stretches, then halving the step between the last blocked
+ * and the first free duration (blocked durations are intervals,
+ * kinctl/scurve.h) ten times. The optima stay in out->sj while searching
+ * (one profile of scratch); then each is replaced by its stretch. */
+static kc_status stretch_past_blocked(kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl, kc_real T)
+{
+    kc_scurve tmp;
+    kc_real lo = T, hi = T + T * (KC_R(1.0) / KC_R(1024.0)), grow = KC_R(2.0) / KC_R(1024.0);
+    kc_status st;
+    for (int m = 1;; m++) {
+        st = stretches_all(out, c, jl, hi, &tmp);
+        if (st == KC_OK)
+            break;
+        if (st != KC_E_LIMIT || m == 15)
+            return st;
+        lo = hi;
+        hi += hi * grow;
+        grow *= KC_R(2.0);
+    }
+    for (int i = 0; i < 10; i++) {
+        kc_real mid = lo + KC_R(0.5) * (hi - lo);
+        st = stretches_all(out, c, jl, mid, &tmp);
+        if (st == KC_OK)
+            hi = mid;
+        else if (st == KC_E_LIMIT)
+            lo = mid;
+        else
+            return st;
+    }
+    return stretch_in_place(out, c, jl, hi);
+}
+
 /* A start moving along the line to the target: qd0 = lv dq and
  * qdd0 = la dq for every joint, within the rounding of dq = q1 - q0 (a
  * replacing goal with the target of a move synchronised by phase). Sets
@@ -264,7 +347,7 @@ static void line_from_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 {
     kc_real T = KC_R(0.0);
-    kc_status st = plan_trap(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
+    kc_status st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
     if (st != KC_OK)
         return st;
     memset(&out->prof, 0, sizeof out->prof);
@@ -273,16 +356,18 @@ static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cf
     out->sync = KC_INTERP_SYNC_TIME;
     out->lead = -1;
     out->u_jmax = INF;
-    /* Each joint's optimum into out->sj[i] (a joint at rest on its target: a
-     * zero-length plan, stretched into a wait). */
+    /* Each joint's optimum into out->sj[i], its duration without its
+     * phases (kc_scurve_plan_time: the slowest joint's are laid out when
+     * it is stretched to its own duration, the others' never are); a joint
+     * at rest on its target: a zero-length plan, stretched into a wait. */
     kc_real jl[KC_MAX_JOINTS];
     for (int i = 0; i < c->n; i++) {
         int still = out->dq[i] == KC_R(0.0) && c->qd0[i] == KC_R(0.0) && c->qdd0[i] == KC_R(0.0);
         if (!still && (!(c->qddd_max[i] > KC_R(0.0)) || !kc_isfinite(c->qddd_max[i])))
             return KC_E_ARG;
         jl[i] = still ? KC_R(1.0) : c->qddd_max[i];
-        st = kc_scurve_plan(&out->sj[i], out->q0[i], c->qd0[i], c->qdd0[i], out->q1[i], c->qd_max[i], c->qdd_max[i], jl[i],
-                            c->dt);
+        st = kc_scurve_plan_time(&out->sj[i], out->q0[i], c->qd0[i], c->qdd0[i], out->q1[i], c->qd_max[i],
+                                 c->qdd_max[i], jl[i], c->dt);
         if (st != KC_OK)
             return st;
         if (out->sj[i].T > T) {
@@ -297,42 +382,13 @@ static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cf
             return KC_E_LIMIT;
         T = kc_max(T, c->duration);
     }
-    /* The shortest T every joint can be stretched to: T itself, or past a
-     * blocked interval, found by growing T by 2^m / 1024 of itself until
-     * every joint stretches, then halving the step between the last
-     * blocked and the first free duration (blocked durations are
-     * intervals, kinctl/scurve.h) ten times. The optima stay in out->sj
-     * while searching (one profile of scratch); then each is replaced by
-     * its stretch. */
-    kc_scurve tmp;
-    kc_real lo = T, hi = T, grow = KC_R(1.0) / KC_R(1024.0);
-    int m = 0;
-    for (;; m++) {
-        st = stretches_all(out, c, jl, hi, &tmp);
-        if (st == KC_OK)
-            break;
-        if (st != KC_E_LIMIT || m == 15)
-            return st;
-        lo = hi;
-        hi += hi * grow;
-        grow *= KC_R(2.0);
-    }
-    for (int i = 0; i < 10 && m > 0; i++) {
-        kc_real mid = lo + KC_R(0.5) * (hi - lo);
-        st = stretches_all(out, c, jl, mid, &tmp);
-        if (st == KC_OK)
-            hi = mid;
-        else if (st == KC_E_LIMIT)
-            lo = mid;
-        else
-            return st;
-    }
-    for (int i = 0; i < c->n; i++) {
-        st = kc_scurve_stretch(&tmp, &out->sj[i], c->qd_max[i], c->qdd_max[i], jl[i], hi);
-        if (st != KC_OK)
-            return st;
-        out->sj[i] = tmp;
-    }
+    /* The shortest T every joint can be stretched to: T itself (each
+     * joint stretched once, in place), or past a blocked interval. */
+    st = stretch_in_place(out, c, jl, T);
+    if (st == KC_E_LIMIT)
+        st = stretch_past_blocked(out, c, jl, T);
+    if (st != KC_OK)
+        return st;
     out->T = out->sj[out->lead].T;
     out->ticks = out->sj[out->lead].ticks;
     line_from_moving(out, c);
@@ -369,7 +425,7 @@ kc_status kc_interp_joint_plan_cfg(kc_interp_joint *plan, const kc_interp_joint_
         return KC_E_ARG;
     kc_status st = kc_interp_joint_plan_cfg_into(&r, cfg);
     if (st == KC_OK)
-        *plan = r;
+        memcpy(plan, &r, plan_size(r.n));
     return st;
 }
 

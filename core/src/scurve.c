@@ -7,6 +7,7 @@
 
 #include "kinctl/profile.h"
 #include "profile_internal.h"
+#include "scurve_internal.h"
 
 /* One velocity change: at most three phases of constant jerk. */
 typedef struct vchange {
@@ -27,10 +28,15 @@ static void vchange_add(vchange *c, kc_real j, kc_real t)
  * limits A and J (kinctl/scurve.h, "Velocity change"). */
 static void vchange_plan(vchange *c, kc_real v, kc_real a, kc_real w, kc_real A, kc_real J)
 {
+    /* One division by J (this is on every planning's path). vn may differ
+     * in its last bit from a caller's v + a |a| / (2J): a w that misses it
+     * so takes the general branch below, whose phases are then the same
+     * ramp of a to zero (a hold of zero, ap = |a|). */
+    kc_real iJ = KC_R(1.0) / J;
     c->n = 0;
-    kc_real vn = v + a * kc_fabs(a) / (KC_R(2.0) * J);
+    kc_real vn = v + a * kc_fabs(a) * (KC_R(0.5) * iJ);
     if (w == vn) {
-        vchange_add(c, a > KC_R(0.0) ? -J : J, kc_fabs(a) / J);
+        vchange_add(c, a > KC_R(0.0) ? -J : J, kc_fabs(a) * iJ);
         return;
     }
     /* Work along sg, the side the acceleration must go to. */
@@ -38,12 +44,12 @@ static void vchange_plan(vchange *c, kc_real v, kc_real a, kc_real w, kc_real A,
     kc_real as = sg * a, dw = sg * (w - v), dn = sg * (w - vn);
     if (as > A) {
         /* Outside the limit: ramp down to A, hold, ramp to zero. */
-        vchange_add(c, -sg * J, (as - A) / J);
+        vchange_add(c, -sg * J, (as - A) * iJ);
         vchange_add(c, KC_R(0.0), dn / A);
-        vchange_add(c, -sg * J, A / J);
+        vchange_add(c, -sg * J, A * iJ);
         return;
     }
-    kc_real full = (KC_R(2.0) * A * A - as * as) / (KC_R(2.0) * J);
+    kc_real full = (KC_R(2.0) * A * A - as * as) * (KC_R(0.5) * iJ);
     kc_real ap = A, th = KC_R(0.0);
     if (dw >= full) {
         th = (dw - full) / A;
@@ -52,16 +58,16 @@ static void vchange_plan(vchange *c, kc_real v, kc_real a, kc_real w, kc_real A,
         /* dn > 0 makes ap > max(as, 0) exactly; keep it so under rounding. */
         ap = kc_min(kc_max(ap, kc_max(as, KC_R(0.0))), A);
     }
-    vchange_add(c, sg * J, (ap - as) / J);
+    vchange_add(c, sg * J, (ap - as) * iJ);
     vchange_add(c, KC_R(0.0), th);
-    vchange_add(c, -sg * J, ap / J);
+    vchange_add(c, -sg * J, ap * iJ);
 }
 
 /* Advances (p, v, a) by a phase of jerk j over tau (which may be
  * negative: backwards). */
 static void advance(kc_real *p, kc_real *v, kc_real *a, kc_real j, kc_real tau)
 {
-    *p += tau * (*v + tau * (KC_R(0.5) * *a + tau * j / KC_R(6.0)));
+    *p += tau * (*v + tau * (KC_R(0.5) * *a + tau * j * (KC_R(1.0) / KC_R(6.0))));
     *v += tau * (*a + KC_R(0.5) * tau * j);
     *a += j * tau;
 }
@@ -144,17 +150,21 @@ static kc_real gap_dist(kc_real s, kc_real v0, kc_real a0, kc_real A, kc_real J,
 }
 
 /* The duration of the plain plan through vp with the cruise that covers d
- * (kinctl/scurve.h, "from a moving start"). */
-static kc_real cruise_time_of(kc_real vp, kc_real d, kc_real v0, kc_real a0, kc_real A, kc_real J)
+ * (kinctl/scurve.h, "from a moving start"); the cruise's time into *tc
+ * when given. */
+static kc_real cruise_time_of(kc_real vp, kc_real d, kc_real v0, kc_real a0, kc_real A, kc_real J, kc_real *tc)
 {
     kc_real dv, t = change_stop_time(vp, v0, a0, A, J, &dv);
-    return t + (d - dv) / vp;
+    kc_real c = (d - dv) / vp;
+    if (tc != NULL)
+        *tc = c;
+    return t + c;
 }
 
 static kc_real dfun_eval(const dfun *f, kc_real x)
 {
     if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
-        return cruise_time_of(KC_R(1.0) / x, f->d, f->v0, f->a0, f->A, f->J);
+        return cruise_time_of(KC_R(1.0) / x, f->d, f->v0, f->a0, f->A, f->J, NULL);
     return f->gap ? gap_dist(x, f->v0, f->a0, f->A, f->J, NULL, NULL, NULL) : dist_of(x, f->v0, f->a0, f->A, f->J);
 }
 
@@ -198,6 +208,75 @@ static kc_real root(const dfun *f, kc_real lo, kc_real hi, kc_real flo, kc_real 
         }
     }
     return kc_fabs(flo) <= kc_fabs(fhi) ? lo : hi;
+}
+
+/* The root strictly between lo and hi of qa x^2 + qb x + qc (the two
+ * roots without cancellation), or 0 when it has none there. */
+static kc_real poly2_root(kc_real qa, kc_real qb, kc_real qc, kc_real lo, kc_real hi)
+{
+    kc_real r1, r2;
+    if (qa == KC_R(0.0)) {
+        r1 = r2 = -qc / qb;
+    } else {
+        kc_real disc = qb * qb - KC_R(4.0) * qa * qc;
+        if (!(disc >= KC_R(0.0)))
+            return KC_R(0.0);
+        kc_real q = KC_R(-0.5) * (qb + (qb >= KC_R(0.0) ? kc_sqrt(disc) : -kc_sqrt(disc)));
+        r1 = q / qa;
+        r2 = q != KC_R(0.0) ? qc / q : r1;
+    }
+    if (r1 > lo && r1 < hi)
+        return r1;
+    if (r2 > lo && r2 < hi)
+        return r2;
+    return KC_R(0.0);
+}
+
+/* The root of d(vp) = d on a plain branch [lo, hi] ([max(vn, 0), V] or
+ * [-V, min(vn, 0)]; dlo, dhi: d at its ends, bracketing d). Along the
+ * branch the change ends beyond vn (sg = s, the branch's sign). Where it
+ * holds amax (or starts beyond it) and the stop reaches amax, from vb to
+ * the branch's far end +-V, d(vp) is a quadratic with the leading
+ * coefficient s / A: the change's and the stop's distances each grow as
+ * vp^2 / (2A) (kinctl/scurve.h, "Velocity change"). A root there comes
+ * from d at two points of that stretch and is checked with one more
+ * evaluation; elsewhere, or when the check fails, regula falsi (root()). */
+static kc_real plain_root(const dfun *f, kc_real lo, kc_real hi, kc_real dlo, kc_real dhi, kc_real d)
+{
+    kc_real v0 = f->v0, a0 = f->a0, A = f->A, J = f->J;
+    kc_real s = hi > KC_R(0.0) ? KC_R(1.0) : KC_R(-1.0);
+    kc_real v_near = s > KC_R(0.0) ? lo : hi, d_near = s > KC_R(0.0) ? dlo : dhi;
+    kc_real v_far = s > KC_R(0.0) ? hi : lo, d_far = s > KC_R(0.0) ? dhi : dlo;
+    kc_real as = s * a0, vn = s * v0 + as * kc_fabs(as) / (KC_R(2.0) * J);
+    kc_real vb = s * kc_max(A * A / J, as > A ? vn : s * v0 + (KC_R(2.0) * A * A - as * as) / (KC_R(2.0) * J));
+    if (!(s * vb < s * v_far))
+        return root(f, lo, hi, dlo - d, dhi - d, d);
+    if (s * vb > s * v_near) {
+        kc_real db = dist_of(vb, v0, a0, A, J);
+        if (s * (d - db) < KC_R(0.0)) /* between the v_near end and vb */
+            return s > KC_R(0.0) ? root(f, lo, vb, dlo - d, db - d, d) : root(f, vb, hi, db - d, dhi - d, d);
+        v_near = vb;
+        d_near = db;
+    }
+    /* c2 x^2 + c1 x + c0 = 0 through (v_near, d_near - d), (v_far, d_far - d),
+     * its root between them (the two roots without cancellation). */
+    kc_real c2 = s / A, c1 = (d_far - d_near) / (v_far - v_near) - c2 * (v_far + v_near);
+    kc_real c0 = d_near - d - v_near * (c2 * v_near + c1);
+    kc_real x = poly2_root(c2, c1, c0, kc_min(v_near, v_far), kc_max(v_near, v_far));
+    if (x != KC_R(0.0)) {
+        kc_real fx = dist_of(x, v0, a0, A, J) - d;
+        if (kc_fabs(fx) <= KC_R(4.0) * KC_REAL_EPS * kc_fabs(d))
+            return x;
+        /* Narrow the stretch's bracket with x for regula falsi. */
+        if ((fx < KC_R(0.0)) == (d_near - d < KC_R(0.0))) {
+            v_near = x;
+            d_near = fx + d;
+        } else {
+            v_far = x;
+            d_far = fx + d;
+        }
+    }
+    return s > KC_R(0.0) ? root(f, v_near, v_far, d_near - d, d_far - d, d) : root(f, v_far, v_near, d_far - d, d_near - d, d);
 }
 
 static int limits_ok(kc_real vmax, kc_real amax, kc_real jmax, kc_real dt)
@@ -285,6 +364,58 @@ static kc_status build_vp(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, k
     return build(prof, p0, v0, a0, p1, &c, vp, tc, &s, duration, dt);
 }
 
+/* A plan's header alone (scurve_internal.h): the start, target, vp and
+ * duration T, with n = -1 and ticks = -1 (not counted: the stretch counts
+ * its own). */
+static kc_status header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vp, kc_real T,
+                        kc_real dt)
+{
+    if (!kc_isfinite(T))
+        return KC_E_CAPACITY;
+    prof->p0 = p0;
+    prof->v0 = v0;
+    prof->a0 = a0;
+    prof->p1 = p1;
+    prof->vp = vp;
+    prof->gap = 0;
+    prof->n = -1;
+    prof->T = T;
+    prof->dt = dt;
+    prof->ticks = -1;
+    return KC_OK;
+}
+
+/* The header of the profile build() would make of these phases, T summed
+ * as build() sums it. */
+static kc_status build_header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, const vchange *c,
+                              kc_real vp, kc_real tc, const vchange *s, kc_real dt)
+{
+    kc_real t = KC_R(0.0), t_stop = KC_R(0.0);
+    for (int i = 0; i < c->n; i++)
+        t += c->t[i];
+    for (int i = 0; i < s->n; i++)
+        t_stop += s->t[i];
+    return header(prof, p0, v0, a0, p1, vp, t + kc_max(tc, KC_R(0.0)) + t_stop, dt);
+}
+
+/* The end of a time-optimal plan: the profile (lay), or its header alone. */
+static kc_status finish(kc_scurve *prof, int lay, kc_real p0, kc_real v0, kc_real a0, kc_real p1, const vchange *c,
+                        kc_real vp, kc_real tc, const vchange *s, kc_real dt)
+{
+    return lay ? build(prof, p0, v0, a0, p1, c, vp, tc, s, KC_R(0.0), dt)
+               : build_header(prof, p0, v0, a0, p1, c, vp, tc, s, dt);
+}
+
+/* finish() for the plain plan through vp (build_vp). */
+static kc_status finish_vp(kc_scurve *prof, int lay, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vp,
+                           kc_real tc, kc_real A, kc_real J, kc_real dt)
+{
+    vchange c, s;
+    vchange_plan(&c, v0, a0, vp, A, J);
+    vchange_plan(&s, vp, KC_R(0.0), KC_R(0.0), A, J);
+    return finish(prof, lay, p0, v0, a0, p1, &c, vp, tc, &s, dt);
+}
+
 /* Rest to rest over D >= 0 (kinctl/scurve.h, Biagiotti & Melchiorri 3.4):
  * the peak speed and the cruise time. */
 static void rest_to_rest(kc_real D, kc_real V, kc_real A, kc_real J, kc_real *vpeak, kc_real *tc)
@@ -316,8 +447,10 @@ static void rest_to_rest(kc_real D, kc_real V, kc_real A, kc_real J, kc_real *vp
     *vpeak = kc_min(*vpeak, V);
 }
 
-kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
-                         kc_real amax, kc_real jmax, kc_real dt)
+/* kc_scurve_plan, laying out the phases (lay) or making the header alone
+ * (kc_scurve_plan_time). */
+static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax, kc_real amax,
+                      kc_real jmax, kc_real dt, int lay)
 {
     if (prof == NULL || !kc_isfinite(p0) || !kc_isfinite(v0) || !kc_isfinite(a0) || !kc_isfinite(p1) ||
         !limits_ok(vmax, amax, jmax, dt))
@@ -329,9 +462,9 @@ kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc
     if (v0 == KC_R(0.0) && a0 == KC_R(0.0)) {
         kc_real vpeak, tc;
         if (d == KC_R(0.0))
-            return build_vp(prof, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, J, KC_R(0.0), dt);
+            return finish_vp(prof, lay, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, J, dt);
         rest_to_rest(kc_fabs(d), vmax, A, J, &vpeak, &tc);
-        return build_vp(prof, p0, v0, a0, p1, d > KC_R(0.0) ? vpeak : -vpeak, tc, A, J, KC_R(0.0), dt);
+        return finish_vp(prof, lay, p0, v0, a0, p1, d > KC_R(0.0) ? vpeak : -vpeak, tc, A, J, dt);
     }
     /* The velocity range to search: vmax, or without a speed limit a bound
      * that brackets d, found by doubling (at most 64 times). */
@@ -347,13 +480,20 @@ kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc
         if (i == 64 || !kc_isfinite(V))
             return KC_E_CAPACITY;
     }
-    kc_real dh = dist_of(V, v0, a0, A, J), dl = dist_of(-V, v0, a0, A, J);
-    if (!kc_isfinite(dh) || !kc_isfinite(dl))
+    /* A header's duration is the one its choice was made with: the
+     * change and the stop (change_stop_time) and the cruise. */
+    kc_real dh, dl, th = change_stop_time(V, v0, a0, A, J, &dh);
+    if (!kc_isfinite(dh))
         return KC_E_CAPACITY;
     if (d >= dh)
-        return build_vp(prof, p0, v0, a0, p1, V, (d - dh) / V, A, J, KC_R(0.0), dt);
+        return lay ? finish_vp(prof, lay, p0, v0, a0, p1, V, (d - dh) / V, A, J, dt)
+                   : header(prof, p0, v0, a0, p1, V, th + (d - dh) / V, dt);
+    kc_real tl = change_stop_time(-V, v0, a0, A, J, &dl);
+    if (!kc_isfinite(dl))
+        return KC_E_CAPACITY;
     if (d <= dl)
-        return build_vp(prof, p0, v0, a0, p1, -V, (dl - d) / V, A, J, KC_R(0.0), dt);
+        return lay ? finish_vp(prof, lay, p0, v0, a0, p1, -V, (dl - d) / V, A, J, dt)
+                   : header(prof, p0, v0, a0, p1, -V, tl + (dl - d) / V, dt);
     /* dl < d < dh, Tc = 0. The plain branches are vp <= min(vn, 0) and
      * vp >= max(vn, 0), where the change ends on the other side of zero
      * acceleration than the stop starts, so vp is a true extremum; d
@@ -367,18 +507,19 @@ kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc
     kc_real vp = KC_R(0.0), best = KC_R(-1.0), s_gap = KC_R(-1.0);
     dfun f = {0, v0, a0, A, J, KC_R(0.0)}, g = {1, v0, a0, A, J, KC_R(0.0)};
     if (d <= d1) {
-        vp = root(&f, -V, m1, dl - d, d1 - d, d);
+        vp = plain_root(&f, -V, m1, dl, d1, d);
         best = change_stop_time(vp, v0, a0, A, J, NULL);
     }
     if (d >= d2) {
-        kc_real w = root(&f, m2, V, d2 - d, dh - d, d);
+        kc_real w = plain_root(&f, m2, V, d2, dh, d);
         kc_real tw = change_stop_time(w, v0, a0, A, J, NULL);
         if (best < KC_R(0.0) || tw < best) {
             vp = w;
             best = tw;
         }
     }
-    kc_real g0 = gap_dist(KC_R(0.0), v0, a0, A, J, NULL, NULL, NULL) - d;
+    /* s = 0 is the stop at once, d(0): d1 or d2. */
+    kc_real g0 = (m1 == KC_R(0.0) ? d1 : d2) - d;
     kc_real g1 = gap_dist(KC_R(1.0), v0, a0, A, J, NULL, NULL, NULL) - d;
     /* Signs compared, not multiplied: a product of small distances may
      * underflow to zero in float. */
@@ -393,14 +534,29 @@ kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc
     if (s_gap >= KC_R(0.0)) {
         vchange c, st;
         gap_dist(s_gap, v0, a0, A, J, &c, &st, NULL);
-        kc_status r = build(prof, p0, v0, a0, p1, &c, KC_R(0.0), KC_R(0.0), &st, KC_R(0.0), dt);
+        kc_status r = finish(prof, lay, p0, v0, a0, p1, &c, KC_R(0.0), KC_R(0.0), &st, dt);
         if (r == KC_OK)
             prof->gap = 1;
         return r;
     }
-    if (best < KC_R(0.0))
+    if (best < KC_R(0.0)) {
         vp = root(&f, m1, m2, d1 - d, d2 - d, d);
-    return build_vp(prof, p0, v0, a0, p1, vp, KC_R(0.0), A, J, KC_R(0.0), dt);
+        best = lay ? best : change_stop_time(vp, v0, a0, A, J, NULL);
+    }
+    return lay ? finish_vp(prof, lay, p0, v0, a0, p1, vp, KC_R(0.0), A, J, dt)
+               : header(prof, p0, v0, a0, p1, vp, best, dt);
+}
+
+kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
+                         kc_real amax, kc_real jmax, kc_real dt)
+{
+    return plan(prof, p0, v0, a0, p1, vmax, amax, jmax, dt, 1);
+}
+
+kc_status kc_scurve_plan_time(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
+                              kc_real amax, kc_real jmax, kc_real dt)
+{
+    return plan(prof, p0, v0, a0, p1, vmax, amax, jmax, dt, 0);
 }
 
 kc_status kc_scurve_plan_stop(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real amax, kc_real jmax,
@@ -532,23 +688,46 @@ static kc_real quad_root(kc_real v1, kc_real g1, kc_real v2, kc_real g2, kc_real
     kc_real f12 = (g2 - g1) / (v2 - v1), f23 = (g3 - g2) / (v3 - v2);
     kc_real qa = (f23 - f12) / (v3 - v1);
     kc_real qb = f12 - qa * (v1 + v2), qc = g1 - v1 * (f12 - qa * v2);
-    kc_real lo = kc_min(v1, v3), hi = kc_max(v1, v3), r1, r2;
-    if (qa == KC_R(0.0)) {
-        r1 = r2 = -qc / qb;
-    } else {
-        kc_real disc = qb * qb - KC_R(4.0) * qa * qc;
-        if (!(disc >= KC_R(0.0)))
-            return KC_R(0.0);
-        /* The two roots without cancellation. */
-        kc_real q = KC_R(-0.5) * (qb + (qb >= KC_R(0.0) ? kc_sqrt(disc) : -kc_sqrt(disc)));
-        r1 = q / qa;
-        r2 = q != KC_R(0.0) ? qc / q : r1;
-    }
-    if (r1 > lo && r1 < hi)
-        return r1;
-    if (r2 > lo && r2 < hi)
-        return r2;
-    return KC_R(0.0);
+    return poly2_root(qa, qb, qc, kc_min(v1, v3), kc_max(v1, v3));
+}
+
+/* Whether the plain plans through every vp from vl to vh (one sign, vl !=
+ * vh) have a change that holds amax for a while, or starts beyond it, on
+ * one side sg of vn (into *sg) and a stop that reaches amax
+ * (kinctl/scurve.h, "Velocity change"): their durations are then linear
+ * in vp and their distances quadratic. Each condition is monotonic in vp
+ * on one side of vn, so the ends decide. */
+static int exact_fit(kc_real v0, kc_real a0, kc_real vl, kc_real vh, kc_real A, kc_real J, kc_real *sg)
+{
+    kc_real vn = v0 + a0 * kc_fabs(a0) / (KC_R(2.0) * J);
+    if (vl == vh || !(kc_fabs(vl) * J >= A * A && kc_fabs(vh) * J >= A * A) || vl == vn || vh == vn ||
+        (vl > vn) != (vh > vn))
+        return 0;
+    *sg = vl > vn ? KC_R(1.0) : KC_R(-1.0);
+    kc_real as = *sg * a0, full = (KC_R(2.0) * A * A - as * as) / (KC_R(2.0) * J);
+    return as > A || (*sg * (vl - v0) >= full && *sg * (vh - v0) >= full);
+}
+
+/* cruise_time_of in closed form where exact_fit holds (sg its side):
+ * in the frame of sg (u = sg v, as = sg a0), the change's first phase
+ * takes the acceleration to amax in t1, reaching u1 over x1; the hold
+ * takes u1 to u2 = sg vp - A^2 / (2J) in (u2 - u1) / A over
+ * (u2^2 - u1^2) / (2A); the last phase adds A / J and u2 A / J +
+ * A^3 / (3 J^2). The stop lasts |vp| / A + A / J over half of vp times
+ * that, and the cruise covers the rest of d. */
+static kc_real held_time(kc_real vp, kc_real sg, kc_real d, kc_real v0, kc_real a0, kc_real A, kc_real J)
+{
+    kc_real iJ = KC_R(1.0) / J, iA = KC_R(1.0) / A; /* three divisions in all */
+    kc_real u0 = sg * v0, as = sg * a0, jt = as > A ? -J : J, tj = A * iJ;
+    kc_real t1 = (as > A ? as - A : A - as) * iJ;
+    kc_real u1 = u0 + (as > A ? as * as - A * A : A * A - as * as) * (KC_R(0.5) * iJ); /* u0 + as t1 + jt t1^2 / 2 */
+    kc_real x1 = t1 * (u0 + t1 * (KC_R(0.5) * as + t1 * jt * (KC_R(1.0) / KC_R(6.0))));
+    kc_real u2 = sg * vp - KC_R(0.5) * A * tj;
+    kc_real t_change = t1 + (u2 - u1) * iA + tj;
+    kc_real d_change =
+        sg * (x1 + (u2 * u2 - u1 * u1) * (KC_R(0.5) * iA) + u2 * tj + A * tj * tj * (KC_R(1.0) / KC_R(3.0)));
+    kc_real ts = kc_fabs(vp) * iA + tj;
+    return t_change + ts + (d - d_change - KC_R(0.5) * vp * ts) / vp;
 }
 
 /* Keeps the bracket (vh: T - duration <= 0, vl: >= 0) tight with a new
@@ -600,42 +779,61 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
         }
     }
     dfun t = {2, v0, a0, A, J, d};
-    kc_real th = cruise_time_of(vh, d, v0, a0, A, J) - duration;
+    /* The optimum through vh is fast itself: its duration is T(vh). */
+    kc_real th = (vh == fast->vp && !fast->gap ? fast->T : cruise_time_of(vh, d, v0, a0, A, J, NULL)) - duration;
     if (!(th <= KC_R(0.0)))
         return KC_E_LIMIT; /* between the optimum and the slowest cruise this side allows */
     /* vl: where the cruise alone, e / vp, would fill the duration, then
      * halved until the plan lasts at least that long (the cruise grows as
-     * 1 / vp: rarely more than a halving). */
-    kc_real vl = kc_min(kc_fabs(e) / duration, kc_fabs(vh)) * s, tl = cruise_time_of(vl, d, v0, a0, A, J) - duration;
+     * 1 / vp: rarely more than a halving); its duration in closed form
+     * where exact_fit holds. */
+    kc_real vl = kc_min(kc_fabs(e) / duration, kc_fabs(vh)) * s, tl = KC_R(-1.0), tc = KC_R(-1.0), sg;
+    int exact = 0;
     for (int i = 0; i < KC_SCURVE_MAX_ITER && tl < KC_R(0.0); i++) {
-        vl *= KC_R(0.5);
-        tl = cruise_time_of(vl, d, v0, a0, A, J) - duration;
+        if (i > 0)
+            vl *= KC_R(0.5);
+        exact = exact_fit(v0, a0, vl, vh, A, J, &sg);
+        tl = (exact ? held_time(vl, sg, d, v0, a0, A, J) : cruise_time_of(vl, d, v0, a0, A, J, NULL)) - duration;
     }
     if (!(tl >= KC_R(0.0)) || !kc_isfinite(tl))
         return KC_E_CAPACITY;
     /* Where the change and the stop both reach amax, d(vp) is quadratic
      * and the duration linear in vp, so (T(vp) - duration) vp is a
      * quadratic in vp: fitted through vh, vl and their harmonic mean, its
-     * root is exact there and a close first guess elsewhere. */
-    kc_real vm = KC_R(2.0) / (KC_R(1.0) / vh + KC_R(1.0) / vl);
-    kc_real tm = cruise_time_of(vm, d, v0, a0, A, J) - duration;
-    kc_real vp = quad_root(vh, th * vh, vm, tm * vm, vl, tl * vl);
-    if (vp != KC_R(0.0)) {
-        kc_real tq = cruise_time_of(vp, d, v0, a0, A, J) - duration;
-        if (kc_fabs(tq) > KC_R(4.0) * KC_REAL_EPS * duration) {
-            narrow(vp, tq, &vh, &th, &vl, &tl);
-            vp = KC_R(0.0);
-        }
+     * root is exact there and a close first guess elsewhere. When both
+     * reach amax all the way from vl to vh (exact_fit), the quadratic's
+     * leading coefficient is known, (sg + s) / (2A): the change's time
+     * grows as sg vp / A and the stop's as s vp / A, and their distances
+     * as vp^2 / (2A) of the same signs, which the cruise gives back. Then
+     * vh and vl alone fix the quadratic, and its root needs no check. */
+    kc_real vp = KC_R(0.0);
+    if (exact) {
+        kc_real c2 = (sg + s) / (KC_R(2.0) * A), fh = th * vh, fl = tl * vl;
+        kc_real c1 = (fh - fl) / (vh - vl) - c2 * (vh + vl), c0 = fh - vh * (c2 * vh + c1);
+        vp = poly2_root(c2, c1, c0, kc_min(vl, vh), kc_max(vl, vh));
+        tc = KC_R(0.0); /* within the bracket, which the cruise covers */
     }
-    narrow(vm, tm, &vh, &th, &vl, &tl);
+    if (vp == KC_R(0.0)) {
+        kc_real vm = KC_R(2.0) / (KC_R(1.0) / vh + KC_R(1.0) / vl);
+        kc_real tm = cruise_time_of(vm, d, v0, a0, A, J, NULL) - duration;
+        vp = quad_root(vh, th * vh, vm, tm * vm, vl, tl * vl);
+        if (vp != KC_R(0.0)) {
+            kc_real tq = cruise_time_of(vp, d, v0, a0, A, J, &tc) - duration;
+            if (kc_fabs(tq) > KC_R(4.0) * KC_REAL_EPS * duration) {
+                narrow(vp, tq, &vh, &th, &vl, &tl);
+                vp = KC_R(0.0);
+            }
+        }
+        narrow(vm, tm, &vh, &th, &vl, &tl);
+    }
     if (vp == KC_R(0.0)) {
         /* In x = 1 / vp, ascending: 1 / vh < 1 / vl for s > 0, the other
          * way round for s < 0. */
         kc_real xh = KC_R(1.0) / vh, xl = KC_R(1.0) / vl;
         kc_real x = s > KC_R(0.0) ? root(&t, xh, xl, th, tl, duration) : root(&t, xl, xh, tl, th, duration);
         vp = KC_R(1.0) / x;
+        tc = (d - dist_of(vp, v0, a0, A, J)) / vp;
     }
-    kc_real tc = (d - dist_of(vp, v0, a0, A, J)) / vp;
     if (!(tc >= KC_R(0.0)))
         return KC_E_LIMIT;
     return build_vp(prof, p0, v0, a0, p1, vp, tc, A, J, duration, dt);
@@ -664,7 +862,16 @@ kc_status kc_scurve_stretch(kc_scurve *prof, const kc_scurve *fast, kc_real vmax
     if (duration <= fast->T) {
         if (duration < fast->T * (KC_R(1.0) - KC_R(8.0) * KC_REAL_EPS))
             return KC_E_LIMIT;
-        *prof = *fast;
+        /* Its header alone (kc_scurve_plan_time): a plain plan is laid out
+         * from vp to last T, its cruise (if any) filling the time between
+         * the change and the stop; a gap plan is planned again. */
+        if (fast->n < 0 && !fast->gap)
+            return build_vp(prof, fast->p0, fast->v0, fast->a0, fast->p1, fast->vp, KC_R(0.0), amax, jmax, fast->T,
+                            fast->dt);
+        if (fast->n < 0)
+            return kc_scurve_plan(prof, fast->p0, fast->v0, fast->a0, fast->p1, vmax, amax, jmax, fast->dt);
+        if (prof != fast)
+            *prof = *fast;
         return KC_OK;
     }
     if (fast->v0 == KC_R(0.0) && fast->a0 == KC_R(0.0))

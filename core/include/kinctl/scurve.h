@@ -64,7 +64,10 @@
  * increases along each branch; each root is found in its bracket by
  * regula falsi (Illinois variant, falling back to halving; at most
  * KC_SCURVE_MAX_ITER steps, about ten in practice, stopping at the
- * rounding of the distances). A vp of the other sign than
+ * rounding of the distances). Where the change holds amax and the stop
+ * reaches it (|vp| >= A^2 / J), d(vp) is a quadratic with leading
+ * coefficient s / A (s the branch's sign): its root there comes from two
+ * points and is checked by one evaluation. A vp of the other sign than
  * d is a start that must overshoot and come back.
  * The gap family covers the distances between the branches' ends d(0)
  * and d(vn): a0 is ramped towards zero by a fraction s in [0, 1] at jerk
@@ -195,15 +198,22 @@ kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_re
  * same root search in x = 1 / vp, where the cruise's share of T is
  * linear, bracketed by the fastest cruise and a vp = e / duration (where
  * the cruise alone would fill the duration) halved until T(vp) >= duration;
- * about eight evaluations of T. e = 0 (within the rounding of the
+ * about eight evaluations of T. Where the change holds amax (or starts
+ * beyond it) and the stop reaches it all the way between those two, T is
+ * linear and d(vp) quadratic in vp with leading coefficient (sg + s) / (2A)
+ * (sg the side of the change, s of vp), so (T(vp) - duration) vp is a
+ * quadratic fixed by the two ends alone, T at the slow end in closed form,
+ * and the search is one root of it. e = 0 (within the rounding of the
  * distances, 8 eps (|p0| + |p1| + the stop's distance): a start on its
  * stop to p1) is the stop followed by a wait. A start at rest is
  * kc_scurve_plan_duration. Returns KC_E_LIMIT for a duration shorter than
  * the optimum (beyond 8 units of roundoff) and for one in a blocked
  * interval: longer than the optimum but shorter than the fastest cruise on
  * the side of e lasts (when the optimum lies on the other branch or in
- * the gap family); other errors as kc_scurve_plan. prof is untouched on
- * error. */
+ * the gap family), or needing a cruise below vn where the change and the
+ * stop alone already pass the target (d(vp) > d: a shape this family
+ * lacks, seen with jerk limits of a few rad/s^3; docs/testing.md); other
+ * errors as kc_scurve_plan. prof is untouched on error. */
 kc_status kc_scurve_plan_duration_from(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
                                        kc_real amax, kc_real jmax, kc_real duration, kc_real dt);
 

@@ -1,0 +1,122 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""kinctld given random joint goals over LCM, each replacing the one before
+at a random moment (issue 19), on the puma560 and the panda: every
+published setpoint, across every takeover, within the arm's velocity,
+acceleration and jerk limits, q and qd continuous (each follows from the
+cycle before within what the jerk limit allows over one cycle), the last
+goal ending exactly on its target; and each goal that ends lasts, from the
+state it took over, Ruckig's time-synchronised duration from that state
+(Python ruckig package), to the tick.
+
+The limits come from the arms' description files (models/*.cfg), which
+hold the built-in models' values. Slack: the daemon's core is double; the
+limits and the jerk get 1e-6 of themselves as test_jerk.py, the continuity
+checks 1e-12 rad (rounding of positions of a few rad) and 1e-9 rad/s."""
+import os
+import random
+import re
+import time
+
+import pytest
+from ruckig import InputParameter, Result, Ruckig, Synchronization, Trajectory
+
+from kinctl_testing import DT, EVENTS, MODELS, close, finished, setpoints_since
+
+SLACK = 1e-6
+# Targets keep this far inside the position limits (rad): a replacing
+# goal's overshoot from full speed (about vmax^2 / (2 amax) plus the jerk
+# phases) stays clear of them, so the dry run accepts every goal.
+MARGIN = 0.9
+LIMITS = re.compile(r"limits\s*=\s*\{\s*q\s*=\s*\[([^,\]]+),([^\]]+)\];\s*qd\s*=\s*([^;]+);\s*qdd\s*=\s*([^;]+);"
+                    r"\s*qddd\s*=\s*([^;]+);")
+
+
+class Arm:
+    """An arm's joint limits, from its description file."""
+
+    def __init__(self, name):
+        with open(os.path.join(MODELS, name + ".cfg")) as f:
+            rows = [[float(x) for x in m.groups()] for m in LIMITS.finditer(f.read())]
+        assert rows, name
+        self.name, self.n = name, len(rows)
+        self.q = [(r[0], r[1]) for r in rows]
+        self.qd, self.qdd, self.qddd = [r[2] for r in rows], [r[3] for r in rows], [r[4] for r in rows]
+
+    def random_target(self, rng):
+        # A joint whose range is narrower than two margins goes to its middle.
+        return [rng.uniform(lo + MARGIN, hi - MARGIN) if hi - lo > 2 * MARGIN else 0.5 * (lo + hi)
+                for lo, hi in self.q]
+
+    def ruckig_ticks(self, q, qd, qdd, target):
+        """Ruckig's time-synchronised duration from (q, qd, qdd) to rest at
+        target within the arm's limits, in cycles."""
+        n = self.n
+        inp = InputParameter(n)
+        inp.current_position, inp.current_velocity, inp.current_acceleration = list(q), list(qd), list(qdd)
+        inp.target_position, inp.target_velocity, inp.target_acceleration = list(target), [0.0] * n, [0.0] * n
+        inp.max_velocity, inp.max_acceleration, inp.max_jerk = self.qd, self.qdd, self.qddd
+        inp.synchronization = Synchronization.Time
+        traj = Trajectory(n)
+        assert Ruckig(n).calculate(inp, traj) == Result.Working
+        return traj.duration / DT
+
+    def check_stream(self, stream):
+        for a, b in zip(stream, stream[1:]):
+            assert b.cycle == a.cycle + 1, (a.cycle, b.cycle)
+            for j in range(self.n):
+                where = (b.cycle, b.goal_id, j)
+                J = self.qddd[j]
+                assert abs(b.qd[j]) <= self.qd[j] * (1 + SLACK), where
+                assert abs(b.qdd[j]) <= self.qdd[j] * (1 + SLACK), where
+                assert abs(b.qdd[j] - a.qdd[j]) <= J * DT * (1 + SLACK), where
+                assert abs(b.qd[j] - a.qd[j] - a.qdd[j] * DT) <= J * DT ** 2 / 2 * (1 + SLACK) + 1e-9, where
+                assert abs(b.q[j] - a.q[j] - a.qd[j] * DT - a.qdd[j] * DT ** 2 / 2) <= \
+                    J * DT ** 3 / 6 * (1 + SLACK) + 1e-12, where
+
+
+@pytest.mark.parametrize("arm,seed", [("puma560", 1907), ("panda", 1908)])
+def test_random_goals_replaced_at_random_moments(kinctld, arm, seed):
+    rng = random.Random(seed)
+    a = Arm(arm)
+    n = a.n
+    d = kinctld("--model", arm)
+    start = d.bus.last_setpoint().cycle
+    first = 100
+    targets = {first: a.random_target(rng)}
+    d.bus.send_goal_joint(first, targets[first])
+    d.bus.wait(lambda: any(s.goal_id == first for s in d.bus.setpoints[-3:]), 5.0, "motion")
+    last = first
+    for gid in range(first + 1, first + 13):
+        # From a few cycles into a move to past its end (most moves take 1-2
+        # s); the last goal early, to take over a moving arm and end.
+        time.sleep(rng.uniform(0.005, 0.1) if gid == first + 12 else
+                   rng.choice([rng.uniform(0.005, 0.05), rng.uniform(0.05, 0.8)]))
+        targets[gid] = a.random_target(rng)
+        d.bus.send_goal_joint(gid, targets[gid], replace=True)
+        ev = d.bus.wait_event(last, ("PREEMPTED", "COMPLETED", "ABORTED", "FAULT", "REJECTED"))
+        assert ev.event in (EVENTS["PREEMPTED"], EVENTS["COMPLETED"]), (last, ev.reason)
+        last = gid
+    s = finished(d, last)
+    assert close(s.q, targets[last], 0.0)  # exactly on the target
+    stream = setpoints_since(d, start)
+    a.check_stream(stream)
+    # Each goal that ended, from the setpoint before its first (its tick 0)
+    # to its end: Ruckig's duration from that state, to the tick.
+    taken = 0
+    for i in range(1, len(stream)):
+        p, b = stream[i - 1], stream[i]
+        if b.goal_id == p.goal_id or b.goal_id not in targets:
+            continue
+        target = targets[b.goal_id]
+        # Its end: the first setpoint of no goal, exactly on its target at
+        # rest (a replaced goal's next setpoint is the next goal's).
+        end = next(s for s in stream[i:] if s.goal_id != b.goal_id)
+        if end.goal_id != 0:
+            continue
+        assert close(end.q, target, 0.0) and not any(end.qd[:n]) and not any(end.qdd[:n]), b.goal_id
+        taken += any(p.qd[:n])
+        want = a.ruckig_ticks(p.q[:n], p.qd[:n], p.qdd[:n], target)
+        assert want - 1e-6 * want <= end.cycle - p.cycle < want + 1 + 1e-6 * want, (b.goal_id, end.cycle - p.cycle,
+                                                                                      want)
+    assert taken >= 1  # some goal ended that took over a moving arm
+    assert d.stop() == 0
