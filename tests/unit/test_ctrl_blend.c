@@ -50,6 +50,15 @@
 #define TOOL_REL 0.01
 #define TOOL_ABS_V 2e-4
 #define TOOL_REL_A 0.02
+/* Both worsts carry the measurement's rounding: in float two speeds'
+ * (TOOL_ABS_V / 2 each) over a 1 ms tick, 0.2 m/s^2 (rad/s^2), two thirds
+ * of the test's 0.3 m/s^2 limit, so float compares noise as much as motion
+ * and the worsts may differ by that much; in double it is below 1e-9. */
+#ifdef KC_REAL_FLOAT
+#define TOOL_NOISE_A 0.2
+#else
+#define TOOL_NOISE_A 0.0
+#endif
 
 typedef struct harness {
     kc_chain chain;
@@ -193,13 +202,15 @@ static void check_target(int64_t k)
     kc_vec3_sub(&t1.p, &t0.p, &step);
     double lv = (double)H.cfg.cart_speed, la = (double)H.cfg.cart_accel;
     double lw = (double)H.cfg.cart_omega, ldw = (double)H.cfg.cart_alpha;
-    /* G alone changes by at most its own limits, or its arc's centripetal
-     * v^2 / R; M's stop by what it does. */
-    double g_a = la, g_dw = ldw;
-    if (c->goal.kind == KC_GOAL_ARC)
-        g_a = fmax(la, (double)(c->plan.arc.u_vmax * c->plan.arc.angle) * (double)(c->plan.arc.u_vmax * c->plan.arc.angle) *
-                           (double)c->plan.arc.radius * 2.0);
-    double a_bound = fmax(g_a, (double)kc_vec3_norm(&dvm) / dt), dw_bound = fmax(g_dw, (double)kc_vec3_norm(&dwm) / dt);
+    /* The limits, or what M's stop or G alone (v_G = v - v_M: an arc's
+     * acceleration has a centripetal part its tangential limit does not
+     * bound) changes over the tick, where that is more; angular: the limit
+     * or M's stop. */
+    kc_vec3 dvg;
+    for (int i = 0; i < 3; i++)
+        dvg.v[i] = (t1.v.v[i] - m1.v.v[i]) - (t0.v.v[i] - m0.v.v[i]);
+    double a_bound = fmax(la, fmax((double)kc_vec3_norm(&dvm), (double)kc_vec3_norm(&dvg)) / dt);
+    double dw_bound = fmax(ldw, (double)kc_vec3_norm(&dwm) / dt);
     double sv = (double)kc_vec3_norm(&t1.v), sw = (double)kc_vec3_norm(&t1.w);
     double sa = (double)kc_vec3_norm(&dv) / dt, sdw = (double)kc_vec3_norm(&dw) / dt;
     /* The step is a difference of two positions of the target, each the
@@ -506,7 +517,9 @@ static void test_every_pair(void **state)
                   WORST.target[2], WORST.target[3], WORST.blend[0], WORST.blend[1], WORST.blend[2], WORST.blend[3],
                   WORST.plain[0], WORST.plain[1], WORST.plain[2], WORST.plain[3], WORST.jerk);
     for (int i = 1; i < 4; i += 2)
-        if (!(WORST.blend[i] <= fmax(1.0, WORST.plain[i]) * (1.0 + TOOL_REL_A)))
+        if (!(WORST.blend[i] <=
+              fmax(1.0, WORST.plain[i]) * (1.0 + TOOL_REL_A) +
+                  TOOL_NOISE_A / (double)(i == 1 ? H.cfg.cart_accel : H.cfg.cart_alpha)))
             fail_msg("superposed: %.4f of an acceleration limit, plain motions %.4f", WORST.blend[i], WORST.plain[i]);
     assert_int_equal(superposed, 2 * 3 * CASES);
     assert_true(overlapped > 0);
