@@ -149,11 +149,9 @@ kc_status kc_ctrl_plan_cart_from(kc_ctrl *c, const kc_goal *g, const kc_pose *fr
 kc_status kc_ctrl_plan_goal(kc_ctrl *c)
 {
     const kc_goal *g = &c->goal;
-    kc_pose from;
     /* The tool pose where the segment starts (the Cartesian kinds start
-     * from it). */
-    if (g->kind != KC_GOAL_JOINT)
-        kc_fk_eval(c->chain, c->q, &from);
+     * from it): the last setpoint's, kept by kc_ctrl_step. */
+    const kc_pose *from = &c->pose;
     c->path_length = KC_R(0.0);
     switch (g->kind) {
     case KC_GOAL_JOINT:
@@ -161,11 +159,11 @@ kc_status kc_ctrl_plan_goal(kc_ctrl *c)
     case KC_GOAL_LINE:
     case KC_GOAL_ARC:
     case KC_GOAL_PATH_CART:
-        return kc_ctrl_plan_cart_from(c, g, &from);
+        return kc_ctrl_plan_cart_from(c, g, from);
     case KC_GOAL_PATH:
-        return plan_path(c, g, &from);
+        return plan_path(c, g, from);
     case KC_GOAL_SERVO:
-        c->servo_target = g->servo_twist ? from : g->pose;
+        c->servo_target = g->servo_twist ? *from : g->pose;
         c->servo_last = c->cycle;
         return KC_OK;
     }
