@@ -313,40 +313,31 @@ static int path_joint_at(const kc_path *path, kc_real tau, kc_real rate, kc_real
     return st == KC_DONE;
 }
 
-/* A retarget (or its stop) at its tick j: every joint on its own profile;
- * done when the last one has ended. */
-static void retarget_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
+/* Joint by joint at tick j: a retarget, every joint on its own profile
+ * (or its stop), or a jerk-limited halt (halt); done when the last joint
+ * has ended. */
+static void joints_eval(const kc_ctrl *c, int64_t j, int halt, kc_ctrl_seg_point *o)
 {
     int64_t ticks = 0;
     o->done = 1;
     for (int i = 0; i < c->chain->n_joints; i++) {
         kc_profile_state s;
-        if (kc_profile_eval(&c->plan.retarget[i], j, &s) != KC_DONE)
+        kc_status st;
+        int64_t n;
+        if (halt) {
+            n = c->plan.halt[i].ticks;
+            st = scurve_drive_state(&c->plan.halt[i], j, &s);
+        } else {
+            n = c->plan.retarget[i].ticks;
+            st = kc_profile_eval(&c->plan.retarget[i], j, &s);
+        }
+        if (st != KC_DONE)
             o->done = 0;
         o->q[i] = s.p;
         o->qd[i] = s.v;
         o->qdd[i] = s.a;
-        if (c->plan.retarget[i].ticks > ticks)
-            ticks = c->plan.retarget[i].ticks;
-    }
-    o->progress = ticks > 0 ? kc_min((kc_real)j / (kc_real)ticks, KC_R(1.0)) : KC_R(1.0);
-}
-
-/* A jerk-limited stop joint by joint at its tick j; done when every joint
- * is at rest. */
-static void halt_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
-{
-    int64_t ticks = 0;
-    o->done = 1;
-    for (int i = 0; i < c->chain->n_joints; i++) {
-        kc_scurve_state s;
-        if (kc_scurve_eval(&c->plan.halt[i], j, &s) != KC_DONE)
-            o->done = 0;
-        o->q[i] = s.p;
-        o->qd[i] = s.v;
-        o->qdd[i] = s.a;
-        if (c->plan.halt[i].ticks > ticks)
-            ticks = c->plan.halt[i].ticks;
+        if (n > ticks)
+            ticks = n;
     }
     o->progress = ticks > 0 ? kc_min((kc_real)j / (kc_real)ticks, KC_R(1.0)) : KC_R(1.0);
 }
@@ -382,12 +373,8 @@ void kc_ctrl_seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
         j = 0;
     switch (g->kind) {
     case KC_GOAL_JOINT: {
-        if (c->drive == KC_DRIVE_RETARGET) {
-            retarget_eval(c, j, o);
-            return;
-        }
-        if (c->drive == KC_DRIVE_HALT) {
-            halt_eval(c, j, o);
+        if (c->drive == KC_DRIVE_RETARGET || c->drive == KC_DRIVE_HALT) {
+            joints_eval(c, j, c->drive == KC_DRIVE_HALT, o);
             return;
         }
         kc_interp_joint_state s;
