@@ -121,6 +121,7 @@ kc_status kc_ctrl_init(kc_ctrl *c, const kc_chain *chain, const kc_ctrl_cfg *cfg
     c->state = KC_CTRL_IDLE;
     for (int j = 0; j < chain->n_joints; j++)
         c->q[j] = q0[j];
+    kc_fk_eval(chain, c->q, &c->pose);
     kc_ctrl_zone_init(c);
     return KC_OK;
 }
@@ -153,6 +154,7 @@ void kc_ctrl_restart(kc_ctrl *c, const kc_real *q_at, const kc_real *q)
     c->blend.lax = 0;
     kc_ctrl_zone_init(c);
     memcpy(c->q, q, sizeof(kc_real) * (size_t)n);
+    kc_fk_eval(c->chain, c->q, &c->pose);
 }
 
 static int at_rest(const kc_ctrl *c)
@@ -180,6 +182,7 @@ kc_status kc_ctrl_seat(kc_ctrl *c, const kc_real *q, int *bad_joint)
         c->qd[j] = KC_R(0.0);
         c->qdd[j] = KC_R(0.0);
     }
+    kc_fk_eval(c->chain, c->q, &c->pose);
     kc_ctrl_zone_init(c); /* the zones' distances from where the arm is */
     return KC_OK;
 }
@@ -362,7 +365,8 @@ kc_status kc_ctrl_step(kc_ctrl *c, const kc_ctrl_input *in, kc_ctrl_output *out)
     memcpy(out->q, c->q, sizeof(kc_real) * (size_t)n);
     memcpy(out->qd, c->qd, sizeof(kc_real) * (size_t)n);
     memcpy(out->qdd, c->qdd, sizeof(kc_real) * (size_t)n);
-    kc_fk_eval(c->chain, c->q, &out->pose);
+    kc_fk_eval(c->chain, c->q, &c->pose);
+    out->pose = c->pose;
     out->queue_length = c->queue_len;
     return KC_OK;
 }

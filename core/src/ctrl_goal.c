@@ -48,6 +48,9 @@ static int pose_ok(const kc_pose *p)
 
 static int scale_ok(kc_real s) { return kc_isfinite(s) && s > KC_R(0.0) && s <= KC_R(1.0); }
 
+/* A limit of a goal: finite, 0 for the configuration's. */
+static int limit_ok(kc_real x) { return kc_isfinite(x) && x >= KC_R(0.0); }
+
 void kc_ctrl_verdict_init(kc_verdict *v)
 {
     memset(v, 0, sizeof *v);
@@ -131,9 +134,8 @@ kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *g, kc_verdict
     if ((unsigned)g->kind > (unsigned)KC_GOAL_SERVO || !scale_ok(g->vel_scale) || !scale_ok(g->acc_scale) ||
         (unsigned)g->profile > (unsigned)KC_GOAL_PROFILE_JERK)
         return bad(v);
-    if (!kc_isfinite(g->speed) || g->speed < KC_R(0.0) || !kc_isfinite(g->accel) || g->accel < KC_R(0.0) ||
-        !kc_isfinite(g->omega) || g->omega < KC_R(0.0) || !kc_isfinite(g->alpha) || g->alpha < KC_R(0.0) ||
-        !kc_isfinite(g->jerk) || g->jerk < KC_R(0.0) || !kc_isfinite(g->angular_jerk) || g->angular_jerk < KC_R(0.0))
+    if (!limit_ok(g->speed) || !limit_ok(g->accel) || !limit_ok(g->omega) || !limit_ok(g->alpha) ||
+        !limit_ok(g->jerk) || !limit_ok(g->angular_jerk))
         return bad(v);
     switch (g->kind) {
     case KC_GOAL_JOINT:

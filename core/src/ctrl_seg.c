@@ -149,11 +149,9 @@ kc_status kc_ctrl_plan_cart_from(kc_ctrl *c, const kc_goal *g, const kc_pose *fr
 kc_status kc_ctrl_plan_goal(kc_ctrl *c)
 {
     const kc_goal *g = &c->goal;
-    kc_pose from;
     /* The tool pose where the segment starts (the Cartesian kinds start
-     * from it). */
-    if (g->kind != KC_GOAL_JOINT)
-        kc_fk_eval(c->chain, c->q, &from);
+     * from it): the last setpoint's, kept by kc_ctrl_step. */
+    const kc_pose *from = &c->pose;
     c->path_length = KC_R(0.0);
     switch (g->kind) {
     case KC_GOAL_JOINT:
@@ -161,11 +159,11 @@ kc_status kc_ctrl_plan_goal(kc_ctrl *c)
     case KC_GOAL_LINE:
     case KC_GOAL_ARC:
     case KC_GOAL_PATH_CART:
-        return kc_ctrl_plan_cart_from(c, g, &from);
+        return kc_ctrl_plan_cart_from(c, g, from);
     case KC_GOAL_PATH:
-        return plan_path(c, g, &from);
+        return plan_path(c, g, from);
     case KC_GOAL_SERVO:
-        c->servo_target = g->servo_twist ? from : g->pose;
+        c->servo_target = g->servo_twist ? *from : g->pose;
         c->servo_last = c->cycle;
         return KC_OK;
     }
@@ -315,40 +313,31 @@ static int path_joint_at(const kc_path *path, kc_real tau, kc_real rate, kc_real
     return st == KC_DONE;
 }
 
-/* A retarget (or its stop) at its tick j: every joint on its own profile;
- * done when the last one has ended. */
-static void retarget_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
+/* Joint by joint at tick j: a retarget, every joint on its own profile
+ * (or its stop), or a jerk-limited halt (halt); done when the last joint
+ * has ended. */
+static void joints_eval(const kc_ctrl *c, int64_t j, int halt, kc_ctrl_seg_point *o)
 {
     int64_t ticks = 0;
     o->done = 1;
     for (int i = 0; i < c->chain->n_joints; i++) {
         kc_profile_state s;
-        if (kc_profile_eval(&c->plan.retarget[i], j, &s) != KC_DONE)
+        kc_status st;
+        int64_t n;
+        if (halt) {
+            n = c->plan.halt[i].ticks;
+            st = scurve_drive_state(&c->plan.halt[i], j, &s);
+        } else {
+            n = c->plan.retarget[i].ticks;
+            st = kc_profile_eval(&c->plan.retarget[i], j, &s);
+        }
+        if (st != KC_DONE)
             o->done = 0;
         o->q[i] = s.p;
         o->qd[i] = s.v;
         o->qdd[i] = s.a;
-        if (c->plan.retarget[i].ticks > ticks)
-            ticks = c->plan.retarget[i].ticks;
-    }
-    o->progress = ticks > 0 ? kc_min((kc_real)j / (kc_real)ticks, KC_R(1.0)) : KC_R(1.0);
-}
-
-/* A jerk-limited stop joint by joint at its tick j; done when every joint
- * is at rest. */
-static void halt_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
-{
-    int64_t ticks = 0;
-    o->done = 1;
-    for (int i = 0; i < c->chain->n_joints; i++) {
-        kc_scurve_state s;
-        if (kc_scurve_eval(&c->plan.halt[i], j, &s) != KC_DONE)
-            o->done = 0;
-        o->q[i] = s.p;
-        o->qd[i] = s.v;
-        o->qdd[i] = s.a;
-        if (c->plan.halt[i].ticks > ticks)
-            ticks = c->plan.halt[i].ticks;
+        if (n > ticks)
+            ticks = n;
     }
     o->progress = ticks > 0 ? kc_min((kc_real)j / (kc_real)ticks, KC_R(1.0)) : KC_R(1.0);
 }
@@ -384,12 +373,8 @@ void kc_ctrl_seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
         j = 0;
     switch (g->kind) {
     case KC_GOAL_JOINT: {
-        if (c->drive == KC_DRIVE_RETARGET) {
-            retarget_eval(c, j, o);
-            return;
-        }
-        if (c->drive == KC_DRIVE_HALT) {
-            halt_eval(c, j, o);
+        if (c->drive == KC_DRIVE_RETARGET || c->drive == KC_DRIVE_HALT) {
+            joints_eval(c, j, c->drive == KC_DRIVE_HALT, o);
             return;
         }
         kc_interp_joint_state s;

@@ -286,9 +286,11 @@ static int limits_ok(kc_real vmax, kc_real amax, kc_real jmax, kc_real dt)
            dt > KC_R(0.0) && kc_isfinite(dt);
 }
 
-static void add_phase(kc_scurve *r, int kind, kc_real t_end, kc_real tr, kc_real p, kc_real v, kc_real a, kc_real j)
+/* Phase i: its kind, end time, and the state (p, v, a) at its reference
+ * time tr, jerk j. */
+static void set_phase(kc_scurve *r, int i, int kind, kc_real t_end, kc_real tr, kc_real p, kc_real v, kc_real a,
+                      kc_real j)
 {
-    int i = r->n++;
     r->kind[i] = kind;
     r->t_end[i] = t_end;
     r->tr[i] = tr;
@@ -298,6 +300,11 @@ static void add_phase(kc_scurve *r, int kind, kc_real t_end, kc_real tr, kc_real
     r->j[i] = j;
 }
 
+static void add_phase(kc_scurve *r, int kind, kc_real t_end, kc_real tr, kc_real p, kc_real v, kc_real a, kc_real j)
+{
+    set_phase(r, r->n++, kind, t_end, tr, p, v, a, j);
+}
+
 /* The profile: the phases c from the start, a cruise at vp for tc, and
  * the stop s (a velocity change to rest) laid backwards from (p1, 0, 0) at
  * T, where T is `duration` when positive, the sum of the phases otherwise. */
@@ -305,7 +312,7 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
                        kc_real tc, const vchange *sp, kc_real duration, kc_real dt)
 {
     kc_scurve r;
-    vchange c = *cp, s = *sp;
+    const vchange *c = cp, *s = sp;
     kc_real p = p0, v = v0, a = a0, t = KC_R(0.0), t_stop = KC_R(0.0);
     r.p0 = p0;
     r.v0 = v0;
@@ -314,14 +321,14 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
     r.vp = vp;
     r.gap = 0;
     r.n = 0;
-    for (int i = 0; i < c.n; i++) {
+    for (int i = 0; i < c->n; i++) {
         kc_real t0 = t, p_ = p, v_ = v, a_ = a;
-        advance(&p, &v, &a, c.j[i], c.t[i]);
-        t += c.t[i];
-        add_phase(&r, 1, t, t0, p_, v_, a_, c.j[i]);
+        advance(&p, &v, &a, c->j[i], c->t[i]);
+        t += c->t[i];
+        add_phase(&r, 1, t, t0, p_, v_, a_, c->j[i]);
     }
-    for (int i = 0; i < s.n; i++)
-        t_stop += s.t[i];
+    for (int i = 0; i < s->n; i++)
+        t_stop += s->t[i];
     kc_real T = duration > KC_R(0.0) ? duration : t + kc_max(tc, KC_R(0.0)) + t_stop;
     kc_real te = T - t_stop; /* start of the stop */
     if ((tc > KC_R(0.0) || duration > KC_R(0.0)) && te > t)
@@ -329,19 +336,12 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
     /* The stop, backwards from the end: fill it in reverse order after the
      * slot where it begins. */
     int first = r.n;
-    r.n += s.n;
+    r.n += s->n;
     kc_real pb = p1, vb = KC_R(0.0), ab = KC_R(0.0), tb = T;
-    for (int i = s.n - 1; i >= 0; i--) {
-        int k = first + i;
-        r.kind[k] = 3;
-        r.t_end[k] = tb;
-        r.tr[k] = tb;
-        r.pr[k] = pb;
-        r.vr[k] = vb;
-        r.ar[k] = ab;
-        r.j[k] = s.j[i];
-        advance(&pb, &vb, &ab, s.j[i], -s.t[i]);
-        tb -= s.t[i];
+    for (int i = s->n - 1; i >= 0; i--) {
+        set_phase(&r, first + i, 3, tb, tb, pb, vb, ab, s->j[i]);
+        advance(&pb, &vb, &ab, s->j[i], -s->t[i]);
+        tb -= s->t[i];
     }
     r.T = T;
     r.dt = dt;

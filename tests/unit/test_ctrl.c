@@ -35,12 +35,26 @@ typedef struct harness {
 static harness H; /* large (kc_ctrl holds a path plan): not on the stack */
 static kc_check CHECK; /* the dry runs' */
 
+/* kc_ctrl keeps the tool pose of its last setpoint (where a Cartesian
+ * segment starts): the FK of q, to the bit. */
+static void assert_pose_kept(void)
+{
+    kc_pose p;
+    assert_int_equal(kc_fk_eval(&H.chain, H.ctrl.q, &p), KC_OK);
+    for (int i = 0; i < 3; i++) {
+        assert_true(H.ctrl.pose.t.v[i] == p.t.v[i]);
+        for (int k = 0; k < 3; k++)
+            assert_true(H.ctrl.pose.R.m[i][k] == p.R.m[i][k]);
+    }
+}
+
 static void setup(kc_model model, const kc_real *q0)
 {
     memset(&H, 0, sizeof H);
     assert_int_equal(kc_chain_init_model(&H.chain, model, NULL), KC_OK);
     H.cfg = kc_ctrl_cfg_default();
     assert_int_equal(kc_ctrl_init(&H.ctrl, &H.chain, &H.cfg, q0), KC_OK);
+    assert_pose_kept();
 }
 
 static const kc_real PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
@@ -71,6 +85,7 @@ static void tick_fault(const kc_goal *g, kc_ctrl_command cmd, kc_ctrl_reason fau
         H.count[ev->kind]++;
         H.last[ev->kind] = *ev;
     }
+    assert_pose_kept();
 }
 
 static void tick(const kc_goal *g, kc_ctrl_command cmd) { tick_fault(g, cmd, KC_REASON_NONE); }
@@ -87,7 +102,6 @@ static int run_until_state(kc_ctrl_state state, int max)
     fail_msg("state %d not reached in %d ticks (state %d)", state, max, H.out.state);
     return -1;
 }
-
 
 static kc_goal line_goal(int64_t id, const kc_pose *to)
 {
@@ -574,6 +588,7 @@ static void test_seat(void **state)
     assert_true(H.ctrl.q[0] == before); /* unchanged on error */
     int64_t cycle = H.out.cycle;
     assert_int_equal(kc_ctrl_seat(&H.ctrl, seat, &bad), KC_OK);
+    assert_pose_kept();
     tick(NULL, KC_CMD_NONE);
     assert_true(H.out.cycle == cycle + 1);
     assert_int_equal(H.out.state, KC_CTRL_IDLE);
@@ -786,7 +801,6 @@ static void test_lagrange_path(void **state)
     for (int j = 0; j < 6; j++)
         kt_near((double)H.out.q[j], (double)p.points[2][j], 1e-9, "Lagrange path end");
 }
-
 
 static void test_dry_run(void **state)
 {

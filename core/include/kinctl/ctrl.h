@@ -486,6 +486,8 @@ typedef struct kc_ctrl {
     int64_t cycle;
     /* The last setpoint (the state everything continues from). */
     kc_real q[KC_MAX_JOINTS], qd[KC_MAX_JOINTS], qdd[KC_MAX_JOINTS];
+    /* The tool pose of q (FK), kept with it: where a segment starts. */
+    kc_pose pose;
     /* Queue (ring buffer). */
     kc_goal queue[KC_CTRL_QUEUE_MAX];
     int queue_head, queue_len;
