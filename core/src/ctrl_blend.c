@@ -40,28 +40,18 @@ typedef struct blend_bounds {
     kc_real w, dw, dj; /* its angular ones */
 } blend_bounds;
 
-/* The replaced joint move's stop at its tick j (>= 0): its joints into
- * o->q and their velocities into o->qd. */
+/* The replaced joint move's jerk-limited stop at its tick j (>= 0), on
+ * its line or joint by joint: its joints into o->q and their velocities
+ * into o->qd. */
 static void stop_joints(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
 {
     const kc_ctrl_blend *b = &c->blend;
-    kc_profile_state u = {KC_R(0.0), KC_R(0.0), KC_R(0.0), 0};
-    if (b->stop_drive == KC_DRIVE_SCURVE) {
-        kc_scurve_state s;
-        kc_scurve_eval(&b->stop.scurve, j, &s);
-        u.p = s.p;
-        u.v = s.v;
-    } else if (b->stop_drive == KC_DRIVE_PROFILE) {
-        kc_profile_eval(&b->stop.prof, j, &u);
-    }
+    kc_scurve_state u = {KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(0.0), 0};
+    if (b->stop_drive == KC_DRIVE_SCURVE)
+        kc_scurve_eval(&b->stop.scurve, j, &u);
     for (int i = 0; i < c->chain->n_joints; i++) {
         if (b->stop_drive == KC_DRIVE_HALT) {
-            kc_scurve_state s;
-            kc_scurve_eval(&b->plan.halt[i], j, &s);
-            o->q[i] = s.p;
-            o->qd[i] = s.v;
-        } else if (b->stop_drive == KC_DRIVE_RETARGET) {
-            kc_profile_eval(&b->plan.retarget[i], j, &u);
+            kc_scurve_eval(&b->plan.halt[i], j, &u);
             o->q[i] = u.p;
             o->qd[i] = u.v;
         } else {
@@ -241,9 +231,9 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
 }
 
 /* Moves what M's stop reads out of c->plan into the record (G is planned
- * there): a line or an arc (small), a joint move's line or its stops joint
- * by joint; stop_ticks, its last joint's. Returns 0 for a stop that is no
- * such plan (the goal waits for it). */
+ * there): a line or an arc (small), a jerk-limited joint move's line or
+ * its stops joint by joint (stop_ticks: its last joint's). Returns 0 for a
+ * stop that is no such plan (the goal waits for it). */
 static int keep_stop(kc_ctrl *c)
 {
     kc_ctrl_blend *b = &c->blend;
@@ -252,23 +242,18 @@ static int keep_stop(kc_ctrl *c)
     b->kind = c->goal.kind;
     b->stop_drive = c->drive;
     b->stop_ticks = 0;
-    if (c->drive == KC_DRIVE_HALT || c->drive == KC_DRIVE_RETARGET) {
+    if (c->drive == KC_DRIVE_HALT) {
         if (b->kind != KC_GOAL_JOINT)
             return 0;
-        for (int i = 0; i < n; i++) {
-            int64_t t = c->drive == KC_DRIVE_HALT ? c->plan.halt[i].ticks : c->plan.retarget[i].ticks;
-            b->stop_ticks = t > b->stop_ticks ? t : b->stop_ticks;
-        }
-        if (c->drive == KC_DRIVE_HALT)
-            memcpy(b->plan.halt, c->plan.halt, sizeof(kc_scurve) * (size_t)n);
-        else
-            memcpy(b->plan.retarget, c->plan.retarget, sizeof(kc_profile) * (size_t)n);
+        for (int i = 0; i < n; i++)
+            b->stop_ticks = c->plan.halt[i].ticks > b->stop_ticks ? c->plan.halt[i].ticks : b->stop_ticks;
+        memcpy(b->plan.halt, c->plan.halt, sizeof(kc_scurve) * (size_t)n);
         return 1;
     }
     if (c->drive == KC_DRIVE_SCURVE) {
         b->stop.scurve = c->drive_scurve;
         b->stop_ticks = c->drive_scurve.ticks;
-    } else if (c->drive == KC_DRIVE_PROFILE) {
+    } else if (c->drive == KC_DRIVE_PROFILE && b->kind != KC_GOAL_JOINT) {
         b->stop.prof = c->drive_prof;
         b->stop_ticks = c->drive_prof.ticks;
     } else {
@@ -305,8 +290,6 @@ static void give_back_stop(kc_ctrl *c)
         c->plan.arc = b->plan.arc;
     } else if (b->stop_drive == KC_DRIVE_HALT) {
         memcpy(c->plan.halt, b->plan.halt, sizeof(kc_scurve) * (size_t)n);
-    } else if (b->stop_drive == KC_DRIVE_RETARGET) {
-        memcpy(c->plan.retarget, b->plan.retarget, sizeof(kc_profile) * (size_t)n);
     } else {
         const kc_ctrl_blend_joint *bj = &b->plan.joint;
         pj->n = bj->n;
@@ -333,6 +316,12 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
      * leaves no null space: a redundant arm's joint move stops first (its
      * null-space motion would jump to the IK's objective). */
     if (c->goal.kind == KC_GOAL_JOINT && c->chain->n_joints > kc_ik_task_rows(c->cfg.ik.mask))
+        return 0;
+    /* A trapezoid joint move's stop brakes at a joint's acceleration limit
+     * from its first tick to its last: the IK step, adding its correction
+     * to that, cannot follow it within the limit, and the tool would lag
+     * its target. It stops first, in joint space. */
+    if (c->goal.kind == KC_GOAL_JOINT && (c->drive == KC_DRIVE_RETARGET || c->plan.joint.kind != KC_PROFILE_JERK))
         return 0;
     /* A joint move has no Cartesian limits of its own: G's bound the sum
      * (or what M's stop alone does, where that is more). */

@@ -126,33 +126,24 @@ typedef struct target {
 } target;
 
 /* The replaced joint move's joints and their velocities at tick jm
- * (>= 0) of its stop, from the stops the controller planned, through the
- * public evaluators: on its line q = q0 + dq u (u jerk-limited or a
- * trapezoid's), or joint by joint. */
+ * (>= 0) of its jerk-limited stop, from the stops the controller planned,
+ * through the public evaluators: on its line q = q0 + dq u, or joint by
+ * joint. */
 static void joint_stop_eval(int64_t jm, kc_real *q, kc_real *qd)
 {
     const kc_ctrl_blend *b = &H.ctrl.blend;
     kc_scurve_state s;
-    kc_profile_state u = {0};
-    if (b->stop_drive == KC_DRIVE_SCURVE) {
+    assert_true(b->stop_drive == KC_DRIVE_SCURVE || b->stop_drive == KC_DRIVE_HALT);
+    if (b->stop_drive == KC_DRIVE_SCURVE)
         kc_scurve_eval(&b->stop.scurve, jm, &s);
-        u.p = s.p;
-        u.v = s.v;
-    } else if (b->stop_drive == KC_DRIVE_PROFILE) {
-        kc_profile_eval(&b->stop.prof, jm, &u);
-    }
     for (int i = 0; i < H.chain.n_joints; i++) {
         if (b->stop_drive == KC_DRIVE_HALT) {
             kc_scurve_eval(&b->plan.halt[i], jm, &s);
             q[i] = s.p;
             qd[i] = s.v;
-        } else if (b->stop_drive == KC_DRIVE_RETARGET) {
-            kc_profile_eval(&b->plan.retarget[i], jm, &u);
-            q[i] = u.p;
-            qd[i] = u.v;
         } else {
-            q[i] = b->plan.joint.q0[i] + b->plan.joint.dq[i] * u.p;
-            qd[i] = b->plan.joint.dq[i] * u.v;
+            q[i] = b->plan.joint.q0[i] + b->plan.joint.dq[i] * s.p;
+            qd[i] = b->plan.joint.dq[i] * s.v;
         }
     }
 }
@@ -646,6 +637,54 @@ static void test_every_pair(void **state)
     assert_true(overlapped_joint > 0);
 }
 
+/* Each of a jerk-limited joint move's stops superposed on a replacing
+ * line: on its line, and joint by joint after a retarget (KC_DRIVE_HALT);
+ * every tick checked as above, the line ending at its end. A trapezoid
+ * joint move, retargeted or not, stops first (kinctl/ctrl.h: its stop
+ * brakes at a joint's acceleration limit, which the IK cannot follow
+ * with its correction added). */
+static void test_joint_stops(void **state)
+{
+    (void)state;
+    const kc_ctrl_drive expect[2] = {KC_DRIVE_SCURVE, KC_DRIVE_HALT};
+    kt_rng r = kt_rng_make(4242);
+    for (int i = 0; i < 4; i++) {
+        setup();
+        int trapezoid = i >= 2, retargeted = i % 2 == 1;
+        kc_goal a = random_goal(&r, KC_GOAL_JOINT, 1, H.out.pose), a2, b;
+        a.profile = trapezoid ? KC_GOAL_PROFILE_TRAPEZOID : KC_GOAL_PROFILE_JERK;
+        tick(&a);
+        for (int k = 0; k < 150; k++)
+            tick(NULL);
+        if (retargeted) {
+            a2 = random_goal(&r, KC_GOAL_JOINT, 3, H.out.pose);
+            a2.profile = a.profile;
+            a2.replace = 1;
+            tick(&a2);
+            assert_int_equal(event_reason(KC_EVENT_STARTED, a2.id), KC_REASON_NONE);
+            for (int k = 0; k < 100; k++)
+                tick(NULL);
+        }
+        assert_int_equal(H.out.state, KC_CTRL_MOVING);
+        b = random_goal(&r, KC_GOAL_LINE, 2, rest_ahead());
+        b.replace = 1;
+        tick(&b);
+        if (trapezoid) {
+            assert_int_equal(event_reason(KC_EVENT_ACCEPTED, b.id), KC_REASON_STOP_FIRST);
+            assert_int_equal(H.out.state, KC_CTRL_STOPPING);
+        } else {
+            assert_int_equal(event_reason(KC_EVENT_STARTED, b.id), KC_REASON_NONE);
+            assert_true(H.ctrl.blend.on);
+            assert_int_equal(H.ctrl.blend.kind, KC_GOAL_JOINT);
+            assert_int_equal(H.ctrl.blend.stop_drive, expect[i]);
+        }
+        run_until_completed(b.id, 20000);
+        check_end(&b);
+        assert_int_equal(H.events[KC_EVENT_FAULT], 0);
+        assert_int_equal(H.events[KC_EVENT_ABORTED], 0);
+    }
+}
+
 /* A 7-joint arm (the Panda) under the full task: the IK step would not
  * give its joint move's null-space motion back, so a line replacing it
  * at random ticks stops first (KC_REASON_STOP_FIRST), every tick
@@ -778,6 +817,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_pair),
+        cmocka_unit_test(test_joint_stops),
         cmocka_unit_test(test_joint_move_redundant),
         cmocka_unit_test(test_line_continued),
         cmocka_unit_test(test_fallbacks),

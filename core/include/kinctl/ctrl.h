@@ -449,9 +449,9 @@ typedef enum kc_ctrl_drive {
     KC_DRIVE_HALT = 5           /* jerk-limited joint move stopping joint by joint: plan.halt */
 } kc_ctrl_drive;
 
-/* What a joint move stopping on its straight line keeps of its plan
- * (kc_interp_joint): q = q0 + dq u, and what a stop or a fault of it
- * reads again. */
+/* What a jerk-limited joint move stopping on its straight line keeps of
+ * its plan (kc_interp_joint): q = q0 + dq u, and what a stop or a fault
+ * of it reads again. */
 typedef struct kc_ctrl_blend_joint {
     int n;
     kc_real q0[KC_MAX_JOINTS], q1[KC_MAX_JOINTS], dq[KC_MAX_JOINTS];
@@ -465,21 +465,19 @@ typedef struct kc_ctrl_blend_joint {
 typedef struct kc_ctrl_blend {
     int on;
     kc_goal_kind kind; /* the replaced segment: KC_GOAL_LINE, KC_GOAL_ARC or KC_GOAL_JOINT */
-    /* Its plan, or for a joint move what its stop needs: its line
-     * (stop_drive KC_DRIVE_SCURVE or KC_DRIVE_PROFILE), one jerk-limited
-     * stop a joint (KC_DRIVE_HALT) or one trapezoid's stop a joint
-     * (KC_DRIVE_RETARGET). */
+    /* Its plan, or for a jerk-limited joint move what its stop needs: its
+     * line (stop_drive KC_DRIVE_SCURVE) or one jerk-limited stop a joint
+     * (KC_DRIVE_HALT). */
     union {
         kc_interp_line line;
         kc_interp_arc arc;
         kc_ctrl_blend_joint joint;
         kc_scurve halt[KC_MAX_JOINTS];
-        kc_profile retarget[KC_MAX_JOINTS];
     } plan;
     /* Its u from the takeover to rest: a jerk-limited stop (stop_drive
      * KC_DRIVE_SCURVE, stop.scurve) or a trapezoid's (KC_DRIVE_PROFILE,
-     * stop.prof); a joint move's stop joint by joint has none (plan.halt,
-     * plan.retarget); stop_ticks ticks (its last joint's). */
+     * stop.prof, a line or an arc); a joint move's stop joint by joint has
+     * none (plan.halt); stop_ticks ticks (its last joint's). */
     kc_ctrl_drive stop_drive;
     union {
         kc_profile prof;
