@@ -93,7 +93,7 @@
  * in, the tracking bound is a stop's (TRACK_GIVE_UP times it); from the
  * takeover the setpoint is the IK step's, following the sum (a joint
  * move's stop included: with a task that leaves no null space the step
- * gives its joint velocities back, J^-1 J qd_M = qd_M). Limits:
+ * gives its joint velocities back, J^+ J qd_M = qd_M). Limits:
  * the joints are not judged over the overlap beforehand (M's stop stays
  * inside the position limits its motion was planned or checked within;
  * the dry run judges G from the arm at rest, as for every goal; the final
@@ -114,7 +114,7 @@
  * a joint move of an arm whose joints outnumber the IK task's rows (the
  * Panda's 7 under the full task: the step would drop the move's
  * null-space motion, its joint velocities jumping); a Cartesian path that
- * does not start at rest (Lagrange's); a joint path or a servo stream; a
+ * does not start at rest (Lagrange's); a replacing joint path or servo stream; a
  * replacement during a superposition or a stop; and a goal that cannot be
  * planned from P_s. Setpoints stay continuous in
  * position and velocity throughout, and in acceleration through
