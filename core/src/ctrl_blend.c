@@ -1,20 +1,25 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* ctrl_blend.c - a replacing Cartesian goal taken over from a moving line
- * or arc without stopping (kinctl/ctrl.h): the replaced segment M stops on
- * its path (kc_ctrl_stop_on_path, from tick k), coming to rest at pose P_s
- * after T_s ticks; the new segment G is planned from P_s at rest and
- * starts t0 ticks after k. The target while M's stop lasts is the
- * superposition
+/* ctrl_blend.c - a replacing Cartesian goal taken over from a moving line,
+ * arc or joint move without stopping (kinctl/ctrl.h): the replaced segment
+ * M stops (kc_ctrl_stop_on_path, from tick k: a line or an arc on its
+ * path, a joint move in joint space), coming to rest at pose P_s after T_s
+ * ticks; the new segment G is planned from P_s at rest and starts t0 ticks
+ * after k. The target while M's stop lasts is the superposition
  *     p = p_M + (p_G - p_s),   R = A R_M,  A = R_G R_s^T (left, base frame),
  *     v = v_M + v_G,           w = w_G + A w_M,
  * the derivative of R being (w_G^ A + A w_M^ A^T A) R_M = (w_G + A w_M)^ R.
- * Before t0 G is at rest at P_s (A = I): the sum is M's stop; once the
- * stop has ended (M at P_s) it is G. G starts at rest with no
- * acceleration, so the sum continues M's motion in position, velocity and
- * acceleration. t0 is the earliest of a bounded search in [0, T_s] whose
- * sum keeps the Cartesian limits on every tick of the overlap; T_s always
- * does (no overlap). */
+ * A joint move's stop gives (p_M, R_M) = FK(q_M) and (v_M, w_M) =
+ * J(q_M) qd_M, its geometric Jacobian's twist (exact, where a difference
+ * of consecutive ticks would lag by half a tick). Before t0 G is at rest
+ * at P_s (A = I): the sum is M's stop; once the stop has ended (M at P_s)
+ * it is G. G starts at rest with no acceleration, so the sum continues M's
+ * motion in position, velocity and acceleration. t0 is the earliest of a
+ * bounded search in [0, T_s] whose sum keeps the Cartesian limits on every
+ * tick of the overlap; T_s always does (no overlap). */
 #include "ctrl_internal.h"
+#include "ik_internal.h"
+
+#include <string.h>
 
 
 /* Candidates of t0 spread evenly over [0, T_s], then bisection between the
@@ -35,11 +40,46 @@ typedef struct blend_bounds {
     kc_real w, dw, dj; /* its angular ones */
 } blend_bounds;
 
-/* The replaced segment's stop at its tick j. */
-static void stop_point(const kc_ctrl_blend *b, int64_t j, kc_ctrl_seg_point *o)
+/* The replaced joint move's jerk-limited stop at its tick j (>= 0), on
+ * its line or joint by joint: its joints into o->q and their velocities
+ * into o->qd. */
+static void stop_joints(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
 {
-    kc_ctrl_interp_point(b->kind, &b->plan.line, &b->plan.arc, b->stop_drive, &b->stop.prof, &b->stop.scurve,
-                         j < 0 ? 0 : j, o);
+    const kc_ctrl_blend *b = &c->blend;
+    kc_scurve_state u = {KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(0.0), 0};
+    if (b->stop_drive == KC_DRIVE_SCURVE)
+        kc_scurve_eval(&b->stop.scurve, j, &u);
+    for (int i = 0; i < c->chain->n_joints; i++) {
+        if (b->stop_drive == KC_DRIVE_HALT) {
+            kc_scurve_eval(&b->plan.halt[i], j, &u);
+            o->q[i] = u.p;
+            o->qd[i] = u.v;
+        } else {
+            o->q[i] = b->plan.joint.q0[i] + b->plan.joint.dq[i] * u.p;
+            o->qd[i] = b->plan.joint.dq[i] * u.v;
+        }
+    }
+}
+
+/* The replaced segment's stop at its tick j: a line's or an arc's point,
+ * or a joint move's tool pose and twist J(q) qd. */
+static void stop_point(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
+{
+    const kc_ctrl_blend *b = &c->blend;
+    j = j < 0 ? 0 : j;
+    if (b->kind != KC_GOAL_JOINT) {
+        kc_ctrl_interp_point(b->kind, &b->plan.line, &b->plan.arc, b->stop_drive, &b->stop.prof, &b->stop.scurve, j,
+                             o);
+        return;
+    }
+    kc_jacobian jac;
+    stop_joints(c, j, o);
+    kc_fk_jacobian(c->chain, o->q, &jac, &o->pose);
+    for (int r = 0; r < 6; r++) {
+        o->twist[r] = KC_R(0.0);
+        for (int i = 0; i < c->chain->n_joints; i++)
+            o->twist[r] += jac.m[r][i] * o->qd[i];
+    }
 }
 
 /* o (G's point) composed with m (M's stop at the same instant), in place. */
@@ -72,7 +112,7 @@ typedef struct blend_twists {
 static void twists_at(const kc_ctrl *c, int64_t t0, int64_t j, kc_ctrl_seg_point *m, kc_ctrl_seg_point *g,
                       blend_twists *out)
 {
-    stop_point(&c->blend, j, m);
+    stop_point(c, j, m);
     kc_ctrl_seg_eval(c, j - t0, g);
     for (int i = 0; i < 6; i++) {
         out->m[i] = m->twist[i];
@@ -190,37 +230,112 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
     return hi;
 }
 
+/* Moves what M's stop reads out of c->plan into the record (G is planned
+ * there): a line or an arc (small), a jerk-limited joint move's line or
+ * its stops joint by joint (stop_ticks: its last joint's). Returns 0 for a
+ * stop that is no such plan (the goal waits for it). */
+static int keep_stop(kc_ctrl *c)
+{
+    kc_ctrl_blend *b = &c->blend;
+    int n = c->chain->n_joints;
+    const kc_interp_joint *pj = &c->plan.joint;
+    b->kind = c->goal.kind;
+    b->stop_drive = c->drive;
+    b->stop_ticks = 0;
+    if (c->drive == KC_DRIVE_HALT) {
+        if (b->kind != KC_GOAL_JOINT)
+            return 0;
+        for (int i = 0; i < n; i++)
+            b->stop_ticks = c->plan.halt[i].ticks > b->stop_ticks ? c->plan.halt[i].ticks : b->stop_ticks;
+        memcpy(b->plan.halt, c->plan.halt, sizeof(kc_scurve) * (size_t)n);
+        return 1;
+    }
+    if (c->drive == KC_DRIVE_SCURVE) {
+        b->stop.scurve = c->drive_scurve;
+        b->stop_ticks = c->drive_scurve.ticks;
+    } else if (c->drive == KC_DRIVE_PROFILE && b->kind != KC_GOAL_JOINT) {
+        b->stop.prof = c->drive_prof;
+        b->stop_ticks = c->drive_prof.ticks;
+    } else {
+        return 0;
+    }
+    if (b->kind == KC_GOAL_LINE) {
+        b->plan.line = c->plan.line;
+    } else if (b->kind == KC_GOAL_ARC) {
+        b->plan.arc = c->plan.arc;
+    } else {
+        kc_ctrl_blend_joint *bj = &b->plan.joint;
+        bj->n = pj->n;
+        memcpy(bj->q0, pj->q0, sizeof(kc_real) * (size_t)n);
+        memcpy(bj->q1, pj->q1, sizeof(kc_real) * (size_t)n);
+        memcpy(bj->dq, pj->dq, sizeof(kc_real) * (size_t)n);
+        bj->u_vmax = pj->u_vmax;
+        bj->u_amax = pj->u_amax;
+        bj->u_jmax = pj->u_jmax;
+        bj->kind = pj->kind;
+        bj->sync = pj->sync;
+    }
+    return 1;
+}
+
+/* Puts M's stop back into c->plan (G not taken): what keep_stop moved. */
+static void give_back_stop(kc_ctrl *c)
+{
+    const kc_ctrl_blend *b = &c->blend;
+    int n = c->chain->n_joints;
+    kc_interp_joint *pj = &c->plan.joint;
+    if (b->kind == KC_GOAL_LINE) {
+        c->plan.line = b->plan.line;
+    } else if (b->kind == KC_GOAL_ARC) {
+        c->plan.arc = b->plan.arc;
+    } else if (b->stop_drive == KC_DRIVE_HALT) {
+        memcpy(c->plan.halt, b->plan.halt, sizeof(kc_scurve) * (size_t)n);
+    } else {
+        const kc_ctrl_blend_joint *bj = &b->plan.joint;
+        pj->n = bj->n;
+        memcpy(pj->q0, bj->q0, sizeof(kc_real) * (size_t)n);
+        memcpy(pj->q1, bj->q1, sizeof(kc_real) * (size_t)n);
+        memcpy(pj->dq, bj->dq, sizeof(kc_real) * (size_t)n);
+        pj->u_vmax = bj->u_vmax;
+        pj->u_amax = bj->u_amax;
+        pj->u_jmax = bj->u_jmax;
+        pj->kind = bj->kind;
+        pj->sync = bj->sync;
+    }
+}
+
 int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
 {
     kc_ctrl_blend *b = &c->blend;
     if (!c->active || c->state != KC_CTRL_MOVING || b->on ||
-        (c->goal.kind != KC_GOAL_LINE && c->goal.kind != KC_GOAL_ARC) ||
+        (c->goal.kind != KC_GOAL_LINE && c->goal.kind != KC_GOAL_ARC && c->goal.kind != KC_GOAL_JOINT) ||
         (g->kind != KC_GOAL_LINE && g->kind != KC_GOAL_ARC && g->kind != KC_GOAL_PATH_CART))
         return 0;
-    kc_interp_limits lm = kc_ctrl_cart_limits(c, &c->goal), lg = kc_ctrl_cart_limits(c, g);
+    /* The IK step turns the sum's twist back into joint velocities, and
+     * gives a joint move's own back (J^+ J qd = qd) only where the task
+     * leaves no null space: a redundant arm's joint move stops first (its
+     * null-space motion would jump to the IK's objective). */
+    if (c->goal.kind == KC_GOAL_JOINT && c->chain->n_joints > kc_ik_task_rows(c->cfg.ik.mask))
+        return 0;
+    /* A trapezoid joint move's stop brakes at a joint's acceleration limit
+     * from its first tick to its last: the IK step, adding its correction
+     * to that, cannot follow it within the limit, and the tool would lag
+     * its target. It stops first, in joint space. */
+    if (c->goal.kind == KC_GOAL_JOINT && (c->drive == KC_DRIVE_RETARGET || c->plan.joint.kind != KC_PROFILE_JERK))
+        return 0;
+    /* A joint move has no Cartesian limits of its own: G's bound the sum
+     * (or what M's stop alone does, where that is more). */
+    kc_interp_limits lg = kc_ctrl_cart_limits(c, g);
+    kc_interp_limits lm = c->goal.kind == KC_GOAL_JOINT ? lg : kc_ctrl_cart_limits(c, &c->goal);
     blend_bounds lim = {kc_max(lm.v, lg.v), kc_max(lm.a, lg.a), kc_max(lm.j, lg.j),
                         kc_max(lm.w, lg.w), kc_max(lm.dw, lg.dw), kc_max(lm.dj, lg.dj)};
     kc_real old_length = c->path_length;
     kc_ctrl_stop_on_path(c, INTENT_PREEMPT);
-    if (c->drive != KC_DRIVE_PROFILE && c->drive != KC_DRIVE_SCURVE)
-        return 0; /* a stop that is not a profile of u: it goes on, the goal waits for it */
-    /* M moves out of c->plan (a line or an arc: small), G is planned there. */
-    b->kind = c->goal.kind;
-    if (b->kind == KC_GOAL_LINE)
-        b->plan.line = c->plan.line;
-    else
-        b->plan.arc = c->plan.arc;
-    b->stop_drive = c->drive;
-    if (c->drive == KC_DRIVE_SCURVE) {
-        b->stop.scurve = c->drive_scurve;
-        b->stop_ticks = c->drive_scurve.ticks;
-    } else {
-        b->stop.prof = c->drive_prof;
-        b->stop_ticks = c->drive_prof.ticks;
-    }
+    if (!keep_stop(c))
+        return 0; /* a stop that is not a profile: it goes on, the goal waits for it */
     b->k0 = c->k0;
     kc_ctrl_seg_point rest;
-    stop_point(b, b->stop_ticks, &rest);
+    stop_point(c, b->stop_ticks, &rest);
     b->rest = rest.pose;
     kc_status st = kc_ctrl_plan_cart_from(c, g, &b->rest);
     if (st == KC_OK && g->kind == KC_GOAL_PATH_CART) {
@@ -233,10 +348,7 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     }
     if (st != KC_OK) {
         /* M goes on stopping; G waits for it (and is planned again then). */
-        if (b->kind == KC_GOAL_LINE)
-            c->plan.line = b->plan.line;
-        else
-            c->plan.arc = b->plan.arc;
+        give_back_stop(c);
         c->path_length = old_length;
         return 0;
     }
@@ -265,6 +377,6 @@ void kc_ctrl_blend_apply(kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o)
         return;
     }
     kc_ctrl_seg_point m;
-    stop_point(b, j, &m);
+    stop_point(c, j, &m);
     compose(b, &m, o);
 }

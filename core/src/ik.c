@@ -67,11 +67,6 @@ kc_status kc_ik_cfg_check(const kc_ik_cfg *cfg, const kc_chain *chain)
 
 /* ---- the task: error and Jacobian rows ---- */
 
-static int task_rows(kc_ik_mask mask)
-{
-    return mask == KC_IK_MASK_FULL ? 6 : (mask == KC_IK_MASK_POSITION ? 3 : 5);
-}
-
 /* The task error at pose cur, in the base frame: rows 0-2 the translation
  * error (m), then the rotation rows. pos_err and rot_err get the magnitudes.
  * Full task: seed 002's law on M = conj(L) o L*, returned unscaled (k = 1):
@@ -152,7 +147,7 @@ static void problem_init(kc_ik_problem *p, const kc_chain *chain, const kc_ik_cf
     p->chain = chain;
     p->cfg = cfg;
     p->n = chain->n_joints;
-    p->r = task_rows(cfg->mask);
+    p->r = kc_ik_task_rows(cfg->mask);
     p->singular_damping = 1;
     for (int j = 0; j < p->n; j++) {
         const kc_joint_limits *l = &chain->joints[j].limits;

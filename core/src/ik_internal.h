@@ -9,6 +9,12 @@
 #include "kinctl/ik.h"
 #include "linalg_internal.h"
 
+/* The rows of a task: 6 (full), 3 (position), 5 (axis). */
+static inline int kc_ik_task_rows(kc_ik_mask mask)
+{
+    return mask == KC_IK_MASK_FULL ? 6 : (mask == KC_IK_MASK_POSITION ? 3 : 5);
+}
+
 typedef struct kc_ik_problem {
     const kc_chain *chain;
     const kc_ik_cfg *cfg;

@@ -4,13 +4,14 @@ cycle it arrives, without stopping (kinctl/ctrl.h: the old line's stop on
 its path superposed on the new line), through LCM. No logged setpoint
 jumps: consecutive cycles, each joint's q and qd changing within its
 limits times dt, the tool's position within the Cartesian speed times dt;
-the tool keeps moving through the takeover and ends on the new target. A
-replacement that must stop first (a line replacing a joint move) is
-accepted with the reason stop_first."""
+the tool keeps moving through the takeover and ends on the new target. So
+does a line replacing a jerk-limited joint move (the move's stop in joint
+space superposed). A replacement that must stop first (a line replacing a
+trapezoid joint move) is accepted with the reason stop_first."""
 import math
 
-from kinctl_testing import (DT, END, EVENTS, QN, assert_smooth, close, finished, go_nominal, goal_line_t,
-                            setpoints_since)
+from kinctl_testing import (DT, END, EVENTS, QN, assert_smooth, close, finished, go_nominal, goal_joint_t,
+                            goal_line_t, setpoints_since)
 
 # The controller's default Cartesian speed (m/s), and the slack of the tool
 # speed measured on the published poses: the online IK law adds gain *
@@ -66,17 +67,42 @@ def test_line_replaced_by_line_without_stopping(kinctld):
     assert d.stop() == 0
 
 
-def test_line_replacing_a_joint_move_stops_first(kinctld):
-    d = kinctld()
+def replace_joint_move_by_line(d, profile):
+    """A joint move (2) of the given profile from QN, replaced 200 cycles in
+    by a line (3) 5 cm up from QN's tool point; its ACCEPTED status, the
+    line's target and the first cycle's setpoint."""
     s0 = go_nominal(d)
     p, o = list(s0.position), list(s0.orientation)
-    d.bus.send_goal_joint(2, [q + 0.3 for q in QN])
+    d.bus.send_goal_joint(2, [q + 0.3 for q in QN], profile=profile)
     d.bus.wait(lambda: any(s.goal_id == 2 for s in d.bus.setpoints[-3:]), 5.0, "motion")
     d.bus.wait_setpoints(200)
     target = [p[0], p[1] + 0.05, p[2]]
     d.bus.send("GOAL_LINE", line(3, target, o, replace=True))
     accepted = d.bus.wait_event(3, ("ACCEPTED", "REJECTED"))
     assert accepted.event == EVENTS["ACCEPTED"] and accepted.code == 0, accepted.reason
+    return accepted, target, s0
+
+
+def test_line_replacing_a_joint_move_without_stopping(kinctld):
+    d = kinctld()
+    accepted, target, s0 = replace_joint_move_by_line(d, goal_joint_t.PROFILE_CONFIG)
+    assert accepted.reason == "", accepted.reason
+    assert d.bus.wait_event(2, ("PREEMPTED",) + END).event == EVENTS["PREEMPTED"]
+    s = finished(d, 3)
+    assert close(s.position, target, 1e-6), s.position
+    stream = setpoints_since(d, s0.cycle)
+    assert_smooth(stream)
+    # The line's first setpoint follows the joint move's in the next
+    # cycle, the tool still moving (stopping first, it would be at rest).
+    i = next(i for i, sp in enumerate(stream) if sp.goal_id == 3)
+    assert stream[i - 1].goal_id == 2 and stream[i].cycle == stream[i - 1].cycle + 1
+    assert tool_speed(stream[i - 1], stream[i]) > 0.05
+    assert d.stop() == 0
+
+
+def test_line_replacing_a_trapezoid_joint_move_stops_first(kinctld):
+    d = kinctld()
+    accepted, target, s0 = replace_joint_move_by_line(d, goal_joint_t.PROFILE_TRAPEZOID)
     assert accepted.reason.startswith("stop_first: "), accepted.reason
     s = finished(d, 3)
     assert close(s.position, target, 1e-6), s.position

@@ -886,16 +886,16 @@ static int run_to_fault_counting(int64_t first_id, int n_ids, int max, int *faul
     return k;
 }
 
-/* A joint move (81) that a replacing line (82) makes stop on its path, up to
- * the replacement. */
-static void joint_move_stopped_by_a_line(void)
+/* A joint move (81) that a replacing joint path (82) makes stop first
+ * (kinctl/ctrl.h: a replacing Cartesian goal would take over), up to the
+ * replacement. */
+static void joint_move_stopped_by_a_path(void)
 {
     start_joint_move(81, 300);
-    kc_pose to = pose_of(PUMA_Q0);
-    to.t.v[2] += KC_R(0.05);
-    kc_goal line = line_goal(82, &to);
-    line.replace = 1;
-    tick(&line, KC_CMD_NONE);
+    const kc_real off[2][3] = {{KC_R(0.05), 0, 0}, {KC_R(0.1), 0, 0}};
+    kc_goal path = path_goal(82, KC_GOAL_PATH, KC_PATH_BLEND, 2, off, NULL);
+    path.replace = 1;
+    tick(&path, KC_CMD_NONE);
     assert_true(has_event(KC_EVENT_ACCEPTED, 82));
     assert_int_equal(H.out.state, KC_CTRL_STOPPING);
 }
@@ -910,12 +910,12 @@ static void test_final_check_on_the_last_tick_of_a_stop(void **state)
 {
     (void)state;
     /* The ticks the stop takes to come to rest, */
-    joint_move_stopped_by_a_line();
+    joint_move_stopped_by_a_path();
     int n = 1;
     for (tick(NULL, KC_CMD_NONE); !has_event(KC_EVENT_PREEMPTED, 81); tick(NULL, KC_CMD_NONE))
         assert_true(++n < 20000);
     /* then again, to the tick before. */
-    joint_move_stopped_by_a_line();
+    joint_move_stopped_by_a_path();
     int ends[2] = {0, 0}, faults = 0;
     kc_ctrl_reason fault_reason = KC_REASON_NONE;
     for (int k = 1; k < n; k++)

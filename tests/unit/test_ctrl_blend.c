@@ -2,19 +2,24 @@
 /* test_ctrl_blend.c - goals replaced mid-motion (kinctl/ctrl.h): every
  * ordered pair of a joint move, a line, an arc and a Cartesian path
  * replacing one another at random ticks on the PUMA 560. A replacing line,
- * arc or path takes over from a moving line or arc in the tick it arrives
- * (the replaced motion's stop superposed on it); a joint goal retargets
- * from the current state; the other pairs stop first and are accepted with
- * KC_REASON_STOP_FIRST. Every tick: the joints inside their limits, each
- * joint's change of q within qd_max dt, of qd within qdd_max dt (the
- * continuity of the setpoint); the tool point's and the tool's angular
- * speed, measured from the FK of consecutive setpoints, within the
- * Cartesian limits during Cartesian motions. While a superposition lasts,
- * its target, computed here from the two plans the controller holds, is
- * checked on every tick against the Cartesian limits (speed, acceleration,
- * angular speed and acceleration) and the tool against it; the tool's
- * measured acceleration there is no worse than in the plain Cartesian
- * motions of the same runs. The replacing goal ends at its target. A line
+ * arc or path takes over from a moving line, arc or joint move in the tick
+ * it arrives (the replaced motion's stop superposed on it: a joint move's
+ * as the FK of its joints, its twist J qd checked against FK's
+ * difference); a joint goal retargets from the current state; the other
+ * pairs stop first and are accepted with KC_REASON_STOP_FIRST, as a joint
+ * move of the 7-joint Panda replaced by a line does. Every tick: the
+ * joints inside their limits, each joint's change of q within qd_max dt,
+ * of qd within qdd_max dt (the continuity of the setpoint); the tool
+ * point's and the tool's angular speed, measured from the FK of
+ * consecutive setpoints, within the Cartesian limits during Cartesian
+ * motions (over a joint move's stop, within what the target may do).
+ * While a superposition lasts, its target, computed here from the two
+ * plans the controller holds, is checked on every tick against the
+ * Cartesian limits (speed and step, acceleration, jerk, angular speed and
+ * acceleration), or what either motion alone does where that is more, and
+ * the tool against it; over a line's or arc's stop the tool's measured
+ * acceleration is no worse than in the plain Cartesian motions of the
+ * same runs. The replacing goal ends at its target. A line
  * continued along its direction is taken over with no change of speed.
  * And the fallbacks: a replacement during a superposition, one of a
  * Cartesian path, each with its reason. */
@@ -70,6 +75,8 @@ typedef struct harness {
     double v_prev[6]; /* the tool's speed vector (linear, angular) at the last tick */
     int have_prev;
     int events[8];
+    /* The speed bounds of the last superposed target checked (m/s, rad/s). */
+    double v_bound, w_bound;
 } harness;
 
 static harness H; /* large: not on the stack */
@@ -79,15 +86,17 @@ static harness H; /* large: not on the stack */
  * angular acceleration. */
 static struct {
     double blend[4], plain[4], target[4];
+    double joint[4]; /* measured on the tool while a joint move's stop is superposed */
     double jerk; /* the superposed targets' jerk over the limit */
 } WORST;
 
 static const kc_real PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
 
-static void setup(void)
+/* The controller at rest at q0 on model, with the Cartesian limits below. */
+static void setup_model(kc_model model, const kc_real *q0)
 {
     memset(&H, 0, sizeof H);
-    assert_int_equal(kc_chain_init_model(&H.chain, KC_MODEL_PUMA560, NULL), KC_OK);
+    assert_int_equal(kc_chain_init_model(&H.chain, model, NULL), KC_OK);
     H.cfg = kc_ctrl_cfg_default();
     /* Cartesian limits this arm follows around PUMA_Q0 within its joints'
      * acceleration limits (at the defaults, 0.25 m/s and 0.5 m/s^2, the
@@ -95,12 +104,14 @@ static void setup(void)
      * more than the tracking tolerance: a motion the dry run refuses). */
     H.cfg.cart_speed = KC_R(0.15);
     H.cfg.cart_accel = KC_R(0.3);
-    assert_int_equal(kc_ctrl_init(&H.ctrl, &H.chain, &H.cfg, PUMA_Q0), KC_OK);
-    kc_fk_eval(&H.chain, PUMA_Q0, &H.pose_prev);
+    assert_int_equal(kc_ctrl_init(&H.ctrl, &H.chain, &H.cfg, q0), KC_OK);
+    kc_fk_eval(&H.chain, q0, &H.pose_prev);
     H.out.pose = H.pose_prev;
-    for (int j = 0; j < 6; j++)
-        H.q_prev[j] = (double)PUMA_Q0[j];
+    for (int j = 0; j < H.chain.n_joints; j++)
+        H.q_prev[j] = (double)q0[j];
 }
+
+static void setup(void) { setup_model(KC_MODEL_PUMA560, PUMA_Q0); }
 
 /* The Cartesian target of a superposition at absolute tick k, computed
  * here from the two plans kc_ctrl holds (the replaced line or arc and its
@@ -111,14 +122,85 @@ static void setup(void)
 typedef struct target {
     kc_vec3 p, v, w;
     kc_quat r;
+    kc_vec3 vg, wg; /* G's own twist */
 } target;
 
-/* The replaced line or arc at tick jm (>= 0) of its stop: jerk-limited or
- * a trapezoid's, as the controller planned it. */
+/* The replaced joint move's joints and their velocities at tick jm
+ * (>= 0) of its jerk-limited stop, from the stops the controller planned,
+ * through the public evaluators: on its line q = q0 + dq u, or joint by
+ * joint. */
+static void joint_stop_eval(int64_t jm, kc_real *q, kc_real *qd)
+{
+    const kc_ctrl_blend *b = &H.ctrl.blend;
+    kc_scurve_state s;
+    assert_true(b->stop_drive == KC_DRIVE_SCURVE || b->stop_drive == KC_DRIVE_HALT);
+    if (b->stop_drive == KC_DRIVE_SCURVE)
+        kc_scurve_eval(&b->stop.scurve, jm, &s);
+    for (int i = 0; i < H.chain.n_joints; i++) {
+        if (b->stop_drive == KC_DRIVE_HALT) {
+            kc_scurve_eval(&b->plan.halt[i], jm, &s);
+            q[i] = s.p;
+            qd[i] = s.v;
+        } else {
+            q[i] = b->plan.joint.q0[i] + b->plan.joint.dq[i] * s.p;
+            qd[i] = b->plan.joint.dq[i] * s.v;
+        }
+    }
+}
+
+/* The replaced segment at tick jm (>= 0) of its stop, as the controller
+ * planned it: a line or an arc (jerk-limited or a trapezoid's stop), or a
+ * joint move's tool: FK of its joints, and its twist J(q) qd, checked
+ * against the central difference of FK along qd (step JOINT_H, within
+ * JOINT_TWIST_TOL m/s or rad/s: FK's rounding over the step, and its
+ * truncation). */
+#ifdef KC_REAL_FLOAT
+#define JOINT_H 1e-3
+#define JOINT_TWIST_TOL 5e-4
+#else
+#define JOINT_H 1e-5
+#define JOINT_TWIST_TOL 1e-8
+#endif
 static void stop_eval(int64_t jm, kc_interp_cart_state *m)
 {
     const kc_ctrl_blend *b = &H.ctrl.blend;
     jm = jm < 0 ? 0 : jm;
+    if (b->kind == KC_GOAL_JOINT) {
+        kc_real q[KC_MAX_JOINTS], qd[KC_MAX_JOINTS], qa[KC_MAX_JOINTS], qb[KC_MAX_JOINTS];
+        kc_pose pose, pa, pb;
+        kc_jacobian jac;
+        joint_stop_eval(jm, q, qd);
+        kc_fk_jacobian(&H.chain, q, &jac, &pose);
+        const kc_real h = (kc_real)JOINT_H;
+        for (int i = 0; i < H.chain.n_joints; i++) {
+            qa[i] = q[i] - h * qd[i];
+            qb[i] = q[i] + h * qd[i];
+        }
+        kc_fk_eval(&H.chain, qa, &pa);
+        kc_fk_eval(&H.chain, qb, &pb);
+        /* The rotation from pa to pb over 2h, as a rotation vector. */
+        kc_mat3 dR;
+        kc_quat dq;
+        kc_vec3 w;
+        kc_mat3_transpose(&pa.R, &dR);
+        kc_mat3_mul(&pb.R, &dR, &dR);
+        kc_quat_from_mat3(&dR, &dq);
+        kc_quat_log(&dq, &w);
+        m->p = pose.t;
+        kc_quat_from_mat3(&pose.R, &m->q);
+        for (int r = 0; r < 6; r++) {
+            double t = 0.0;
+            for (int i = 0; i < H.chain.n_joints; i++)
+                t += (double)jac.m[r][i] * (double)qd[i];
+            double fd = r < 3 ? (double)(pb.t.v[r] - pa.t.v[r]) / (2 * JOINT_H) : (double)w.v[r - 3] / (2 * JOINT_H);
+            kt_near(t, fd, JOINT_TWIST_TOL, "a joint stop's twist J qd against FK's difference");
+            if (r < 3)
+                m->v.v[r] = (kc_real)t;
+            else
+                m->w.v[r - 3] = (kc_real)t;
+        }
+        return;
+    }
     if (b->stop_drive == KC_DRIVE_SCURVE) {
         if (b->kind == KC_GOAL_LINE)
             kc_interp_line_eval_scurve(&b->plan.line, &b->stop.scurve, jm, m);
@@ -171,6 +253,8 @@ static target blend_target(int64_t k)
         t.w.v[i] = g.w.v[i] + aw.v[i];
     }
     t.r = r;
+    t.vg = g.v;
+    t.wg = g.w;
     return t;
 }
 
@@ -202,6 +286,10 @@ static void check_target(int64_t k)
     kc_vec3_sub(&t1.p, &t0.p, &step);
     double lv = (double)H.cfg.cart_speed, la = (double)H.cfg.cart_accel;
     double lw = (double)H.cfg.cart_omega, ldw = (double)H.cfg.cart_alpha;
+    /* Speeds: the limits, or M's stop or G alone where that is more (a
+     * joint move's stop is bounded in its joints only). */
+    double v_bound = fmax(lv, fmax((double)kc_vec3_norm(&m1.v), (double)kc_vec3_norm(&t1.vg)));
+    double w_bound = fmax(lw, fmax((double)kc_vec3_norm(&m1.w), (double)kc_vec3_norm(&t1.wg)));
     /* The limits, or what M's stop or G alone (v_G = v - v_M: an arc's
      * acceleration has a centripetal part its tangential limit does not
      * bound) changes over the tick, where that is more; angular: the limit
@@ -216,11 +304,18 @@ static void check_target(int64_t k)
     /* The step is a difference of two positions of the target, each the
      * sum of three rounded ones: 8 units of KC_REAL_EPS |p| cover it. */
     double sp = (double)kc_vec3_norm(&step) / dt;
+    /* Its bound: the speed's, or M's or G's own step where that is more
+     * (p_G's step is the sum's less M's). */
+    kc_vec3 stepm, stepg;
+    kc_vec3_sub(&m1.p, &m0.p, &stepm);
+    kc_vec3_sub(&step, &stepm, &stepg);
+    double p_bound = fmax(v_bound, fmax((double)kc_vec3_norm(&stepm), (double)kc_vec3_norm(&stepg)) / dt);
     double sp_round = 8.0 * (double)KC_REAL_EPS * (double)kc_vec3_norm(&t1.p) / dt;
-    if (!(sv <= lv * e && sw <= lw * e && sa <= a_bound * e && sdw <= dw_bound * e && sp <= lv * e + sp_round))
-        fail_msg("cycle %ld (superposed target): speed %.6g, angular %.6g, acceleration %.6g of %.6g, angular %.6g of "
-                 "%.6g, step %.6g m/s",
-                 (long)k, sv, sw, sa, a_bound, sdw, dw_bound, sp);
+    if (!(sv <= v_bound * e && sw <= w_bound * e && sa <= a_bound * e && sdw <= dw_bound * e &&
+          sp <= p_bound * e + sp_round))
+        fail_msg("cycle %ld (superposed target): speed %.6g of %.6g, angular %.6g of %.6g, acceleration %.6g of %.6g, "
+                 "angular %.6g of %.6g, step %.6g m/s",
+                 (long)k, sv, v_bound, sw, w_bound, sa, a_bound, sdw, dw_bound, sp);
     /* The tool point's jerk (the second difference of the target's
      * velocity over two ticks) within the goals' jerk limit, or what M's
      * stop or G alone (v_G = v - v_M) does where that is more; from M's
@@ -245,6 +340,10 @@ static void check_target(int64_t k)
             fail_msg("cycle %ld (superposed target): jerk %.6g of %.6g m/s^3", (long)k, jt, j_bound);
         WORST.jerk = fmax(WORST.jerk, jt / (double)H.cfg.cart_jerk);
     }
+    H.v_bound = p_bound; /* the tool is measured by its step */
+    /* The tool's angular speed is measured by its rotation over the tick:
+     * the speeds at its start count too. */
+    H.w_bound = fmax(w_bound, fmax((double)kc_vec3_norm(&m0.w), (double)kc_vec3_norm(&t0.wg)));
     WORST.target[0] = fmax(WORST.target[0], sv / lv);
     WORST.target[1] = fmax(WORST.target[1], sa / la);
     WORST.target[2] = fmax(WORST.target[2], sw / lw);
@@ -294,10 +393,18 @@ static void tick(const kc_goal *g)
     }
     double sv = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), sw = sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5]);
     double lv = (double)H.cfg.cart_speed, lw = (double)H.cfg.cart_omega;
-    /* Joint moves (and their stops) are bounded in the joints only. */
+    /* Joint moves (and their stops) are bounded in the joints only: so is
+     * the tool while a joint move's stop is superposed on a Cartesian goal
+     * (its target's speed is checked above, against the limits or what
+     * either motion alone does). */
     int cart_motion = H.ctrl.active && H.ctrl.goal.kind != KC_GOAL_JOINT;
-    if (cart_motion && !(sv <= lv * (1.0 + TOOL_REL) + TOOL_ABS_V && sw <= lw * (1.0 + TOOL_REL) + TOOL_ABS_V))
-        fail_msg("cycle %ld: tool speed %.6g m/s, %.6g rad/s", (long)H.out.cycle, sv, sw);
+    double bv = lv, bw = lw;
+    if (blending && H.ctrl.blend.kind == KC_GOAL_JOINT) {
+        bv = fmax(lv, H.v_bound);
+        bw = fmax(lw, H.w_bound);
+    }
+    if (cart_motion && !(sv <= bv * (1.0 + TOOL_REL) + TOOL_ABS_V && sw <= bw * (1.0 + TOOL_REL) + TOOL_ABS_V))
+        fail_msg("cycle %ld: tool speed %.6g m/s, %.6g rad/s (bounds %.6g, %.6g)", (long)H.out.cycle, sv, sw, bv, bw);
     if (cart_motion && H.have_prev) {
         double a[6];
         for (int i = 0; i < 6; i++)
@@ -305,7 +412,7 @@ static void tick(const kc_goal *g)
         double sa = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
         double sdw = sqrt(a[3] * a[3] + a[4] * a[4] + a[5] * a[5]);
         double la = (double)H.cfg.cart_accel, ldw = (double)H.cfg.cart_alpha;
-        double *w4 = blending ? WORST.blend : WORST.plain;
+        double *w4 = !blending ? WORST.plain : H.ctrl.blend.kind == KC_GOAL_JOINT ? WORST.joint : WORST.blend;
         w4[0] = fmax(w4[0], sv / lv);
         w4[1] = fmax(w4[1], sa / la);
         w4[2] = fmax(w4[2], sw / lw);
@@ -468,7 +575,7 @@ static void test_every_pair(void **state)
 {
     (void)state;
     kt_rng r = kt_rng_make(1919);
-    int superposed = 0, overlapped = 0, retargeted = 0, stopped_first = 0;
+    int superposed = 0, overlapped = 0, overlapped_joint = 0, retargeted = 0, stopped_first = 0;
     for (int ia = 0; ia < 4; ia++)
         for (int ib = 0; ib < 4; ib++)
             for (int c = 0; c < CASES; c++) {
@@ -482,15 +589,17 @@ static void test_every_pair(void **state)
                 b = random_goal(&r, KINDS[ib], 2, rest_ahead());
                 b.replace = 1;
                 tick(&b);
-                int blend = (a.kind == KC_GOAL_LINE || a.kind == KC_GOAL_ARC) && cart(b.kind);
+                int blend = a.kind != KC_GOAL_PATH_CART && cart(b.kind);
                 if (event_reason(KC_EVENT_STARTED, b.id) >= 0) {
                     assert_int_equal(event_reason(KC_EVENT_PREEMPTED, a.id), KC_REASON_NONE);
                     assert_int_equal(event_reason(KC_EVENT_ACCEPTED, b.id), KC_REASON_NONE);
                     if (blend) {
                         superposed++;
                         assert_true(H.ctrl.blend.on);
-                        if (H.ctrl.k0 - H.ctrl.blend.k0 < H.ctrl.blend.stop_ticks)
+                        if (H.ctrl.k0 - H.ctrl.blend.k0 < H.ctrl.blend.stop_ticks) {
                             overlapped++;
+                            overlapped_joint += a.kind == KC_GOAL_JOINT;
+                        }
                     } else {
                         assert_int_equal(b.kind, KC_GOAL_JOINT);
                         retargeted++;
@@ -509,20 +618,111 @@ static void test_every_pair(void **state)
                 assert_int_equal(H.events[KC_EVENT_FAULT], 0);
                 assert_int_equal(H.events[KC_EVENT_ABORTED], 0);
             }
-    print_message("%d superposed (%d overlapping the stop), %d retargeted, %d stopped first; worst of the limits "
+    print_message("%d superposed (%d overlapping the stop, %d of them a joint move's), %d retargeted, %d stopped first; worst of the limits "
                   "(speed, acceleration, angular speed, angular acceleration): superposed targets %.4f %.4f %.4f "
-                  "%.4f; measured on the tool superposed %.4f %.4f %.4f %.4f, in plain Cartesian motions %.4f %.4f "
-                  "%.4f %.4f; superposed targets' jerk %.4f of the limit\n",
-                  superposed, overlapped, retargeted, stopped_first, WORST.target[0], WORST.target[1],
+                  "%.4f; measured on the tool superposed %.4f %.4f %.4f %.4f (on a joint move's stop %.4f %.4f "
+                  "%.4f %.4f), in plain Cartesian motions %.4f %.4f %.4f %.4f; superposed targets' jerk %.4f of the "
+                  "limit\n",
+                  superposed, overlapped, overlapped_joint, retargeted, stopped_first, WORST.target[0], WORST.target[1],
                   WORST.target[2], WORST.target[3], WORST.blend[0], WORST.blend[1], WORST.blend[2], WORST.blend[3],
-                  WORST.plain[0], WORST.plain[1], WORST.plain[2], WORST.plain[3], WORST.jerk);
+                  WORST.joint[0], WORST.joint[1], WORST.joint[2], WORST.joint[3], WORST.plain[0], WORST.plain[1],
+                  WORST.plain[2], WORST.plain[3], WORST.jerk);
     for (int i = 1; i < 4; i += 2)
         if (!(WORST.blend[i] <=
               fmax(1.0, WORST.plain[i]) * (1.0 + TOOL_REL_A) +
                   TOOL_NOISE_A / (double)(i == 1 ? H.cfg.cart_accel : H.cfg.cart_alpha)))
             fail_msg("superposed: %.4f of an acceleration limit, plain motions %.4f", WORST.blend[i], WORST.plain[i]);
-    assert_int_equal(superposed, 2 * 3 * CASES);
+    assert_int_equal(superposed, 3 * 3 * CASES);
     assert_true(overlapped > 0);
+    assert_true(overlapped_joint > 0);
+}
+
+/* Each of a jerk-limited joint move's stops superposed on a replacing
+ * line: on its line, and joint by joint after a retarget (KC_DRIVE_HALT);
+ * every tick checked as above, the line ending at its end. A trapezoid
+ * joint move, retargeted or not, stops first (kinctl/ctrl.h: its stop
+ * brakes at a joint's acceleration limit, which the IK cannot follow
+ * with its correction added). */
+static void test_joint_stops(void **state)
+{
+    (void)state;
+    const kc_ctrl_drive expect[2] = {KC_DRIVE_SCURVE, KC_DRIVE_HALT};
+    kt_rng r = kt_rng_make(4242);
+    for (int i = 0; i < 4; i++) {
+        setup();
+        int trapezoid = i >= 2, retargeted = i % 2 == 1;
+        kc_goal a = random_goal(&r, KC_GOAL_JOINT, 1, H.out.pose), a2, b;
+        a.profile = trapezoid ? KC_GOAL_PROFILE_TRAPEZOID : KC_GOAL_PROFILE_JERK;
+        tick(&a);
+        for (int k = 0; k < 150; k++)
+            tick(NULL);
+        if (retargeted) {
+            a2 = random_goal(&r, KC_GOAL_JOINT, 3, H.out.pose);
+            a2.profile = a.profile;
+            a2.replace = 1;
+            tick(&a2);
+            assert_int_equal(event_reason(KC_EVENT_STARTED, a2.id), KC_REASON_NONE);
+            for (int k = 0; k < 100; k++)
+                tick(NULL);
+        }
+        assert_int_equal(H.out.state, KC_CTRL_MOVING);
+        b = random_goal(&r, KC_GOAL_LINE, 2, rest_ahead());
+        b.replace = 1;
+        tick(&b);
+        if (trapezoid) {
+            assert_int_equal(event_reason(KC_EVENT_ACCEPTED, b.id), KC_REASON_STOP_FIRST);
+            assert_int_equal(H.out.state, KC_CTRL_STOPPING);
+        } else {
+            assert_int_equal(event_reason(KC_EVENT_STARTED, b.id), KC_REASON_NONE);
+            assert_true(H.ctrl.blend.on);
+            assert_int_equal(H.ctrl.blend.kind, KC_GOAL_JOINT);
+            assert_int_equal(H.ctrl.blend.stop_drive, expect[i]);
+        }
+        run_until_completed(b.id, 20000);
+        check_end(&b);
+        assert_int_equal(H.events[KC_EVENT_FAULT], 0);
+        assert_int_equal(H.events[KC_EVENT_ABORTED], 0);
+    }
+}
+
+/* A 7-joint arm (the Panda) under the full task: the IK step would not
+ * give its joint move's null-space motion back, so a line replacing it
+ * at random ticks stops first (KC_REASON_STOP_FIRST), every tick
+ * continuous and within the limits, ending at the line's end. */
+static const kc_real PANDA_Q0[7] = {KC_R(0.0), KC_R(-0.785), KC_R(0.0), KC_R(-2.356), KC_R(0.0), KC_R(1.571),
+                                    KC_R(0.785)};
+
+static void test_joint_move_redundant(void **state)
+{
+    (void)state;
+    kt_rng r = kt_rng_make(77);
+    int stopped_first = 0;
+    for (int c = 0; c < 2 * CASES; c++) {
+        setup_model(KC_MODEL_PANDA, PANDA_Q0);
+        kc_goal a, b;
+        memset(&a, 0, sizeof a);
+        a.id = 1;
+        a.kind = KC_GOAL_JOINT;
+        a.vel_scale = a.acc_scale = KC_R(1.0);
+        for (int j = 0; j < 7; j++)
+            a.q[j] = PANDA_Q0[j] + (kc_real)kt_uniform(&r, -0.1, 0.1);
+        tick(&a);
+        int64_t len = H.ctrl.plan.joint.ticks;
+        int64_t at = 1 + (int64_t)kt_uniform(&r, 0.0, (double)(len > 3 ? len - 3 : 1));
+        for (int64_t k = 1; k < at; k++)
+            tick(NULL);
+        b = random_goal(&r, KC_GOAL_LINE, 2, rest_ahead());
+        b.replace = 1;
+        tick(&b);
+        assert_int_equal(event_reason(KC_EVENT_ACCEPTED, b.id), KC_REASON_STOP_FIRST);
+        assert_false(H.ctrl.blend.on);
+        stopped_first++;
+        run_until_completed(b.id, 20000);
+        check_end(&b);
+        assert_int_equal(H.events[KC_EVENT_FAULT], 0);
+        assert_int_equal(H.events[KC_EVENT_ABORTED], 0);
+    }
+    assert_int_equal(stopped_first, 2 * CASES);
 }
 
 /* A line replaced mid-cruise by a line on along its direction: the new one
@@ -617,6 +817,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_pair),
+        cmocka_unit_test(test_joint_stops),
+        cmocka_unit_test(test_joint_move_redundant),
         cmocka_unit_test(test_line_continued),
         cmocka_unit_test(test_fallbacks),
     };

@@ -59,10 +59,13 @@
  * a Cartesian motion retargets the same way, from the joints' (q, qd, qdd)
  * (qdd of a Cartesian motion: the change of qd over the last tick).
  *
- * A line, an arc or a Cartesian path replacing a moving line or arc takes
- * over in the tick it arrives by superposition (ctrl_blend.c). The old
- * segment M gets its stop on the path (the law of STOP, below:
- * jerk-limited by default, a trapezoid's for a trapezoid line or arc), which
+ * A line, an arc or a Cartesian path replacing a moving line, arc or
+ * jerk-limited joint move takes over in the tick it arrives by
+ * superposition (ctrl_blend.c). The old segment M gets its stop (the law
+ * of STOP, below: a line or an arc on its path, jerk-limited by default, a
+ * trapezoid's for a trapezoid line or arc; a joint move in joint space,
+ * on its line or joint by joint, whose tool pose is FK(q_M) and twist
+ * J(q_M) qd_M, the geometric Jacobian's), which
  * would bring the tool to rest at pose P_s = (R_s, p_s) T_s ticks after
  * the takeover; the new goal G is planned from P_s as if at rest there,
  * and starts t0 ticks after the takeover. The Cartesian target is
@@ -81,16 +84,21 @@
  * the overlap, the sum's tool-point speed (and its step over the tick),
  * its change over the tick (acceleration) and the change of that change
  * (jerk), and the same three of its angular velocity, stay within the
- * larger of the two goals' Cartesian limits (or within what M or G alone does at
- * that tick, where that is more: an arc's centripetal part). t0 = T_s,
+ * larger of the two goals' Cartesian limits (a joint move has none: G's)
+ * (or within what M or G alone does at that tick, where that is more: an
+ * arc's centripetal part, a joint move's stop). t0 = T_s,
  * no overlap, always qualifies: the new motion starts the tick the old
  * one stops, without waiting for the tool to settle. While M's stop lasts,
  * and after it until the tool is back within cfg.track_tol and closing
- * in, the tracking bound is a stop's (TRACK_GIVE_UP times it). Limits:
- * the joints are not judged over the overlap beforehand (the dry run
- * judges G from the arm at rest, as for every goal; the final check of
- * every setpoint still holds, a joint that cannot follow faults as any
- * Cartesian motion does), and a replacement that arrives while a
+ * in, the tracking bound is a stop's (TRACK_GIVE_UP times it); from the
+ * takeover the setpoint is the IK step's, following the sum (a joint
+ * move's stop included: with a task that leaves no null space the step
+ * gives its joint velocities back, J^+ J qd_M = qd_M). Limits:
+ * the joints are not judged over the overlap beforehand (M's stop stays
+ * inside the position limits its motion was planned or checked within;
+ * the dry run judges G from the arm at rest, as for every goal; the final
+ * check of every setpoint still holds, a joint that cannot follow faults
+ * as any Cartesian motion does), and a replacement that arrives while a
  * superposition lasts stops first. A STOP or PAUSE (or that replacement)
  * during the overlap stops the new segment on its path while the old one's
  * stop goes on: for that time the two stops add, and the tool's
@@ -99,13 +107,16 @@
  * Every other replacement stops first: the active segment stops on its
  * path, and the goal starts from where the arm comes to rest. Its ACCEPTED
  * event carries KC_REASON_STOP_FIRST. These are a joint move whose
- * retarget would pass a limit; a Cartesian goal replacing a joint move or
- * a path (a joint move's stop is in joint space: superposed on a Cartesian
- * start it would leave the new goal's geometry, and its Cartesian limits
- * unbounded, during the overlap; the new geometry is kept exact instead);
- * a Cartesian path that does not start at rest (Lagrange's); a joint path
- * or a servo stream; a replacement during a superposition or a stop; and
- * a goal that cannot be planned from P_s. Setpoints stay continuous in
+ * retarget would pass a limit; a Cartesian goal replacing a path, a
+ * servo stream, a trapezoid joint move (its stop brakes at a joint's
+ * acceleration limit from its first tick to its last, which the IK step
+ * cannot follow through a Cartesian target with its correction added) or
+ * a joint move of an arm whose joints outnumber the IK task's rows (the
+ * Panda's 7 under the full task: the step would drop the move's
+ * null-space motion, its joint velocities jumping); a Cartesian path that
+ * does not start at rest (Lagrange's); a replacing joint path or servo stream; a
+ * replacement during a superposition or a stop; and a goal that cannot be
+ * planned from P_s. Setpoints stay continuous in
  * position and velocity throughout, and in acceleration through
  * everything jerk-limited.
  *
@@ -449,18 +460,35 @@ typedef enum kc_ctrl_drive {
     KC_DRIVE_HALT = 5           /* jerk-limited joint move stopping joint by joint: plan.halt */
 } kc_ctrl_drive;
 
-/* A replacing Cartesian goal's transition: the line or arc it replaced,
- * stopping on its path, superposed on it (ctrl_blend.c). */
+/* What a jerk-limited joint move stopping on its straight line keeps of
+ * its plan (kc_interp_joint): q = q0 + dq u, and what a stop or a fault
+ * of it reads again. */
+typedef struct kc_ctrl_blend_joint {
+    int n;
+    kc_real q0[KC_MAX_JOINTS], q1[KC_MAX_JOINTS], dq[KC_MAX_JOINTS];
+    kc_real u_vmax, u_amax, u_jmax;
+    kc_profile_kind kind;
+    kc_interp_sync sync;
+} kc_ctrl_blend_joint;
+
+/* A replacing Cartesian goal's transition: the line, arc or joint move it
+ * replaced, stopping, superposed on it (ctrl_blend.c). */
 typedef struct kc_ctrl_blend {
     int on;
-    kc_goal_kind kind; /* the replaced segment: KC_GOAL_LINE or KC_GOAL_ARC */
+    kc_goal_kind kind; /* the replaced segment: KC_GOAL_LINE, KC_GOAL_ARC or KC_GOAL_JOINT */
+    /* Its plan, or for a jerk-limited joint move what its stop needs: its
+     * line (stop_drive KC_DRIVE_SCURVE) or one jerk-limited stop a joint
+     * (KC_DRIVE_HALT). */
     union {
         kc_interp_line line;
         kc_interp_arc arc;
+        kc_ctrl_blend_joint joint;
+        kc_scurve halt[KC_MAX_JOINTS];
     } plan;
     /* Its u from the takeover to rest: a jerk-limited stop (stop_drive
      * KC_DRIVE_SCURVE, stop.scurve) or a trapezoid's (KC_DRIVE_PROFILE,
-     * stop.prof); stop_ticks ticks. */
+     * stop.prof, a line or an arc); a joint move's stop joint by joint has
+     * none (plan.halt); stop_ticks ticks (its last joint's). */
     kc_ctrl_drive stop_drive;
     union {
         kc_profile prof;
