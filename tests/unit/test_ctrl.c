@@ -57,8 +57,6 @@ static void setup(kc_model model, const kc_real *q0)
     assert_pose_kept();
 }
 
-static const kc_real PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
-
 /* One tick with the invariants checked, with an external fault input. */
 static void tick_fault(const kc_goal *g, kc_ctrl_command cmd, kc_ctrl_reason fault)
 {
@@ -103,19 +101,7 @@ static int run_until_state(kc_ctrl_state state, int max)
     return -1;
 }
 
-static kc_goal line_goal(int64_t id, const kc_pose *to)
-{
-    kc_goal g;
-    memset(&g, 0, sizeof g);
-    g.id = id;
-    g.kind = KC_GOAL_LINE;
-    g.vel_scale = g.acc_scale = KC_R(1.0);
-    g.pose = *to;
-    g.orient = KC_INTERP_SLERP;
-    return g;
-}
-
-/* A path goal of n points; joint points are PUMA_Q0 + offsets[i] on every
+/* A path goal of n points; joint points are KT_PUMA_Q0 + offsets[i] on every
  * joint, Cartesian ones the pose here moved by offsets (x, y, z) with the
  * orientation kept. */
 static kc_goal path_goal(int64_t id, kc_goal_kind kind, kc_path_method method, int n, const kc_real (*offsets)[3],
@@ -134,7 +120,7 @@ static kc_goal path_goal(int64_t id, kc_goal_kind kind, kc_path_method method, i
     for (int i = 0; i < n; i++) {
         if (kind == KC_GOAL_PATH) {
             for (int j = 0; j < 6; j++)
-                g.points[i][j] = PUMA_Q0[j] + offsets[i][0];
+                g.points[i][j] = KT_PUMA_Q0[j] + offsets[i][0];
         } else {
             for (int k = 0; k < 3; k++)
                 g.points[i][k] = here->t.v[k] + offsets[i][k];
@@ -160,14 +146,14 @@ static void assert_pose_near(const kc_pose *a, const kc_pose *b, double tol)
     kt_near_mat3(&a->R, &b->R, tol, "orientation");
 }
 
-/* From PUMA_Q0, a joint move of every joint by 0.5 rad (goal id), followed
+/* From KT_PUMA_Q0, a joint move of every joint by 0.5 rad (goal id), followed
  * for the given ticks. */
 static void start_joint_move(int64_t id, int ticks)
 {
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    setup(KC_MODEL_PUMA560, KT_PUMA_Q0);
     kc_real a[6];
     for (int j = 0; j < 6; j++)
-        a[j] = PUMA_Q0[j] + KC_R(0.5);
+        a[j] = KT_PUMA_Q0[j] + KC_R(0.5);
     kc_goal g = kt_joint_goal(id, a, 6);
     tick(&g, KC_CMD_NONE);
     for (int k = 0; k < ticks; k++)
@@ -177,7 +163,7 @@ static void start_joint_move(int64_t id, int ticks)
 static void test_joint_goal(void **state)
 {
     (void)state;
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    setup(KC_MODEL_PUMA560, KT_PUMA_Q0);
     const kc_real target[6] = {KC_R(-0.5), KC_R(0.3), KC_R(-1.5), KC_R(0.8), KC_R(-0.4), KC_R(1.0)};
     kc_goal g = kt_joint_goal(7, target, 6);
     tick(&g, KC_CMD_NONE);
@@ -195,15 +181,15 @@ static void test_joint_goal(void **state)
 static void test_line_goal(void **state)
 {
     (void)state;
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
-    kc_pose start = pose_of(PUMA_Q0), to = start;
+    setup(KC_MODEL_PUMA560, KT_PUMA_Q0);
+    kc_pose start = pose_of(KT_PUMA_Q0), to = start;
     to.t.v[0] += KC_R(0.1);
     to.t.v[1] += KC_R(0.15);
     to.t.v[2] -= KC_R(0.05);
     kc_mat3 turn;
     kc_mat3_rot(KC_AXIS_Z, KC_R(0.3), &turn);
     kc_mat3_mul(&turn, &start.R, &to.R);
-    kc_goal g = line_goal(11, &to);
+    kc_goal g = kt_line_goal(11, &to);
     tick(&g, KC_CMD_NONE);
     kc_vec3 dir;
     kc_vec3_sub(&to.t, &start.t, &dir);
@@ -229,8 +215,8 @@ static void test_line_goal(void **state)
 static void test_arc_and_paths(void **state)
 {
     (void)state;
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
-    kc_pose start = pose_of(PUMA_Q0);
+    setup(KC_MODEL_PUMA560, KT_PUMA_Q0);
+    kc_pose start = pose_of(KT_PUMA_Q0);
     kc_goal g;
     memset(&g, 0, sizeof g);
     g.id = 21;
@@ -267,23 +253,15 @@ static void test_arc_and_paths(void **state)
 }
 
 /* Whether the last output carries an event of that kind for that goal. */
-static int has_event(kc_ctrl_event_kind kind, int64_t id)
-{
-    for (int e = 0; e < H.out.n_events; e++)
-        if (H.out.events[e].kind == kind && H.out.events[e].goal_id == id)
-            return 1;
-    return 0;
-}
-
 static void test_queue_and_preemption(void **state)
 {
     (void)state;
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    setup(KC_MODEL_PUMA560, KT_PUMA_Q0);
     kc_real a[6], b[6], c[6];
     for (int j = 0; j < 6; j++) {
-        a[j] = PUMA_Q0[j] + KC_R(0.3);
-        b[j] = PUMA_Q0[j] - KC_R(0.2);
-        c[j] = PUMA_Q0[j] + KC_R(0.1);
+        a[j] = KT_PUMA_Q0[j] + KC_R(0.3);
+        b[j] = KT_PUMA_Q0[j] - KC_R(0.2);
+        c[j] = KT_PUMA_Q0[j] + KC_R(0.1);
     }
     kc_goal ga = kt_joint_goal(1, a, 6), gb = kt_joint_goal(2, b, 6), gc = kt_joint_goal(3, c, 6);
     tick(&ga, KC_CMD_NONE);
@@ -323,7 +301,7 @@ static void test_queue_and_preemption(void **state)
     run_until_state(KC_CTRL_IDLE, 40000);
     dup.replace = 0;
     tick(&dup, KC_CMD_NONE);
-    assert_true(has_event(KC_EVENT_ACCEPTED, 2));
+    assert_true(kt_has_event(&H.out, KC_EVENT_ACCEPTED, 2));
     run_until_state(KC_CTRL_IDLE, 40000);
 
     /* A full queue refuses more. */
@@ -344,7 +322,7 @@ static void test_queue_and_preemption(void **state)
     tick(&gr, KC_CMD_NONE);
     assert_int_equal(H.out.n_events, KC_CTRL_QUEUE_MAX + 3);
     assert_int_equal(H.count[KC_EVENT_PREEMPTED], preempted + KC_CTRL_QUEUE_MAX + 1);
-    assert_true(has_event(KC_EVENT_ACCEPTED, 200) && has_event(KC_EVENT_STARTED, 200));
+    assert_true(kt_has_event(&H.out, KC_EVENT_ACCEPTED, 200) && kt_has_event(&H.out, KC_EVENT_STARTED, 200));
 }
 
 /* Ticks without input until goal id completes (at most max); returns the
@@ -353,7 +331,7 @@ static int run_until_completed(int64_t id, int max)
 {
     for (int k = 1; k <= max; k++) {
         tick(NULL, KC_CMD_NONE);
-        if (has_event(KC_EVENT_COMPLETED, id))
+        if (kt_has_event(&H.out, KC_EVENT_COMPLETED, id))
             return k;
         if (H.out.state == KC_CTRL_FAULT)
             fail_msg("fault %d while waiting for goal %ld", H.last[KC_EVENT_FAULT].reason, (long)id);
@@ -378,11 +356,11 @@ static double turn_and_trapezoid(double p, double v, double p1, double vmax, dou
 static void test_retarget(void **state)
 {
     (void)state;
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    setup(KC_MODEL_PUMA560, KT_PUMA_Q0);
     const kc_joint_limits *l0 = &H.chain.joints[0].limits;
     kc_real ahead[6], back[6];
-    memcpy(ahead, PUMA_Q0, sizeof ahead);
-    memcpy(back, PUMA_Q0, sizeof back);
+    memcpy(ahead, KT_PUMA_Q0, sizeof ahead);
+    memcpy(back, KT_PUMA_Q0, sizeof back);
     ahead[0] = KC_R(2.7);
     ahead[1] += KC_R(0.3);
     back[0] = KC_R(-1.0);
@@ -399,8 +377,8 @@ static void test_retarget(void **state)
     double q_before = (double)H.out.q[0], v_before = (double)H.out.qd[0];
     kt_near(v_before, (double)l0->qd_max, TOL_RATE, "cruising at the velocity limit");
     tick(&gb, KC_CMD_NONE);
-    assert_true(has_event(KC_EVENT_ACCEPTED, 42) && has_event(KC_EVENT_PREEMPTED, 41) &&
-                has_event(KC_EVENT_STARTED, 42));
+    assert_true(kt_has_event(&H.out, KC_EVENT_ACCEPTED, 42) && kt_has_event(&H.out, KC_EVENT_PREEMPTED, 41) &&
+                kt_has_event(&H.out, KC_EVENT_STARTED, 42));
     assert_int_equal(H.out.goal_id, 42);
     assert_int_equal(H.out.state, KC_CTRL_MOVING);
     /* The first setpoint continues the motion: one tick of braking at A. */
@@ -422,12 +400,12 @@ static void test_retarget(void **state)
     for (int k = 0; k < 700; k++)
         tick(NULL, KC_CMD_NONE);
     tick(&gc, KC_CMD_NONE);
-    assert_true(has_event(KC_EVENT_ACCEPTED, 43) && !has_event(KC_EVENT_PREEMPTED, 41));
+    assert_true(kt_has_event(&H.out, KC_EVENT_ACCEPTED, 43) && !kt_has_event(&H.out, KC_EVENT_PREEMPTED, 41));
     assert_int_equal(H.out.state, KC_CTRL_STOPPING);
     assert_int_equal(H.out.goal_id, 41);
-    for (int k = 0; k < 2000 && !has_event(KC_EVENT_PREEMPTED, 41); k++)
+    for (int k = 0; k < 2000 && !kt_has_event(&H.out, KC_EVENT_PREEMPTED, 41); k++)
         tick(NULL, KC_CMD_NONE);
-    assert_true(has_event(KC_EVENT_PREEMPTED, 41));
+    assert_true(kt_has_event(&H.out, KC_EVENT_PREEMPTED, 41));
     for (int j = 0; j < 6; j++)
         kt_near((double)H.out.qd[j], 0.0, 0.0, "at rest when preempted");
     assert_true((double)H.out.q[0] <= (double)l0->q_max);
@@ -441,7 +419,7 @@ static void test_retarget(void **state)
     for (int k = 0; k < 500; k++)
         tick(NULL, KC_CMD_NONE);
     tick(&gb, KC_CMD_NONE);
-    assert_true(has_event(KC_EVENT_STARTED, 44));
+    assert_true(kt_has_event(&H.out, KC_EVENT_STARTED, 44));
     for (int k = 0; k < 100; k++)
         tick(NULL, KC_CMD_NONE);
     tick(NULL, KC_CMD_PAUSE);
@@ -453,8 +431,8 @@ static void test_retarget(void **state)
 
     kc_pose to = pose_of(H.out.q);
     to.t.v[2] += KC_R(0.15);
-    kc_goal gl = line_goal(45, &to);
-    kc_goal gd = kt_joint_goal(46, PUMA_Q0, 6);
+    kc_goal gl = kt_line_goal(45, &to);
+    kc_goal gd = kt_joint_goal(46, KT_PUMA_Q0, 6);
     gd.replace = 1;
     gd.profile = KC_GOAL_PROFILE_TRAPEZOID;
     tick(&gl, KC_CMD_NONE);
@@ -462,10 +440,10 @@ static void test_retarget(void **state)
         tick(NULL, KC_CMD_NONE);
     assert_true(fabs((double)H.out.qd[1]) + fabs((double)H.out.qd[2]) > 0.05); /* moving */
     tick(&gd, KC_CMD_NONE);
-    assert_true(has_event(KC_EVENT_PREEMPTED, 45) && has_event(KC_EVENT_STARTED, 46));
+    assert_true(kt_has_event(&H.out, KC_EVENT_PREEMPTED, 45) && kt_has_event(&H.out, KC_EVENT_STARTED, 46));
     run_until_completed(46, 40000);
     for (int j = 0; j < 6; j++)
-        kt_near((double)H.out.q[j], (double)PUMA_Q0[j], 0.0, "joint goal after a line");
+        kt_near((double)H.out.q[j], (double)KT_PUMA_Q0[j], 0.0, "joint goal after a line");
     assert_int_equal(H.count[KC_EVENT_FAULT], 0);
     assert_int_equal(H.count[KC_EVENT_ABORTED], 0);
 }
@@ -476,7 +454,7 @@ static void test_retarget(void **state)
 static void test_outside_a_limit(void **state)
 {
     (void)state;
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    setup(KC_MODEL_PUMA560, KT_PUMA_Q0);
     const kc_joint_limits *l4 = &H.chain.joints[3].limits;
     H.ctrl.q[3] = l4->q_max + KC_R(0.0155); /* as the soak saw it */
     for (int k = 0; k < 50; k++) {
@@ -487,10 +465,10 @@ static void test_outside_a_limit(void **state)
     assert_int_equal(H.out.state, KC_CTRL_IDLE);
     H.last_cycle = H.out.cycle;
     kc_real back[6];
-    memcpy(back, PUMA_Q0, sizeof back);
+    memcpy(back, KT_PUMA_Q0, sizeof back);
     kc_verdict v;
     kc_goal g = kt_joint_goal(51, back, 6);
-    assert_int_equal(kc_check_init(&CHECK, &H.chain, &H.cfg, 100000, PUMA_Q0), KC_OK);
+    assert_int_equal(kc_check_init(&CHECK, &H.chain, &H.cfg, 100000, KT_PUMA_Q0), KC_OK);
     assert_int_equal(kc_check_from(&CHECK, H.ctrl.q, &g, &v), KC_OK);
     /* tick() checks the limits: only once the joint is back inside. */
     kc_ctrl_input in = {&g, KC_CMD_NONE, 0, KC_REASON_NONE};
@@ -512,10 +490,10 @@ static void test_outside_a_limit(void **state)
 static void test_stop_pause_resume(void **state)
 {
     (void)state;
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
-    kc_pose start = pose_of(PUMA_Q0), to = start;
+    setup(KC_MODEL_PUMA560, KT_PUMA_Q0);
+    kc_pose start = pose_of(KT_PUMA_Q0), to = start;
     to.t.v[1] += KC_R(0.25);
-    kc_goal g = line_goal(31, &to);
+    kc_goal g = kt_line_goal(31, &to);
     tick(&g, KC_CMD_NONE);
     for (int k = 0; k < 300; k++)
         tick(NULL, KC_CMD_NONE);
@@ -532,7 +510,7 @@ static void test_stop_pause_resume(void **state)
     assert_pose_near(&H.out.pose, &to, TOL_POSE);
 
     /* Stop: on the path, the goal aborted, the queue dropped. */
-    kc_goal back = line_goal(32, &start), again = line_goal(33, &to);
+    kc_goal back = kt_line_goal(32, &start), again = kt_line_goal(33, &to);
     tick(&back, KC_CMD_NONE);
     tick(&again, KC_CMD_NONE);
     for (int k = 0; k < 300; k++)
@@ -557,7 +535,7 @@ static void test_estop_and_reset(void **state)
     assert_int_equal(H.out.state, KC_CTRL_ESTOP); /* latched */
     for (int j = 0; j < 6; j++)
         kt_near((double)H.out.qd[j], 0.0, 0.0, "at rest after e-stop");
-    kc_goal g2 = kt_joint_goal(42, PUMA_Q0, 6);
+    kc_goal g2 = kt_joint_goal(42, KT_PUMA_Q0, 6);
     tick(&g2, KC_CMD_NONE);
     assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_STATE);
     tick(NULL, KC_CMD_RESET);
@@ -598,7 +576,7 @@ static void test_seat(void **state)
     }
     /* A move from the seat starts there: the first setpoint is within one
      * tick's acceleration of it. */
-    kc_goal g = kt_joint_goal(52, PUMA_Q0, 6);
+    kc_goal g = kt_joint_goal(52, KT_PUMA_Q0, 6);
     tick(&g, KC_CMD_NONE);
     for (int j = 0; j < 6; j++) {
         double step = 0.5 * (double)H.chain.joints[j].limits.qdd_max * (double)H.cfg.dt * (double)H.cfg.dt;
@@ -643,7 +621,7 @@ static void test_external_fault(void **state)
         kt_near((double)H.out.qd[j], 0.0, 0.0, "at rest after the external fault");
     tick_fault(NULL, KC_CMD_NONE, KC_REASON_EXTERNAL);
     assert_int_equal(H.count[KC_EVENT_FAULT], 1);
-    kc_goal g2 = kt_joint_goal(62, PUMA_Q0, 6);
+    kc_goal g2 = kt_joint_goal(62, KT_PUMA_Q0, 6);
     tick(&g2, KC_CMD_NONE);
     assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_STATE);
     tick(NULL, KC_CMD_RESET);
@@ -656,24 +634,24 @@ static void test_external_fault(void **state)
 static void test_rejections(void **state)
 {
     (void)state;
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    setup(KC_MODEL_PUMA560, KT_PUMA_Q0);
     kc_real far[6];
-    memcpy(far, PUMA_Q0, sizeof far);
+    memcpy(far, KT_PUMA_Q0, sizeof far);
     far[4] = KC_R(2.5); /* beyond q5's limit */
     kc_goal g = kt_joint_goal(51, far, 6);
     tick(&g, KC_CMD_NONE);
     assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_JOINT_LIMIT);
-    g = kt_joint_goal(52, PUMA_Q0, 6);
+    g = kt_joint_goal(52, KT_PUMA_Q0, 6);
     g.q[2] = (kc_real)NAN;
     tick(&g, KC_CMD_NONE);
     assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_BAD_GOAL);
-    g = kt_joint_goal(53, PUMA_Q0, 6);
+    g = kt_joint_goal(53, KT_PUMA_Q0, 6);
     g.vel_scale = KC_R(1.5);
     tick(&g, KC_CMD_NONE);
     assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_BAD_GOAL);
-    kc_pose bad = pose_of(PUMA_Q0);
+    kc_pose bad = pose_of(KT_PUMA_Q0);
     bad.R.m[0][0] = KC_R(3.0);
-    g = line_goal(54, &bad);
+    g = kt_line_goal(54, &bad);
     tick(&g, KC_CMD_NONE);
     assert_int_equal(H.last[KC_EVENT_REJECTED].reason, KC_REASON_BAD_GOAL);
     assert_int_equal(H.count[KC_EVENT_REJECTED], 4);
@@ -684,8 +662,8 @@ static void test_rejections(void **state)
 static void test_servo(void **state)
 {
     (void)state;
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
-    kc_pose start = pose_of(PUMA_Q0);
+    setup(KC_MODEL_PUMA560, KT_PUMA_Q0);
+    kc_pose start = pose_of(KT_PUMA_Q0);
     kc_goal g;
     memset(&g, 0, sizeof g);
     g.id = 61;
@@ -712,7 +690,7 @@ static void test_servo(void **state)
      * answered once and then follows the latest target. */
     kc_pose here = H.out.pose, to = here;
     to.t.v[2] += KC_R(0.2);
-    kc_goal l = line_goal(62, &to);
+    kc_goal l = kt_line_goal(62, &to);
     /* The trapezoid's stop, whose length makes the target move the 2 cm
      * below while the servo goal waits. */
     l.profile = KC_GOAL_PROFILE_TRAPEZOID;
@@ -755,7 +733,7 @@ static void test_servo(void **state)
 static void test_path_pause_stop(void **state)
 {
     (void)state;
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    setup(KC_MODEL_PUMA560, KT_PUMA_Q0);
     const kc_real blend_off[3][3] = {{KC_R(0.3), 0, 0}, {KC_R(-0.2), 0, 0}, {KC_R(0.1), 0, 0}};
     kc_goal p = path_goal(91, KC_GOAL_PATH, KC_PATH_BLEND, 3, blend_off, NULL);
     tick(&p, KC_CMD_NONE);
@@ -791,7 +769,7 @@ static void test_path_pause_stop(void **state)
 static void test_lagrange_path(void **state)
 {
     (void)state;
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    setup(KC_MODEL_PUMA560, KT_PUMA_Q0);
     const kc_real lagrange_off[3][3] = {{KC_R(0.1), 0, 0}, {KC_R(0.25), 0, 0}, {KC_R(0.3), 0, 0}};
     kc_goal p = path_goal(95, KC_GOAL_PATH, KC_PATH_LAGRANGE, 3, lagrange_off, NULL);
     tick(&p, KC_CMD_NONE);
@@ -805,20 +783,20 @@ static void test_lagrange_path(void **state)
 static void test_dry_run(void **state)
 {
     (void)state;
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    setup(KC_MODEL_PUMA560, KT_PUMA_Q0);
     kc_verdict v;
-    kc_pose to = pose_of(PUMA_Q0);
+    kc_pose to = pose_of(KT_PUMA_Q0);
     to.t.v[1] += KC_R(0.2);
-    kc_goal g = line_goal(71, &to);
-    assert_int_equal(kc_check_init(&CHECK, &H.chain, &H.cfg, 100000, PUMA_Q0), KC_OK);
-    assert_int_equal(kc_check_from(&CHECK, PUMA_Q0, &g, &v), KC_OK);
+    kc_goal g = kt_line_goal(71, &to);
+    assert_int_equal(kc_check_init(&CHECK, &H.chain, &H.cfg, 100000, KT_PUMA_Q0), KC_OK);
+    assert_int_equal(kc_check_from(&CHECK, KT_PUMA_Q0, &g, &v), KC_OK);
     assert_int_equal(v.reason, KC_REASON_NONE);
     kc_pose end = pose_of(v.q_end);
     assert_pose_near(&end, &to, TOL_POSE);
     /* A line out of the workspace: the arm cannot follow it to its end. */
     to.t.v[0] += KC_R(2.0);
-    g = line_goal(72, &to);
-    kc_status st = kc_check_from(&CHECK, PUMA_Q0, &g, &v);
+    g = kt_line_goal(72, &to);
+    kc_status st = kc_check_from(&CHECK, KT_PUMA_Q0, &g, &v);
     assert_int_equal(st, KC_E_UNREACHABLE);
     assert_int_equal(v.status, KC_E_UNREACHABLE);
     assert_int_equal(v.reason, KC_REASON_UNREACHABLE);
@@ -826,7 +804,7 @@ static void test_dry_run(void **state)
     assert_true(v.tick > 0 && v.tick < 100000);
     /* A bad goal is refused without running. */
     g.pose.t.v[0] = (kc_real)NAN;
-    assert_int_equal(kc_check_from(&CHECK, PUMA_Q0, &g, &v), KC_E_ARG);
+    assert_int_equal(kc_check_from(&CHECK, KT_PUMA_Q0, &g, &v), KC_E_ARG);
     assert_int_equal(v.reason, KC_REASON_BAD_GOAL);
     assert_int_equal(v.tick, -1);
 }
@@ -834,14 +812,14 @@ static void test_dry_run(void **state)
 /* FNV-1a over the bytes of every output's setpoint. */
 static uint64_t hash_run(void)
 {
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
+    setup(KC_MODEL_PUMA560, KT_PUMA_Q0);
     uint64_t h = 1469598103934665603ULL;
-    kc_pose to = pose_of(PUMA_Q0);
+    kc_pose to = pose_of(KT_PUMA_Q0);
     to.t.v[1] += KC_R(0.2);
-    kc_goal l = line_goal(81, &to);
+    kc_goal l = kt_line_goal(81, &to);
     kc_real a[6];
     for (int j = 0; j < 6; j++)
-        a[j] = PUMA_Q0[j] + KC_R(0.2);
+        a[j] = KT_PUMA_Q0[j] + KC_R(0.2);
     kc_goal jg = kt_joint_goal(82, a, 6);
     for (int k = 0; k < 6000; k++) {
         const kc_goal *g = k == 0 ? &l : (k == 1 ? &jg : NULL);
@@ -896,7 +874,7 @@ static void joint_move_stopped_by_a_path(void)
     kc_goal path = path_goal(82, KC_GOAL_PATH, KC_PATH_BLEND, 2, off, NULL);
     path.replace = 1;
     tick(&path, KC_CMD_NONE);
-    assert_true(has_event(KC_EVENT_ACCEPTED, 82));
+    assert_true(kt_has_event(&H.out, KC_EVENT_ACCEPTED, 82));
     assert_int_equal(H.out.state, KC_CTRL_STOPPING);
 }
 
@@ -912,7 +890,7 @@ static void test_final_check_on_the_last_tick_of_a_stop(void **state)
     /* The ticks the stop takes to come to rest, */
     joint_move_stopped_by_a_path();
     int n = 1;
-    for (tick(NULL, KC_CMD_NONE); !has_event(KC_EVENT_PREEMPTED, 81); tick(NULL, KC_CMD_NONE))
+    for (tick(NULL, KC_CMD_NONE); !kt_has_event(&H.out, KC_EVENT_PREEMPTED, 81); tick(NULL, KC_CMD_NONE))
         assert_true(++n < 20000);
     /* then again, to the tick before. */
     joint_move_stopped_by_a_path();
@@ -940,10 +918,10 @@ static void test_final_check_on_the_last_tick_of_a_stop(void **state)
 static void test_fault_stop_that_cannot_settle(void **state)
 {
     (void)state;
-    setup(KC_MODEL_PUMA560, PUMA_Q0);
-    kc_pose to = pose_of(PUMA_Q0);
+    setup(KC_MODEL_PUMA560, KT_PUMA_Q0);
+    kc_pose to = pose_of(KT_PUMA_Q0);
     to.t.v[1] += KC_R(0.15);
-    kc_goal g = line_goal(91, &to);
+    kc_goal g = kt_line_goal(91, &to);
     tick(&g, KC_CMD_NONE);
     for (int k = 0; k < 300; k++)
         tick(NULL, KC_CMD_NONE);

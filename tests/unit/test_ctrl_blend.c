@@ -90,15 +90,13 @@ static struct {
     double jerk; /* the superposed targets' jerk over the limit */
 } WORST;
 
-static const kc_real PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
-
 /* The controller at rest at q0 on model, with the Cartesian limits below. */
 static void setup_model(kc_model model, const kc_real *q0)
 {
     memset(&H, 0, sizeof H);
     assert_int_equal(kc_chain_init_model(&H.chain, model, NULL), KC_OK);
     H.cfg = kc_ctrl_cfg_default();
-    /* Cartesian limits this arm follows around PUMA_Q0 within its joints'
+    /* Cartesian limits this arm follows around KT_PUMA_Q0 within its joints'
      * acceleration limits (at the defaults, 0.25 m/s and 0.5 m/s^2, the
      * elbow's qdd_max binds while a line here stops, and the tool lags by
      * more than the tracking tolerance: a motion the dry run refuses). */
@@ -111,7 +109,7 @@ static void setup_model(kc_model model, const kc_real *q0)
         H.q_prev[j] = (double)q0[j];
 }
 
-static void setup(void) { setup_model(KC_MODEL_PUMA560, PUMA_Q0); }
+static void setup(void) { setup_model(KC_MODEL_PUMA560, KT_PUMA_Q0); }
 
 /* The Cartesian target of a superposition at absolute tick k, computed
  * here from the two plans kc_ctrl holds (the replaced line or arc and its
@@ -477,7 +475,7 @@ static kc_pose rest_ahead(void)
 }
 
 /* A random goal of that kind near the tool pose home (within reach of
- * PUMA_Q0's: a joint move is near PUMA_Q0). */
+ * KT_PUMA_Q0's: a joint move is near KT_PUMA_Q0). */
 static kc_goal random_goal(kt_rng *r, kc_goal_kind kind, int64_t id, kc_pose home)
 {
     kc_goal g;
@@ -489,7 +487,7 @@ static kc_goal random_goal(kt_rng *r, kc_goal_kind kind, int64_t id, kc_pose hom
     g.orient = KC_INTERP_SLERP;
     if (kind == KC_GOAL_JOINT) {
         for (int j = 0; j < 6; j++)
-            g.q[j] = PUMA_Q0[j] + (kc_real)kt_uniform(r, -0.08, 0.08);
+            g.q[j] = KT_PUMA_Q0[j] + (kc_real)kt_uniform(r, -0.08, 0.08);
     } else if (kind == KC_GOAL_LINE) {
         kc_vec3 d = random_offset(r, 0.03, 0.08), axis = kt_rand_unit(r), rv;
         kc_mat3 dR;
@@ -508,7 +506,7 @@ static kc_goal random_goal(kt_rng *r, kc_goal_kind kind, int64_t id, kc_pose hom
          * its normal. */
         kc_vec3 n, t = kt_rand_unit(r), d, e;
         kc_jacobian jac;
-        kc_fk_jacobian(&H.chain, PUMA_Q0, &jac, NULL);
+        kc_fk_jacobian(&H.chain, KT_PUMA_Q0, &jac, NULL);
         for (int k = 0; k < 3; k++)
             n.v[k] = jac.m[3 + k][5] + KC_R(0.2) * t.v[k];
         t = kt_rand_unit(r);
@@ -734,7 +732,7 @@ static void test_line_continued(void **state)
     (void)state;
     setup();
     kc_pose home;
-    kc_fk_eval(&H.chain, PUMA_Q0, &home);
+    kc_fk_eval(&H.chain, KT_PUMA_Q0, &home);
     kc_goal a, b;
     memset(&a, 0, sizeof a);
     a.id = 1;

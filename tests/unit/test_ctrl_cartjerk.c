@@ -33,8 +33,6 @@
 #endif
 #define LIMIT_SLACK (16.0 * (double)KC_REAL_EPS)
 
-static const kc_real PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
-
 typedef struct harness {
     kc_chain chain;
     kc_ctrl_cfg cfg;
@@ -59,16 +57,8 @@ static void setup(kc_profile_kind profile)
     assert_int_equal(kc_chain_init_model(&H.chain, KC_MODEL_PUMA560, NULL), KC_OK);
     H.cfg = kc_ctrl_cfg_default();
     H.cfg.profile = profile;
-    assert_int_equal(kc_ctrl_init(&H.ctrl, &H.chain, &H.cfg, PUMA_Q0), KC_OK);
-    assert_int_equal(kc_check_init(&CHECK, &H.chain, &H.cfg, 100000, PUMA_Q0), KC_OK);
-}
-
-static int has_event(kc_ctrl_event_kind kind, int64_t id)
-{
-    for (int e = 0; e < H.out.n_events; e++)
-        if (H.out.events[e].kind == kind && H.out.events[e].goal_id == id)
-            return 1;
-    return 0;
+    assert_int_equal(kc_ctrl_init(&H.ctrl, &H.chain, &H.cfg, KT_PUMA_Q0), KC_OK);
+    assert_int_equal(kc_check_init(&CHECK, &H.chain, &H.cfg, 100000, KT_PUMA_Q0), KC_OK);
 }
 
 /* u, u', u'' of the active line or arc at this tick, from its drive. */
@@ -101,7 +91,7 @@ static void tick(const kc_goal *g, kc_ctrl_command cmd)
     for (int e = 0; e < H.out.n_events; e++)
         H.events[H.out.events[e].kind]++;
     if (!H.ctrl.active || (H.ctrl.goal.kind != KC_GOAL_LINE && H.ctrl.goal.kind != KC_GOAL_ARC) ||
-        has_event(KC_EVENT_STARTED, H.ctrl.goal.id)) {
+        kt_has_event(&H.out, KC_EVENT_STARTED, H.ctrl.goal.id)) {
         /* (a segment's first tick continues from rest: checked from the next) */
         H.active = 0;
         H.n_prog = 0;
@@ -143,24 +133,12 @@ static int run_until(kc_ctrl_event_kind kind, int64_t id, int max)
 {
     for (int k = 1; k <= max; k++) {
         tick(NULL, KC_CMD_NONE);
-        if (has_event(kind, id))
+        if (kt_has_event(&H.out, kind, id))
             return k;
         assert_true(H.out.state != KC_CTRL_FAULT);
     }
     fail_msg("goal %ld: no event %d in %d ticks", (long)id, kind, max);
     return -1;
-}
-
-static kc_goal line_goal(int64_t id, const kc_pose *to)
-{
-    kc_goal g;
-    memset(&g, 0, sizeof g);
-    g.id = id;
-    g.kind = KC_GOAL_LINE;
-    g.vel_scale = g.acc_scale = KC_R(1.0);
-    g.pose = *to;
-    g.orient = KC_INTERP_SLERP;
-    return g;
 }
 
 /* The law's limits for goal g (its own or the defaults) and the plan's S. */
@@ -174,16 +152,16 @@ static void take_law(const kc_goal *g)
 }
 
 /* Line goal id to a random target within 15 cm of the tool's pose at
- * PUMA_Q0, in its orientation (the tool point's limits bind), that the dry
+ * KT_PUMA_Q0, in its orientation (the tool point's limits bind), that the dry
  * run (kinctl/check.h) takes from where the arm is: as the daemon does,
  * lines the arm cannot follow (near a singularity: a tracking fault,
  * trapezoid or not) are drawn again. speed, accel, jerk: 0 or the goal's. */
 static kc_goal random_line(kt_rng *r, int64_t id, kc_real speed, kc_real accel, kc_real jerk)
 {
     kc_pose home;
-    kc_fk_eval(&H.chain, PUMA_Q0, &home);
+    kc_fk_eval(&H.chain, KT_PUMA_Q0, &home);
     for (int tries = 0; tries < 100; tries++) {
-        kc_goal g = line_goal(id, &home);
+        kc_goal g = kt_line_goal(id, &home);
         kc_vec3 d = kt_rand_unit(r);
         kc_real len = (kc_real)kt_uniform(r, 0.0, 0.15);
         for (int i = 0; i < 3; i++)
@@ -196,7 +174,7 @@ static kc_goal random_line(kt_rng *r, int64_t id, kc_real speed, kc_real accel, 
             return g;
     }
     fail_msg("no line the arm can follow in 100 tries");
-    return line_goal(id, &home);
+    return kt_line_goal(id, &home);
 }
 
 /* A line from rest: jerk-limited by default, in the optimum time of u. */
@@ -210,7 +188,7 @@ static void test_line_from_rest(void **state)
                                         (kc_real)kt_uniform(&r, 0.2, 1.0), (kc_real)kt_uniform(&r, 1.0, 20.0))
                           : random_line(&r, 100 + c, KC_R(0.0), KC_R(0.0), KC_R(0.0));
         tick(&g, KC_CMD_NONE);
-        assert_true(has_event(KC_EVENT_STARTED, g.id));
+        assert_true(kt_has_event(&H.out, KC_EVENT_STARTED, g.id));
         assert_int_equal(H.ctrl.plan.line.kind, KC_PROFILE_JERK);
         take_law(&g);
         double S = H.S, T = (double)H.ctrl.plan.line.T, dt = (double)H.cfg.dt;
@@ -234,7 +212,7 @@ static void test_line_pause_resume_stop(void **state)
     for (int c = 0; c < CASES; c++) {
         kc_goal g = random_line(&r, 200 + c, KC_R(0.0), KC_R(0.0), KC_R(0.0));
         tick(&g, KC_CMD_NONE);
-        assert_true(has_event(KC_EVENT_STARTED, g.id));
+        assert_true(kt_has_event(&H.out, KC_EVENT_STARTED, g.id));
         take_law(&g);
         int64_t len = H.ctrl.plan.line.ticks;
         int64_t at = 1 + (int64_t)kt_uniform(&r, 0.0, (double)(len - 2));
@@ -258,7 +236,7 @@ static void test_line_pause_resume_stop(void **state)
         for (int k = 0; k < 20; k++)
             tick(NULL, KC_CMD_NONE);
         tick(NULL, KC_CMD_RESUME);
-        if (!has_event(KC_EVENT_COMPLETED, g.id))
+        if (!kt_has_event(&H.out, KC_EVENT_COMPLETED, g.id))
             run_until(KC_EVENT_COMPLETED, g.id, 100000);
         kc_pose end;
         kc_fk_eval(&H.chain, H.out.q, &end);
@@ -275,7 +253,7 @@ static void test_arc_pause_resume(void **state)
     (void)state;
     setup(KC_PROFILE_JERK);
     kc_pose here;
-    kc_fk_eval(&H.chain, PUMA_Q0, &here);
+    kc_fk_eval(&H.chain, KT_PUMA_Q0, &here);
     kc_goal g;
     memset(&g, 0, sizeof g);
     g.id = 300;
@@ -288,7 +266,7 @@ static void test_arc_pause_resume(void **state)
     g.pose.t = here.t;
     g.pose.t.v[1] += KC_R(0.2);
     tick(&g, KC_CMD_NONE);
-    assert_true(has_event(KC_EVENT_STARTED, g.id));
+    assert_true(kt_has_event(&H.out, KC_EVENT_STARTED, g.id));
     assert_int_equal(H.ctrl.plan.arc.kind, KC_PROFILE_JERK);
     take_law(&g);
     for (int64_t k = 1; k < H.ctrl.plan.arc.ticks / 2; k++)
@@ -310,10 +288,10 @@ static void test_trapezoid_kept(void **state)
     for (int how = 0; how < 2; how++) {
         setup(how == 0 ? KC_PROFILE_TRAPEZOID : KC_PROFILE_JERK);
         kc_pose here, to;
-        kc_fk_eval(&H.chain, PUMA_Q0, &here);
+        kc_fk_eval(&H.chain, KT_PUMA_Q0, &here);
         to = here;
         to.t.v[2] += KC_R(0.15);
-        kc_goal g = line_goal(400 + how, &to);
+        kc_goal g = kt_line_goal(400 + how, &to);
         if (how == 1)
             g.profile = KC_GOAL_PROFILE_TRAPEZOID;
         tick(&g, KC_CMD_NONE);

@@ -94,20 +94,12 @@ static void tick(const kc_goal *g, kc_ctrl_command cmd)
         H.events[H.out.events[e].kind]++;
 }
 
-static int has_event(kc_ctrl_event_kind kind, int64_t id)
-{
-    for (int e = 0; e < H.out.n_events; e++)
-        if (H.out.events[e].kind == kind && H.out.events[e].goal_id == id)
-            return 1;
-    return 0;
-}
-
 /* Ticks until goal id completes (its tick counted), at most max. */
 static int run_until_completed(int64_t id, int max)
 {
     for (int k = 1; k <= max; k++) {
         tick(NULL, KC_CMD_NONE);
-        if (has_event(KC_EVENT_COMPLETED, id))
+        if (kt_has_event(&H.out, KC_EVENT_COMPLETED, id))
             return k;
         if (H.out.state == KC_CTRL_FAULT)
             fail_msg("fault while moving to goal %ld", (long)id);
@@ -150,7 +142,7 @@ static void check_move_from_rest(const kc_goal *g)
                                            (double)(l->qdd_max * g->acc_scale), (double)l->qddd_max));
     }
     tick(g, KC_CMD_NONE);
-    assert_true(has_event(KC_EVENT_STARTED, g->id));
+    assert_true(kt_has_event(&H.out, KC_EVENT_STARTED, g->id));
     /* Every moving joint starts on the first tick. */
     for (int j = 0; j < n; j++)
         if (moving[j] && H.out.qdd[j] == KC_R(0.0))
@@ -162,7 +154,7 @@ static void check_move_from_rest(const kc_goal *g)
         memcpy(before_qdd, H.out.qdd, sizeof before_qdd);
         tick(NULL, KC_CMD_NONE);
         ticks++;
-        if (has_event(KC_EVENT_COMPLETED, g->id))
+        if (kt_has_event(&H.out, KC_EVENT_COMPLETED, g->id))
             break;
         if (ticks > 200000)
             fail_msg("goal %ld never completes", (long)g->id);
@@ -231,9 +223,9 @@ static void test_random_replacements(void **state)
             memcpy(q, H.out.q, sizeof q);
             memcpy(qd, H.out.qd, sizeof qd);
             tick(&b, KC_CMD_NONE); /* checked: limits and jerk across the takeover */
-            if (has_event(KC_EVENT_STARTED, b.id)) {
+            if (kt_has_event(&H.out, KC_EVENT_STARTED, b.id)) {
                 taken++;
-                assert_true(has_event(KC_EVENT_PREEMPTED, a.id));
+                assert_true(kt_has_event(&H.out, KC_EVENT_PREEMPTED, a.id));
                 /* Position continues by the velocity, velocity by the
                  * acceleration: a tick of the old state's own motion. */
                 for (int j = 0; j < n; j++) {
@@ -287,7 +279,7 @@ static void test_resend_same_target(void **state)
             for (int64_t k = 1; k < at; k++)
                 tick(NULL, KC_CMD_NONE);
             tick(&b, KC_CMD_NONE);
-            assert_true(has_event(KC_EVENT_STARTED, b.id) && has_event(KC_EVENT_PREEMPTED, a.id));
+            assert_true(kt_has_event(&H.out, KC_EVENT_STARTED, b.id) && kt_has_event(&H.out, KC_EVENT_PREEMPTED, a.id));
             run_until_completed(b.id, 400000);
             /* The first move's last tick was start + len - 1. */
             int64_t end = H.out.cycle, want = start + len - 1;
@@ -323,7 +315,7 @@ static void test_stop_pause_resume(void **state)
                 kc_goal b = random_goal(&r, 2000 + c, 0);
                 b.replace = 1;
                 tick(&b, KC_CMD_NONE);
-                if (has_event(KC_EVENT_STARTED, b.id)) {
+                if (kt_has_event(&H.out, KC_EVENT_STARTED, b.id)) {
                     a = b;
                     for (int64_t k = 0; k < H.ctrl.plan.joint.ticks / 3; k++)
                         tick(NULL, KC_CMD_NONE);
@@ -346,7 +338,7 @@ static void test_stop_pause_resume(void **state)
                 assert_int_equal(H.out.state, KC_CTRL_PAUSED);
                 tick(NULL, KC_CMD_RESUME);
                 /* (paused on the target: it completes in the resuming tick) */
-                if (!has_event(KC_EVENT_COMPLETED, a.id))
+                if (!kt_has_event(&H.out, KC_EVENT_COMPLETED, a.id))
                     run_until_completed(a.id, 200000);
                 for (int j = 0; j < H.chain.n_joints; j++)
                     assert_true(H.out.q[j] == a.q[j] && H.out.qd[j] == KC_R(0.0));
@@ -387,7 +379,7 @@ static void test_trapezoid_exact(void **state)
             if (k < plan.ticks)
                 tick(NULL, KC_CMD_NONE);
         }
-        assert_true(has_event(KC_EVENT_COMPLETED, 5));
+        assert_true(kt_has_event(&H.out, KC_EVENT_COMPLETED, 5));
     }
 }
 

@@ -23,8 +23,6 @@
 
 #define LIMIT_SLACK (16.0 * (double)KC_REAL_EPS)
 
-static const kc_real PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
-
 typedef struct harness {
     kc_chain chain;
     kc_ctrl_cfg cfg;
@@ -44,15 +42,7 @@ static void setup(kc_profile_kind profile)
     assert_int_equal(kc_chain_init_model(&H.chain, KC_MODEL_PUMA560, NULL), KC_OK);
     H.cfg = kc_ctrl_cfg_default();
     H.cfg.profile = profile;
-    assert_int_equal(kc_ctrl_init(&H.ctrl, &H.chain, &H.cfg, PUMA_Q0), KC_OK);
-}
-
-static int has_event(kc_ctrl_event_kind kind, int64_t id)
-{
-    for (int e = 0; e < H.out.n_events; e++)
-        if (H.out.events[e].kind == kind && H.out.events[e].goal_id == id)
-            return 1;
-    return 0;
+    assert_int_equal(kc_ctrl_init(&H.ctrl, &H.chain, &H.cfg, KT_PUMA_Q0), KC_OK);
 }
 
 /* The largest |jerk| of a profile's phases. */
@@ -92,7 +82,7 @@ static void tick(const kc_goal *g, kc_ctrl_command cmd)
         H.events[H.out.events[e].kind]++;
     const kc_ctrl *c = &H.ctrl;
     int path = c->active && (c->goal.kind == KC_GOAL_PATH || c->goal.kind == KC_GOAL_PATH_CART);
-    if (!path || has_event(KC_EVENT_STARTED, c->goal.id)) {
+    if (!path || kt_has_event(&H.out, KC_EVENT_STARTED, c->goal.id)) {
         H.active = 0;
         if (!path)
             return;
@@ -144,7 +134,7 @@ static void run_until(kc_ctrl_state state, int max)
     assert_int_equal(H.out.state, state);
 }
 
-/* A joint path of n knots: PUMA_Q0 plus offsets[i] on every joint. */
+/* A joint path of n knots: KT_PUMA_Q0 plus offsets[i] on every joint. */
 static kc_goal path_goal(int64_t id, kc_path_method method, int n, const kc_real *offsets)
 {
     kc_goal g;
@@ -156,7 +146,7 @@ static kc_goal path_goal(int64_t id, kc_path_method method, int n, const kc_real
     g.n_points = n;
     for (int i = 0; i < n; i++)
         for (int j = 0; j < 6; j++)
-            g.points[i][j] = PUMA_Q0[j] + offsets[i];
+            g.points[i][j] = KT_PUMA_Q0[j] + offsets[i];
     return g;
 }
 
@@ -171,7 +161,7 @@ static void test_lagrange_ramps_pause_resume(void **state)
         const kc_real off[3] = {KC_R(0.1), KC_R(0.25), KC_R(0.3)};
         kc_goal p = path_goal(10 + c, KC_PATH_LAGRANGE, 3, off);
         tick(&p, KC_CMD_NONE);
-        assert_true(has_event(KC_EVENT_STARTED, p.id));
+        assert_true(kt_has_event(&H.out, KC_EVENT_STARTED, p.id));
         assert_int_equal(H.ctrl.drive, KC_DRIVE_SCURVE);
         int64_t len = H.ctrl.drive_scurve.ticks;
         if (c > 0) {
@@ -234,7 +224,7 @@ static void test_cartesian_path(void **state)
     for (int c = 0; c < 6; c++) {
         setup(KC_PROFILE_JERK);
         kc_pose here;
-        kc_fk_eval(&H.chain, PUMA_Q0, &here);
+        kc_fk_eval(&H.chain, KT_PUMA_Q0, &here);
         kc_quat q;
         kc_quat_from_mat3(&here.R, &q);
         kc_goal p;
@@ -254,7 +244,7 @@ static void test_cartesian_path(void **state)
             p.points[i][6] = q.z;
         }
         tick(&p, KC_CMD_NONE);
-        assert_true(has_event(KC_EVENT_STARTED, p.id));
+        assert_true(kt_has_event(&H.out, KC_EVENT_STARTED, p.id));
         int64_t at = 1 + (int64_t)kt_uniform(&r, 0.0, (double)H.ctrl.plan.path_cart.pos.ticks - 2.0);
         for (int64_t k = 1; k < at; k++)
             tick(NULL, KC_CMD_NONE);

@@ -28,8 +28,6 @@ typedef struct harness {
 static harness H;
 static kc_check CHECK; /* the dry runs' */
 
-static const kc_real PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
-
 static void setup(void)
 {
     memset(&H, 0, sizeof H);
@@ -105,9 +103,9 @@ static void test_joint_goal_through_and_near(void **state)
     (void)state;
     setup();
     kc_real qa[6], qb[6], qm[6];
-    memcpy(qa, PUMA_Q0, sizeof qa);
-    memcpy(qb, PUMA_Q0, sizeof qb);
-    memcpy(qm, PUMA_Q0, sizeof qm);
+    memcpy(qa, KT_PUMA_Q0, sizeof qa);
+    memcpy(qb, KT_PUMA_Q0, sizeof qb);
+    memcpy(qm, KT_PUMA_Q0, sizeof qm);
     qa[0] = KC_R(-0.8);
     qb[0] = KC_R(0.8);
     qm[0] = KC_R(0.0);
@@ -139,7 +137,7 @@ static void test_joint_goal_through_and_near(void **state)
         double lo = HUGE_VAL;
         for (int s = 0; s <= 400; s++) {
             kc_real q[6];
-            memcpy(q, PUMA_Q0, sizeof q);
+            memcpy(q, KT_PUMA_Q0, sizeof q);
             q[0] = KC_R(-0.8) + KC_R(1.6) * (kc_real)s / KC_R(400.0);
             lo = fmin(lo, clearance(q));
         }
@@ -186,9 +184,9 @@ static void test_step_stops_on_violation(void **state)
     (void)state;
     setup();
     kc_real qa[6], qb[6], qm[6];
-    memcpy(qa, PUMA_Q0, sizeof qa);
-    memcpy(qb, PUMA_Q0, sizeof qb);
-    memcpy(qm, PUMA_Q0, sizeof qm);
+    memcpy(qa, KT_PUMA_Q0, sizeof qa);
+    memcpy(qb, KT_PUMA_Q0, sizeof qb);
+    memcpy(qm, KT_PUMA_Q0, sizeof qm);
     qa[0] = KC_R(-0.8);
     qb[0] = KC_R(0.8);
     qm[0] = KC_R(0.0);
@@ -253,7 +251,7 @@ static void test_line_through_box(void **state)
     (void)state;
     setup();
     kc_pose a, b;
-    kc_fk_eval(&H.chain, PUMA_Q0, &a);
+    kc_fk_eval(&H.chain, KT_PUMA_Q0, &a);
     b = a;
     b.t.v[1] += KC_R(0.3);
     kc_shape box;
@@ -264,7 +262,7 @@ static void test_line_through_box(void **state)
     box.pose.t.v[1] += KC_R(0.15);
     box.dim[0] = box.dim[1] = box.dim[2] = KC_R(0.02);
     assert_int_equal(kc_zone_set_add(&H.zones, &box), KC_OK);
-    assert_true(clearance(PUMA_Q0) > (double)margin());
+    assert_true(clearance(KT_PUMA_Q0) > (double)margin());
     kc_goal g;
     memset(&g, 0, sizeof g);
     g.id = 3;
@@ -273,15 +271,15 @@ static void test_line_through_box(void **state)
     g.pose = b;
     g.orient = KC_INTERP_SLERP;
     kc_verdict v;
-    assert_int_equal(kc_check_init(&CHECK, &H.chain, &H.cfg, 100000, PUMA_Q0), KC_OK);
-    assert_int_equal(kc_check_from(&CHECK, PUMA_Q0, &g, &v), KC_E_UNREACHABLE);
+    assert_int_equal(kc_check_init(&CHECK, &H.chain, &H.cfg, 100000, KT_PUMA_Q0), KC_OK);
+    assert_int_equal(kc_check_from(&CHECK, KT_PUMA_Q0, &g, &v), KC_E_UNREACHABLE);
     assert_int_equal(v.reason, KC_REASON_ZONE);
     assert_int_equal(v.zone, 0);
     /* path length where it would enter: before the box's near face */
     assert_true(v.where > KC_R(0.05) && v.where < KC_R(0.15));
     /* moved 10 cm off the line, the same goal passes */
     H.zones.zones[0].pose.t.v[0] += KC_R(0.25);
-    assert_int_equal(kc_check_from(&CHECK, PUMA_Q0, &g, &v), KC_OK);
+    assert_int_equal(kc_check_from(&CHECK, KT_PUMA_Q0, &g, &v), KC_OK);
 }
 
 /* A servo twist drives the arm into a wall (a half-space 6 cm ahead):
@@ -291,7 +289,7 @@ static void test_servo_into_wall(void **state)
     (void)state;
     setup();
     kc_pose p0;
-    kc_fk_eval(&H.chain, PUMA_Q0, &p0);
+    kc_fk_eval(&H.chain, KT_PUMA_Q0, &p0);
     kc_shape wall;
     memset(&wall, 0, sizeof wall);
     wall.kind = KC_SHAPE_HALFSPACE;
@@ -299,10 +297,10 @@ static void test_servo_into_wall(void **state)
     wall.pose.t = kc_vec3_make(p0.t.v[0] + KC_R(0.12), KC_R(0.0), KC_R(0.0));
     assert_int_equal(kc_zone_set_add(&H.zones, &wall), KC_OK);
     /* whichever volume is ahead, put the wall 6 cm beyond the margin */
-    H.zones.zones[0].pose.t.v[0] += (kc_real)(0.06 + (double)margin() - clearance(PUMA_Q0));
-    double c0 = clearance(PUMA_Q0);
+    H.zones.zones[0].pose.t.v[0] += (kc_real)(0.06 + (double)margin() - clearance(KT_PUMA_Q0));
+    double c0 = clearance(KT_PUMA_Q0);
     kt_near(c0, (double)margin() + 0.06, 1e-4, "wall placed");
-    start(PUMA_Q0);
+    start(KT_PUMA_Q0);
     kc_goal g;
     memset(&g, 0, sizeof g);
     g.id = 9;

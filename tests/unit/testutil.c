@@ -414,6 +414,28 @@ kc_goal kt_joint_goal(int64_t id, const kc_real *q, int n)
     return g;
 }
 
+kc_goal kt_line_goal(int64_t id, const kc_pose *to)
+{
+    kc_goal g;
+    memset(&g, 0, sizeof g);
+    g.id = id;
+    g.kind = KC_GOAL_LINE;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    g.pose = *to;
+    g.orient = KC_INTERP_SLERP;
+    return g;
+}
+
+int kt_has_event(const kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id)
+{
+    for (int e = 0; e < out->n_events; e++)
+        if (out->events[e].kind == kind && out->events[e].goal_id == id)
+            return 1;
+    return 0;
+}
+
+const kc_real KT_PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
+
 static double half_time(double v, double A, double J)
 {
     return v >= A * A / J ? v / A + A / J : 2.0 * sqrt(v / J);

@@ -128,6 +128,13 @@ extern unsigned long kt_checks;
 /* Prints "<suite> (<precision>): N scalar comparisons" to stdout. */
 /* A joint goal to q (n joints) at the full limits, queued. */
 kc_goal kt_joint_goal(int64_t id, const kc_real *q, int n);
+/* A line goal to the pose to at the full limits, slerp orientation, queued. */
+kc_goal kt_line_goal(int64_t id, const kc_pose *to);
+/* 1 when the controller's output out carries an event of kind for goal id. */
+int kt_has_event(const kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id);
+/* The PUMA 560 pose the controller suites start from: clear of every joint
+ * limit and singularity, the tool in front of the arm. */
+extern const kc_real KT_PUMA_Q0[6];
 
 void kt_report(const char *suite);
 
