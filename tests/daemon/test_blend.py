@@ -11,7 +11,7 @@ trapezoid joint move) is accepted with the reason stop_first."""
 import math
 
 from kinctl_testing import (DT, END, EVENTS, QN, assert_smooth, close, finished, go_nominal, goal_joint_t,
-                            goal_line_t, setpoints_since)
+                            setpoints_since)
 
 # The controller's default Cartesian speed (m/s), and the slack of the tool
 # speed measured on the published poses: the online IK law adds gain *
@@ -20,14 +20,6 @@ from kinctl_testing import (DT, END, EVENTS, QN, assert_smooth, close, finished,
 SPEED = 0.25
 TOOL_SLACK = 0.01
 
-
-def line(goal_id, position, orientation, replace=False):
-    g = goal_line_t()
-    g.goal_id = goal_id
-    g.mode = goal_line_t.REPLACE if replace else goal_line_t.QUEUE
-    g.position = list(position)
-    g.orientation = list(orientation)
-    return g
 
 
 def tool_speed(a, b):
@@ -40,10 +32,10 @@ def test_line_replaced_by_line_without_stopping(kinctld):
     p, o = list(s0.position), list(s0.orientation)
     first = [p[0], p[1] + 0.15, p[2]]
     second = [p[0] + 0.04, p[1] + 0.2, p[2] - 0.03]
-    d.bus.send("GOAL_LINE", line(2, first, o))
+    d.bus.send_goal_line(2, first, o)
     d.bus.wait(lambda: any(s.goal_id == 2 for s in d.bus.setpoints[-3:]), 5.0, "motion")
     d.bus.wait_setpoints(350)
-    d.bus.send("GOAL_LINE", line(3, second, o, replace=True))
+    d.bus.send_goal_line(3, second, o, replace=True)
     assert d.bus.wait_event(2, ("PREEMPTED",) + END).event == EVENTS["PREEMPTED"]
     accepted = d.bus.wait_event(3, ("ACCEPTED", "REJECTED"))
     assert accepted.event == EVENTS["ACCEPTED"] and accepted.code == 0 and accepted.reason == "", accepted.reason
@@ -77,7 +69,7 @@ def replace_joint_move_by_line(d, profile):
     d.bus.wait(lambda: any(s.goal_id == 2 for s in d.bus.setpoints[-3:]), 5.0, "motion")
     d.bus.wait_setpoints(200)
     target = [p[0], p[1] + 0.05, p[2]]
-    d.bus.send("GOAL_LINE", line(3, target, o, replace=True))
+    d.bus.send_goal_line(3, target, o, replace=True)
     accepted = d.bus.wait_event(3, ("ACCEPTED", "REJECTED"))
     assert accepted.event == EVENTS["ACCEPTED"] and accepted.code == 0, accepted.reason
     return accepted, target, s0

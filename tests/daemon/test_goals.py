@@ -11,7 +11,7 @@ import time
 import pytest
 
 from kinctl_testing import (END, EVENTS, N, QN, QN_ORIENTATION, QN_POSITION, STATES, assert_smooth, close,
-                            finished, go_nominal, goal_arc_t, goal_line_t, goal_path_t, goal_servo_t,
+                            finished, go_nominal, goal_arc_t, goal_path_t, goal_servo_t,
                             setpoints_since)
 
 
@@ -20,21 +20,13 @@ def same_rotation(qa, qb, tol):
     return 1.0 - dot <= tol
 
 
-def line(goal_id, position, orientation, replace=False):
-    g = goal_line_t()
-    g.goal_id = goal_id
-    g.mode = goal_line_t.REPLACE if replace else goal_line_t.QUEUE
-    g.position = list(position)
-    g.orientation = list(orientation)
-    return g
-
 
 def test_line_completes(kinctld):
     d = kinctld()
     s0 = go_nominal(d)
     p, o = list(s0.position), list(s0.orientation)
     target = [p[0], p[1] + 0.1, p[2] - 0.05]
-    d.bus.send("GOAL_LINE", line(2, target, o))
+    d.bus.send_goal_line(2, target, o)
     s = finished(d, 2)
     assert close(s.position, target, 1e-6), s.position
     assert same_rotation(s.orientation, o, 1e-9)
@@ -191,7 +183,7 @@ def test_queued_cartesian_goal_checked_from_where_it_starts(kinctld):
     d.bus.send_goal_joint(40, QN)
     p, o = QN_POSITION, QN_ORIENTATION
     target = [p[0], p[1] + 0.1, p[2]]
-    d.bus.send("GOAL_LINE", line(41, target, o))
+    d.bus.send_goal_line(41, target, o)
     s = finished(d, 41)
     assert close(s.position, target, 1e-6)
     assert d.bus.wait_event(40, END).event == EVENTS["COMPLETED"]

@@ -247,6 +247,15 @@ class Bus:
         self.send("GOAL_JOINT", g)
         return g
 
+    def send_goal_line(self, goal_id, position, orientation, replace=False):
+        g = goal_line_t()
+        g.goal_id = goal_id
+        g.mode = goal_line_t.REPLACE if replace else goal_line_t.QUEUE
+        g.position = list(position)
+        g.orientation = list(orientation)
+        self.send("GOAL_LINE", g)
+        return g
+
     def send_command(self, name):
         c = command_t()
         c.command = getattr(command_t, name)

@@ -26,7 +26,6 @@ from conftest import (CW_DISABLE_VOLTAGE, CW_ENABLE, CW_FAULT_RESET, CW_QUICK_ST
                       sdo_requests, setpoints_of, start_counts, statuses, tpdo1, vel_counts, wait_drives, wait_fault,
                       write_config)
 from kinctl import dbc, drive402
-from kinctl_testing import goal_line_t
 
 Q_A = [0.3, 0.5, -2.8, 0.4, 0.6, -0.5]
 # Further starting positions (rad): other signs, other joints far out.
@@ -204,14 +203,6 @@ def assert_drives_at(sim, q, tol_counts=1):
         assert abs(counts_to_q(j, pos) - q[j]) <= FOLLOWING_ERROR
 
 
-def line(goal_id, position, orientation):
-    g = goal_line_t()
-    g.goal_id = goal_id
-    g.mode = goal_line_t.QUEUE
-    g.position = list(position)
-    g.orientation = list(orientation)
-    return g
-
 
 def test_joint_goal_and_line_move_the_drives(can_daemon, drives, recorder):
     """A joint goal and a line: the drives' actual positions reach each
@@ -226,7 +217,7 @@ def test_joint_goal_and_line_move_the_drives(can_daemon, drives, recorder):
     time.sleep(0.1 * SLOW)
     assert_drives_at(sim, Q_A)
     target = [s0.position[0], s0.position[1] + 0.1, s0.position[2] - 0.05]
-    d.bus.send("GOAL_LINE", line(12, target, s0.orientation))
+    d.bus.send_goal_line(12, target, s0.orientation)
     st = d.bus.wait_event(12, END, timeout=30)
     assert st.event == EVENTS["COMPLETED"], st.reason
     s1 = d.bus.wait_idle()
