@@ -231,9 +231,10 @@ kc_status kc_check_goal(kc_check *k, const kc_goal *goal, kc_verdict *v)
 
 /* The snapshot held is the controller as the next goal finds it: no tick
  * fed since is newer, and every goal handed on had reached it. */
-static int snapshot_fresh(const kc_check *k)
+int kc_check_snapshot_fresh(const kc_check *k)
 {
-    return k->have_snapshot && (!k->have_tick || k->snap_cycle >= k->tick_cycle) && k->snap_taken == k->handed;
+    return k != NULL && k->have_snapshot && (!k->have_tick || k->snap_cycle >= k->tick_cycle) &&
+           k->snap_taken == k->handed;
 }
 
 kc_status kc_check_begin(kc_check *k, const kc_goal *goal, kc_verdict *v)
@@ -258,7 +259,7 @@ kc_status kc_check_begin(kc_check *k, const kc_goal *goal, kc_verdict *v)
     }
     if (goal->kind == KC_GOAL_SERVO) /* it streams: the cheap checks only, and it ends where the arm is */
         return taken(v, k->q_now, n);
-    if (goal->replace && snapshot_fresh(k))
+    if (goal->replace && kc_check_snapshot_fresh(k))
         return begin_moving(k, goal);
     return begin_from(k, k->q_from, goal, v);
 }

@@ -344,8 +344,10 @@ static void test_stale_snapshot(void **state)
     kc_verdict v;
     int64_t goals = 1;
     kc_ctrl_output out;
+    assert_int_equal(kc_check_snapshot_fresh(&CHECK), 1);
     step(&CTRL, NULL, &goals, &out);
     kc_check_tick(&CHECK, &out, goals);
+    assert_int_equal(kc_check_snapshot_fresh(&CHECK), 0);
     assert_int_equal(kc_check_goal(&CHECK, &g, &v), KC_OK);
     assert_int_equal(CHECK.run_moving, 0);
     for (int j = 0; j < 6; j++)
@@ -358,6 +360,7 @@ static void test_stale_snapshot(void **state)
     assert_int_equal(CHECK.run_moving, 0); /* queued: from the queue's end */
     assert_int_equal(kc_check_snapshot(&CHECK, &CTRL, goals), KC_OK);
     kc_check_handed(&CHECK, &more, &v);
+    assert_int_equal(kc_check_snapshot_fresh(&CHECK), 0);
     assert_int_equal(kc_check_goal(&CHECK, &g, &v), KC_OK);
     assert_int_equal(CHECK.run_moving, 0);
     /* once it is taken, a new snapshot is fresh */

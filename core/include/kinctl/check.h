@@ -156,6 +156,10 @@ kc_status kc_check_snapshot(kc_check *check, const kc_ctrl *ctrl, int64_t goals_
  * Drops the snapshot held and a dry run under way. NULL for NULL. */
 kc_ctrl *kc_check_snapshot_slot(kc_check *check);
 
+/* 1 when the snapshot held is fresh (see above): the next replacing goal
+ * is judged from it; 0 when it would be judged from rest. */
+int kc_check_snapshot_fresh(const kc_check *check);
+
 /* A tick of the controller: its output, and goals_taken, how many goals
  * handed on the controller has been given so far. A goal it refused gives
  * the queue's end back; at rest with nothing queued or on its way, the
