@@ -45,17 +45,22 @@
  * for a zone the pair and its distance.
  *   KC_E_ARG          the goal's fields (kc_ctrl_goal_check), a plan the
  *                     planner refuses (KC_REASON_PLAN), or one the
- *                     controller would refuse when it arrives;
+ *                     controller would refuse when it arrives (from a
+ *                     snapshot: refuses, KC_REASON_STATE in FAULT or
+ *                     ESTOP, KC_REASON_DUPLICATE_ID);
  *   KC_E_UNREACHABLE  the motion faults on the way: KC_REASON_UNREACHABLE
  *                     (the tool cannot follow), KC_REASON_ZONE, ...;
  *   KC_E_CAPACITY     KC_REASON_QUEUE_FULL: the controller's queue (goals
  *                     queued at the latest tick plus those handed on since)
  *                     is full; or KC_REASON_PLAN: the motion does not end
- *                     within max_ticks.
+ *                     within max_ticks (from a snapshot, within as many
+ *                     seconds, in ticks of the controller's period).
  * Servo goals stream: they get kc_ctrl_goal_check alone, and end where the
  * arm is.
  *
- * Not for the cycle: a dry run costs one controller step per tick of motion.
+ * Not for the cycle: a dry run costs one controller step per tick of motion
+ * (from a snapshot, per tick of the controller's period: cfg.dt over the
+ * controller's dt times as many as at the check's own period).
  * It may run in slices (kc_check_begin, then kc_check_run until it
  * returns anything but KC_MORE), so that a caller with a clock can stop
  * one that takes too long; the verdict is the same as in one call.
@@ -73,7 +78,7 @@ typedef struct kc_check {
     int64_t max_ticks; /* longest motion judged (ticks of cfg.dt) */
     kc_ctrl scratch;   /* the dry run's own controller */
     /* Where the controller's queue ends. */
-    kc_real q_now[KC_MAX_JOINTS];   /* the latest setpoint (start of a replacing goal) */
+    kc_real q_now[KC_MAX_JOINTS];   /* the latest setpoint (start of a replacing goal without a snapshot) */
     kc_real q_end[KC_MAX_JOINTS];   /* where the next queued goal starts */
     kc_real q_from[KC_MAX_JOINTS];  /* where the goal last judged started */
     kc_real q_start[KC_MAX_JOINTS]; /* where the last goal handed on started */
