@@ -6,8 +6,9 @@
  * replacement that is fine is taken, and the verdict's ticks and end
  * joints are where the real controller, given the goal in the next tick,
  * comes to rest, to the bit: a jerk-limited retarget, a line superposed on
- * a joint move's stop, and a line replacing a trapezoid joint move (which
- * stops first: the verdict says so, as the controller's ACCEPTED does). A
+ * a joint move's stop, a line replacing a trapezoid joint move and a joint
+ * goal whose retarget would carry the waist past its limit (both stop
+ * first: the verdict says so, as the controller's ACCEPTED does). A
  * snapshot older than the latest tick, or one that has not seen every goal
  * handed on, is not used: the goal is judged from rest. */
 #include <math.h>
@@ -54,19 +55,20 @@ static kc_goal line_goal(int64_t id, const kc_pose *to)
     return g;
 }
 
-/* The sweep the replacement interrupts: the waist from -0.8 to 0.8 rad. */
-static kc_goal sweep_goal(int64_t id)
+/* The sweep the replacement interrupts: the waist from -0.8 to 0.8 rad,
+ * both shifted by shift. */
+static kc_goal sweep_goal(int64_t id, kc_real shift)
 {
     kc_real qb[6];
     memcpy(qb, PUMA_Q0, sizeof qb);
-    qb[0] = KC_R(0.8);
+    qb[0] = KC_R(0.8) + shift;
     return joint_goal(id, qb);
 }
 
-static void sweep_start(kc_real *qa)
+static void sweep_start(kc_real *qa, kc_real shift)
 {
     memcpy(qa, PUMA_Q0, sizeof(kc_real) * 6);
-    qa[0] = KC_R(-0.8);
+    qa[0] = KC_R(-0.8) + shift;
 }
 
 /* One tick of c with goal g (or none), fed to the check as the daemon
@@ -120,16 +122,16 @@ static run_end run_to_end(kc_ctrl *c, const kc_goal *g)
     return r;
 }
 
-/* CTRL and CHECK set up at the sweep's start with CFG, the sweep (with
- * motion law profile) judged, handed on, given and stepped SWEEP_TICKS
- * ticks, each fed to the check; then the snapshot. */
-static void sweep_profile_then_snapshot(kc_goal_profile profile)
+/* CTRL and CHECK set up at the sweep's start with CFG, the sweep (shifted
+ * by shift, with motion law profile) judged, handed on, given and stepped
+ * SWEEP_TICKS ticks, each fed to the check; then the snapshot. */
+static void sweep_profile_then_snapshot(kc_goal_profile profile, kc_real shift)
 {
     kc_real qa[6];
-    sweep_start(qa);
+    sweep_start(qa, shift);
     assert_int_equal(kc_ctrl_init(&CTRL, &CHAIN, &CFG, qa), KC_OK);
     assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, qa), KC_OK);
-    kc_goal sweep = sweep_goal(1);
+    kc_goal sweep = sweep_goal(1, shift);
     sweep.profile = profile;
     kc_verdict v;
     assert_int_equal(kc_check_goal(&CHECK, &sweep, &v), KC_OK);
@@ -146,7 +148,7 @@ static void sweep_profile_then_snapshot(kc_goal_profile profile)
 
 static void sweep_then_snapshot(void)
 {
-    sweep_profile_then_snapshot(KC_GOAL_PROFILE_CFG);
+    sweep_profile_then_snapshot(KC_GOAL_PROFILE_CFG, KC_R(0.0));
 }
 
 /* The replacement: the waist back to where it is at the snapshot, the
@@ -207,11 +209,11 @@ static void test_overshoot_into_zone(void **state)
     assert_int_equal(kc_zone_set_add(&ZONES, &s), KC_OK);
     CFG.zones = &ZONES;
     kc_real qa[6];
-    sweep_start(qa);
+    sweep_start(qa, KC_R(0.0));
     kc_verdict v;
     /* the sweep alone keeps out of the zone */
     assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, qa), KC_OK);
-    kc_goal sweep = sweep_goal(1);
+    kc_goal sweep = sweep_goal(1, KC_R(0.0));
     assert_int_equal(kc_check_from(&CHECK, qa, &sweep, &v), KC_OK);
 
     sweep_then_snapshot();
@@ -294,12 +296,29 @@ static void test_taken_as_controller(void **state)
     assert_as_controller(&g, KC_REASON_NONE);
 
     /* a line replacing a trapezoid joint move: the move stops first */
-    sweep_profile_then_snapshot(KC_GOAL_PROFILE_TRAPEZOID);
+    sweep_profile_then_snapshot(KC_GOAL_PROFILE_TRAPEZOID, KC_R(0.0));
     to = CTRL.pose;
     to.t.v[2] += KC_R(0.1);
     g = line_goal(4, &to);
     g.replace = 1;
     assert_as_controller(&g, KC_REASON_STOP_FIRST);
+
+    /* a joint goal whose retarget would carry the waist past its limit:
+     * the sweep ends at the limit, and the goal, back behind the waist at
+     * 0.3 of its acceleration, would brake the waist at 1.5 rad/s^2 from
+     * 2 rad/s (1.3 rad) where the sweep needs 0.5 rad: it stops first */
+    sweep_profile_then_snapshot(KC_GOAL_PROFILE_CFG, KC_R(1.99));
+    assert_true(CTRL.qd[0] > KC_R(1.9));
+    assert_true(CTRL.q[0] + KC_R(1.3) > CHAIN.joints[0].limits.q_max);
+    kc_real back[6];
+    memcpy(back, CTRL.q, sizeof back);
+    back[0] = CTRL.q[0] - KC_R(0.5);
+    g = joint_goal(5, back);
+    g.acc_scale = KC_R(0.3);
+    g.replace = 1;
+    assert_as_controller(&g, KC_REASON_STOP_FIRST);
+    for (int j = 0; j < 6; j++)
+        assert_true(PROBE.q[j] == back[j]);
 }
 
 /* The copy the controller's owner makes into the slot is the snapshot. */
