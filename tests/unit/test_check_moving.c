@@ -321,7 +321,8 @@ static void test_taken_as_controller(void **state)
         assert_true(PROBE.q[j] == back[j]);
 }
 
-/* The copy the controller's owner makes into the slot is the snapshot. */
+/* The copy the controller's owner makes into the slot is the snapshot;
+ * judged in slices, the verdict is the same. */
 static void test_snapshot_slot(void **state)
 {
     (void)state;
@@ -337,6 +338,19 @@ static void test_snapshot_slot(void **state)
     assert_int_equal(kc_check_snapshot(&CHECK, slot, 1), KC_OK);
     assert_int_equal(kc_check_goal(&CHECK, &g, &b), KC_OK);
     assert_int_equal(CHECK.run_moving, 1);
+    assert_int_equal(a.tick, b.tick);
+    assert_memory_equal(a.q_end, b.q_end, sizeof(kc_real) * 6);
+    /* in slices, as kinctld runs it: the same verdict */
+    assert_int_equal(kc_check_snapshot(&CHECK, &CTRL, 1), KC_OK);
+    kc_status st = kc_check_begin(&CHECK, &g, &b);
+    int calls = 0;
+    while (st == KC_MORE) {
+        st = kc_check_run(&CHECK, 13, &b);
+        calls++;
+    }
+    assert_int_equal(st, KC_OK);
+    assert_int_equal(CHECK.run_moving, 1);
+    assert_int_equal(calls, (a.tick + 12) / 13);
     assert_int_equal(a.tick, b.tick);
     assert_memory_equal(a.q_end, b.q_end, sizeof(kc_real) * 6);
     /* another chain's controller is no snapshot */
