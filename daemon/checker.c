@@ -24,10 +24,11 @@ enum { KD_FROM_ORDER = 0, KD_FROM_VERDICTS = 1, KD_FROM_JOBS = 2 };
  * its CPU busy yields at once to the I/O thread when a datagram wakes it. */
 #define KD_CHECK_NICE 10
 
-int kd_checker_init(kd_checker *k, kc_check *check, int64_t budget_ns)
+int kd_checker_init(kd_checker *k, kc_check *check, int64_t budget_ns, kd_cycle *cycle)
 {
     memset(k, 0, sizeof *k);
     k->check = check;
+    k->cycle = cycle;
     k->budget_ns = budget_ns;
     k->wake_fd = k->done_fd = -1;
     if (kd_spsc_init(&k->jobs, k->job_storage, KD_CHECK_RING, sizeof(kd_job)) != 0 ||
@@ -36,6 +37,7 @@ int kd_checker_init(kd_checker *k, kc_check *check, int64_t budget_ns)
         return -1;
     atomic_init(&k->judged, 0);
     atomic_init(&k->over_budget, 0);
+    atomic_init(&k->moving, 0);
     atomic_init(&k->run, 0);
     k->wake_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
     k->done_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
@@ -65,6 +67,26 @@ static void take_ticks(kd_checker *k)
     }
 }
 
+/* The controller as a replacing goal finds it (checker.h): a snapshot from
+ * the cycle into the kc_check's slot, asked again while the one taken is
+ * not fresh, for at most KD_SNAP_WAIT_MS; else none, and the goal is
+ * judged from rest. */
+static void take_snapshot(kd_checker *k)
+{
+    int64_t until = kd_now_ns() + KD_SNAP_WAIT_MS * 1000000LL;
+    do {
+        int64_t taken;
+        kc_ctrl *slot = kc_check_snapshot_slot(k->check);
+        if (!kd_cycle_snapshot(k->cycle, slot, until - kd_now_ns(), &taken))
+            return;
+        take_ticks(k);
+        if (kc_check_snapshot(k->check, slot, taken) == KC_OK && kc_check_snapshot_fresh(k->check)) {
+            atomic_fetch_add_explicit(&k->moving, 1, memory_order_relaxed);
+            return;
+        }
+    } while (kd_now_ns() < until && atomic_load_explicit(&k->run, memory_order_acquire));
+}
+
 /* The dry run of job, in slices, into out. */
 static void judge(kd_checker *k, const kd_job *job, kd_job *out)
 {
@@ -72,6 +94,8 @@ static void judge(kd_checker *k, const kd_job *job, kd_job *out)
     kc_status st;
     memcpy(&out->goal, &job->goal, sizeof out->goal);
     out->end = KD_JOB_JUDGED;
+    if (out->goal.replace && out->goal.kind != KC_GOAL_SERVO && k->cycle != NULL)
+        take_snapshot(k);
     st = kc_check_begin(k->check, &out->goal, &out->verdict);
     while (st == KC_MORE) {
         int64_t elapsed = kd_now_ns() - start;

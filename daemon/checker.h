@@ -17,8 +17,18 @@
  * The checker judges each job from where the one before it ends: it feeds
  * the kc_check every tick the I/O thread copies to it (between goals and
  * between the slices of a dry run), so a goal that waits is judged from
- * the end of the queue and one that replaces from the latest setpoint, and
- * hands the kc_check each goal it accepts (kc_check_handed) before the next.
+ * the end of the queue, and hands the kc_check each goal it accepts
+ * (kc_check_handed) before the next. A goal that replaces is judged from
+ * the controller's moving state: the checker asks the cycle for a snapshot
+ * (kd_cycle_snapshot: the cycle copies its kc_ctrl into the kc_check's
+ * slot after its next step, cycle.h), asks again while the copy is not
+ * fresh (a tick newer than it already taken, a goal accepted before it
+ * still on its way to the controller), and after KD_SNAP_WAIT_MS without
+ * one judges the goal from rest at the latest setpoint (kinctl/check.h).
+ * The controller takes the goal a few ticks after the snapshot (the
+ * verdict's way back through the I/O thread): the dry run covers the
+ * transition from the snapshot's tick, on the same motion a few ticks
+ * earlier.
  * A dry run goes in slices of KD_CHECK_SLICE ticks with CLOCK_MONOTONIC
  * read between them: one that takes longer than the budget
  * (controller.check_budget_ms) is stopped and its job marked over budget.
@@ -54,6 +64,7 @@
 #include <stdint.h>
 
 #include "config.h"
+#include "cycle.h"
 #include "kinctl/check.h"
 #include "reject.h"
 #include "spsc.h"
@@ -64,6 +75,7 @@
 #define KD_CHECK_IDLE_MS 20     /* longest sleep of an idle checker */
 #define KD_ORDER_MAX 16384      /* goals waiting for their answer, in order */
 #define KD_ORDER_TEXTS 256      /* of which refused with a text of their own */
+#define KD_SNAP_WAIT_MS 20      /* longest wait for a fresh snapshot of the controller */
 
 /* How a job's dry run ended. */
 typedef enum kd_job_end {
@@ -104,6 +116,7 @@ typedef struct kd_answer {
 
 typedef struct kd_checker {
     kc_check *check;   /* the checker thread's (caller-owned) */
+    kd_cycle *cycle;   /* asked for snapshots of the controller, or NULL: none */
     int64_t budget_ns; /* longest dry run */
     kd_spsc jobs, verdicts, ticks;
     kd_job job_storage[KD_CHECK_RING], verdict_storage[KD_CHECK_RING];
@@ -122,6 +135,7 @@ typedef struct kd_checker {
 
     /* Counters (the checker's, read anywhere). */
     atomic_llong judged, over_budget;
+    atomic_llong moving; /* replacing goals judged from a snapshot (the others from rest) */
     int64_t answered_early; /* the I/O thread's: refusals answered out of order */
 
     atomic_int run;
@@ -130,9 +144,10 @@ typedef struct kd_checker {
 } kd_checker;
 
 /* Sets the checker up over check (kc_check_init done; then the checker
- * thread's alone), with the dry runs' budget in ns. Returns 0, or -1 with
- * a message on stderr (no eventfd). */
-int kd_checker_init(kd_checker *k, kc_check *check, int64_t budget_ns);
+ * thread's alone), with the dry runs' budget in ns, asking cycle (or NULL)
+ * for snapshots of the controller. Returns 0, or -1 with a message on
+ * stderr (no eventfd). */
+int kd_checker_init(kd_checker *k, kc_check *check, int64_t budget_ns, kd_cycle *cycle);
 
 /* Starts the thread at normal priority, off the cycle's CPU (cfg). Returns
  * 0 or -1. */

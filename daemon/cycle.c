@@ -34,6 +34,8 @@ int kd_cycle_init(kd_cycle *c, const kd_config *cfg, kc_ctrl *ctrl, kc_goal *goa
     atomic_init(&c->ticks_dropped, 0);
     atomic_init(&c->events_dropped, 0);
     atomic_init(&c->step_errors, 0);
+    atomic_init(&c->snap_state, KD_SNAP_IDLE);
+    atomic_init(&c->snapshots, 0);
     atomic_init(&c->thread_live, 0);
     atomic_init(&c->state, (int)ctrl->state);
     atomic_init(&c->hist_active, 0);
@@ -55,6 +57,21 @@ static void prefault_stack(void)
     size_t i;
     for (i = 0; i < sizeof buf; i += 4096)
         buf[i] = 0;
+}
+
+/* The copy of the controller the checker asked for, once, after the step
+ * (cycle.h). */
+static void snapshot(kd_cycle *c)
+{
+    int asked = KD_SNAP_ASKED;
+    if (atomic_load_explicit(&c->snap_state, memory_order_relaxed) != KD_SNAP_ASKED ||
+        !atomic_compare_exchange_strong_explicit(&c->snap_state, &asked, KD_SNAP_COPYING, memory_order_acq_rel,
+                                                 memory_order_relaxed))
+        return;
+    memcpy(c->snap_dst, c->ctrl, sizeof *c->snap_dst);
+    c->snap_goals_taken = c->goals_taken_total - c->servo_taken_total;
+    atomic_fetch_add_explicit(&c->snapshots, 1, memory_order_relaxed);
+    atomic_store_explicit(&c->snap_state, KD_SNAP_DONE, memory_order_release);
 }
 
 /* One tick: everything between two sleeps. */
@@ -127,6 +144,7 @@ static void tick(kd_cycle *c, int64_t deadline_ns, int64_t consecutive_missed, i
     t->seat_status = c->seat_status;
     t->seat_joint = c->seat_joint;
     kd_plant_step(&c->plant, q_cmd, qd_cmd, t->q_meas, t->qd_meas);
+    snapshot(c);
     t->deadline_ns = deadline_ns;
     t->goals_taken = c->goals_taken_total;
     t->servo_taken = c->servo_taken_total;
@@ -274,6 +292,31 @@ void kd_cycle_keep_off(const kd_config *cfg, pthread_t thread, const char *what)
         if (rc != 0)
             fprintf(stderr, "kinctld: warning: cannot keep the %s thread off CPU %d (%s)\n", what, cycle_cpu,
                     strerror(rc));
+    }
+}
+
+int kd_cycle_snapshot(kd_cycle *c, kc_ctrl *dst, int64_t wait_ns, int64_t *goals_taken)
+{
+    /* A tenth of a period between looks: the copy comes within a tick. */
+    struct timespec nap = {0, (long)(c->period_ns / 10 > 0 ? c->period_ns / 10 : 1)};
+    int64_t until = kd_now_ns() + wait_ns;
+    c->snap_dst = dst;
+    atomic_store_explicit(&c->snap_state, KD_SNAP_ASKED, memory_order_release);
+    for (;;) {
+        int st = atomic_load_explicit(&c->snap_state, memory_order_acquire);
+        if (st == KD_SNAP_DONE) {
+            *goals_taken = c->snap_goals_taken;
+            atomic_store_explicit(&c->snap_state, KD_SNAP_IDLE, memory_order_relaxed);
+            return 1;
+        }
+        if (st == KD_SNAP_ASKED && kd_now_ns() >= until) {
+            int asked = KD_SNAP_ASKED;
+            if (atomic_compare_exchange_strong_explicit(&c->snap_state, &asked, KD_SNAP_IDLE, memory_order_acq_rel,
+                                                        memory_order_acquire))
+                return 0;
+            continue; /* the copy has begun: it ends within the tick */
+        }
+        nanosleep(&nap, NULL);
     }
 }
 

@@ -20,6 +20,15 @@
  * overrun policy sends STOP or ESTOP after a number of consecutive missed
  * cycles.
  *
+ * Snapshots. The checker (checker.h) judges a replacing goal from the
+ * controller's moving state: it asks for a copy of the kc_ctrl (snap_dst,
+ * its kc_check's slot; snap_state KD_SNAP_ASKED), and the next tick, after
+ * its step, copies the controller there once (KD_SNAP_COPYING while it
+ * does, then KD_SNAP_DONE with the goals it had taken). A memcpy of
+ * sizeof(kc_ctrl) in that one tick, no lock: the checker may withdraw an
+ * ask (ASKED -> IDLE by compare-and-swap) but never touches snap_dst while
+ * a copy is under way.
+ *
  * Timing. Wake-up latency (wake-up minus deadline) and compute time (the
  * tick's work) go into a pair of histograms: the cycle writes one while the
  * I/O thread reads the other, swapped on request (kd_cycle_stats_take).
@@ -64,6 +73,9 @@ typedef struct kd_tick {
     int seat_status, seat_joint;
 } kd_tick;
 
+/* The snapshot hand-off's states (kd_cycle.snap_state). */
+enum { KD_SNAP_IDLE = 0, KD_SNAP_ASKED = 1, KD_SNAP_COPYING = 2, KD_SNAP_DONE = 3 };
+
 /* A command with what the I/O thread wants done about it: a controller
  * command, or (seat set) the controller seated at q before the step
  * (kc_ctrl_seat: the drives' positions, can_master.h). */
@@ -102,6 +114,14 @@ typedef struct kd_cycle {
     /* An external fault the I/O thread raises (a kc_ctrl_reason; 0: none),
      * taken by the next tick as kc_ctrl_input.fault. */
     atomic_int ext_fault;
+
+    /* The snapshot for the checker (see above): the state, where to copy
+     * (the checker's, set before ASKED), and the goals from the checker the
+     * controller had taken (the cycle's, read after DONE). */
+    atomic_int snap_state;
+    kc_ctrl *snap_dst;
+    int64_t snap_goals_taken;
+    atomic_llong snapshots; /* copies made */
 
     /* Counters (written by the cycle, read anywhere). */
     atomic_llong cycles;        /* ticks executed */
@@ -146,6 +166,13 @@ int kd_cycle_cpu(const kd_config *cfg);
  * off the cycle's CPU, so that it never sits between the cycle and its
  * wake-up. Main thread. */
 void kd_cycle_keep_off(const kd_config *cfg, pthread_t thread, const char *what);
+
+/* Checker thread: asks the next tick for a copy of the controller into
+ * dst (the cycle keeps no lock for it) and waits at most wait_ns for it.
+ * Returns 1 with the copy made (*goals_taken: goals the controller had
+ * taken, servo messages not counted), 0 when none came in time (the ask
+ * withdrawn: dst is the caller's again). Not for the cycle thread. */
+int kd_cycle_snapshot(kd_cycle *c, kc_ctrl *dst, int64_t wait_ns, int64_t *goals_taken);
 
 /* Stops the thread after its current tick and joins it. */
 void kd_cycle_stop(kd_cycle *c);

@@ -666,7 +666,7 @@ int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_check *check
                 (double)io->check_cfg.dt);
         return -1;
     }
-    if (kd_checker_init(&io->checker, check, (int64_t)(cfg->check_budget_s * 1e9)) != 0)
+    if (kd_checker_init(&io->checker, check, (int64_t)(cfg->check_budget_s * 1e9), cycle) != 0)
         return -1;
     io->status_period_ns = (int64_t)(1e9 / cfg->status_hz);
     io->stats_period_ns = (int64_t)(1e9 / cfg->stats_hz);
@@ -767,8 +767,10 @@ void kd_io_summary(const kd_io *io, char *buf, int size)
                  (long long)atomic_load(&io->cycle->ticks_dropped), (long long)atomic_load(&io->cycle->events_dropped),
                  (long long)io->rejections, (long long)io->msgs_invalid);
     if (o > 0 && o < size)
-        o += snprintf(buf + o, (size_t)(size - o), ", dry runs %lld (over budget %lld)",
-                      (long long)atomic_load(&io->checker.judged), (long long)atomic_load(&io->checker.over_budget));
+        o += snprintf(buf + o, (size_t)(size - o), ", dry runs %lld (over budget %lld, replacing goals from the moving "
+                      "state %lld)",
+                      (long long)atomic_load(&io->checker.judged), (long long)atomic_load(&io->checker.over_budget),
+                      (long long)atomic_load(&io->checker.moving));
     if (o > 0 && o < size && io->checker.answered_early > 0)
         o += snprintf(buf + o, (size_t)(size - o), ", refusals answered out of order %lld",
                       (long long)io->checker.answered_early);

@@ -1,10 +1,13 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* check.c - the dry run of a goal and where the controller's queue ends
  * (kinctl/check.h). The goal runs through kc_ctrl_step on the check's own
- * controller, put back at rest at the start of each run (kc_ctrl_restart):
- * the same code as the cycle's, at the check's period. A run is set up
- * (begin_from) and then stepped (kc_check_run) at most so many ticks a
- * call, so the one loop serves the whole run and its slices. */
+ * controller: put back at rest at the start of a run (kc_ctrl_restart,
+ * at the check's period), or, for a replacing goal, a copy of the real
+ * controller (kc_check_snapshot, at its period) given the goal as the
+ * cycle gives it: the same code as the cycle's. A run is set up
+ * (begin_from, begin_moving) and then stepped (kc_check_run) at most so
+ * many ticks a call, so the one loop serves the whole run and its
+ * slices. */
 #include "kinctl/check.h"
 
 #include <string.h>
@@ -31,9 +34,16 @@ kc_status kc_check_init(kc_check *k, const kc_chain *chain, const kc_ctrl_cfg *c
     k->taken = 0;
     k->queue_length = 0;
     k->have_tick = 0;
+    k->tick_cycle = 0;
+    k->have_snapshot = 0;
+    k->snap_cycle = 0;
+    k->snap_taken = 0;
     k->run_tick = 0;
+    k->run_max = max_ticks;
     k->run_progress = KC_R(0.0);
     k->running = 0;
+    k->run_moving = 0;
+    k->run_stop_first = 0;
     return KC_OK;
 }
 
@@ -47,12 +57,20 @@ static kc_status taken(kc_verdict *v, const kc_real *q, int n)
 }
 
 /* The first event of the run that ends it: its verdict, or 0 when the run
- * goes on. */
-static int judged(const kc_check *k, const kc_ctrl_event *ev, int64_t tick, kc_verdict *v)
+ * goes on. The events are the goal's, and a fault of any goal (from a
+ * snapshot, the replaced motion's stop may fault before the goal starts);
+ * the replaced goals' own ends are not the goal's. */
+static int judged(kc_check *k, const kc_ctrl_event *ev, int64_t tick, kc_verdict *v)
 {
     int n = k->chain->n_joints;
+    if (ev->goal_id != k->run_goal.id && ev->kind != KC_EVENT_FAULT)
+        return 0;
+    if (ev->kind == KC_EVENT_ACCEPTED && ev->reason == KC_REASON_STOP_FIRST)
+        k->run_stop_first = 1;
     if (ev->kind == KC_EVENT_COMPLETED) {
         taken(v, k->scratch.q, n);
+        if (k->run_stop_first)
+            v->reason = KC_REASON_STOP_FIRST;
         v->tick = tick;
         return 1;
     }
@@ -71,6 +89,21 @@ static int judged(const kc_check *k, const kc_ctrl_event *ev, int64_t tick, kc_v
     if (ev->reason == KC_REASON_ZONE)
         v->distance = k->scratch.zone_hit.distance;
     return 1;
+}
+
+/* The run of k->run_goal set up for kc_check_run, judging motions of at
+ * most max_ticks ticks. */
+static kc_status run_set(kc_check *k, int64_t max_ticks)
+{
+    k->run_in.goal = &k->run_goal;
+    k->run_in.command = KC_CMD_NONE;
+    k->run_in.servo_stale = 0;
+    k->run_in.fault = KC_REASON_NONE;
+    k->run_tick = 0;
+    k->run_max = max_ticks;
+    k->run_progress = KC_R(0.0);
+    k->running = 1;
+    return KC_MORE;
 }
 
 /* The dry run of goal from q_start as far as stepping its motion: the
@@ -92,6 +125,11 @@ static kc_status begin_from(kc_check *k, const kc_real *q_start, const kc_goal *
         inside[j] = kc_clamp(q_start[j], chain->joints[j].limits.q_min, chain->joints[j].limits.q_max);
     }
     kc_ctrl *scratch = &k->scratch;
+    /* The scratch may hold a snapshot: its configuration is the
+     * controller's (the period above all); the check's is put back. */
+    k->have_snapshot = 0;
+    scratch->chain = chain;
+    scratch->cfg = k->cfg;
     kc_ctrl_restart(scratch, inside, q_start);
     if (kc_ctrl_goal_check(chain, goal, v) != KC_OK)
         return KC_E_ARG;
@@ -106,14 +144,27 @@ static kc_status begin_from(kc_check *k, const kc_real *q_start, const kc_goal *
     }
     kc_ctrl_goal_copy(&k->run_goal, goal);
     k->run_goal.replace = 0;
-    k->run_in.goal = &k->run_goal;
-    k->run_in.command = KC_CMD_NONE;
-    k->run_in.servo_stale = 0;
-    k->run_in.fault = KC_REASON_NONE;
-    k->run_tick = 0;
-    k->run_progress = KC_R(0.0);
-    k->running = 1;
-    return KC_MORE;
+    return run_set(k, k->max_ticks);
+}
+
+/* The dry run of replacing goal g from the snapshot in the scratch: the
+ * goal given to the copy of the controller as the cycle gives it in its
+ * next tick, with nothing else, and stepped until the goal ends. The
+ * longest motion judged is as long in seconds as at the check's period.
+ * The goal is checked. */
+static kc_status begin_moving(kc_check *k, const kc_goal *goal)
+{
+    /* Ticks of the controller's period per tick of the check's, rounded
+     * up, in integers (a float to int64 conversion needs double helpers
+     * on a single-precision FPU). */
+    kc_real per = -kc_floor(-k->cfg.dt / k->scratch.cfg.dt);
+    int64_t ratio = per < KC_R(1.0) ? 1 : per > KC_R(1048576.0) ? 1048576 : (int64_t)(int32_t)per;
+    k->have_snapshot = 0; /* stepped from now on: used up */
+    k->run_moving = 1;
+    k->run_stop_first = 0;
+    memcpy(k->q_from, k->scratch.q, sizeof k->q_from);
+    kc_ctrl_goal_copy(&k->run_goal, goal);
+    return run_set(k, k->max_ticks > INT64_MAX / ratio ? INT64_MAX : k->max_ticks * ratio);
 }
 
 kc_status kc_check_run(kc_check *k, int64_t max_ticks, kc_verdict *v)
@@ -121,7 +172,7 @@ kc_status kc_check_run(kc_check *k, int64_t max_ticks, kc_verdict *v)
     if (k == NULL || v == NULL || !k->running || max_ticks < 1)
         return KC_E_ARG;
     kc_ctrl_output out;
-    int64_t last = k->max_ticks - k->run_tick > max_ticks ? k->run_tick + max_ticks : k->max_ticks;
+    int64_t last = k->run_max - k->run_tick > max_ticks ? k->run_tick + max_ticks : k->run_max;
     while (k->run_tick < last) {
         int64_t tick = ++k->run_tick;
         if (kc_ctrl_step(&k->scratch, &k->run_in, &out) != KC_OK) { /* not reached: the scratch controller is initialised */
@@ -136,19 +187,19 @@ kc_status kc_check_run(kc_check *k, int64_t max_ticks, kc_verdict *v)
                 return v->status;
             }
     }
-    if (k->run_tick < k->max_ticks)
+    if (k->run_tick < k->run_max)
         return KC_MORE;
     k->running = 0;
     v->status = KC_E_CAPACITY;
     v->reason = KC_REASON_PLAN;
-    v->tick = k->max_ticks;
+    v->tick = k->run_max;
     return KC_E_CAPACITY;
 }
 
 /* A run begun, stepped to its end. */
 static kc_status run_all(kc_check *k, kc_status st, kc_verdict *v)
 {
-    return st == KC_MORE ? kc_check_run(k, k->max_ticks, v) : st;
+    return st == KC_MORE ? kc_check_run(k, k->run_max, v) : st;
 }
 
 /* A judgement's opening: the verdict cleared, the arguments checked, no
@@ -161,6 +212,8 @@ static kc_status opening(kc_check *k, const kc_goal *goal, kc_verdict *v)
     if (k == NULL || k->chain == NULL || goal == NULL)
         return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, -1, KC_R(0.0));
     k->running = 0;
+    k->run_moving = 0;
+    k->run_stop_first = 0;
     return KC_OK;
 }
 
@@ -174,6 +227,14 @@ kc_status kc_check_goal(kc_check *k, const kc_goal *goal, kc_verdict *v)
 {
     kc_status st = kc_check_begin(k, goal, v);
     return st == KC_MORE ? run_all(k, st, v) : st;
+}
+
+/* The snapshot held is the controller as the next goal finds it: no tick
+ * fed since is newer, and every goal handed on had reached it. */
+int kc_check_snapshot_fresh(const kc_check *k)
+{
+    return k != NULL && k->have_snapshot && (!k->have_tick || k->snap_cycle >= k->tick_cycle) &&
+           k->snap_taken == k->handed;
 }
 
 kc_status kc_check_begin(kc_check *k, const kc_goal *goal, kc_verdict *v)
@@ -198,7 +259,34 @@ kc_status kc_check_begin(kc_check *k, const kc_goal *goal, kc_verdict *v)
     }
     if (goal->kind == KC_GOAL_SERVO) /* it streams: the cheap checks only, and it ends where the arm is */
         return taken(v, k->q_now, n);
+    if (goal->replace && kc_check_snapshot_fresh(k))
+        return begin_moving(k, goal);
     return begin_from(k, k->q_from, goal, v);
+}
+
+kc_ctrl *kc_check_snapshot_slot(kc_check *k)
+{
+    if (k == NULL)
+        return NULL;
+    k->have_snapshot = 0; /* the caller writes into it */
+    k->running = 0;
+    return &k->scratch;
+}
+
+kc_status kc_check_snapshot(kc_check *k, const kc_ctrl *ctrl, int64_t goals_taken)
+{
+    if (k == NULL || k->chain == NULL)
+        return KC_E_ARG;
+    k->have_snapshot = 0;
+    if (ctrl == NULL || ctrl->chain != k->chain || !(ctrl->cfg.dt > KC_R(0.0)))
+        return KC_E_ARG;
+    if (ctrl != &k->scratch)
+        memcpy(&k->scratch, ctrl, sizeof k->scratch);
+    k->running = 0;
+    k->have_snapshot = 1;
+    k->snap_cycle = k->scratch.cycle;
+    k->snap_taken = goals_taken;
+    return KC_OK;
 }
 
 void kc_check_handed(kc_check *k, const kc_goal *goal, const kc_verdict *v)
@@ -225,6 +313,7 @@ void kc_check_tick(kc_check *k, const kc_ctrl_output *out, int64_t goals_taken)
         }
     }
     k->have_tick = 1;
+    k->tick_cycle = out->cycle;
     k->queue_length = out->queue_length;
     k->taken = goals_taken;
     memcpy(k->q_now, out->q, sizeof(kc_real) * (size_t)n);

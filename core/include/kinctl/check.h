@@ -10,27 +10,57 @@
  * fed, in arrival order, the goals to judge (kc_check_goal), the goals
  * handed on to the controller (kc_check_handed), and the controller's ticks
  * (kc_check_tick); so each queued goal is checked from where the one before
- * it ends, and a goal that replaces the others from the latest setpoint.
+ * it ends, at rest.
  * It has no globals and takes no locks: one kc_check for one thread, which
  * may be a thread of its own; the controller's ticks reach it as copies.
  *
+ * A goal that replaces the others is judged from the controller's moving
+ * state when the check holds a snapshot of the controller
+ * (kc_check_snapshot: a copy of the whole kc_ctrl after a tick, made by
+ * whoever owns the controller, into the check's scratch controller: no
+ * second one) that is fresh: no tick fed since is newer, and every goal
+ * handed on had been taken by it. The copy is given the goal as the cycle
+ * gives it in the next tick, and stepped until the goal ends, at the
+ * controller's own period: the verdict covers the transition the
+ * controller makes (kinctl/ctrl.h: a joint goal's retarget from (q, qd,
+ * qdd), a Cartesian goal superposed on the old motion's stop, or the stop
+ * first and then the goal from rest where it ends); a fault on the way
+ * (a zone, a joint the IK step cannot bring along: the old motion's stop
+ * included) refuses the goal; and a goal taken with the motion stopped
+ * first is taken with reason KC_REASON_STOP_FIRST. Its ticks are the
+ * controller's and q_end where that controller comes to rest, to the bit
+ * when the controller takes the goal in the tick after the snapshot (a
+ * caller that hands it on later, as kinctld does, gets the transition of
+ * the snapshot's tick: the arm a few ticks further along the same
+ * motion). run_moving says which start the goal last judged had. Without
+ * a fresh snapshot a replacing goal is judged as before the snapshot
+ * existed: at rest at the latest setpoint (kc_check_tick's q), at the
+ * check's period. A snapshot serves one goal: any run uses the scratch.
+ *
  * A verdict (kinctl/ctrl.h kc_verdict) says what was found: KC_OK with the
- * joints where the goal ends; or the status and reason with the joint, knot
+ * joints where the goal ends (reason KC_REASON_STOP_FIRST when judged from
+ * a snapshot and the motion it replaces stops first, else
+ * KC_REASON_NONE); or the status and reason with the joint, knot
  * or field concerned, the tick and path length where the motion fails, and
  * for a zone the pair and its distance.
  *   KC_E_ARG          the goal's fields (kc_ctrl_goal_check), a plan the
  *                     planner refuses (KC_REASON_PLAN), or one the
- *                     controller would refuse when it arrives;
+ *                     controller would refuse when it arrives (from a
+ *                     snapshot: refuses, KC_REASON_STATE in FAULT or
+ *                     ESTOP, KC_REASON_DUPLICATE_ID);
  *   KC_E_UNREACHABLE  the motion faults on the way: KC_REASON_UNREACHABLE
  *                     (the tool cannot follow), KC_REASON_ZONE, ...;
  *   KC_E_CAPACITY     KC_REASON_QUEUE_FULL: the controller's queue (goals
  *                     queued at the latest tick plus those handed on since)
  *                     is full; or KC_REASON_PLAN: the motion does not end
- *                     within max_ticks.
+ *                     within max_ticks (from a snapshot, within as many
+ *                     seconds, in ticks of the controller's period).
  * Servo goals stream: they get kc_ctrl_goal_check alone, and end where the
  * arm is.
  *
- * Not for the cycle: a dry run costs one controller step per tick of motion.
+ * Not for the cycle: a dry run costs one controller step per tick of motion
+ * (from a snapshot, per tick of the controller's period: cfg.dt over the
+ * controller's dt times as many as at the check's own period).
  * It may run in slices (kc_check_begin, then kc_check_run until it
  * returns anything but KC_MORE), so that a caller with a clock can stop
  * one that takes too long; the verdict is the same as in one call.
@@ -48,7 +78,7 @@ typedef struct kc_check {
     int64_t max_ticks; /* longest motion judged (ticks of cfg.dt) */
     kc_ctrl scratch;   /* the dry run's own controller */
     /* Where the controller's queue ends. */
-    kc_real q_now[KC_MAX_JOINTS];   /* the latest setpoint (start of a replacing goal) */
+    kc_real q_now[KC_MAX_JOINTS];   /* the latest setpoint (start of a replacing goal without a snapshot) */
     kc_real q_end[KC_MAX_JOINTS];   /* where the next queued goal starts */
     kc_real q_from[KC_MAX_JOINTS];  /* where the goal last judged started */
     kc_real q_start[KC_MAX_JOINTS]; /* where the last goal handed on started */
@@ -56,12 +86,24 @@ typedef struct kc_check {
     int64_t handed, taken;          /* goals handed on, and taken by the controller */
     int queue_length;               /* the controller's queue at the latest tick */
     int have_tick;
+    int64_t tick_cycle;             /* the latest tick's cycle */
+    /* A snapshot of the controller (kc_check_snapshot), held in scratch
+     * until a replacing goal is judged from it or the scratch is needed. */
+    int have_snapshot;
+    int64_t snap_cycle; /* its cycle (the tick it was copied after) */
+    int64_t snap_taken; /* goals handed on it had taken */
     /* The dry run under way (kc_check_begin .. kc_check_run). */
     kc_goal run_goal;     /* the goal stepped (its copy, queued behind nothing) */
     kc_ctrl_input run_in;
     int64_t run_tick;     /* ticks stepped so far */
+    int64_t run_max;      /* the longest motion judged, in ticks of the run's period */
     kc_real run_progress; /* of the goal's motion when last stepped, 0..1 */
     int running;
+    /* The run under way (or the goal last judged) started from a snapshot:
+     * the controller's moving state, at the controller's period; else at
+     * rest, at cfg.dt. */
+    int run_moving;
+    int run_stop_first; /* ... and the controller stops the motion first */
 } kc_check;
 
 /* Starts a dry run for chain and cfg (the controller's configuration; its
@@ -73,8 +115,9 @@ typedef struct kc_check {
 kc_status kc_check_init(kc_check *check, const kc_chain *chain, const kc_ctrl_cfg *cfg, int64_t max_ticks,
                         const kc_real *q0);
 
-/* Judges goal from where it will start: the latest setpoint for a goal
- * that replaces, the end of the queue for one that waits (see above).
+/* Judges goal from where it will start: the snapshot or the latest
+ * setpoint for a goal that replaces, the end of the queue for one that
+ * waits (see above).
  * Returns verdict->status (never KC_MORE). The queue's end moves only once
  * the goal is handed on (kc_check_handed). */
 kc_status kc_check_goal(kc_check *check, const kc_goal *goal, kc_verdict *verdict);
@@ -100,6 +143,27 @@ kc_status kc_check_run(kc_check *check, int64_t max_ticks, kc_verdict *verdict);
 /* The goal last judged by kc_check_goal (or begin and run), taken (verdict KC_OK), was handed
  * to the controller: the queue now ends where it ends. */
 void kc_check_handed(kc_check *check, const kc_goal *goal, const kc_verdict *verdict);
+
+/* The controller ctrl (the same chain, initialised; any period) as it
+ * stands after its tick ctrl->cycle, having taken goals_taken of the goals
+ * handed on (as kc_check_tick counts them): copied into the scratch
+ * controller, for the next replacing goal (see above). ctrl may be the
+ * slot (kc_check_snapshot_slot) the owner copied it into: then nothing is
+ * copied again. A dry run under way is abandoned. KC_E_ARG for NULL or
+ * another chain: no snapshot is held then. Not for the cycle: it copies
+ * sizeof(kc_ctrl) bytes (the owner's own copy into the slot is the
+ * cheaper way for it). */
+kc_status kc_check_snapshot(kc_check *check, const kc_ctrl *ctrl, int64_t goals_taken);
+
+/* Where the controller's owner may copy it (memcpy of the whole kc_ctrl,
+ * from any thread while the check's own thread waits for it), before
+ * kc_check_snapshot(check, slot, goals_taken): the scratch controller.
+ * Drops the snapshot held and a dry run under way. NULL for NULL. */
+kc_ctrl *kc_check_snapshot_slot(kc_check *check);
+
+/* 1 when the snapshot held is fresh (see above): the next replacing goal
+ * is judged from it; 0 when it would be judged from rest. */
+int kc_check_snapshot_fresh(const kc_check *check);
 
 /* A tick of the controller: its output, and goals_taken, how many goals
  * handed on the controller has been given so far. A goal it refused gives

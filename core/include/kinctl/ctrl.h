@@ -96,9 +96,10 @@
  * gives its joint velocities back, J^+ J qd_M = qd_M). Limits:
  * the joints are not judged over the overlap beforehand (M's stop stays
  * inside the position limits its motion was planned or checked within;
- * the dry run judges G from the arm at rest, as for every goal; the final
- * check of every setpoint still holds, a joint that cannot follow faults
- * as any Cartesian motion does), and a replacement that arrives while a
+ * the final check of every setpoint still holds, a joint that cannot
+ * follow faults as any Cartesian motion does; the dry run, given a
+ * snapshot of the controller, steps this very takeover and refuses a G
+ * whose overlap faults, kinctl/check.h), and a replacement that arrives while a
  * superposition lasts stops first. A STOP or PAUSE (or that replacement)
  * during the overlap stops the new segment on its path while the old one's
  * stop goes on: for that time the two stops add, and the tool's
@@ -189,7 +190,8 @@
  * inside the margin that does not come closer passes: an arm already there
  * may leave.) Goals are checked before they are accepted: the dry run
  * (kinctl/check.h) steps every tick of every goal, joint moves included, through the same
- * check, and kc_ctrl_cfg_check refuses a zone set whose margin is not above
+ * check (a replacing goal, from a snapshot of the controller: its
+ * retarget's overshoot, its superposition or its stop first included), and kc_ctrl_cfg_check refuses a zone set whose margin is not above
  * kc_zone_tick_travel (the farthest any point of a volume moves in one tick
  * at the velocity limits), so a goal whose every tick keeps the margin
  * cannot cross a zone between two ticks. A servo goal is slowed instead:
@@ -348,13 +350,16 @@ typedef enum kc_goal_field {
  * apply. */
 typedef struct kc_verdict {
     kc_status status;       /* KC_OK: taken; else KC_E_ARG, KC_E_UNREACHABLE, KC_E_CAPACITY */
-    kc_ctrl_reason reason;  /* KC_REASON_NONE when taken */
+    /* KC_REASON_NONE when taken; KC_REASON_STOP_FIRST when taken and the
+     * dry run, from a snapshot, saw the replaced motion stop first */
+    kc_ctrl_reason reason;
     kc_goal_field field;    /* the field at fault, KC_FIELD_NONE when none is */
     int joint;              /* the joint concerned */
     int point;              /* the knot concerned (index into kc_goal.points) */
     kc_real value;          /* the number at fault (see kc_goal_field), 0 when none */
     /* Where along the motion it failed (dry run): tick of the run (its
-     * period, from 1) and path length (m) or fraction, as kc_ctrl_event.where. */
+     * period: the check's, or from a snapshot the controller's; from 1)
+     * and path length (m) or fraction, as kc_ctrl_event.where. */
     int64_t tick;
     kc_real where;
     /* KC_REASON_ZONE: the zone (index into cfg.zones), the link volume
