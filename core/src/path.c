@@ -306,13 +306,14 @@ static int coeffs_finite(const kc_path_knots *K, piece_coeffs c)
 
 /* ---- limit stretch: rigorous bounds of |P| on an interval ---- */
 
-/* Row k of Pascal's triangle from row k - 1 in place: row[m] = C(k, m)
- * (integers up to 35, exact in either precision). */
-static void pascal_next(kc_real *row, int k)
+/* Row k of Pascal's triangle from row k - 1 in place: row[m] = C(k, m),
+ * at most C(7, 3) = 35 (bytes: the bound's frame is on the deepest path of
+ * the controller's stack, a Cartesian path replacing a joint move). */
+static void pascal_next(unsigned char *row, int k)
 {
-    row[k] = KC_R(1.0);
+    row[k] = 1;
     for (int m = k - 1; m > 0; m--)
-        row[m] += row[m - 1];
+        row[m] = (unsigned char)(row[m] + row[m - 1]);
 }
 
 /* Upper bound of |P(tau)| on [0, L], P = sum_{i<n} b[i] tau^i (n <= 8): on
@@ -324,13 +325,14 @@ static kc_real poly_bound(const kc_real *b, int n, kc_real L)
     kc_real best = KC_R(0.0);
     kc_real h = L / (kc_real)PATH_BOUND_SPLITS;
     int deg = n - 1;
-    kc_real top[8]; /* C(deg, m) */
+    unsigned char top[8]; /* C(deg, m) */
     if (n <= 0)
         return best;
     for (int k = 0; k <= deg; k++)
         pascal_next(top, k);
     for (int s = 0; s < PATH_BOUND_SPLITS; s++) {
-        kc_real e[8], row[8];
+        kc_real e[8];
+        unsigned char row[8];
         kc_real a0 = (kc_real)s * h;
         for (int i = 0; i < n; i++)
             e[i] = b[i];
@@ -348,7 +350,7 @@ static kc_real poly_bound(const kc_real *b, int n, kc_real L)
             kc_real beta = KC_R(0.0);
             pascal_next(row, k); /* C(k, m) */
             for (int m = 0; m <= k; m++)
-                beta += row[m] / top[m] * e[m];
+                beta += (kc_real)row[m] / (kc_real)top[m] * e[m];
             best = kc_max(best, kc_fabs(beta));
         }
     }
