@@ -639,6 +639,20 @@ void kc_path_given_times(kc_path_knots *K, const kc_real *t)
         K->d[i] = t[i] - t[0];
 }
 
+kc_status kc_path_load_knot(kc_path_knots *K, int i, const kc_real *q, const kc_real *v, const kc_real *a)
+{
+    for (int j = 0; j < K->dim; j++) {
+        K->q[i][j] = q[j];
+        if (v != NULL)
+            K->v[i][j] = v[j];
+        if (a != NULL)
+            K->a[i][j] = a[j];
+        if (!kc_isfinite(K->q[i][j]) || !kc_isfinite(K->v[i][j]) || !kc_isfinite(K->a[i][j]))
+            return KC_E_ARG;
+    }
+    return KC_OK;
+}
+
 kc_path_cfg kc_path_cfg_default(void)
 {
     kc_path_cfg c;
@@ -666,15 +680,10 @@ kc_status kc_path_plan(kc_path *path, const kc_path_cfg *cfg)
     int n = cfg->n_knots, dim = cfg->dim;
     kc_path_knots_init(&K, cfg->method, cfg->blend, cfg->spline_end, n, dim, cfg->t_acc, cfg->dt);
     for (int i = 0; i < n; i++) {
-        for (int j = 0; j < dim; j++) {
-            K.q[i][j] = cfg->q[i * dim + j];
-            if (cfg->qd != NULL)
-                K.v[i][j] = cfg->qd[i * dim + j];
-            if (cfg->qdd != NULL)
-                K.a[i][j] = cfg->qdd[i * dim + j];
-            if (!kc_isfinite(K.q[i][j]) || !kc_isfinite(K.v[i][j]) || !kc_isfinite(K.a[i][j]))
-                return KC_E_ARG;
-        }
+        st = kc_path_load_knot(&K, i, cfg->q + i * dim, cfg->qd != NULL ? cfg->qd + i * dim : NULL,
+                               cfg->qdd != NULL ? cfg->qdd + i * dim : NULL);
+        if (st != KC_OK)
+            return st;
     }
     K.have_v = cfg->qd != NULL;
     K.have_a = cfg->qdd != NULL;
