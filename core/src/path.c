@@ -680,8 +680,9 @@ kc_status kc_path_plan(kc_path *path, const kc_path_cfg *cfg)
     int n = cfg->n_knots, dim = cfg->dim;
     kc_path_knots_init(&K, cfg->method, cfg->blend, cfg->spline_end, n, dim, cfg->t_acc, cfg->dt);
     for (int i = 0; i < n; i++) {
-        st = kc_path_load_knot(&K, i, cfg->q + i * dim, cfg->qd != NULL ? cfg->qd + i * dim : NULL,
-                               cfg->qdd != NULL ? cfg->qdd + i * dim : NULL);
+        ptrdiff_t row = (ptrdiff_t)i * dim;
+        st = kc_path_load_knot(&K, i, cfg->q + row, cfg->qd != NULL ? cfg->qd + row : NULL,
+                               cfg->qdd != NULL ? cfg->qdd + row : NULL);
         if (st != KC_OK)
             return st;
     }

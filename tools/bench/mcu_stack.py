@@ -4,8 +4,8 @@
 
 Reads every .ci file (gcc -fcallgraph-info=su: one VCG graph per object,
 each function's own frame in "N bytes (static)") given, or under the
-directories given, and for each function named on the command line, prints the
-deepest sum of frames along any call path from it:
+directories given, and for each function named on the command line,
+prints the deepest sum of frames along any call path from it:
 
     stack <function> <bytes> [unknown: callees without a frame] [recursive]
 
@@ -14,9 +14,9 @@ unknown: their frames are not in the sum. With --symbols FILE (the
 image's `nm` output), a callee without a node that is another name of a
 function with one (the same address: link-time optimisation folds
 identical functions, e.g. the copies of a header's static inline function
-that it numbers name.lto_priv.0, name.lto_priv.1) takes that one's frame. A cycle in the graph (recursion)
-would make the bound infinite and is reported as such. Indirect calls
-(__indirect_call) are unknown too.
+that it numbers name.lto_priv.0, name.lto_priv.1) takes that one's frame.
+A cycle in the graph (recursion) would make the bound infinite and is
+reported as such. Indirect calls (__indirect_call) are unknown too.
 """
 import os
 import re

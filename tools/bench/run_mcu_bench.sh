@@ -94,9 +94,9 @@ printf '%-8s %-16s %8s %10s %10s  %s\n' config entry static bench_fn measured "u
 for cfg in default small; do
     # With link-time optimisation (KINCTL_MCU_LTO) the core's code is
     # generated at the link: its call graph is the image's (the objects'
-    # own graphs are those of machine code the image does not use).
-    # It names functions that LTO folded into others (one body, two names),
-    # found by their address in the image.
+    # own graphs are those of machine code the image does not use). The
+    # image's symbols give the functions LTO folded into others (one body,
+    # two names) their frames, by address.
     core_graph=${core_dir[$cfg]}
     if grep -Eq '\.ltrans[0-9]+\.ltrans\.o' "${image[$cfg]%.elf}.map"; then
         core_graph=$(ls "${image[$cfg]}".ltrans*.ci)
