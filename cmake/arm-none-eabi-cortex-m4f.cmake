@@ -8,8 +8,10 @@ set(CMAKE_SYSTEM_NAME Generic)
 set(CMAKE_SYSTEM_PROCESSOR cortex-m4)
 
 set(CMAKE_C_COMPILER arm-none-eabi-gcc)
-set(CMAKE_AR arm-none-eabi-ar)
-set(CMAKE_RANLIB arm-none-eabi-ranlib)
+# gcc-ar and gcc-ranlib: the archive's index must list the symbols of
+# objects holding link-time-optimisation bytecode (mcu/'s KINCTL_MCU_LTO).
+set(CMAKE_AR arm-none-eabi-gcc-ar)
+set(CMAKE_RANLIB arm-none-eabi-gcc-ranlib)
 set(CMAKE_SIZE arm-none-eabi-size CACHE FILEPATH "size of the target's objects")
 set(CMAKE_NM arm-none-eabi-nm)
 set(CMAKE_OBJDUMP arm-none-eabi-objdump)

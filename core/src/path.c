@@ -306,11 +306,15 @@ static int coeffs_finite(const kc_path_knots *K, piece_coeffs c)
 
 /* ---- limit stretch: rigorous bounds of |P| on an interval ---- */
 
-static const kc_real binom[8][8] = {
-    {1, 0, 0, 0, 0, 0, 0, 0},     {1, 1, 0, 0, 0, 0, 0, 0},      {1, 2, 1, 0, 0, 0, 0, 0},
-    {1, 3, 3, 1, 0, 0, 0, 0},     {1, 4, 6, 4, 1, 0, 0, 0},      {1, 5, 10, 10, 5, 1, 0, 0},
-    {1, 6, 15, 20, 15, 6, 1, 0},  {1, 7, 21, 35, 35, 21, 7, 1},
-};
+/* Row k of Pascal's triangle from row k - 1 in place: row[m] = C(k, m),
+ * at most C(7, 3) = 35 (bytes: the bound's frame is on the deepest path of
+ * the controller's stack, a Cartesian path replacing a joint move). */
+static void pascal_next(unsigned char *row, int k)
+{
+    row[k] = 1;
+    for (int m = k - 1; m > 0; m--)
+        row[m] = (unsigned char)(row[m] + row[m - 1]);
+}
 
 /* Upper bound of |P(tau)| on [0, L], P = sum_{i<n} b[i] tau^i (n <= 8): on
  * each of PATH_BOUND_SPLITS sub-intervals the largest Bernstein coefficient
@@ -321,10 +325,14 @@ static kc_real poly_bound(const kc_real *b, int n, kc_real L)
     kc_real best = KC_R(0.0);
     kc_real h = L / (kc_real)PATH_BOUND_SPLITS;
     int deg = n - 1;
+    unsigned char top[8]; /* C(deg, m) */
     if (n <= 0)
         return best;
+    for (int k = 0; k <= deg; k++)
+        pascal_next(top, k);
     for (int s = 0; s < PATH_BOUND_SPLITS; s++) {
         kc_real e[8];
+        unsigned char row[8];
         kc_real a0 = (kc_real)s * h;
         for (int i = 0; i < n; i++)
             e[i] = b[i];
@@ -340,8 +348,9 @@ static kc_real poly_bound(const kc_real *b, int n, kc_real L)
         }
         for (int k = 0; k <= deg; k++) {
             kc_real beta = KC_R(0.0);
+            pascal_next(row, k); /* C(k, m) */
             for (int m = 0; m <= k; m++)
-                beta += binom[k][m] / binom[deg][m] * e[m];
+                beta += (kc_real)row[m] / (kc_real)top[m] * e[m];
             best = kc_max(best, kc_fabs(beta));
         }
     }
@@ -630,6 +639,20 @@ void kc_path_given_times(kc_path_knots *K, const kc_real *t)
         K->d[i] = t[i] - t[0];
 }
 
+kc_status kc_path_load_knot(kc_path_knots *K, int i, const kc_real *q, const kc_real *v, const kc_real *a)
+{
+    for (int j = 0; j < K->dim; j++) {
+        K->q[i][j] = q[j];
+        if (v != NULL)
+            K->v[i][j] = v[j];
+        if (a != NULL)
+            K->a[i][j] = a[j];
+        if (!kc_isfinite(K->q[i][j]) || !kc_isfinite(K->v[i][j]) || !kc_isfinite(K->a[i][j]))
+            return KC_E_ARG;
+    }
+    return KC_OK;
+}
+
 kc_path_cfg kc_path_cfg_default(void)
 {
     kc_path_cfg c;
@@ -657,15 +680,11 @@ kc_status kc_path_plan(kc_path *path, const kc_path_cfg *cfg)
     int n = cfg->n_knots, dim = cfg->dim;
     kc_path_knots_init(&K, cfg->method, cfg->blend, cfg->spline_end, n, dim, cfg->t_acc, cfg->dt);
     for (int i = 0; i < n; i++) {
-        for (int j = 0; j < dim; j++) {
-            K.q[i][j] = cfg->q[i * dim + j];
-            if (cfg->qd != NULL)
-                K.v[i][j] = cfg->qd[i * dim + j];
-            if (cfg->qdd != NULL)
-                K.a[i][j] = cfg->qdd[i * dim + j];
-            if (!kc_isfinite(K.q[i][j]) || !kc_isfinite(K.v[i][j]) || !kc_isfinite(K.a[i][j]))
-                return KC_E_ARG;
-        }
+        ptrdiff_t row = (ptrdiff_t)i * dim;
+        st = kc_path_load_knot(&K, i, cfg->q + row, cfg->qd != NULL ? cfg->qd + row : NULL,
+                               cfg->qdd != NULL ? cfg->qdd + row : NULL);
+        if (st != KC_OK)
+            return st;
     }
     K.have_v = cfg->qd != NULL;
     K.have_a = cfg->qdd != NULL;

@@ -296,15 +296,10 @@ kc_status kc_path_cart_plan(kc_path_cart *path, const kc_path_cart_cfg *cfg)
     int n = cfg->n_knots;
     kc_path_knots_init(&K, cfg->method, cfg->blend, cfg->spline_end, n, 3, cfg->t_acc, cfg->dt);
     for (int i = 0; i < n; i++) {
-        for (int x = 0; x < 3; x++) {
-            K.q[i][x] = cfg->p[i].v[x];
-            if (cfg->v != NULL)
-                K.v[i][x] = cfg->v[i].v[x];
-            if (cfg->a != NULL)
-                K.a[i][x] = cfg->a[i].v[x];
-            if (!kc_isfinite(K.q[i][x]) || !kc_isfinite(K.v[i][x]) || !kc_isfinite(K.a[i][x]))
-                return KC_E_ARG;
-        }
+        st = kc_path_load_knot(&K, i, cfg->p[i].v, cfg->v != NULL ? cfg->v[i].v : NULL,
+                               cfg->a != NULL ? cfg->a[i].v : NULL);
+        if (st != KC_OK)
+            return st;
         const kc_quat *r = &cfg->r[i];
         if (!kc_isfinite(r->w) || !kc_isfinite(r->x) || !kc_isfinite(r->y) || !kc_isfinite(r->z))
             return KC_E_ARG;

@@ -113,6 +113,10 @@ void kc_path_knots_init(kc_path_knots *K, kc_path_method m, kc_path_blend b, kc_
 /* The caller's knot times t[0..n). */
 void kc_path_given_times(kc_path_knots *K, const kc_real *t);
 
+/* Knot i from the rows q, v and a of K->dim values each (v, a: NULL when
+ * not given, leaving K's zeros); KC_E_ARG when a value is not finite. */
+kc_status kc_path_load_knot(kc_path_knots *K, int i, const kc_real *q, const kc_real *v, const kc_real *a);
+
 /* Times from the limits when seg is not NULL (seg[i] the trapezoid time of
  * segment i, ratio the largest v/a for the blend rule of kinctl/path.h),
  * else the given ones already in K; then validates times, t_acc and

@@ -12,11 +12,18 @@ libkinctl_core), per object:
 With -ffunction-sections, -fdata-sections and --gc-sections this is what a
 firmware calling the same entry points carries of the core, where the sum
 over the archive's objects counts every function of every module.
+
+With link-time optimisation (mcu/CMakeLists.txt, KINCTL_MCU_LTO) the core's
+code comes out of the link's own objects (/tmp/ccXXXX.ltrans0.ltrans.o),
+not the archive's: those count as the core's too, under the name "lto".
+The images compile their own sources without LTO, so nothing else is in
+them.
 """
 import re
 import sys
 
 SECTION = re.compile(r"^ (\.(?:text|rodata)\S*)\s+0x([0-9a-f]+)\s+0x([0-9a-f]+)\s+(\S+)", re.M)
+LTRANS = re.compile(r"\.ltrans\d+\.ltrans\.o$")
 
 
 def main():
@@ -35,7 +42,11 @@ def main():
         if library in obj:
             name = re.search(r"\(([^)]+?)(?:\.c)?\.obj\)", obj)
             key = name.group(1) if name else obj
-            sizes[key] = sizes.get(key, 0) + int(size, 16)
+        elif LTRANS.search(obj):
+            key = "lto"
+        else:
+            continue
+        sizes[key] = sizes.get(key, 0) + int(size, 16)
     for key in sorted(sizes):
         print("linked %s %d" % (key, sizes[key]))
     print("linked total %d" % sum(sizes.values()))

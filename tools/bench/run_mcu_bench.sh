@@ -92,7 +92,17 @@ echo
 echo "== stack (bytes): static worst case from -fcallgraph-info (libm frames not included) vs measured high-water"
 printf '%-8s %-16s %8s %10s %10s  %s\n' config entry static bench_fn measured "unknown callees"
 for cfg in default small; do
-    "$here/mcu_stack.py" "${core_dir[$cfg]}" "${bench_dir[$cfg]}" -- \
+    # With link-time optimisation (KINCTL_MCU_LTO) the core's code is
+    # generated at the link: its call graph is the image's (the objects'
+    # own graphs are those of machine code the image does not use). The
+    # image's symbols give the functions LTO folded into others (one body,
+    # two names) their frames, by address.
+    core_graph=${core_dir[$cfg]}
+    if grep -Eq '\.ltrans[0-9]+\.ltrans\.o' "${image[$cfg]%.elf}.map"; then
+        core_graph=$(ls "${image[$cfg]}".ltrans*.ci)
+    fi
+    arm-none-eabi-nm "${image[$cfg]}" >"$tmp/nm.$cfg"
+    "$here/mcu_stack.py" --symbols "$tmp/nm.$cfg" $core_graph "${bench_dir[$cfg]}" -- \
         kc_fk_eval kc_fk_jacobian kc_ik_step kc_ctrl_step kc_check_from \
         bench_fk bench_jacobian bench_ik_step bench_ctrl_step bench_ctrl_check >"$tmp/stack.$cfg"
     for pair in fk_eval:fk fk_jacobian:jacobian ik_step:ik_step ctrl_step:ctrl_step check_from:ctrl_check; do
