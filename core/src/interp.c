@@ -52,13 +52,14 @@ static kc_real move_time(kc_real D, kc_real v, kc_real a)
 static size_t plan_size(int n) { return offsetof(kc_interp_joint, sj) + (size_t)n * sizeof(kc_scurve); }
 
 /* What every joint move starts from, into *out (scratch on error): the
- * arguments checked, *out cleared (but for its profiles sj[n..]), q0, q1,
+ * arguments checked, *out cleared (but for its profiles sj[n..], and all
+ * of sj unless clear_sj: a planner that writes every sj[i] itself), q0, q1,
  * dq, the joints that set V and A (lead_vel, lead_acc) and the bounds of u
  * (u_vmax, u_amax); no leading joint yet (lead = -1). The planners below
  * fill their own plan with it instead of copying one more (a plan holds a
  * jerk-limited profile a joint: its copies are the planning's stack). */
 static kc_status plan_common(kc_interp_joint *out, int n, const kc_real *q0, const kc_real *q1, const kc_real *qd_max,
-                             const kc_real *qdd_max, kc_real duration, kc_real dt)
+                             const kc_real *qdd_max, kc_real duration, kc_real dt, int clear_sj)
 {
     kc_real V = INF, A = INF, best_v = KC_R(0.0), best_a = KC_R(0.0);
     if (q0 == NULL || q1 == NULL || qd_max == NULL || qdd_max == NULL || n < 1)
@@ -67,7 +68,7 @@ static kc_status plan_common(kc_interp_joint *out, int n, const kc_real *q0, con
         return KC_E_CAPACITY;
     if (!kc_isfinite(duration) || duration < KC_R(0.0) || !(dt > KC_R(0.0)) || !kc_isfinite(dt))
         return KC_E_ARG;
-    memset(out, 0, plan_size(n));
+    memset(out, 0, clear_sj ? plan_size(n) : offsetof(kc_interp_joint, sj));
     out->n = n;
     out->lead = out->lead_vel = out->lead_acc = -1;
     for (int i = 0; i < n; i++) {
@@ -104,7 +105,7 @@ static kc_status plan_trap(kc_interp_joint *out, int n, const kc_real *q0, const
                            const kc_real *qdd_max, kc_real duration, kc_real dt)
 {
     kc_real T_lead = KC_R(-1.0);
-    kc_status st = plan_common(out, n, q0, q1, qd_max, qdd_max, duration, dt);
+    kc_status st = plan_common(out, n, q0, q1, qd_max, qdd_max, duration, dt, 1);
     if (st != KC_OK)
         return st;
     for (int i = 0; i < n; i++) {
@@ -156,7 +157,7 @@ static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
     kc_status st;
     /* The limits, the start and the leading joints as the trapezoid has
      * them (u_vmax, u_amax, lead_vel, lead_acc). */
-    st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
+    st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt, 1);
     if (st != KC_OK)
         return st;
     memset(&out->prof, 0, sizeof out->prof);
@@ -347,11 +348,10 @@ static void line_from_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 {
     kc_real T = KC_R(0.0);
-    kc_status st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
+    /* Every sj[i] is planned below; prof and su stay cleared. */
+    kc_status st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt, 0);
     if (st != KC_OK)
         return st;
-    memset(&out->prof, 0, sizeof out->prof);
-    memset(&out->su, 0, sizeof out->su);
     out->kind = KC_PROFILE_JERK;
     out->sync = KC_INTERP_SYNC_TIME;
     out->lead = -1;

@@ -323,42 +323,61 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
 {
     kc_scurve r;
     const vchange *c = cp, *s = sp;
-    kc_real p = p0, v = v0, a = a0, t = KC_R(0.0), t_stop = KC_R(0.0);
-    r.p0 = p0;
-    r.v0 = v0;
-    r.a0 = a0;
-    r.p1 = p1;
-    r.vp = vp;
-    r.gap = 0;
-    r.n = 0;
+    kc_real p = p0, v = v0, a = a0, t = KC_R(0.0), t_change = KC_R(0.0), t_stop = KC_R(0.0), jm = KC_R(0.0);
+    for (int i = 0; i < c->n; i++) {
+        t_change += c->t[i];
+        jm = kc_max(jm, kc_fabs(c->j[i]));
+    }
+    for (int i = 0; i < s->n; i++) {
+        t_stop += s->t[i];
+        jm = kc_max(jm, kc_fabs(s->j[i]));
+    }
+    kc_real T = duration > KC_R(0.0) ? duration : t_change + kc_max(tc, KC_R(0.0)) + t_stop;
+    if (!kc_isfinite(T))
+        return KC_E_CAPACITY;
+    int64_t ticks = kc_profile_ticks(T, dt);
+    if (ticks < 0)
+        return KC_E_CAPACITY;
+    /* Where the positions are bounded well within the range (|a| grows at
+     * most jm t along the change, so |p - p0| <= |v0| t + |a0| t^2 + jm t^3
+     * there, and the stop from rest backwards likewise), the profile is
+     * written in place, sparing a copy of it (a tenth of a moving start's
+     * planning); otherwise into r, and prof is untouched on error. */
+    kc_real bound = kc_fabs(p0) + kc_fabs(p1) + t_change * (kc_fabs(v0) + t_change * (kc_fabs(a0) + t_change * jm)) +
+                    jm * t_stop * t_stop * t_stop;
+    kc_scurve *o = bound <= KC_REAL_MAX / KC_R(16.0) ? prof : &r;
+    o->p0 = p0;
+    o->v0 = v0;
+    o->a0 = a0;
+    o->p1 = p1;
+    o->vp = vp;
+    o->gap = 0;
+    o->n = 0;
     for (int i = 0; i < c->n; i++) {
         kc_real t0 = t, p_ = p, v_ = v, a_ = a;
         advance(&p, &v, &a, c->j[i], c->t[i]);
         t += c->t[i];
-        add_phase(&r, 1, t, t0, p_, v_, a_, c->j[i]);
+        add_phase(o, 1, t, t0, p_, v_, a_, c->j[i]);
     }
-    for (int i = 0; i < s->n; i++)
-        t_stop += s->t[i];
-    kc_real T = duration > KC_R(0.0) ? duration : t + kc_max(tc, KC_R(0.0)) + t_stop;
     kc_real te = T - t_stop; /* start of the stop */
     if ((tc > KC_R(0.0) || duration > KC_R(0.0)) && te > t)
-        add_phase(&r, 2, te, t, p, vp, KC_R(0.0), KC_R(0.0));
+        add_phase(o, 2, te, t, p, vp, KC_R(0.0), KC_R(0.0));
     /* The stop, backwards from the end: fill it in reverse order after the
      * slot where it begins. */
-    int first = r.n;
-    r.n += s->n;
+    int first = o->n;
+    o->n += s->n;
     kc_real pb = p1, vb = KC_R(0.0), ab = KC_R(0.0), tb = T;
     for (int i = s->n - 1; i >= 0; i--) {
-        set_phase(&r, first + i, 3, tb, tb, pb, vb, ab, s->j[i]);
+        set_phase(o, first + i, 3, tb, tb, pb, vb, ab, s->j[i]);
         advance(&pb, &vb, &ab, s->j[i], -s->t[i]);
         tb -= s->t[i];
     }
-    r.T = T;
-    r.dt = dt;
-    if (!kc_isfinite(T) || !kc_isfinite(p) || !kc_isfinite(pb))
-        return KC_E_CAPACITY;
-    r.ticks = kc_profile_ticks(T, dt);
-    if (r.ticks < 0)
+    o->T = T;
+    o->dt = dt;
+    o->ticks = ticks;
+    if (o == prof)
+        return KC_OK;
+    if (!kc_isfinite(p) || !kc_isfinite(pb))
         return KC_E_CAPACITY;
     *prof = r;
     return KC_OK;
