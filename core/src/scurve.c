@@ -127,6 +127,10 @@ typedef struct dfun {
     kc_real v0, a0, A, As, J;
     kc_real d; /* kinds 2 and 3: the distance to cover */
     kc_real V; /* kind 3: vmax */
+    /* Kinds 0 and 2, when not NULL: the last x evaluated and, found with
+     * it, the change's and the stop's duration (kind 0) or the cruise's
+     * (kind 2), so that a root's caller need not evaluate it again. */
+    kc_real *memo;
 } dfun;
 
 /* The gap family: ramp a0 towards zero by the fraction s at jerk J, then
@@ -169,12 +173,22 @@ static kc_real stop_slowed_time(const dfun *f, kc_real As);
 
 static kc_real dfun_eval(const dfun *f, kc_real x)
 {
-    if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
-        return cruise_time_of(KC_R(1.0) / x, f->d, f->v0, f->a0, f->A, f->J, NULL);
+    kc_real r, m = KC_R(0.0);
     if (f->gap == 3) /* x = 1 / As: the stop's time grows about as 1 / As */
         return stop_slowed_time(f, KC_R(1.0) / x);
-    return f->gap ? gap_dist(x, f->v0, f->a0, f->As, f->J, NULL, NULL, NULL)
-                  : dist_of(x, f->v0, f->a0, f->A, f->As, f->J);
+    if (f->gap == 1)
+        return gap_dist(x, f->v0, f->a0, f->As, f->J, NULL, NULL, NULL);
+    if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
+        r = cruise_time_of(KC_R(1.0) / x, f->d, f->v0, f->a0, f->A, f->J, &m);
+    else if (f->memo == NULL)
+        return dist_of(x, f->v0, f->a0, f->A, f->As, f->J);
+    else
+        m = change_stop_time(x, f->v0, f->a0, f->A, f->As, f->J, &r);
+    if (f->memo != NULL) {
+        f->memo[0] = x;
+        f->memo[1] = m;
+    }
+    return r;
 }
 
 /* Root of f(x) = d on [lo, hi], with f - d of opposite signs (or zero) at
@@ -262,7 +276,7 @@ static kc_real plain_root(const dfun *f, kc_real lo, kc_real hi, kc_real dlo, kc
     if (!(s * vb < s * v_far))
         return root(f, lo, hi, dlo - d, dhi - d, d);
     if (s * vb > s * v_near) {
-        kc_real db = dist_of(vb, v0, a0, A, As, J);
+        kc_real db = dfun_eval(f, vb);
         if (s * (d - db) < KC_R(0.0)) /* between the v_near end and vb */
             return s > KC_R(0.0) ? root(f, lo, vb, dlo - d, db - d, d) : root(f, vb, hi, db - d, dhi - d, d);
         v_near = vb;
@@ -274,7 +288,7 @@ static kc_real plain_root(const dfun *f, kc_real lo, kc_real hi, kc_real dlo, kc
     kc_real c0 = d_near - d - v_near * (c2 * v_near + c1);
     kc_real x = poly2_root(c2, c1, c0, kc_min(v_near, v_far), kc_max(v_near, v_far));
     if (x != KC_R(0.0)) {
-        kc_real fx = dist_of(x, v0, a0, A, As, J) - d;
+        kc_real fx = dfun_eval(f, x) - d;
         if (kc_fabs(fx) <= KC_R(4.0) * KC_REAL_EPS * kc_fabs(d))
             return x;
         /* Narrow the stretch's bracket with x for regula falsi. */
@@ -535,14 +549,16 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     kc_real m1 = kc_min(vn, KC_R(0.0)), m2 = kc_max(vn, KC_R(0.0));
     kc_real d1 = dist_of(m1, v0, a0, A, As, J), d2 = dist_of(m2, v0, a0, A, As, J);
     kc_real vp = KC_R(0.0), best = KC_R(-1.0), s_gap = KC_R(-1.0);
-    dfun f = {0, v0, a0, A, As, J, KC_R(0.0), KC_R(0.0)}, g = {1, v0, a0, A, As, J, KC_R(0.0), KC_R(0.0)};
+    /* The root searches remember their last point's duration. */
+    kc_real memo[2] = {KC_R(0.0) / KC_R(0.0), KC_R(0.0)};
+    dfun f = {0, v0, a0, A, As, J, KC_R(0.0), KC_R(0.0), memo}, g = {1, v0, a0, A, As, J, KC_R(0.0), KC_R(0.0), NULL};
     if (d <= d1) {
         vp = plain_root(&f, -V, m1, dl, d1, d);
-        best = change_stop_time(vp, v0, a0, A, As, J, NULL);
+        best = memo[0] == vp ? memo[1] : change_stop_time(vp, v0, a0, A, As, J, NULL);
     }
     if (d >= d2) {
         kc_real w = plain_root(&f, m2, V, d2, dh, d);
-        kc_real tw = change_stop_time(w, v0, a0, A, As, J, NULL);
+        kc_real tw = memo[0] == w ? memo[1] : change_stop_time(w, v0, a0, A, As, J, NULL);
         if (best < KC_R(0.0) || tw < best) {
             vp = w;
             best = tw;
@@ -799,7 +815,7 @@ static kc_status stretch_stop(kc_scurve *prof, const kc_scurve *fast, kc_real vm
                               kc_real duration, kc_real dt)
 {
     kc_real p0 = fast->p0, p1 = fast->p1;
-    dfun f = {3, fast->v0, fast->a0, A, A, J, p1 - p0, vmax};
+    dfun f = {3, fast->v0, fast->a0, A, A, J, p1 - p0, vmax, NULL};
     kc_real xl = KC_R(1.0) / A, tl = fast->T - duration, xh = xl, th = tl;
     for (int i = 0; i < 64 && th < KC_R(0.0); i++) {
         xl = xh;
@@ -881,7 +897,7 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
     if (fast->gap || !(s * vh > KC_R(0.0))) {
         vh = s * V;
         kc_real dv = dist_of(vh, v0, a0, A, A, J);
-        dfun f = {0, v0, a0, A, A, J, KC_R(0.0), KC_R(0.0)};
+        dfun f = {0, v0, a0, A, A, J, KC_R(0.0), KC_R(0.0), NULL};
         if (s * (d - dv) < KC_R(0.0)) {
             kc_real f0 = -e;
             vh = s > KC_R(0.0) ? root(&f, KC_R(0.0), vh, f0, dv - d, d) : root(&f, vh, KC_R(0.0), dv - d, f0, d);
@@ -889,7 +905,8 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
                 return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
         }
     }
-    dfun t = {2, v0, a0, A, A, J, d, KC_R(0.0)};
+    kc_real memo[2] = {KC_R(0.0) / KC_R(0.0), KC_R(0.0)};
+    dfun t = {2, v0, a0, A, A, J, d, KC_R(0.0), memo};
     /* The optimum through vh is fast itself: its duration is T(vh). */
     kc_real th = (vh == fast->vp && !fast->gap ? fast->T : cruise_time_of(vh, d, v0, a0, A, J, NULL)) - duration;
     if (!(th <= KC_R(0.0))) /* between the optimum and the slowest cruise this side allows */
@@ -943,7 +960,7 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
         kc_real xh = KC_R(1.0) / vh, xl = KC_R(1.0) / vl;
         kc_real x = s > KC_R(0.0) ? root(&t, xh, xl, th, tl, duration) : root(&t, xl, xh, tl, th, duration);
         vp = KC_R(1.0) / x;
-        tc = (d - dist_of(vp, v0, a0, A, A, J)) / vp;
+        tc = memo[0] == x ? memo[1] : (d - dist_of(vp, v0, a0, A, A, J)) / vp;
     }
     if (!(tc >= KC_R(0.0))) /* the change and the stop alone pass the target */
         return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
