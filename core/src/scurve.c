@@ -96,7 +96,7 @@ static kc_real stop_time(kc_real vp, kc_real A, kc_real J)
 
 /* d(vp): the distance of the change from (v0, a0) to vp and the stop from
  * vp, with no cruise; the change within A, the stop within As <= A (A
- * but for a stop slowed by kc_scurve_stretch, see stretch_stop()). */
+ * but for a stop slowed by kc_scurve_stretch, see stretch_blocked()). */
 static kc_real dist_of(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real As, kc_real J)
 {
     vchange c;
@@ -127,9 +127,10 @@ typedef struct dfun {
     kc_real v0, a0, A, As, J;
     kc_real d; /* kinds 2 and 3: the distance to cover */
     kc_real V; /* kind 3: vmax */
-    /* Kinds 0 and 2, when not NULL: the last x evaluated and, found with
-     * it, the change's and the stop's duration (kind 0) or the cruise's
-     * (kind 2), so that a root's caller need not evaluate it again. */
+    /* Kinds 0, 2 and 3, when not NULL: the last x evaluated and, found
+     * with it, the change's and the stop's duration (kind 0), the
+     * cruise's (kind 2) or the plan's (kind 3), so that a root's caller
+     * need not evaluate it again. */
     kc_real *memo;
 } dfun;
 
@@ -175,10 +176,10 @@ static kc_real dfun_eval(const dfun *f, kc_real x)
 {
     kc_real r, m = KC_R(0.0);
     if (f->gap == 3) /* x = 1 / As: the stop's time grows about as 1 / As */
-        return stop_slowed_time(f, KC_R(1.0) / x);
-    if (f->gap == 1)
+        m = r = stop_slowed_time(f, KC_R(1.0) / x);
+    else if (f->gap == 1)
         return gap_dist(x, f->v0, f->a0, f->As, f->J, NULL, NULL, NULL);
-    if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
+    else if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
         r = cruise_time_of(KC_R(1.0) / x, f->d, f->v0, f->a0, f->A, f->J, &m);
     else if (f->memo == NULL)
         return dist_of(x, f->v0, f->a0, f->A, f->As, f->J);
@@ -804,74 +805,54 @@ static void narrow(kc_real v, kc_real f, kc_real *vh, kc_real *th, kc_real *vl, 
     }
 }
 
-/* A moving start that no slower cruise stretches to duration: the
- * time-optimal plan with its stop (the last velocity change) held within
- * As < A (kinctl/scurve.h, kc_scurve_plan_duration_from). Its duration
- * grows as As falls, about as 1 / As: As is halved from A until the plan
- * lasts at least duration (at most 64 times), then found by regula falsi
- * in 1 / As; the profile is laid out to last duration. KC_E_LIMIT when no
- * As reaches it. */
-static kc_status stretch_stop(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J,
-                              kc_real duration, kc_real dt)
+/* A moving start that no slower cruise stretches to duration
+ * (kinctl/scurve.h, kc_scurve_plan_duration_from): the time-optimal plan
+ * with its stop (the last velocity change) held within As < A. Its
+ * duration grows as As falls, about as 1 / As: As is halved from A until
+ * the plan lasts at least duration (at most 64 times), then found by
+ * regula falsi in 1 / As; the profile is laid out to last duration. Where
+ * no As reaches it (the duration jumps past it as As falls), the optimum
+ * (As = A) followed by rest at p1, when the plan leaves a phase for the
+ * rest; KC_E_LIMIT otherwise. */
+static kc_status stretch_blocked(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J,
+                                 kc_real duration, kc_real dt)
 {
-    kc_real p0 = fast->p0, p1 = fast->p1;
-    dfun f = {3, fast->v0, fast->a0, A, A, J, p1 - p0, vmax, NULL};
-    kc_real xl = KC_R(1.0) / A, tl = fast->T - duration, xh = xl, th = tl;
+    kc_real p0 = fast->p0, p1 = fast->p1, memo[2] = {KC_R(0.0), KC_R(0.0)};
+    dfun f = {3, fast->v0, fast->a0, A, A, J, p1 - p0, vmax, memo};
+    kc_real xl = KC_R(1.0) / A, tl = fast->T - duration, xh = xl, th = tl, As = A;
     for (int i = 0; i < 64 && th < KC_R(0.0); i++) {
         xl = xh;
         tl = th;
         xh *= KC_R(2.0);
-        th = stop_slowed_time(&f, KC_R(1.0) / xh) - duration;
+        th = dfun_eval(&f, xh) - duration;
     }
-    if (!(th >= KC_R(0.0)) || th == KC_REAL_MAX - duration)
-        return KC_E_LIMIT;
-    kc_real As = KC_R(1.0) / root(&f, xl, xh, tl, th, duration);
+    if (th >= KC_R(0.0) && th < KC_REAL_MAX - duration) {
+        kc_real x = root(&f, xl, xh, tl, th, duration);
+        /* Its duration (the root's last point, else once more): a jump in
+         * the duration over As leaves the nearest point off. */
+        kc_real t = memo[0] == x ? memo[1] : dfun_eval(&f, x);
+        if (kc_fabs(t - duration) <= KC_R(64.0) * KC_REAL_EPS * duration)
+            As = KC_R(1.0) / x;
+    }
     kc_scurve r;
     kc_status st = plan(&r, p0, fast->v0, fast->a0, p1, vmax, A, As, J, dt, 1);
     if (st != KC_OK)
         return st;
-    if (!(kc_fabs(r.T - duration) <= KC_R(64.0) * KC_REAL_EPS * duration))
-        return KC_E_LIMIT; /* a jump in the duration over As: not reached */
-    if (!r.gap)
+    if (As == A) {
+        if (r.n >= KC_SCURVE_MAX_PHASES || !(r.T < duration))
+            return KC_E_LIMIT;
+        add_phase(&r, 3, duration, r.T, p1, KC_R(0.0), KC_R(0.0), KC_R(0.0));
+    } else if (!r.gap) {
         return build_vp(prof, p0, fast->v0, fast->a0, p1, r.vp, KC_R(0.0), A, As, J, duration, dt);
-    /* A gap plan has no cruise to take up the rounding: its end moved. */
+    }
+    /* The rest, or a gap plan (no cruise to take up the rounding): its end
+     * moved to duration. */
     r.T = duration;
     r.ticks = kc_profile_ticks(duration, dt);
     if (r.ticks < 0)
         return KC_E_CAPACITY;
     *prof = r;
     return KC_OK;
-}
-
-/* A moving start that neither a slower cruise nor a slower stop
- * stretches to duration: its time-optimal plan, then rest at p1 until
- * duration (kinctl/scurve.h, kc_scurve_plan_duration_from), when the plan
- * leaves a phase for the rest; KC_E_LIMIT otherwise. */
-static kc_status stretch_wait(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J,
-                              kc_real duration, kc_real dt)
-{
-    kc_scurve r;
-    kc_status st = plan(&r, fast->p0, fast->v0, fast->a0, fast->p1, vmax, A, A, J, dt, 1);
-    if (st != KC_OK)
-        return st;
-    if (r.n >= KC_SCURVE_MAX_PHASES || !(r.T < duration))
-        return KC_E_LIMIT;
-    add_phase(&r, 3, duration, r.T, r.p1, KC_R(0.0), KC_R(0.0), KC_R(0.0));
-    r.T = duration;
-    r.ticks = kc_profile_ticks(duration, dt);
-    if (r.ticks < 0)
-        return KC_E_CAPACITY;
-    *prof = r;
-    return KC_OK;
-}
-
-/* A moving start whose stretch by a slower cruise is blocked: a slower
- * stop (stretch_stop()), else the optimum and a rest (stretch_wait()). */
-static kc_status stretch_blocked(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J,
-                                 kc_real duration, kc_real dt)
-{
-    kc_status st = stretch_stop(prof, fast, vmax, A, J, duration, dt);
-    return st == KC_E_LIMIT ? stretch_wait(prof, fast, vmax, A, J, duration, dt) : st;
 }
 
 /* The moving start (v0, a0) != 0 stretched to duration > fast->T, fast
