@@ -229,7 +229,8 @@ static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 }
 
 /* Whether every joint's optimum in out->sj stretches to T: KC_OK,
- * KC_E_LIMIT when one falls into a blocked interval, or another error. */
+ * KC_E_LIMIT when one refuses (kinctl/scurve.h: only a rest after an
+ * optimum of seven phases), or another error. */
 static kc_status stretches_all(const kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl, kc_real T,
                                kc_scurve *tmp)
 {
@@ -242,8 +243,8 @@ static kc_status stretches_all(const kc_interp_joint *out, const kc_interp_joint
 }
 
 /* Every joint's optimum in out->sj replaced by its stretch to T, in
- * place: the plan needs each stretch once. When one falls into a blocked
- * interval (KC_E_LIMIT), the optima of the joints already stretched are
+ * place: the plan needs each stretch once. When one refuses
+ * (KC_E_LIMIT), the optima of the joints already stretched are
  * planned again, so that out->sj holds every optimum as before. */
 static kc_status stretch_in_place(kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl, kc_real T)
 {
@@ -262,11 +263,11 @@ static kc_status stretch_in_place(kc_interp_joint *out, const kc_interp_joint_cf
     return KC_OK;
 }
 
-/* Some joint's stretch to T falls into a blocked interval: the shortest
- * duration past it, found by growing T by 2^m / 1024 of itself until
- * every joint stretches, then halving the step between the last blocked
- * and the first free duration (blocked durations are intervals,
- * kinctl/scurve.h) ten times. The optima stay in out->sj while searching
+/* Some joint's stretch to T is refused (kinctl/scurve.h: a rest needed
+ * after an optimum of seven phases; not seen in random tests): the
+ * shortest duration past it, found by growing T by 2^m / 1024 of itself
+ * until every joint stretches, then halving the step between the last
+ * refused and the first planned duration ten times. The optima stay in out->sj while searching
  * (one profile of scratch); then each is replaced by its stretch. */
 static kc_status stretch_past_blocked(kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl, kc_real T)
 {
@@ -325,9 +326,8 @@ static int start_on_line(const kc_interp_joint *r, const kc_interp_joint_cfg *c,
  * from a moving start). Taken instead of the time-synchronised plan in
  * *out when it is faster: when a replacing goal keeps the target of a
  * move that was on its line, the rest of that move is such a profile,
- * while a joint's stretch may fall into a blocked interval
- * (kinctl/scurve.h) and wait far longer. Without a requested duration
- * only. */
+ * while a joint's stretch may be refused (kinctl/scurve.h) and wait
+ * longer. Without a requested duration only. */
 static void line_from_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 {
     kc_real lv, la;
@@ -383,7 +383,7 @@ static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cf
         T = kc_max(T, c->duration);
     }
     /* The shortest T every joint can be stretched to: T itself (each
-     * joint stretched once, in place), or past a blocked interval. */
+     * joint stretched once, in place), or past a refused stretch. */
     st = stretch_in_place(out, c, jl, T);
     if (st == KC_E_LIMIT)
         st = stretch_past_blocked(out, c, jl, T);
