@@ -123,7 +123,8 @@ static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, k
  * T(vp) = T for a stretched plan. */
 typedef struct dfun {
     int gap; /* 0: plain d(vp); 1: gap d(s); 2: the duration with a cruise to d, of x = 1 / vp;
-                3: the optimum's duration to d with the stop within As = 1 / x */
+                3: the optimum's duration to d with the stop within As = 1 / x;
+                4: the valley's duration to d, of x = t1 (valley_time()) */
     kc_real v0, a0, A, As, J;
     kc_real d; /* kinds 2 and 3: the distance to cover */
     kc_real V; /* kind 3: vmax */
@@ -171,12 +172,15 @@ static kc_real cruise_time_of(kc_real vp, kc_real d, kc_real v0, kc_real a0, kc_
 }
 
 static kc_real stop_slowed_time(const dfun *f, kc_real As);
+static kc_real valley_time(const dfun *f, kc_real t1);
 
 static kc_real dfun_eval(const dfun *f, kc_real x)
 {
     kc_real r, m = KC_R(0.0);
     if (f->gap == 3) /* x = 1 / As: the stop's time grows about as 1 / As */
         m = r = stop_slowed_time(f, KC_R(1.0) / x);
+    else if (f->gap == 4)
+        m = r = valley_time(f, x);
     else if (f->gap == 1)
         return gap_dist(x, f->v0, f->a0, f->As, f->J, NULL, NULL, NULL);
     else if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
@@ -805,6 +809,61 @@ static void narrow(kc_real v, kc_real f, kc_real *vh, kc_real *th, kc_real *vl, 
     }
 }
 
+/* A stretched profile without a cruise to take up the rounding of its
+ * duration (a gap plan, the valley, the rest after the optimum): its end
+ * moved to duration, into prof. */
+static kc_status moved(kc_scurve *prof, kc_scurve *r, kc_real duration, kc_real dt)
+{
+    r->T = duration;
+    r->ticks = kc_profile_ticks(duration, dt);
+    if (r->ticks < 0)
+        return KC_E_CAPACITY;
+    *prof = *r;
+    return KC_OK;
+}
+
+/* dfun kind 4, the push (kinctl/scurve.h): from (f->v0, f->a0) the
+ * acceleration pushed further from zero at jerk J for t1, then the
+ * time-optimal plan to f->d from there: its duration (KC_REAL_MAX when
+ * there is none). */
+static kc_real valley_time(const dfun *f, kc_real t1)
+{
+    kc_scurve h;
+    kc_real p = KC_R(0.0), v = f->v0, a = f->a0;
+    advance(&p, &v, &a, a > KC_R(0.0) ? f->J : -f->J, t1);
+    /* Only to a state the speed limit holds: v moves with a, which keeps
+     * its sign, and with a ramped out it must stay within vmax too. */
+    if (!(kc_fabs(v + a * kc_fabs(a) / (KC_R(2.0) * f->J)) <= f->V) ||
+        plan(&h, KC_R(0.0), v, a, f->d - p, f->V, f->A, f->A, f->J, KC_R(1.0), 0) != KC_OK)
+        return KC_REAL_MAX;
+    return t1 + h.T;
+}
+
+/* The push for t1 laid out before the time-optimal plan from where it
+ * ends, into *r (the plan's phases shifted by t1). KC_E_LIMIT when that
+ * plan leaves no phase for the push. */
+static kc_status lay_valley(kc_scurve *r, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J, kc_real t1,
+                            kc_real dt)
+{
+    kc_real p = fast->p0, v = fast->v0, a = fast->a0, jp = a > KC_R(0.0) ? J : -J;
+    advance(&p, &v, &a, jp, t1);
+    kc_status st = plan(r, p, v, a, fast->p1, vmax, A, A, J, dt, 1);
+    if (st != KC_OK)
+        return st;
+    if (r->n >= KC_SCURVE_MAX_PHASES)
+        return KC_E_LIMIT;
+    for (int i = r->n; i > 0; i--)
+        set_phase(r, i, r->kind[i - 1], r->t_end[i - 1] + t1, r->tr[i - 1] + t1, r->pr[i - 1], r->vr[i - 1],
+                  r->ar[i - 1], r->j[i - 1]);
+    set_phase(r, 0, 1, t1, KC_R(0.0), fast->p0, fast->v0, fast->a0, jp);
+    r->n++;
+    r->p0 = fast->p0;
+    r->v0 = fast->v0;
+    r->a0 = fast->a0;
+    r->gap = 1;
+    return KC_OK;
+}
+
 /* A moving start that no slower cruise stretches to duration
  * (kinctl/scurve.h, kc_scurve_plan_duration_from): the time-optimal plan
  * with its stop (the last velocity change) held within As < A. Its
@@ -835,7 +894,40 @@ static kc_status stretch_blocked(kc_scurve *prof, const kc_scurve *fast, kc_real
             As = KC_R(1.0) / x;
     }
     kc_scurve r;
-    kc_status st = plan(&r, p0, fast->v0, fast->a0, p1, vmax, A, As, J, dt, 1);
+    kc_status st;
+    /* Else a push first: t1 from 0 (the optimum itself) towards where
+     * |a| reaches A; halving between the last point that lasts less than
+     * duration and the last beyond it (too long, or no plan) until one
+     * lasts at least duration (at most 40 steps), then regula falsi
+     * between the two. */
+    kc_real a0 = fast->a0, xu = (A - kc_fabs(a0)) / J;
+    dfun h = {4, fast->v0, a0, A, A, J, p1 - p0, vmax, memo};
+    if (As == A && a0 != KC_R(0.0) && xu > KC_R(0.0) && (tl = dfun_eval(&h, xl = KC_R(0.0)) - duration) < KC_R(0.0)) {
+        xh = xu;
+        for (int i = 0; i < 40 && xl < xu; i++) {
+            th = dfun_eval(&h, xh) - duration;
+            if (th >= KC_R(0.0) && th < KC_REAL_MAX - duration) {
+                kc_real x = root(&h, xl, xh, tl, th, duration);
+                if (!(kc_fabs((memo[0] == x ? memo[1] : dfun_eval(&h, x)) - duration) <=
+                      KC_R(64.0) * KC_REAL_EPS * duration))
+                    break;
+                st = lay_valley(&r, fast, vmax, A, J, x, dt);
+                if (st == KC_OK)
+                    return moved(prof, &r, duration, dt);
+                if (st != KC_E_LIMIT)
+                    return st;
+                break;
+            }
+            if (th < KC_R(0.0)) {
+                xl = xh;
+                tl = th;
+            } else {
+                xu = xh;
+            }
+            xh = KC_R(0.5) * (xl + xu);
+        }
+    }
+    st = plan(&r, p0, fast->v0, fast->a0, p1, vmax, A, As, J, dt, 1);
     if (st != KC_OK)
         return st;
     if (As == A) {
@@ -845,14 +937,7 @@ static kc_status stretch_blocked(kc_scurve *prof, const kc_scurve *fast, kc_real
     } else if (!r.gap) {
         return build_vp(prof, p0, fast->v0, fast->a0, p1, r.vp, KC_R(0.0), A, As, J, duration, dt);
     }
-    /* The rest, or a gap plan (no cruise to take up the rounding): its end
-     * moved to duration. */
-    r.T = duration;
-    r.ticks = kc_profile_ticks(duration, dt);
-    if (r.ticks < 0)
-        return KC_E_CAPACITY;
-    *prof = r;
-    return KC_OK;
+    return moved(prof, &r, duration, dt);
 }
 
 /* The moving start (v0, a0) != 0 stretched to duration > fast->T, fast

@@ -346,8 +346,9 @@ static int ends_at_rest(const kc_scurve *pr)
  * at rest is reached in every one of them (arriving early and resting at
  * p1 is one way), so every stretch plans, lasts exactly its duration and
  * walks clean. A slower cruise does not reach all of them (jmax of a few
- * rad/s^3 or less: docs/testing.md); a slower stop reaches most of the
- * rest and a rest at p1 after the optimum the others, counted. */
+ * rad/s^3 or less: docs/testing.md); a slower stop or a push first
+ * reaches nearly all of the rest, and a rest at p1 after the optimum the
+ * others, counted. */
 static void test_moving_stretched_small_jerk(void **state)
 {
     (void)state;
@@ -381,23 +382,27 @@ static void test_moving_stretched_small_jerk(void **state)
         }
     }
     print_message("small-jerk moving starts: %d stretched, %d of them by a rest at p1\n", stretched, rests);
-    assert_true(rests < stretched / 50);
+    assert_true(rests < stretched / 500);
 }
 
-/* Two starts whose stretch no slower cruise reaches (both seen as blocked
- * intervals before the slower stop, the first 1.15 times the optimum long
- * with jmax 1.35): a cruise below vn would pass the target; the
- * optimum is of the gap family with a0 beyond what the slower stop's
- * family keeps, and its stretch rests at p1. */
+/* Three starts whose stretch no slower cruise reaches (all seen as
+ * blocked intervals before, 1-20 % longer than the optimum): a cruise
+ * below vn would pass the target, and a slower stop takes it; the
+ * optimum is of the gap family with a0 beyond what a slower stop keeps,
+ * and a push of the acceleration first takes it (Ruckig's valley, jerk
+ * -, +, -, +); neither reaches the third, which rests on its target after
+ * its optimum (in the double build; the float one rounds the start). */
 static void test_moving_stretched_blocked_cases(void **state)
 {
     (void)state;
-    static const double cases[2][7] = {
+    static const double cases[3][7] = {
         {-0.2177244670, 0.4823555760, 0.7569098471, 0.8832020769, 2.8256592952, 28.8494566580, 1.3512147572},
         {-0.4969997830, 2.2350681809, -4.8603075210, 0.1326762425, 2.8399832101, 12.3238779830, 17.8865519036},
+        {0.8794258713516827, -1.6962400634702395, 1.3681461724549648, -0.4353161086300843, 1.7028332481321455,
+         1.414325258231972, 2.258146308822382},
     };
     int rests = 0;
-    for (int c = 0; c < 2; c++) {
+    for (int c = 0; c < 3; c++) {
         const double *k = cases[c];
         kc_scurve fast, pr;
         plan_ok(&fast, k[0], k[1], k[2], k[3], k[4], k[5], k[6], 0.001);
@@ -410,13 +415,13 @@ static void test_moving_stretched_blocked_cases(void **state)
             assert_true(pr.T == T);
             walk(&pr, (double)(kc_real)k[0], (double)(kc_real)k[1], (double)(kc_real)k[2], (double)(kc_real)k[3],
                  k[4], k[5], k[6], "blocked case, stretched");
-            if (c == 0)
+            if (c < 2)
                 assert_false(ends_at_rest(&pr));
             else
                 rests += ends_at_rest(&pr);
         }
     }
-    assert_true(rests > 0);
+    assert_true(FLOAT_BUILD || rests > 0);
 }
 
 /* A start at rest through the moving-start search (a speck of velocity)
