@@ -120,8 +120,8 @@
  * Planning is bounded (closed forms; for a moving start at most three
  * root searches of at most KC_SCURVE_MAX_ITER steps, and to stretch it
  * two more and at most KC_SCURVE_MAX_ITER halvings, or with a slowed stop
- * at most 64 halvings and one root search whose every step is a plan) and
- * allocation-free;
+ * or a push at most 64 and 40 halvings and a root search each, every step
+ * a plan) and allocation-free;
  * evaluation is O(1) (a scan of at most seven phase ends and a cubic).
  * Every function is pure and safe to call in the control cycle.
  */
@@ -224,14 +224,19 @@ kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_re
  * cruise, if any, takes up the rounding). The shapes are Ruckig's with an
  * acceleration held below its limit (Berscheid & Kroeger 2021, the
  * step-2 profiles with a3 != 0). Where the slowed plan's duration jumps
- * past the duration as As falls (its family changes; Ruckig has a valley
- * of acceleration there, jerk -, +, -, + without a return to zero), the
- * time-optimal plan is followed by rest at p1 until the duration: a
- * target at rest can always be reached early and held, so every duration
- * from the optimum on is reached. Measured over random starts the limits
- * hold (|v0| <= vmax, |a0| <= amax, jmax 0.1-50): of 320,000 stretches
- * to 1-10 times the optimum, 1.6 % need more than a slower cruise, of
- * them about two thirds a slower stop and one third the rest at p1.
+ * past the duration as As falls (its family changes), the acceleration
+ * is first pushed further from zero at jmax for t1 (up to amax, to a
+ * state the speed limit holds) and the time-optimal plan follows from
+ * there: Ruckig's valley of acceleration (jerk -, +, -, + without a
+ * return to zero) and its overshoots; t1 from 0 (the optimum) by halving
+ * towards where that plan lasts at least the duration, then regula
+ * falsi (each step a plan). Where neither reaches it, the time-optimal
+ * plan is followed by rest at p1 until the duration: a target at rest can
+ * always be reached early and held, so every duration from the optimum
+ * on is reached. Measured over random starts the limits hold
+ * (|v0| <= vmax, |a0| <= amax, jmax 0.1-50): of 320,000 stretches to
+ * 1-10 times the optimum, 1.6 % need more than a slower cruise, and
+ * 0.03-0.05 % end with the rest at p1 (a joint arriving early).
  * Returns KC_E_LIMIT for a duration shorter than the optimum (beyond 8
  * units of roundoff), or needing the rest after an optimum of seven
  * phases (no phase left for the rest; not seen in those measurements);
