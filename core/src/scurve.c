@@ -124,14 +124,14 @@ static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, k
 typedef struct dfun {
     int gap; /* 0: plain d(vp); 1: gap d(s); 2: the duration with a cruise to d, of x = 1 / vp;
                 3: the optimum's duration to d with the stop within As = 1 / x;
-                4: the valley's duration to d, of x = t1 (valley_time()) */
+                4: the push's duration to d, of x = t1 (kinds 3 and 4: blocked_time(),
+                   searched by reach(), never by root(): they plan, and a plan searches) */
     kc_real v0, a0, A, As, J;
     kc_real d; /* kinds 2 and 3: the distance to cover */
     kc_real V; /* kind 3: vmax */
-    /* Kinds 0, 2 and 3, when not NULL: the last x evaluated and, found
-     * with it, the change's and the stop's duration (kind 0), the
-     * cruise's (kind 2) or the plan's (kind 3), so that a root's caller
-     * need not evaluate it again. */
+    /* Kinds 0 and 2, when not NULL: the last x evaluated and, found with
+     * it, the change's and the stop's duration (kind 0) or the cruise's
+     * (kind 2), so that a root's caller need not evaluate it again. */
     kc_real *memo;
 } dfun;
 
@@ -171,17 +171,11 @@ static kc_real cruise_time_of(kc_real vp, kc_real d, kc_real v0, kc_real a0, kc_
     return t + c;
 }
 
-static kc_real stop_slowed_time(const dfun *f, kc_real As);
-static kc_real valley_time(const dfun *f, kc_real t1);
 
 static kc_real dfun_eval(const dfun *f, kc_real x)
 {
     kc_real r, m = KC_R(0.0);
-    if (f->gap == 3) /* x = 1 / As: the stop's time grows about as 1 / As */
-        m = r = stop_slowed_time(f, KC_R(1.0) / x);
-    else if (f->gap == 4)
-        m = r = valley_time(f, x);
-    else if (f->gap == 1)
+    if (f->gap == 1)
         return gap_dist(x, f->v0, f->a0, f->As, f->J, NULL, NULL, NULL);
     else if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
         r = cruise_time_of(KC_R(1.0) / x, f->d, f->v0, f->a0, f->A, f->J, &m);
@@ -196,46 +190,70 @@ static kc_real dfun_eval(const dfun *f, kc_real x)
     return r;
 }
 
+/* Regula falsi, Illinois variant, on a bracket [lo, hi] with f - d of
+ * opposite signs at the ends: the secant through the ends, the weight of
+ * an end that stays twice in a row halved (superlinear, about ten steps),
+ * a halving whenever the secant falls outside the bracket. Driven by its
+ * caller (bracket_next, then bracket_take with f - d at that point), so
+ * that root() and reach() share it without calling each other. */
+typedef struct bracket {
+    kc_real lo, hi, flo, fhi; /* the ends and f - d there */
+    kc_real wlo, whi;         /* the weighted end values */
+    int side;
+} bracket;
+
+/* The next point inside the bracket into *x; 0 when the ends are
+ * adjacent numbers and the bracket cannot shrink. */
+static int bracket_next(const bracket *b, kc_real *x)
+{
+    kc_real lo = b->lo, hi = b->hi, xn = (lo * b->whi - hi * b->wlo) / (b->whi - b->wlo);
+    if (!(xn > lo && xn < hi))
+        xn = KC_R(0.5) * (lo + hi);
+    *x = xn;
+    return xn > lo && xn < hi;
+}
+
+/* The bracket narrowed by the point x with f - d = fx. */
+static void bracket_take(bracket *b, kc_real x, kc_real fx)
+{
+    if ((fx < KC_R(0.0)) == (b->flo < KC_R(0.0))) {
+        b->lo = x;
+        b->flo = b->wlo = fx;
+        if (b->side == -1)
+            b->whi *= KC_R(0.5);
+        b->side = -1;
+    } else {
+        b->hi = x;
+        b->fhi = b->whi = fx;
+        if (b->side == 1)
+            b->wlo *= KC_R(0.5);
+        b->side = 1;
+    }
+}
+
+/* The end of the bracket nearest the root. */
+static kc_real bracket_best(const bracket *b) { return kc_fabs(b->flo) <= kc_fabs(b->fhi) ? b->lo : b->hi; }
+
 /* Root of f(x) = d on [lo, hi], with f - d of opposite signs (or zero) at
- * the ends, by the Illinois variant of regula falsi: the secant through
- * the bracket's ends, the weight of an end that stays twice in a row
- * halved (superlinear, about ten steps), a halving whenever the secant
- * falls outside the bracket. At most KC_SCURVE_MAX_ITER steps; stops when
- * f - d is within 4 units of roundoff of d or the bracket reaches adjacent
- * numbers. Returns the point nearest the root. */
+ * the ends (flo, fhi), by regula falsi (bracket above). At most
+ * KC_SCURVE_MAX_ITER steps; stops when f - d is within 4 units of
+ * roundoff of d or the bracket reaches adjacent numbers. Returns the
+ * point nearest the root. */
 static kc_real root(const dfun *f, kc_real lo, kc_real hi, kc_real flo, kc_real fhi, kc_real d)
 {
     if (flo == KC_R(0.0))
         return lo;
     if (fhi == KC_R(0.0))
         return hi;
-    kc_real tol = KC_R(4.0) * KC_REAL_EPS * kc_fabs(d);
-    kc_real wlo = flo, whi = fhi; /* the weighted end values */
-    int side = 0;
-    for (int i = 0; i < KC_SCURVE_MAX_ITER; i++) {
-        kc_real x = (lo * whi - hi * wlo) / (whi - wlo);
-        if (!(x > lo && x < hi))
-            x = KC_R(0.5) * (lo + hi);
-        if (!(x > lo && x < hi))
-            break; /* adjacent: the bracket cannot shrink */
+    kc_real tol = KC_R(4.0) * KC_REAL_EPS * kc_fabs(d), x;
+    bracket b = {lo, hi, flo, fhi, flo, fhi, 0};
+    for (int i = 0; i < KC_SCURVE_MAX_ITER && bracket_next(&b, &x); i++) {
         kc_real fx = dfun_eval(f, x) - d;
         if (kc_fabs(fx) <= tol)
             return x;
-        if ((fx < KC_R(0.0)) == (flo < KC_R(0.0))) {
-            lo = x;
-            flo = wlo = fx;
-            if (side == -1)
-                whi *= KC_R(0.5);
-            side = -1;
-        } else {
-            hi = x;
-            fhi = whi = fx;
-            if (side == 1)
-                wlo *= KC_R(0.5);
-            side = 1;
-        }
+        bracket_take(&b, x, fx);
     }
-    return kc_fabs(flo) <= kc_fabs(fhi) ? lo : hi;
+    return bracket_best(&b);
 }
 
 /* The root strictly between lo and hi of qa x^2 + qb x + qc (the two
@@ -599,8 +617,8 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
                : header(prof, p0, v0, a0, p1, vp, best, dt);
 }
 
-/* dfun kind 3: the duration of the time-optimal plan to f->d whose stop
- * is held within As (KC_REAL_MAX when there is none). */
+/* The duration of the time-optimal plan to f->d whose stop is held
+ * within As (KC_REAL_MAX when there is none). */
 static kc_real stop_slowed_time(const dfun *f, kc_real As)
 {
     kc_scurve h;
@@ -822,7 +840,7 @@ static kc_status moved(kc_scurve *prof, kc_scurve *r, kc_real duration, kc_real 
     return KC_OK;
 }
 
-/* dfun kind 4, the push (kinctl/scurve.h): from (f->v0, f->a0) the
+/* The push (kinctl/scurve.h): from (f->v0, f->a0) the
  * acceleration pushed further from zero at jerk J for t1, then the
  * time-optimal plan to f->d from there: its duration (KC_REAL_MAX when
  * there is none). */
@@ -864,52 +882,72 @@ static kc_status lay_valley(kc_scurve *r, const kc_scurve *fast, kc_real vmax, k
     return KC_OK;
 }
 
+/* dfun kinds 3 and 4: the duration of the slower stop (x = 1 / As) or of
+ * the push (x = t1). */
+static kc_real blocked_time(const dfun *f, kc_real x)
+{
+    return f->gap == 3 ? stop_slowed_time(f, KC_R(1.0) / x) : valley_time(f, x);
+}
+
+/* The x in [xl, xh] where blocked_time reaches duration, from tl and th
+ * (its durations at the ends less duration: tl < 0 <= th), by regula
+ * falsi (at most KC_SCURVE_MAX_ITER steps, to 4 units of roundoff); 0
+ * when the nearest point found is off by more than 64 units (a jump in
+ * the duration). */
+static kc_real reach(const dfun *f, kc_real xl, kc_real tl, kc_real xh, kc_real th, kc_real duration)
+{
+    kc_real x, tol = KC_R(4.0) * KC_REAL_EPS * duration;
+    bracket b = {xl, xh, tl, th, tl, th, 0};
+    if (th == KC_R(0.0))
+        return xh;
+    for (int i = 0; i < KC_SCURVE_MAX_ITER && bracket_next(&b, &x); i++) {
+        kc_real t = blocked_time(f, x) - duration;
+        if (kc_fabs(t) <= tol)
+            return x;
+        bracket_take(&b, x, t);
+    }
+    x = bracket_best(&b);
+    return kc_fabs(x == b.lo ? b.flo : b.fhi) <= KC_R(16.0) * tol ? x : KC_R(0.0);
+}
+
 /* A moving start that no slower cruise stretches to duration
- * (kinctl/scurve.h, kc_scurve_plan_duration_from): the time-optimal plan
- * with its stop (the last velocity change) held within As < A. Its
- * duration grows as As falls, about as 1 / As: As is halved from A until
- * the plan lasts at least duration (at most 64 times), then found by
- * regula falsi in 1 / As; the profile is laid out to last duration. Where
- * no As reaches it (the duration jumps past it as As falls), the optimum
- * (As = A) followed by rest at p1, when the plan leaves a phase for the
- * rest; KC_E_LIMIT otherwise. */
+ * (kinctl/scurve.h, kc_scurve_plan_duration_from). First the time-optimal
+ * plan with its stop (the last velocity change) held within As < A: its
+ * duration grows as As falls, about as 1 / As, so As is halved from A
+ * until the plan lasts at least duration (at most 64 times), then found
+ * by regula falsi in 1 / As; the profile is laid out to last duration.
+ * Else a push first: t1 from 0 (the optimum itself) towards where |a|
+ * reaches A; halving between the last point that lasts less than duration
+ * and the last beyond it (too long, or no plan) until one lasts at least
+ * duration (at most 40 steps), then regula falsi between the two. Else
+ * the optimum followed by rest at p1, when the plan leaves a phase for
+ * the rest; KC_E_LIMIT otherwise. */
 static kc_status stretch_blocked(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J,
                                  kc_real duration, kc_real dt)
 {
-    kc_real p0 = fast->p0, p1 = fast->p1, memo[2] = {KC_R(0.0), KC_R(0.0)};
-    dfun f = {3, fast->v0, fast->a0, A, A, J, p1 - p0, vmax, memo};
-    kc_real xl = KC_R(1.0) / A, tl = fast->T - duration, xh = xl, th = tl, As = A;
+    kc_real p0 = fast->p0, p1 = fast->p1, a0 = fast->a0, x = KC_R(0.0);
+    dfun f = {3, fast->v0, a0, A, A, J, p1 - p0, vmax, NULL};
+    kc_real xl = KC_R(1.0) / A, tl = fast->T - duration, xh = xl, th = tl, xu;
     for (int i = 0; i < 64 && th < KC_R(0.0); i++) {
         xl = xh;
         tl = th;
         xh *= KC_R(2.0);
-        th = dfun_eval(&f, xh) - duration;
+        th = blocked_time(&f, xh) - duration;
     }
-    if (th >= KC_R(0.0) && th < KC_REAL_MAX - duration) {
-        kc_real x = root(&f, xl, xh, tl, th, duration);
-        /* Its duration (the root's last point, else once more): a jump in
-         * the duration over As leaves the nearest point off. */
-        kc_real t = memo[0] == x ? memo[1] : dfun_eval(&f, x);
-        if (kc_fabs(t - duration) <= KC_R(64.0) * KC_REAL_EPS * duration)
-            As = KC_R(1.0) / x;
-    }
+    if (th >= KC_R(0.0) && th < KC_REAL_MAX - duration)
+        x = reach(&f, xl, tl, xh, th, duration);
+    kc_real As = x > KC_R(0.0) ? KC_R(1.0) / x : A;
     kc_scurve r;
     kc_status st;
-    /* Else a push first: t1 from 0 (the optimum itself) towards where
-     * |a| reaches A; halving between the last point that lasts less than
-     * duration and the last beyond it (too long, or no plan) until one
-     * lasts at least duration (at most 40 steps), then regula falsi
-     * between the two. */
-    kc_real a0 = fast->a0, xu = (A - kc_fabs(a0)) / J;
-    dfun h = {4, fast->v0, a0, A, A, J, p1 - p0, vmax, memo};
-    if (As == A && a0 != KC_R(0.0) && xu > KC_R(0.0) && (tl = dfun_eval(&h, xl = KC_R(0.0)) - duration) < KC_R(0.0)) {
+    f.gap = 4;
+    xu = (A - kc_fabs(a0)) / J;
+    if (As == A && a0 != KC_R(0.0) && xu > KC_R(0.0) && (tl = blocked_time(&f, xl = KC_R(0.0)) - duration) < KC_R(0.0)) {
         xh = xu;
         for (int i = 0; i < 40 && xl < xu; i++) {
-            th = dfun_eval(&h, xh) - duration;
+            th = blocked_time(&f, xh) - duration;
             if (th >= KC_R(0.0) && th < KC_REAL_MAX - duration) {
-                kc_real x = root(&h, xl, xh, tl, th, duration);
-                if (!(kc_fabs((memo[0] == x ? memo[1] : dfun_eval(&h, x)) - duration) <=
-                      KC_R(64.0) * KC_REAL_EPS * duration))
+                x = reach(&f, xl, tl, xh, th, duration);
+                if (x == KC_R(0.0))
                     break;
                 st = lay_valley(&r, fast, vmax, A, J, x, dt);
                 if (st == KC_OK)
@@ -927,7 +965,7 @@ static kc_status stretch_blocked(kc_scurve *prof, const kc_scurve *fast, kc_real
             xh = KC_R(0.5) * (xl + xu);
         }
     }
-    st = plan(&r, p0, fast->v0, fast->a0, p1, vmax, A, As, J, dt, 1);
+    st = plan(&r, p0, fast->v0, a0, p1, vmax, A, As, J, dt, 1);
     if (st != KC_OK)
         return st;
     if (As == A) {
@@ -935,7 +973,7 @@ static kc_status stretch_blocked(kc_scurve *prof, const kc_scurve *fast, kc_real
             return KC_E_LIMIT;
         add_phase(&r, 3, duration, r.T, p1, KC_R(0.0), KC_R(0.0), KC_R(0.0));
     } else if (!r.gap) {
-        return build_vp(prof, p0, fast->v0, fast->a0, p1, r.vp, KC_R(0.0), A, As, J, duration, dt);
+        return build_vp(prof, p0, fast->v0, a0, p1, r.vp, KC_R(0.0), A, As, J, duration, dt);
     }
     return moved(prof, &r, duration, dt);
 }
