@@ -204,7 +204,7 @@ typedef struct bracket {
 
 /* The next point inside the bracket into *x; 0 when the ends are
  * adjacent numbers and the bracket cannot shrink. */
-static int bracket_next(const bracket *b, kc_real *x)
+static inline int bracket_next(const bracket *b, kc_real *x)
 {
     kc_real lo = b->lo, hi = b->hi, xn = (lo * b->whi - hi * b->wlo) / (b->whi - b->wlo);
     if (!(xn > lo && xn < hi))
@@ -214,7 +214,7 @@ static int bracket_next(const bracket *b, kc_real *x)
 }
 
 /* The bracket narrowed by the point x with f - d = fx. */
-static void bracket_take(bracket *b, kc_real x, kc_real fx)
+static inline void bracket_take(bracket *b, kc_real x, kc_real fx)
 {
     if ((fx < KC_R(0.0)) == (b->flo < KC_R(0.0))) {
         b->lo = x;
