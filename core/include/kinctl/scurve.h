@@ -120,8 +120,11 @@
  * Planning is bounded (closed forms; for a moving start at most three
  * root searches of at most KC_SCURVE_MAX_ITER steps, and to stretch it
  * two more and at most KC_SCURVE_MAX_ITER halvings, or with a slowed stop
- * or a push at most 64 and 40 halvings and a root search each, every step
- * a plan) and allocation-free;
+ * or a push at most 64 and 40 halvings and 48 regula falsi steps each,
+ * every step a plan: measured on formerly blocked stretches of one joint,
+ * median 8 us, 99th percentile 88 us, at most 122 us on the benchmark
+ * machine) and
+ * allocation-free;
  * evaluation is O(1) (a scan of at most seven phase ends and a cubic).
  * Every function is pure and safe to call in the control cycle.
  */
