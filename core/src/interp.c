@@ -52,13 +52,14 @@ static kc_real move_time(kc_real D, kc_real v, kc_real a)
 static size_t plan_size(int n) { return offsetof(kc_interp_joint, sj) + (size_t)n * sizeof(kc_scurve); }
 
 /* What every joint move starts from, into *out (scratch on error): the
- * arguments checked, *out cleared (but for its profiles sj[n..]), q0, q1,
+ * arguments checked, *out cleared (but for its profiles sj[n..], and all
+ * of sj unless clear_sj: a planner that writes every sj[i] itself), q0, q1,
  * dq, the joints that set V and A (lead_vel, lead_acc) and the bounds of u
  * (u_vmax, u_amax); no leading joint yet (lead = -1). The planners below
  * fill their own plan with it instead of copying one more (a plan holds a
  * jerk-limited profile a joint: its copies are the planning's stack). */
 static kc_status plan_common(kc_interp_joint *out, int n, const kc_real *q0, const kc_real *q1, const kc_real *qd_max,
-                             const kc_real *qdd_max, kc_real duration, kc_real dt)
+                             const kc_real *qdd_max, kc_real duration, kc_real dt, int clear_sj)
 {
     kc_real V = INF, A = INF, best_v = KC_R(0.0), best_a = KC_R(0.0);
     if (q0 == NULL || q1 == NULL || qd_max == NULL || qdd_max == NULL || n < 1)
@@ -67,7 +68,7 @@ static kc_status plan_common(kc_interp_joint *out, int n, const kc_real *q0, con
         return KC_E_CAPACITY;
     if (!kc_isfinite(duration) || duration < KC_R(0.0) || !(dt > KC_R(0.0)) || !kc_isfinite(dt))
         return KC_E_ARG;
-    memset(out, 0, plan_size(n));
+    memset(out, 0, clear_sj ? plan_size(n) : offsetof(kc_interp_joint, sj));
     out->n = n;
     out->lead = out->lead_vel = out->lead_acc = -1;
     for (int i = 0; i < n; i++) {
@@ -104,7 +105,7 @@ static kc_status plan_trap(kc_interp_joint *out, int n, const kc_real *q0, const
                            const kc_real *qdd_max, kc_real duration, kc_real dt)
 {
     kc_real T_lead = KC_R(-1.0);
-    kc_status st = plan_common(out, n, q0, q1, qd_max, qdd_max, duration, dt);
+    kc_status st = plan_common(out, n, q0, q1, qd_max, qdd_max, duration, dt, 1);
     if (st != KC_OK)
         return st;
     for (int i = 0; i < n; i++) {
@@ -156,7 +157,7 @@ static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
     kc_status st;
     /* The limits, the start and the leading joints as the trapezoid has
      * them (u_vmax, u_amax, lead_vel, lead_acc). */
-    st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
+    st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt, 1);
     if (st != KC_OK)
         return st;
     memset(&out->prof, 0, sizeof out->prof);
@@ -228,7 +229,8 @@ static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 }
 
 /* Whether every joint's optimum in out->sj stretches to T: KC_OK,
- * KC_E_LIMIT when one falls into a blocked interval, or another error. */
+ * KC_E_LIMIT when one refuses (kinctl/scurve.h: only a rest after an
+ * optimum of seven phases), or another error. */
 static kc_status stretches_all(const kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl, kc_real T,
                                kc_scurve *tmp)
 {
@@ -241,8 +243,8 @@ static kc_status stretches_all(const kc_interp_joint *out, const kc_interp_joint
 }
 
 /* Every joint's optimum in out->sj replaced by its stretch to T, in
- * place: the plan needs each stretch once. When one falls into a blocked
- * interval (KC_E_LIMIT), the optima of the joints already stretched are
+ * place: the plan needs each stretch once. When one refuses
+ * (KC_E_LIMIT), the optima of the joints already stretched are
  * planned again, so that out->sj holds every optimum as before. */
 static kc_status stretch_in_place(kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl, kc_real T)
 {
@@ -261,11 +263,11 @@ static kc_status stretch_in_place(kc_interp_joint *out, const kc_interp_joint_cf
     return KC_OK;
 }
 
-/* Some joint's stretch to T falls into a blocked interval: the shortest
- * duration past it, found by growing T by 2^m / 1024 of itself until
- * every joint stretches, then halving the step between the last blocked
- * and the first free duration (blocked durations are intervals,
- * kinctl/scurve.h) ten times. The optima stay in out->sj while searching
+/* Some joint's stretch to T is refused (kinctl/scurve.h: a rest needed
+ * after an optimum of seven phases; not seen in random tests): the
+ * shortest duration past it, found by growing T by 2^m / 1024 of itself
+ * until every joint stretches, then halving the step between the last
+ * refused and the first planned duration ten times. The optima stay in out->sj while searching
  * (one profile of scratch); then each is replaced by its stretch. */
 static kc_status stretch_past_blocked(kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl, kc_real T)
 {
@@ -324,9 +326,8 @@ static int start_on_line(const kc_interp_joint *r, const kc_interp_joint_cfg *c,
  * from a moving start). Taken instead of the time-synchronised plan in
  * *out when it is faster: when a replacing goal keeps the target of a
  * move that was on its line, the rest of that move is such a profile,
- * while a joint's stretch may fall into a blocked interval
- * (kinctl/scurve.h) and wait far longer. Without a requested duration
- * only. */
+ * while a joint's stretch may be refused (kinctl/scurve.h) and wait
+ * longer. Without a requested duration only. */
 static void line_from_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 {
     kc_real lv, la;
@@ -347,11 +348,10 @@ static void line_from_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 {
     kc_real T = KC_R(0.0);
-    kc_status st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt);
+    /* Every sj[i] is planned below; prof and su stay cleared. */
+    kc_status st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt, 0);
     if (st != KC_OK)
         return st;
-    memset(&out->prof, 0, sizeof out->prof);
-    memset(&out->su, 0, sizeof out->su);
     out->kind = KC_PROFILE_JERK;
     out->sync = KC_INTERP_SYNC_TIME;
     out->lead = -1;
@@ -383,7 +383,7 @@ static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cf
         T = kc_max(T, c->duration);
     }
     /* The shortest T every joint can be stretched to: T itself (each
-     * joint stretched once, in place), or past a blocked interval. */
+     * joint stretched once, in place), or past a refused stretch. */
     st = stretch_in_place(out, c, jl, T);
     if (st == KC_E_LIMIT)
         st = stretch_past_blocked(out, c, jl, T);

@@ -95,20 +95,22 @@ static kc_real stop_time(kc_real vp, kc_real A, kc_real J)
 }
 
 /* d(vp): the distance of the change from (v0, a0) to vp and the stop from
- * vp, with no cruise. */
-static kc_real dist_of(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real J)
+ * vp, with no cruise; the change within A, the stop within As <= A (A
+ * but for a stop slowed by kc_scurve_stretch, see stretch_blocked()). */
+static kc_real dist_of(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real As, kc_real J)
 {
     vchange c;
     vchange_plan(&c, v0, a0, vp, A, J);
-    return vchange_dist(&c, v0, a0, NULL) + KC_R(0.5) * vp * stop_time(vp, A, J);
+    return vchange_dist(&c, v0, a0, NULL) + KC_R(0.5) * vp * stop_time(vp, As, J);
 }
 
 /* Duration of the change from (v0, a0) to vp and the stop from vp; their
  * distance d(vp) into *dist when given. */
-static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real J, kc_real *dist)
+static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real As, kc_real J,
+                                kc_real *dist)
 {
     vchange c;
-    kc_real tc, ts = stop_time(vp, A, J);
+    kc_real tc, ts = stop_time(vp, As, J);
     vchange_plan(&c, v0, a0, vp, A, J);
     kc_real p = vchange_dist(&c, v0, a0, &tc) + KC_R(0.5) * vp * ts;
     if (dist != NULL)
@@ -120,14 +122,22 @@ static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, k
  * gap family (x = s, the fraction of a0 ramped away, kinctl/scurve.h), or
  * T(vp) = T for a stretched plan. */
 typedef struct dfun {
-    int gap; /* 0: plain d(vp); 1: gap d(s); 2: the duration with a cruise to d, of x = 1 / vp */
-    kc_real v0, a0, A, J;
-    kc_real d; /* kind 2: the distance to cover */
+    int gap; /* 0: plain d(vp); 1: gap d(s); 2: the duration with a cruise to d, of x = 1 / vp;
+                3: the optimum's duration to d with the stop within As = 1 / x;
+                4: the push's duration to d, of x = t1 (kinds 3 and 4: blocked_time(),
+                   searched by reach(), never by root(): they plan, and a plan searches) */
+    kc_real v0, a0, A, As, J;
+    kc_real d; /* kinds 2 and 3: the distance to cover */
+    kc_real V; /* kind 3: vmax */
+    /* Kinds 0 and 2, when not NULL: the last x evaluated and, found with
+     * it, the change's and the stop's duration (kind 0) or the cruise's
+     * (kind 2), so that a root's caller need not evaluate it again. */
+    kc_real *memo;
 } dfun;
 
 /* The gap family: ramp a0 towards zero by the fraction s at jerk J, then
  * the fastest change to rest. Fills the phases when c and st are given. */
-static kc_real gap_dist(kc_real s, kc_real v0, kc_real a0, kc_real A, kc_real J, vchange *c, vchange *st,
+static kc_real gap_dist(kc_real s, kc_real v0, kc_real a0, kc_real As, kc_real J, vchange *c, vchange *st,
                         kc_real *time)
 {
     vchange r, sp;
@@ -138,7 +148,7 @@ static kc_real gap_dist(kc_real s, kc_real v0, kc_real a0, kc_real A, kc_real J,
         advance(&p, &v, &a, r.j[0], r.t[0]);
     if (s >= KC_R(1.0))
         a = KC_R(0.0);
-    vchange_plan(&sp, v, a, KC_R(0.0), A, J);
+    vchange_plan(&sp, v, a, KC_R(0.0), As, J);
     if (c != NULL) {
         *c = r;
         *st = sp;
@@ -154,60 +164,96 @@ static kc_real gap_dist(kc_real s, kc_real v0, kc_real a0, kc_real A, kc_real J,
  * when given. */
 static kc_real cruise_time_of(kc_real vp, kc_real d, kc_real v0, kc_real a0, kc_real A, kc_real J, kc_real *tc)
 {
-    kc_real dv, t = change_stop_time(vp, v0, a0, A, J, &dv);
+    kc_real dv, t = change_stop_time(vp, v0, a0, A, A, J, &dv);
     kc_real c = (d - dv) / vp;
     if (tc != NULL)
         *tc = c;
     return t + c;
 }
 
+
 static kc_real dfun_eval(const dfun *f, kc_real x)
 {
-    if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
-        return cruise_time_of(KC_R(1.0) / x, f->d, f->v0, f->a0, f->A, f->J, NULL);
-    return f->gap ? gap_dist(x, f->v0, f->a0, f->A, f->J, NULL, NULL, NULL) : dist_of(x, f->v0, f->a0, f->A, f->J);
+    kc_real r, m = KC_R(0.0);
+    if (f->gap == 1)
+        return gap_dist(x, f->v0, f->a0, f->As, f->J, NULL, NULL, NULL);
+    else if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
+        r = cruise_time_of(KC_R(1.0) / x, f->d, f->v0, f->a0, f->A, f->J, &m);
+    else if (f->memo == NULL)
+        return dist_of(x, f->v0, f->a0, f->A, f->As, f->J);
+    else
+        m = change_stop_time(x, f->v0, f->a0, f->A, f->As, f->J, &r);
+    if (f->memo != NULL) {
+        f->memo[0] = x;
+        f->memo[1] = m;
+    }
+    return r;
 }
 
+/* Regula falsi, Illinois variant, on a bracket [lo, hi] with f - d of
+ * opposite signs at the ends: the secant through the ends, the weight of
+ * an end that stays twice in a row halved (superlinear, about ten steps),
+ * a halving whenever the secant falls outside the bracket. Driven by its
+ * caller (bracket_next, then bracket_take with f - d at that point), so
+ * that root() and reach() share it without calling each other. */
+typedef struct bracket {
+    kc_real lo, hi, flo, fhi; /* the ends and f - d there */
+    kc_real wlo, whi;         /* the weighted end values */
+    int side;
+} bracket;
+
+/* The next point inside the bracket into *x; 0 when the ends are
+ * adjacent numbers and the bracket cannot shrink. */
+static inline int bracket_next(const bracket *b, kc_real *x)
+{
+    kc_real lo = b->lo, hi = b->hi, xn = (lo * b->whi - hi * b->wlo) / (b->whi - b->wlo);
+    if (!(xn > lo && xn < hi))
+        xn = KC_R(0.5) * (lo + hi);
+    *x = xn;
+    return xn > lo && xn < hi;
+}
+
+/* The bracket narrowed by the point x with f - d = fx. */
+static inline void bracket_take(bracket *b, kc_real x, kc_real fx)
+{
+    if ((fx < KC_R(0.0)) == (b->flo < KC_R(0.0))) {
+        b->lo = x;
+        b->flo = b->wlo = fx;
+        if (b->side == -1)
+            b->whi *= KC_R(0.5);
+        b->side = -1;
+    } else {
+        b->hi = x;
+        b->fhi = b->whi = fx;
+        if (b->side == 1)
+            b->wlo *= KC_R(0.5);
+        b->side = 1;
+    }
+}
+
+/* The end of the bracket nearest the root. */
+static kc_real bracket_best(const bracket *b) { return kc_fabs(b->flo) <= kc_fabs(b->fhi) ? b->lo : b->hi; }
+
 /* Root of f(x) = d on [lo, hi], with f - d of opposite signs (or zero) at
- * the ends, by the Illinois variant of regula falsi: the secant through
- * the bracket's ends, the weight of an end that stays twice in a row
- * halved (superlinear, about ten steps), a halving whenever the secant
- * falls outside the bracket. At most KC_SCURVE_MAX_ITER steps; stops when
- * f - d is within 4 units of roundoff of d or the bracket reaches adjacent
- * numbers. Returns the point nearest the root. */
+ * the ends (flo, fhi), by regula falsi (bracket above). At most
+ * KC_SCURVE_MAX_ITER steps; stops when f - d is within 4 units of
+ * roundoff of d or the bracket reaches adjacent numbers. Returns the
+ * point nearest the root. */
 static kc_real root(const dfun *f, kc_real lo, kc_real hi, kc_real flo, kc_real fhi, kc_real d)
 {
     if (flo == KC_R(0.0))
         return lo;
     if (fhi == KC_R(0.0))
         return hi;
-    kc_real tol = KC_R(4.0) * KC_REAL_EPS * kc_fabs(d);
-    kc_real wlo = flo, whi = fhi; /* the weighted end values */
-    int side = 0;
-    for (int i = 0; i < KC_SCURVE_MAX_ITER; i++) {
-        kc_real x = (lo * whi - hi * wlo) / (whi - wlo);
-        if (!(x > lo && x < hi))
-            x = KC_R(0.5) * (lo + hi);
-        if (!(x > lo && x < hi))
-            break; /* adjacent: the bracket cannot shrink */
+    kc_real tol = KC_R(4.0) * KC_REAL_EPS * kc_fabs(d), x;
+    bracket b = {lo, hi, flo, fhi, flo, fhi, 0};
+    for (int i = 0; i < KC_SCURVE_MAX_ITER && bracket_next(&b, &x); i++) {
         kc_real fx = dfun_eval(f, x) - d;
         if (kc_fabs(fx) <= tol)
             return x;
-        if ((fx < KC_R(0.0)) == (flo < KC_R(0.0))) {
-            lo = x;
-            flo = wlo = fx;
-            if (side == -1)
-                whi *= KC_R(0.5);
-            side = -1;
-        } else {
-            hi = x;
-            fhi = whi = fx;
-            if (side == 1)
-                wlo *= KC_R(0.5);
-            side = 1;
-        }
+        bracket_take(&b, x, fx);
     }
-    return kc_fabs(flo) <= kc_fabs(fhi) ? lo : hi;
+    return bracket_best(&b);
 }
 
 /* The root strictly between lo and hi of qa x^2 + qb x + qc (the two
@@ -235,24 +281,25 @@ static kc_real poly2_root(kc_real qa, kc_real qb, kc_real qc, kc_real lo, kc_rea
 /* The root of d(vp) = d on a plain branch [lo, hi] ([max(vn, 0), V] or
  * [-V, min(vn, 0)]; dlo, dhi: d at its ends, bracketing d). Along the
  * branch the change ends beyond vn (sg = s, the branch's sign). Where it
- * holds amax (or starts beyond it) and the stop reaches amax, from vb to
- * the branch's far end +-V, d(vp) is a quadratic with the leading
- * coefficient s / A: the change's and the stop's distances each grow as
- * vp^2 / (2A) (kinctl/scurve.h, "Velocity change"). A root there comes
+ * holds amax (or starts beyond it) and the stop reaches its limit As, from
+ * vb to the branch's far end +-V, d(vp) is a quadratic with the leading
+ * coefficient s (1 / A + 1 / As) / 2: the change's and the stop's
+ * distances grow as vp^2 / (2A) and vp^2 / (2As) (kinctl/scurve.h,
+ * "Velocity change"; s / A when As = A). A root there comes
  * from d at two points of that stretch and is checked with one more
  * evaluation; elsewhere, or when the check fails, regula falsi (root()). */
 static kc_real plain_root(const dfun *f, kc_real lo, kc_real hi, kc_real dlo, kc_real dhi, kc_real d)
 {
-    kc_real v0 = f->v0, a0 = f->a0, A = f->A, J = f->J;
+    kc_real v0 = f->v0, a0 = f->a0, A = f->A, As = f->As, J = f->J;
     kc_real s = hi > KC_R(0.0) ? KC_R(1.0) : KC_R(-1.0);
     kc_real v_near = s > KC_R(0.0) ? lo : hi, d_near = s > KC_R(0.0) ? dlo : dhi;
     kc_real v_far = s > KC_R(0.0) ? hi : lo, d_far = s > KC_R(0.0) ? dhi : dlo;
     kc_real as = s * a0, vn = s * v0 + as * kc_fabs(as) / (KC_R(2.0) * J);
-    kc_real vb = s * kc_max(A * A / J, as > A ? vn : s * v0 + (KC_R(2.0) * A * A - as * as) / (KC_R(2.0) * J));
+    kc_real vb = s * kc_max(As * As / J, as > A ? vn : s * v0 + (KC_R(2.0) * A * A - as * as) / (KC_R(2.0) * J));
     if (!(s * vb < s * v_far))
         return root(f, lo, hi, dlo - d, dhi - d, d);
     if (s * vb > s * v_near) {
-        kc_real db = dist_of(vb, v0, a0, A, J);
+        kc_real db = dfun_eval(f, vb);
         if (s * (d - db) < KC_R(0.0)) /* between the v_near end and vb */
             return s > KC_R(0.0) ? root(f, lo, vb, dlo - d, db - d, d) : root(f, vb, hi, db - d, dhi - d, d);
         v_near = vb;
@@ -260,11 +307,11 @@ static kc_real plain_root(const dfun *f, kc_real lo, kc_real hi, kc_real dlo, kc
     }
     /* c2 x^2 + c1 x + c0 = 0 through (v_near, d_near - d), (v_far, d_far - d),
      * its root between them (the two roots without cancellation). */
-    kc_real c2 = s / A, c1 = (d_far - d_near) / (v_far - v_near) - c2 * (v_far + v_near);
+    kc_real c2 = s * (KC_R(0.5) / A + KC_R(0.5) / As), c1 = (d_far - d_near) / (v_far - v_near) - c2 * (v_far + v_near);
     kc_real c0 = d_near - d - v_near * (c2 * v_near + c1);
     kc_real x = poly2_root(c2, c1, c0, kc_min(v_near, v_far), kc_max(v_near, v_far));
     if (x != KC_R(0.0)) {
-        kc_real fx = dist_of(x, v0, a0, A, J) - d;
+        kc_real fx = dfun_eval(f, x) - d;
         if (kc_fabs(fx) <= KC_R(4.0) * KC_REAL_EPS * kc_fabs(d))
             return x;
         /* Narrow the stretch's bracket with x for regula falsi. */
@@ -313,54 +360,74 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
 {
     kc_scurve r;
     const vchange *c = cp, *s = sp;
-    kc_real p = p0, v = v0, a = a0, t = KC_R(0.0), t_stop = KC_R(0.0);
-    r.p0 = p0;
-    r.v0 = v0;
-    r.a0 = a0;
-    r.p1 = p1;
-    r.vp = vp;
-    r.gap = 0;
-    r.n = 0;
+    kc_real p = p0, v = v0, a = a0, t = KC_R(0.0), t_change = KC_R(0.0), t_stop = KC_R(0.0), jm = KC_R(0.0);
+    for (int i = 0; i < c->n; i++) {
+        t_change += c->t[i];
+        jm = kc_max(jm, kc_fabs(c->j[i]));
+    }
+    for (int i = 0; i < s->n; i++) {
+        t_stop += s->t[i];
+        jm = kc_max(jm, kc_fabs(s->j[i]));
+    }
+    kc_real T = duration > KC_R(0.0) ? duration : t_change + kc_max(tc, KC_R(0.0)) + t_stop;
+    if (!kc_isfinite(T))
+        return KC_E_CAPACITY;
+    int64_t ticks = kc_profile_ticks(T, dt);
+    if (ticks < 0)
+        return KC_E_CAPACITY;
+    /* Where the positions are bounded well within the range (|a| grows at
+     * most jm t along the change, so |p - p0| <= |v0| t + |a0| t^2 + jm t^3
+     * there, and the stop from rest backwards likewise), the profile is
+     * written in place, sparing a copy of it (a tenth of a moving start's
+     * planning); otherwise into r, and prof is untouched on error. */
+    kc_real bound = kc_fabs(p0) + kc_fabs(p1) + t_change * (kc_fabs(v0) + t_change * (kc_fabs(a0) + t_change * jm)) +
+                    jm * t_stop * t_stop * t_stop;
+    kc_scurve *o = bound <= KC_REAL_MAX / KC_R(16.0) ? prof : &r;
+    o->p0 = p0;
+    o->v0 = v0;
+    o->a0 = a0;
+    o->p1 = p1;
+    o->vp = vp;
+    o->gap = 0;
+    o->n = 0;
     for (int i = 0; i < c->n; i++) {
         kc_real t0 = t, p_ = p, v_ = v, a_ = a;
         advance(&p, &v, &a, c->j[i], c->t[i]);
         t += c->t[i];
-        add_phase(&r, 1, t, t0, p_, v_, a_, c->j[i]);
+        add_phase(o, 1, t, t0, p_, v_, a_, c->j[i]);
     }
-    for (int i = 0; i < s->n; i++)
-        t_stop += s->t[i];
-    kc_real T = duration > KC_R(0.0) ? duration : t + kc_max(tc, KC_R(0.0)) + t_stop;
     kc_real te = T - t_stop; /* start of the stop */
     if ((tc > KC_R(0.0) || duration > KC_R(0.0)) && te > t)
-        add_phase(&r, 2, te, t, p, vp, KC_R(0.0), KC_R(0.0));
+        add_phase(o, 2, te, t, p, vp, KC_R(0.0), KC_R(0.0));
     /* The stop, backwards from the end: fill it in reverse order after the
      * slot where it begins. */
-    int first = r.n;
-    r.n += s->n;
+    int first = o->n;
+    o->n += s->n;
     kc_real pb = p1, vb = KC_R(0.0), ab = KC_R(0.0), tb = T;
     for (int i = s->n - 1; i >= 0; i--) {
-        set_phase(&r, first + i, 3, tb, tb, pb, vb, ab, s->j[i]);
+        set_phase(o, first + i, 3, tb, tb, pb, vb, ab, s->j[i]);
         advance(&pb, &vb, &ab, s->j[i], -s->t[i]);
         tb -= s->t[i];
     }
-    r.T = T;
-    r.dt = dt;
-    if (!kc_isfinite(T) || !kc_isfinite(p) || !kc_isfinite(pb))
-        return KC_E_CAPACITY;
-    r.ticks = kc_profile_ticks(T, dt);
-    if (r.ticks < 0)
+    o->T = T;
+    o->dt = dt;
+    o->ticks = ticks;
+    if (o == prof)
+        return KC_OK;
+    if (!kc_isfinite(p) || !kc_isfinite(pb))
         return KC_E_CAPACITY;
     *prof = r;
     return KC_OK;
 }
 
-/* The plain profile through the extremum vp: change, cruise, stop. */
+/* The plain profile through the extremum vp: change (within A), cruise,
+ * stop (within As). */
 static kc_status build_vp(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vp, kc_real tc,
-                          kc_real A, kc_real J, kc_real duration, kc_real dt)
+                          kc_real A, kc_real As, kc_real J, kc_real duration, kc_real dt)
 {
     vchange c, s;
     vchange_plan(&c, v0, a0, vp, A, J);
-    vchange_plan(&s, vp, KC_R(0.0), KC_R(0.0), A, J);
+    vchange_plan(&s, vp, KC_R(0.0), KC_R(0.0), As, J);
     return build(prof, p0, v0, a0, p1, &c, vp, tc, &s, duration, dt);
 }
 
@@ -408,11 +475,11 @@ static kc_status finish(kc_scurve *prof, int lay, kc_real p0, kc_real v0, kc_rea
 
 /* finish() for the plain plan through vp (build_vp). */
 static kc_status finish_vp(kc_scurve *prof, int lay, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vp,
-                           kc_real tc, kc_real A, kc_real J, kc_real dt)
+                           kc_real tc, kc_real A, kc_real As, kc_real J, kc_real dt)
 {
     vchange c, s;
     vchange_plan(&c, v0, a0, vp, A, J);
-    vchange_plan(&s, vp, KC_R(0.0), KC_R(0.0), A, J);
+    vchange_plan(&s, vp, KC_R(0.0), KC_R(0.0), As, J);
     return finish(prof, lay, p0, v0, a0, p1, &c, vp, tc, &s, dt);
 }
 
@@ -450,7 +517,7 @@ static void rest_to_rest(kc_real D, kc_real V, kc_real A, kc_real J, kc_real *vp
 /* kc_scurve_plan, laying out the phases (lay) or making the header alone
  * (kc_scurve_plan_time). */
 static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax, kc_real amax,
-                      kc_real jmax, kc_real dt, int lay)
+                      kc_real astop, kc_real jmax, kc_real dt, int lay)
 {
     if (prof == NULL || !kc_isfinite(p0) || !kc_isfinite(v0) || !kc_isfinite(a0) || !kc_isfinite(p1) ||
         !limits_ok(vmax, amax, jmax, dt))
@@ -458,13 +525,13 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     kc_real d = p1 - p0;
     if (!kc_isfinite(d))
         return KC_E_ARG;
-    kc_real A = amax, J = jmax;
+    kc_real A = amax, As = astop, J = jmax;
     if (v0 == KC_R(0.0) && a0 == KC_R(0.0)) {
         kc_real vpeak, tc;
         if (d == KC_R(0.0))
-            return finish_vp(prof, lay, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, J, dt);
+            return finish_vp(prof, lay, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, A, J, dt);
         rest_to_rest(kc_fabs(d), vmax, A, J, &vpeak, &tc);
-        return finish_vp(prof, lay, p0, v0, a0, p1, d > KC_R(0.0) ? vpeak : -vpeak, tc, A, J, dt);
+        return finish_vp(prof, lay, p0, v0, a0, p1, d > KC_R(0.0) ? vpeak : -vpeak, tc, A, A, J, dt);
     }
     /* The velocity range to search: vmax, or without a speed limit a bound
      * that brackets d, found by doubling (at most 64 times). */
@@ -473,7 +540,7 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
         kc_real vn = v0 + a0 * kc_fabs(a0) / (KC_R(2.0) * J);
         V = kc_max(kc_max(kc_fabs(v0), kc_fabs(vn)), kc_max(kc_sqrt(A * kc_fabs(d)), A * A / J));
         int i = 0;
-        while ((dist_of(V, v0, a0, A, J) < d || dist_of(-V, v0, a0, A, J) > d) && i < 64) {
+        while ((dist_of(V, v0, a0, A, As, J) < d || dist_of(-V, v0, a0, A, As, J) > d) && i < 64) {
             V *= KC_R(2.0);
             i++;
         }
@@ -482,17 +549,17 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     }
     /* A header's duration is the one its choice was made with: the
      * change and the stop (change_stop_time) and the cruise. */
-    kc_real dh, dl, th = change_stop_time(V, v0, a0, A, J, &dh);
+    kc_real dh, dl, th = change_stop_time(V, v0, a0, A, As, J, &dh);
     if (!kc_isfinite(dh))
         return KC_E_CAPACITY;
     if (d >= dh)
-        return lay ? finish_vp(prof, lay, p0, v0, a0, p1, V, (d - dh) / V, A, J, dt)
+        return lay ? finish_vp(prof, lay, p0, v0, a0, p1, V, (d - dh) / V, A, As, J, dt)
                    : header(prof, p0, v0, a0, p1, V, th + (d - dh) / V, dt);
-    kc_real tl = change_stop_time(-V, v0, a0, A, J, &dl);
+    kc_real tl = change_stop_time(-V, v0, a0, A, As, J, &dl);
     if (!kc_isfinite(dl))
         return KC_E_CAPACITY;
     if (d <= dl)
-        return lay ? finish_vp(prof, lay, p0, v0, a0, p1, -V, (dl - d) / V, A, J, dt)
+        return lay ? finish_vp(prof, lay, p0, v0, a0, p1, -V, (dl - d) / V, A, As, J, dt)
                    : header(prof, p0, v0, a0, p1, -V, tl + (dl - d) / V, dt);
     /* dl < d < dh, Tc = 0. The plain branches are vp <= min(vn, 0) and
      * vp >= max(vn, 0), where the change ends on the other side of zero
@@ -503,29 +570,32 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
      * change to a vp between the branches. */
     kc_real vn = kc_clamp(v0 + a0 * kc_fabs(a0) / (KC_R(2.0) * J), -V, V);
     kc_real m1 = kc_min(vn, KC_R(0.0)), m2 = kc_max(vn, KC_R(0.0));
-    kc_real d1 = dist_of(m1, v0, a0, A, J), d2 = dist_of(m2, v0, a0, A, J);
+    kc_real d1 = dist_of(m1, v0, a0, A, As, J), d2 = dist_of(m2, v0, a0, A, As, J);
     kc_real vp = KC_R(0.0), best = KC_R(-1.0), s_gap = KC_R(-1.0);
-    dfun f = {0, v0, a0, A, J, KC_R(0.0)}, g = {1, v0, a0, A, J, KC_R(0.0)};
+    /* The root searches remember their last point's duration. */
+    kc_real memo[2] = {KC_R(0.0) / KC_R(0.0), KC_R(0.0)};
+    dfun f = {0, v0, a0, A, As, J, KC_R(0.0), KC_R(0.0), memo}, g = {1, v0, a0, A, As, J, KC_R(0.0), KC_R(0.0), NULL};
     if (d <= d1) {
         vp = plain_root(&f, -V, m1, dl, d1, d);
-        best = change_stop_time(vp, v0, a0, A, J, NULL);
+        best = memo[0] == vp ? memo[1] : change_stop_time(vp, v0, a0, A, As, J, NULL);
     }
     if (d >= d2) {
         kc_real w = plain_root(&f, m2, V, d2, dh, d);
-        kc_real tw = change_stop_time(w, v0, a0, A, J, NULL);
+        kc_real tw = memo[0] == w ? memo[1] : change_stop_time(w, v0, a0, A, As, J, NULL);
         if (best < KC_R(0.0) || tw < best) {
             vp = w;
             best = tw;
         }
     }
-    /* s = 0 is the stop at once, d(0): d1 or d2. */
-    kc_real g0 = (m1 == KC_R(0.0) ? d1 : d2) - d;
-    kc_real g1 = gap_dist(KC_R(1.0), v0, a0, A, J, NULL, NULL, NULL) - d;
+    /* s = 0 is the stop at once, d(0): d1 or d2 (with a slowed stop, the
+     * stop at once within As). */
+    kc_real g0 = (As != A ? gap_dist(KC_R(0.0), v0, a0, As, J, NULL, NULL, NULL) : m1 == KC_R(0.0) ? d1 : d2) - d;
+    kc_real g1 = gap_dist(KC_R(1.0), v0, a0, As, J, NULL, NULL, NULL) - d;
     /* Signs compared, not multiplied: a product of small distances may
      * underflow to zero in float. */
     if (a0 != KC_R(0.0) && ((g0 <= KC_R(0.0) && g1 >= KC_R(0.0)) || (g0 >= KC_R(0.0) && g1 <= KC_R(0.0)))) {
         kc_real s = root(&g, KC_R(0.0), KC_R(1.0), g0, g1, d), ts;
-        gap_dist(s, v0, a0, A, J, NULL, NULL, &ts);
+        gap_dist(s, v0, a0, As, J, NULL, NULL, &ts);
         if (best < KC_R(0.0) || ts < best) {
             s_gap = s;
             best = ts;
@@ -533,7 +603,7 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     }
     if (s_gap >= KC_R(0.0)) {
         vchange c, st;
-        gap_dist(s_gap, v0, a0, A, J, &c, &st, NULL);
+        gap_dist(s_gap, v0, a0, As, J, &c, &st, NULL);
         kc_status r = finish(prof, lay, p0, v0, a0, p1, &c, KC_R(0.0), KC_R(0.0), &st, dt);
         if (r == KC_OK)
             prof->gap = 1;
@@ -541,22 +611,32 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     }
     if (best < KC_R(0.0)) {
         vp = root(&f, m1, m2, d1 - d, d2 - d, d);
-        best = lay ? best : change_stop_time(vp, v0, a0, A, J, NULL);
+        best = lay ? best : change_stop_time(vp, v0, a0, A, As, J, NULL);
     }
-    return lay ? finish_vp(prof, lay, p0, v0, a0, p1, vp, KC_R(0.0), A, J, dt)
+    return lay ? finish_vp(prof, lay, p0, v0, a0, p1, vp, KC_R(0.0), A, As, J, dt)
                : header(prof, p0, v0, a0, p1, vp, best, dt);
+}
+
+/* The duration of the time-optimal plan to f->d whose stop is held
+ * within As (KC_REAL_MAX when there is none). */
+static kc_real stop_slowed_time(const dfun *f, kc_real As)
+{
+    kc_scurve h;
+    if (plan(&h, KC_R(0.0), f->v0, f->a0, f->d, f->V, f->A, As, f->J, KC_R(1.0), 0) != KC_OK)
+        return KC_REAL_MAX;
+    return h.T;
 }
 
 kc_status kc_scurve_plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
                          kc_real amax, kc_real jmax, kc_real dt)
 {
-    return plan(prof, p0, v0, a0, p1, vmax, amax, jmax, dt, 1);
+    return plan(prof, p0, v0, a0, p1, vmax, amax, amax, jmax, dt, 1);
 }
 
 kc_status kc_scurve_plan_time(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
                               kc_real amax, kc_real jmax, kc_real dt)
 {
-    return plan(prof, p0, v0, a0, p1, vmax, amax, jmax, dt, 0);
+    return plan(prof, p0, v0, a0, p1, vmax, amax, amax, jmax, dt, 0);
 }
 
 kc_status kc_scurve_plan_stop(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real amax, kc_real jmax,
@@ -676,9 +756,9 @@ kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_re
     }
     kc_real D = kc_fabs(p1 - p0);
     if (D == KC_R(0.0))
-        return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, KC_R(0.0), duration, amax, jmax, duration, dt);
+        return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, KC_R(0.0), duration, amax, amax, jmax, duration, dt);
     kc_real v = kc_min(stretch_speed(D, amax, jmax, duration), fast.vp < KC_R(0.0) ? -fast.vp : fast.vp);
-    return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, p1 > p0 ? v : -v, KC_R(0.0), amax, jmax, duration, dt);
+    return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, p1 > p0 ? v : -v, KC_R(0.0), amax, amax, jmax, duration, dt);
 }
 
 /* The root between v1 and v3 of the quadratic through (v1, g1), (v2, g2),
@@ -747,6 +827,160 @@ static void narrow(kc_real v, kc_real f, kc_real *vh, kc_real *th, kc_real *vl, 
     }
 }
 
+/* A stretched profile without a cruise to take up the rounding of its
+ * duration (a gap plan, the valley, the rest after the optimum): its end
+ * moved to duration, into prof. */
+static kc_status moved(kc_scurve *prof, kc_scurve *r, kc_real duration, kc_real dt)
+{
+    r->T = duration;
+    r->ticks = kc_profile_ticks(duration, dt);
+    if (r->ticks < 0)
+        return KC_E_CAPACITY;
+    *prof = *r;
+    return KC_OK;
+}
+
+/* The push (kinctl/scurve.h): from (f->v0, f->a0) the
+ * acceleration pushed further from zero at jerk J for t1, then the
+ * time-optimal plan to f->d from there: its duration (KC_REAL_MAX when
+ * there is none). */
+static kc_real valley_time(const dfun *f, kc_real t1)
+{
+    kc_scurve h;
+    kc_real p = KC_R(0.0), v = f->v0, a = f->a0;
+    advance(&p, &v, &a, a > KC_R(0.0) ? f->J : -f->J, t1);
+    /* Only to a state the speed limit holds: v moves with a, which keeps
+     * its sign, and with a ramped out it must stay within vmax too. */
+    if (!(kc_fabs(v + a * kc_fabs(a) / (KC_R(2.0) * f->J)) <= f->V) ||
+        plan(&h, KC_R(0.0), v, a, f->d - p, f->V, f->A, f->A, f->J, KC_R(1.0), 0) != KC_OK)
+        return KC_REAL_MAX;
+    return t1 + h.T;
+}
+
+/* The push for t1 laid out before the time-optimal plan from where it
+ * ends, into *r (the plan's phases shifted by t1). KC_E_LIMIT when that
+ * plan leaves no phase for the push. */
+static kc_status lay_valley(kc_scurve *r, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J, kc_real t1,
+                            kc_real dt)
+{
+    kc_real p = fast->p0, v = fast->v0, a = fast->a0, jp = a > KC_R(0.0) ? J : -J;
+    advance(&p, &v, &a, jp, t1);
+    kc_status st = plan(r, p, v, a, fast->p1, vmax, A, A, J, dt, 1);
+    if (st != KC_OK)
+        return st;
+    if (r->n >= KC_SCURVE_MAX_PHASES)
+        return KC_E_LIMIT;
+    for (int i = r->n; i > 0; i--)
+        set_phase(r, i, r->kind[i - 1], r->t_end[i - 1] + t1, r->tr[i - 1] + t1, r->pr[i - 1], r->vr[i - 1],
+                  r->ar[i - 1], r->j[i - 1]);
+    set_phase(r, 0, 1, t1, KC_R(0.0), fast->p0, fast->v0, fast->a0, jp);
+    r->n++;
+    r->p0 = fast->p0;
+    r->v0 = fast->v0;
+    r->a0 = fast->a0;
+    r->gap = 1;
+    return KC_OK;
+}
+
+/* dfun kinds 3 and 4: the duration of the slower stop (x = 1 / As) or of
+ * the push (x = t1). */
+static kc_real blocked_time(const dfun *f, kc_real x)
+{
+    return f->gap == 3 ? stop_slowed_time(f, KC_R(1.0) / x) : valley_time(f, x);
+}
+
+/* The x in [xl, xh] where blocked_time reaches duration, from tl and th
+ * (its durations at the ends less duration: tl < 0 <= th), by regula
+ * falsi to 4 units of roundoff, or the nearest point after 48 steps: a
+ * plan's duration carries the rounding of its own root searches, where
+ * regula falsi stalls after about fifteen steps (measured on formerly
+ * blocked stretches: as many of them reached in 48 steps as in 200, with
+ * half the plans at the 99th percentile). 0 when the nearest point is off
+ * by more than 64 units (a jump in the duration). */
+static kc_real reach(const dfun *f, kc_real xl, kc_real tl, kc_real xh, kc_real th, kc_real duration)
+{
+    kc_real x, tol = KC_R(4.0) * KC_REAL_EPS * duration;
+    bracket b = {xl, xh, tl, th, tl, th, 0};
+    if (th == KC_R(0.0))
+        return xh;
+    for (int i = 0; i < 48 && bracket_next(&b, &x); i++) {
+        kc_real t = blocked_time(f, x) - duration;
+        if (kc_fabs(t) <= tol)
+            return x;
+        bracket_take(&b, x, t);
+    }
+    x = bracket_best(&b);
+    return kc_fabs(x == b.lo ? b.flo : b.fhi) <= KC_R(16.0) * tol ? x : KC_R(0.0);
+}
+
+/* A moving start that no slower cruise stretches to duration
+ * (kinctl/scurve.h, kc_scurve_plan_duration_from). First the time-optimal
+ * plan with its stop (the last velocity change) held within As < A: its
+ * duration grows as As falls, about as 1 / As, so As is halved from A
+ * until the plan lasts at least duration (at most 64 times), then found
+ * by regula falsi in 1 / As; the profile is laid out to last duration.
+ * Else a push first: t1 from 0 (the optimum itself) towards where |a|
+ * reaches A; halving between the last point that lasts less than duration
+ * and the last beyond it (too long, or no plan) until one lasts at least
+ * duration (at most 40 steps), then regula falsi between the two. Else
+ * the optimum followed by rest at p1, when the plan leaves a phase for
+ * the rest; KC_E_LIMIT otherwise. */
+static kc_status stretch_blocked(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J,
+                                 kc_real duration, kc_real dt)
+{
+    kc_real p0 = fast->p0, p1 = fast->p1, a0 = fast->a0, x = KC_R(0.0);
+    dfun f = {3, fast->v0, a0, A, A, J, p1 - p0, vmax, NULL};
+    kc_real xl = KC_R(1.0) / A, tl = fast->T - duration, xh = xl, th = tl, xu;
+    for (int i = 0; i < 64 && th < KC_R(0.0); i++) {
+        xl = xh;
+        tl = th;
+        xh *= KC_R(2.0);
+        th = blocked_time(&f, xh) - duration;
+    }
+    if (th >= KC_R(0.0) && th < KC_REAL_MAX - duration)
+        x = reach(&f, xl, tl, xh, th, duration);
+    kc_real As = x > KC_R(0.0) ? KC_R(1.0) / x : A;
+    kc_scurve r;
+    kc_status st;
+    f.gap = 4;
+    xu = (A - kc_fabs(a0)) / J;
+    if (As == A && a0 != KC_R(0.0) && xu > KC_R(0.0) && (tl = blocked_time(&f, xl = KC_R(0.0)) - duration) < KC_R(0.0)) {
+        xh = xu;
+        for (int i = 0; i < 40 && xl < xu; i++) {
+            th = blocked_time(&f, xh) - duration;
+            if (th >= KC_R(0.0) && th < KC_REAL_MAX - duration) {
+                x = reach(&f, xl, tl, xh, th, duration);
+                if (x == KC_R(0.0))
+                    break;
+                st = lay_valley(&r, fast, vmax, A, J, x, dt);
+                if (st == KC_OK)
+                    return moved(prof, &r, duration, dt);
+                if (st != KC_E_LIMIT)
+                    return st;
+                break;
+            }
+            if (th < KC_R(0.0)) {
+                xl = xh;
+                tl = th;
+            } else {
+                xu = xh;
+            }
+            xh = KC_R(0.5) * (xl + xu);
+        }
+    }
+    st = plan(&r, p0, fast->v0, a0, p1, vmax, A, As, J, dt, 1);
+    if (st != KC_OK)
+        return st;
+    if (As == A) {
+        if (r.n >= KC_SCURVE_MAX_PHASES || !(r.T < duration))
+            return KC_E_LIMIT;
+        add_phase(&r, 3, duration, r.T, p1, KC_R(0.0), KC_R(0.0), KC_R(0.0));
+    } else if (!r.gap) {
+        return build_vp(prof, p0, fast->v0, a0, p1, r.vp, KC_R(0.0), A, As, J, duration, dt);
+    }
+    return moved(prof, &r, duration, dt);
+}
+
 /* The moving start (v0, a0) != 0 stretched to duration > fast->T, fast
  * its time-optimal plan (kinctl/scurve.h, kc_scurve_plan_duration_from). */
 static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J,
@@ -755,12 +989,12 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
     kc_real p0 = fast->p0, v0 = fast->v0, a0 = fast->a0, p1 = fast->p1, d = p1 - p0;
     /* e: how far the target lies beyond where stopping at once ends; the
      * cruise runs towards it (sign s). */
-    kc_real ds = dist_of(KC_R(0.0), v0, a0, A, J), e = d - ds;
+    kc_real ds = dist_of(KC_R(0.0), v0, a0, A, A, J), e = d - ds;
     /* Stop at once, then wait: also for an e within the rounding of the
      * distances (a start on its stop to p1, as the rest of a stretched
      * plan is: a tiny e of either sign would have it come back instead). */
     if (kc_fabs(e) <= KC_R(8.0) * KC_REAL_EPS * (kc_fabs(p0) + kc_fabs(p1) + kc_fabs(ds)))
-        return build_vp(prof, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, J, duration, dt);
+        return build_vp(prof, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, A, J, duration, dt);
     kc_real s = e > KC_R(0.0) ? KC_R(1.0) : KC_R(-1.0);
     kc_real V = kc_isfinite(vmax) ? vmax : kc_max(kc_fabs(fast->vp), kc_fabs(v0)) + A * A / J;
     /* vh: the fastest cruise on that side: the optimum's own vp when it is
@@ -769,20 +1003,21 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
     kc_real vh = fast->vp;
     if (fast->gap || !(s * vh > KC_R(0.0))) {
         vh = s * V;
-        kc_real dv = dist_of(vh, v0, a0, A, J);
-        dfun f = {0, v0, a0, A, J, KC_R(0.0)};
+        kc_real dv = dist_of(vh, v0, a0, A, A, J);
+        dfun f = {0, v0, a0, A, A, J, KC_R(0.0), KC_R(0.0), NULL};
         if (s * (d - dv) < KC_R(0.0)) {
             kc_real f0 = -e;
             vh = s > KC_R(0.0) ? root(&f, KC_R(0.0), vh, f0, dv - d, d) : root(&f, vh, KC_R(0.0), dv - d, f0, d);
             if (vh == KC_R(0.0))
-                return KC_E_LIMIT;
+                return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
         }
     }
-    dfun t = {2, v0, a0, A, J, d};
+    kc_real memo[2] = {KC_R(0.0) / KC_R(0.0), KC_R(0.0)};
+    dfun t = {2, v0, a0, A, A, J, d, KC_R(0.0), memo};
     /* The optimum through vh is fast itself: its duration is T(vh). */
     kc_real th = (vh == fast->vp && !fast->gap ? fast->T : cruise_time_of(vh, d, v0, a0, A, J, NULL)) - duration;
-    if (!(th <= KC_R(0.0)))
-        return KC_E_LIMIT; /* between the optimum and the slowest cruise this side allows */
+    if (!(th <= KC_R(0.0))) /* between the optimum and the slowest cruise this side allows */
+        return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
     /* vl: where the cruise alone, e / vp, would fill the duration, then
      * halved until the plan lasts at least that long (the cruise grows as
      * 1 / vp: rarely more than a halving); its duration in closed form
@@ -832,11 +1067,11 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
         kc_real xh = KC_R(1.0) / vh, xl = KC_R(1.0) / vl;
         kc_real x = s > KC_R(0.0) ? root(&t, xh, xl, th, tl, duration) : root(&t, xl, xh, tl, th, duration);
         vp = KC_R(1.0) / x;
-        tc = (d - dist_of(vp, v0, a0, A, J)) / vp;
+        tc = memo[0] == x ? memo[1] : (d - dist_of(vp, v0, a0, A, A, J)) / vp;
     }
-    if (!(tc >= KC_R(0.0)))
-        return KC_E_LIMIT;
-    return build_vp(prof, p0, v0, a0, p1, vp, tc, A, J, duration, dt);
+    if (!(tc >= KC_R(0.0))) /* the change and the stop alone pass the target */
+        return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
+    return build_vp(prof, p0, v0, a0, p1, vp, tc, A, A, J, duration, dt);
 }
 
 kc_status kc_scurve_plan_duration_from(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
@@ -866,7 +1101,7 @@ kc_status kc_scurve_stretch(kc_scurve *prof, const kc_scurve *fast, kc_real vmax
          * from vp to last T, its cruise (if any) filling the time between
          * the change and the stop; a gap plan is planned again. */
         if (fast->n < 0 && !fast->gap)
-            return build_vp(prof, fast->p0, fast->v0, fast->a0, fast->p1, fast->vp, KC_R(0.0), amax, jmax, fast->T,
+            return build_vp(prof, fast->p0, fast->v0, fast->a0, fast->p1, fast->vp, KC_R(0.0), amax, amax, jmax, fast->T,
                             fast->dt);
         if (fast->n < 0)
             return kc_scurve_plan(prof, fast->p0, fast->v0, fast->a0, fast->p1, vmax, amax, jmax, fast->dt);

@@ -49,6 +49,9 @@ ARMS = {"planar2": 2, "rrr3": 3, "puma560": 6, "rb211": 6, "rm01": 6, "panda": 7
 MODEL_LIMITS = {"panda": (PANDA_QD, PANDA_QDD, PANDA_QDDD), "puma560": (PUMA_QD, PUMA_QDD, PUMA_QDDD)}
 # Durations against Ruckig's: relative, beside one tick.
 DURATION_TOL = 1e-4 if FLOAT else 1e-6
+# The same for moves whose every joint's optimum Ruckig computes the same
+# way (starts the limits hold, small jerk limits).
+DURATION_TOL_TIGHT = 1e-4 if FLOAT else 1e-9
 
 
 def random_limits(rng, n):
@@ -134,11 +137,11 @@ def ruckig_duration(q0, qd0, qdd0, q1, limits, sync):
     return traj.duration
 
 
-def assert_duration(move, dt, want, what):
+def assert_duration(move, dt, want, what, tol=DURATION_TOL):
     """The move's rows end on the first tick at or after a duration equal to
-    Ruckig's `want` (within DURATION_TOL of it)."""
+    Ruckig's `want` (within tol of it)."""
     ticks = len(move.rows) - 1
-    lo, hi = want * (1 - DURATION_TOL), want * (1 + DURATION_TOL)
+    lo, hi = want * (1 - tol), want * (1 + tol)
     assert (ticks - 1) * dt < hi and ticks * dt >= lo * (1 - 1e-12), (what, ticks, want / dt)
 
 
@@ -230,3 +233,28 @@ def test_random_replacements_continuous_and_as_fast_as_ruckig():
         check_rows(stream, n, target, lim, dt)
         ts = [r[0] for r in stream]
         assert all(abs(b - a - dt) <= 1e-9 for a, b in zip(ts, ts[1:])), case
+
+
+def test_small_jerk_moving_starts_as_fast_as_ruckig():
+    # rb211's vmax and amax (1.5 rad/s, 6 rad/s^2) with jmax of 1-3 rad/s^3
+    # on every built-in arm, from moving starts the limits hold: a joint's
+    # stretch to the slowest joint's optimum may need a cruise below the
+    # speed its acceleration carries it to, which passes the target, or lie
+    # between its optimum and its slowest cruise (kinctl/scurve.h,
+    # kc_scurve_plan_duration_from). Every duration from the optimum on is
+    # reached, so each move lasts Ruckig's time-synchronised duration within
+    # 1e-9 of it and one tick, within the limits (while such stretches were
+    # blocked, 2 of these 120 moves lasted 2 % and 6 % longer).
+    rng = random.Random(1)
+    for case in range(120):
+        arm = list(ARMS)[case % len(ARMS)]
+        n = ARMS[arm]
+        lim = ([1.5] * n, [6.0] * n, [round(rng.uniform(1.0, 3.0), 3) for _ in range(n)])
+        dt = rng.choice([0.002, 0.004])
+        q0, q1 = random_q(rng, arm, n), random_q(rng, arm, n)
+        states = [random_state(rng, lim[0][i], lim[1][i], lim[2][i]) for i in range(n)]
+        qd0, qdd0 = [s[0] for s in states], [s[1] for s in states]
+        move = plan(arm, q0, q1, dt, lim, qd0, qdd0)
+        check_rows(move.rows, n, q1, lim, dt)
+        assert_duration(move, dt, ruckig_duration(q0, qd0, qdd0, q1, lim, Synchronization.Time), (case, arm),
+                        DURATION_TOL_TIGHT)

@@ -290,15 +290,14 @@ static void test_moving_start(void **state)
 }
 
 /* Moving starts stretched to a longer duration: the plan lasts exactly
- * that long and walks clean, or the duration lies in a blocked interval
- * (KC_E_LIMIT: longer than the optimum, shorter than the slowest plan of
- * the stretchable branch), counted; twice the optimum is never blocked
- * more than rarely. */
+ * that long and walks clean (a target at rest is reached in any duration
+ * from the optimum on: no blocked intervals), also from starts beyond
+ * the limits. */
 static void test_moving_stretched(void **state)
 {
     (void)state;
     kt_rng r = kt_rng_make(0x5C0FE007);
-    int blocked = 0, done = 0;
+    int done = 0;
     for (int n = 0; n < N_RANDOM; n++) {
         double p0 = kt_uniform(&r, -2.0, 2.0), p1 = kt_uniform(&r, -2.0, 2.0);
         double V = kt_uniform(&r, 0.1, 3.0), A = kt_uniform(&r, 0.5, 30.0), J = kt_uniform(&r, 2.0, 600.0);
@@ -310,19 +309,13 @@ static void test_moving_stretched(void **state)
         kc_real T = (kc_real)((double)fast.T * f);
         kc_status st = kc_scurve_plan_duration_from(&pr, (kc_real)p0, (kc_real)v0, (kc_real)a0, (kc_real)p1,
                                                     (kc_real)V, (kc_real)A, (kc_real)J, T, (kc_real)dt);
-        if (st == KC_E_LIMIT) {
-            assert_true(f > 1.0);
-            blocked++;
-            continue;
-        }
         assert_int_equal(st, KC_OK);
         done++;
         assert_true(pr.T == (f == 1.0 ? fast.T : T));
         walk(&pr, (double)(kc_real)p0, (double)(kc_real)v0, (double)(kc_real)a0, (double)(kc_real)p1,
              (double)(kc_real)V, (double)(kc_real)A, (double)(kc_real)J, "moving, stretched");
     }
-    print_message("moving starts stretched: %d planned, %d in a blocked interval\n", done, blocked);
-    assert_true(blocked < N_RANDOM / 20);
+    assert_int_equal(done, N_RANDOM);
     /* From rest it is kc_scurve_plan_duration. */
     kc_scurve a, b;
     assert_int_equal(kc_scurve_plan_duration_from(&a, 0, 0, 0, KC_R(1.0), KC_R(1.0), KC_R(2.0), KC_R(10.0), KC_R(4.0),
@@ -337,6 +330,98 @@ static void test_moving_stretched(void **state)
     assert_int_equal(kc_scurve_plan_duration_from(&a, 0, KC_R(0.5), 0, KC_R(1.0), KC_R(1.0), KC_R(2.0), KC_R(10.0),
                                                   KC_R(0.1), KC_R(0.001)),
                      KC_E_LIMIT);
+}
+
+/* Whether a stretched profile ends with a rest at p1 before its
+ * duration (kc_scurve_plan_duration_from: the optimum, then rest). */
+static int ends_at_rest(const kc_scurve *pr)
+{
+    int i = pr->n - 1;
+    return i > 0 && pr->kind[i] == 3 && pr->j[i] == KC_R(0.0) && pr->vr[i] == KC_R(0.0) && pr->ar[i] == KC_R(0.0);
+}
+
+/* Moving starts the limits hold (|v0| <= V, |a0| <= A, the speed with a0
+ * ramped out within V) with small jerk limits, stretched to durations
+ * from the optimum to twice it, the steps near the optimum fine: a target
+ * at rest is reached in every one of them (arriving early and resting at
+ * p1 is one way), so every stretch plans, lasts exactly its duration and
+ * walks clean. A slower cruise does not reach all of them (jmax of a few
+ * rad/s^3 or less: docs/testing.md); a slower stop or a push first
+ * reaches nearly all of the rest, and a rest at p1 after the optimum the
+ * others, counted. */
+static void test_moving_stretched_small_jerk(void **state)
+{
+    (void)state;
+    static const double factors[] = {1.0 + 1e-9, 1.001, 1.01, 1.03, 1.06, 1.1, 1.15, 1.2, 1.35, 1.6, 2.0};
+    const int nf = (int)(sizeof factors / sizeof factors[0]);
+    kt_rng r = kt_rng_make(0x19A11E);
+    int stretched = 0, rests = 0;
+    for (int n = 0; n < N_RANDOM / 4; n++) {
+        double V = kt_uniform(&r, 0.3, 3.0), A = kt_uniform(&r, 1.0, 30.0);
+        double J = n % 4 == 0 ? kt_uniform(&r, 0.1, 1.0) : kt_uniform(&r, 1.0, 3.0);
+        double v0, a0;
+        do {
+            v0 = kt_uniform(&r, -V, V);
+            a0 = kt_uniform(&r, -A, A);
+        } while (fabs(v0 + a0 * fabs(a0) / (2.0 * J)) > V);
+        double p0 = kt_uniform(&r, -1.5, 1.5), p1 = kt_uniform(&r, -1.5, 1.5), dt = n % 2 ? 0.004 : 0.01;
+        kc_scurve fast, pr;
+        plan_ok(&fast, p0, v0, a0, p1, V, A, J, dt);
+        for (int i = 0; i < nf; i++) {
+            kc_real T = (kc_real)((double)fast.T * factors[i]);
+            if (!(T > fast.T))
+                continue;
+            assert_int_equal(kc_scurve_plan_duration_from(&pr, (kc_real)p0, (kc_real)v0, (kc_real)a0, (kc_real)p1,
+                                                          (kc_real)V, (kc_real)A, (kc_real)J, T, (kc_real)dt),
+                             KC_OK);
+            assert_true(pr.T == T);
+            walk(&pr, (double)(kc_real)p0, (double)(kc_real)v0, (double)(kc_real)a0, (double)(kc_real)p1,
+                 (double)(kc_real)V, (double)(kc_real)A, (double)(kc_real)J, "small jerk, stretched");
+            stretched++;
+            rests += ends_at_rest(&pr);
+        }
+    }
+    print_message("small-jerk moving starts: %d stretched, %d of them by a rest at p1\n", stretched, rests);
+    assert_true(rests < stretched / 500);
+}
+
+/* Three starts whose stretch no slower cruise reaches (all seen as
+ * blocked intervals before, 1-20 % longer than the optimum): a cruise
+ * below vn would pass the target, and a slower stop takes it; the
+ * optimum is of the gap family with a0 beyond what a slower stop keeps,
+ * and a push of the acceleration first takes it (Ruckig's valley, jerk
+ * -, +, -, +); neither reaches the third, which rests on its target after
+ * its optimum (in the double build; the float one rounds the start). */
+static void test_moving_stretched_blocked_cases(void **state)
+{
+    (void)state;
+    static const double cases[3][7] = {
+        {-0.2177244670, 0.4823555760, 0.7569098471, 0.8832020769, 2.8256592952, 28.8494566580, 1.3512147572},
+        {-0.4969997830, 2.2350681809, -4.8603075210, 0.1326762425, 2.8399832101, 12.3238779830, 17.8865519036},
+        {0.8794258713516827, -1.6962400634702395, 1.3681461724549648, -0.4353161086300843, 1.7028332481321455,
+         1.414325258231972, 2.258146308822382},
+    };
+    int rests = 0;
+    for (int c = 0; c < 3; c++) {
+        const double *k = cases[c];
+        kc_scurve fast, pr;
+        plan_ok(&fast, k[0], k[1], k[2], k[3], k[4], k[5], k[6], 0.001);
+        for (int i = 1; i <= 20; i++) {
+            kc_real T = fast.T * (KC_R(1.0) + KC_R(0.01) * (kc_real)i);
+            assert_int_equal(kc_scurve_plan_duration_from(&pr, (kc_real)k[0], (kc_real)k[1], (kc_real)k[2],
+                                                          (kc_real)k[3], (kc_real)k[4], (kc_real)k[5], (kc_real)k[6],
+                                                          T, KC_R(0.001)),
+                             KC_OK);
+            assert_true(pr.T == T);
+            walk(&pr, (double)(kc_real)k[0], (double)(kc_real)k[1], (double)(kc_real)k[2], (double)(kc_real)k[3],
+                 k[4], k[5], k[6], "blocked case, stretched");
+            if (c < 2)
+                assert_false(ends_at_rest(&pr));
+            else
+                rests += ends_at_rest(&pr);
+        }
+    }
+    assert_true(FLOAT_BUILD || rests > 0);
 }
 
 /* A start at rest through the moving-start search (a speck of velocity)
@@ -498,8 +583,8 @@ static void test_joint_move(void **state)
 
 /* Joint moves from moving starts (time synchronisation): the start state
  * exact on tick 0, every joint within what its start allows, all exactly
- * on target on one tick, the duration the slowest joint's own optimum (or
- * a little more past a blocked interval). */
+ * on target on one tick, the duration the slowest joint's own optimum
+ * (every joint's stretch reaches it, kinctl/scurve.h). */
 static void test_joint_move_moving(void **state)
 {
     (void)state;
@@ -528,10 +613,8 @@ static void test_joint_move_moving(void **state)
         }
         kc_interp_joint plan;
         assert_int_equal(kc_interp_joint_plan_cfg(&plan, &cfg), KC_OK);
-        /* Time synchronisation, unless a start on the line to the target
-         * is faster on it (past a blocked interval of the stretch). Past
-         * a blocked interval T grows by at most 2^16 / 1024 - 1 of
-         * itself; counted, and rare. */
+        /* Time synchronisation, or a start on the line to the target
+         * staying on it (no faster: the stretches reach the optimum). */
         assert_true(plan.sync == KC_INTERP_SYNC_TIME || plan.sync == KC_INTERP_SYNC_PHASE);
         assert_true((double)plan.T >= T_opt * (1.0 - 8.0 * EPS));
         longer += (double)plan.T > T_opt * (1.0 + 8.0 * EPS);
@@ -570,7 +653,7 @@ static void test_joint_move_moving(void **state)
             assert_true(st.q[i] == cfg.q1[i] && st.qd[i] == KC_R(0.0) && st.qdd[i] == KC_R(0.0));
     }
     print_message("moving joint moves: %d of %d longer than the slowest joint's optimum\n", longer, N_RANDOM / 8);
-    assert_true(longer < N_RANDOM / 80);
+    assert_int_equal(longer, 0);
 }
 
 static void test_joint_move_bad(void **state)
@@ -729,7 +812,8 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_textbook),     cmocka_unit_test(test_rest_to_rest),
         cmocka_unit_test(test_stretched),    cmocka_unit_test(test_moving_start),
-        cmocka_unit_test(test_moving_stretched),    cmocka_unit_test(test_moving_agrees_with_rest),
+        cmocka_unit_test(test_moving_stretched),    cmocka_unit_test(test_moving_stretched_small_jerk),
+        cmocka_unit_test(test_moving_stretched_blocked_cases), cmocka_unit_test(test_moving_agrees_with_rest),
         cmocka_unit_test(test_extreme_scales),
         cmocka_unit_test(test_joint_move),          cmocka_unit_test(test_joint_move_moving),
         cmocka_unit_test(test_joint_move_bad), cmocka_unit_test(test_bad_inputs),

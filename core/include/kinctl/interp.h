@@ -168,17 +168,20 @@ kc_status kc_interp_joint_plan(kc_interp_joint *plan, int n, const kc_real *q0, 
  * From a moving start (qd0, qdd0 not all zero): time synchronisation,
  * every joint's own profile from its start state (kinctl/scurve.h) to
  * rest at q1_i, stretched to T, the longest optimum, by
- * kc_scurve_plan_duration_from; where a joint's stretch falls into a
- * blocked interval, T grows by 2^m / 1024 of itself, m = 0..15, until
- * every joint plans (KC_E_LIMIT if none does), and the step is then
- * halved ten times between the last blocked and the first free duration,
- * so T exceeds the end of the blocked interval by at most 2^(m-10) / 1024
- * of itself. A start moving along the line to the target (qd0 and qdd0
+ * kc_scurve_plan_duration_from, which reaches every duration from a
+ * joint's optimum on (a slower cruise, a slower stop, or the optimum and
+ * a rest on the target). Only where a joint would need that rest after an
+ * optimum of seven phases (KC_E_LIMIT: not seen in random tests) does T
+ * grow past it, by 2^m / 1024 of itself, m = 0..15, until every joint
+ * plans (KC_E_LIMIT if none does), the step then halved ten times between
+ * the last refused and the first planned duration, so T exceeds the first
+ * reachable one by at most 2^(m-10) / 1024 of itself. A start moving
+ * along the line to the target (qd0 and qdd0
  * both multiples of q1 - q0, within the rounding of that difference: a
  * replacing goal with the target of a move on its line) may instead stay
  * on the line, by phase: one profile of u from (0, u', u'') to rest at 1
- * within the bounds on u's derivatives, taken when it is shorter (where a
- * joint's stretch is blocked); its start is the given state within the
+ * within the bounds on u's derivatives, taken when it is shorter (only
+ * where a stretch is refused); its start is the given state within the
  * rounding of one product. Each joint stays within its
  * limits as far as its start allows (kinctl/scurve.h).
  * Returns as kc_interp_joint_plan; KC_E_ARG also for a NULL cfg, an
