@@ -16,8 +16,6 @@ static kc_zone_set ZONES;
 static kc_check CHECK;
 static kc_ctrl CTRL;
 
-static const kc_real PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
-
 static void setup(void)
 {
     assert_int_equal(kc_chain_init_model(&CHAIN, KC_MODEL_PUMA560, NULL), KC_OK);
@@ -33,7 +31,7 @@ static kc_goal joint_goal(int64_t id, const kc_real *q)
     return g;
 }
 
-/* A joint path through PUMA_Q0 + (i + 1) 0.1 rad on every joint. */
+/* A joint path through KT_PUMA_Q0 + (i + 1) 0.1 rad on every joint. */
 static kc_goal joint_path(int64_t id, int n_points)
 {
     kc_goal g;
@@ -46,19 +44,7 @@ static kc_goal joint_path(int64_t id, int n_points)
     g.n_points = n_points;
     for (int i = 0; i < n_points && i < KC_PATH_MAX_KNOTS - 1; i++)
         for (int j = 0; j < 6; j++)
-            g.points[i][j] = PUMA_Q0[j] + KC_R(0.1) * (kc_real)(i + 1);
-    return g;
-}
-
-static kc_goal line_goal(int64_t id, const kc_pose *to)
-{
-    kc_goal g;
-    memset(&g, 0, sizeof g);
-    g.id = id;
-    g.kind = KC_GOAL_LINE;
-    g.vel_scale = g.acc_scale = KC_R(1.0);
-    g.pose = *to;
-    g.orient = KC_INTERP_SLERP;
+            g.points[i][j] = KT_PUMA_Q0[j] + KC_R(0.1) * (kc_real)(i + 1);
     return g;
 }
 
@@ -82,10 +68,10 @@ static void test_goal_check_verdicts(void **state)
     (void)state;
     setup();
     kc_verdict v;
-    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, PUMA_Q0), KC_OK);
+    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, KT_PUMA_Q0), KC_OK);
 
     /* joint move: the count the client gave, then the first joint out */
-    kc_goal g = joint_goal(1, PUMA_Q0);
+    kc_goal g = joint_goal(1, KT_PUMA_Q0);
     assert_int_equal(kc_ctrl_goal_check(&CHAIN, &g, &v), KC_OK);
     assert_int_equal(v.status, KC_OK);
     assert_int_equal(v.reason, KC_REASON_NONE);
@@ -114,7 +100,7 @@ static void test_goal_check_verdicts(void **state)
     assert_int_equal(kc_ctrl_goal_check(&CHAIN, &g, &v), KC_E_ARG);
     assert_names(&v, KC_REASON_JOINT_LIMIT, KC_FIELD_TARGET, 2, 4);
     assert_true(v.value == g.points[2][4]);
-    g.points[2][4] = PUMA_Q0[4];
+    g.points[2][4] = KT_PUMA_Q0[4];
     assert_int_equal(kc_ctrl_goal_check(&CHAIN, &g, &v), KC_E_ARG);
     assert_names(&v, KC_REASON_BAD_GOAL, KC_FIELD_TIMES, 1, -1);
     g = joint_path(3, 4);
@@ -138,23 +124,23 @@ static void test_goal_check_verdicts(void **state)
 
     /* a line whose orientation is no rotation; a scale out of (0, 1] */
     kc_pose to;
-    kc_fk_eval(&CHAIN, PUMA_Q0, &to);
-    g = line_goal(7, &to);
+    kc_fk_eval(&CHAIN, KT_PUMA_Q0, &to);
+    g = kt_line_goal(7, &to);
     assert_int_equal(kc_ctrl_goal_check(&CHAIN, &g, &v), KC_OK);
     to.R.m[0][0] *= KC_R(1.1);
-    g = line_goal(7, &to);
+    g = kt_line_goal(7, &to);
     assert_int_equal(kc_ctrl_goal_check(&CHAIN, &g, &v), KC_E_ARG);
     assert_names(&v, KC_REASON_BAD_GOAL, KC_FIELD_ORIENTATION, -1, -1);
     assert_true(isnan((double)v.value));
-    g = joint_goal(8, PUMA_Q0);
+    g = joint_goal(8, KT_PUMA_Q0);
     g.vel_scale = KC_R(1.5);
     assert_int_equal(kc_ctrl_goal_check(&CHAIN, &g, &v), KC_E_ARG);
     assert_names(&v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, -1);
 
     /* the dry run starts with the same check: the same verdict */
-    g = joint_goal(9, PUMA_Q0);
+    g = joint_goal(9, KT_PUMA_Q0);
     g.q[1] = CHAIN.joints[1].limits.q_max + KC_R(0.1);
-    assert_int_equal(kc_check_from(&CHECK, PUMA_Q0, &g, &v), KC_E_ARG);
+    assert_int_equal(kc_check_from(&CHECK, KT_PUMA_Q0, &g, &v), KC_E_ARG);
     assert_names(&v, KC_REASON_JOINT_LIMIT, KC_FIELD_TARGET, -1, 1);
 }
 
@@ -164,13 +150,13 @@ static void test_dry_run_verdicts(void **state)
     (void)state;
     setup();
     kc_verdict v;
-    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, PUMA_Q0), KC_OK);
+    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, KT_PUMA_Q0), KC_OK);
     kc_pose start, to;
-    kc_fk_eval(&CHAIN, PUMA_Q0, &start);
+    kc_fk_eval(&CHAIN, KT_PUMA_Q0, &start);
     to = start;
     to.t.v[1] += KC_R(0.2);
-    kc_goal g = line_goal(1, &to);
-    assert_int_equal(kc_check_from(&CHECK, PUMA_Q0, &g, &v), KC_OK);
+    kc_goal g = kt_line_goal(1, &to);
+    assert_int_equal(kc_check_from(&CHECK, KT_PUMA_Q0, &g, &v), KC_OK);
     assert_int_equal(v.reason, KC_REASON_NONE);
     kc_pose end;
     kc_fk_eval(&CHAIN, v.q_end, &end);
@@ -180,8 +166,8 @@ static void test_dry_run_verdicts(void **state)
 
     /* out of the workspace: unreachable, on the way */
     to.t.v[0] += KC_R(2.0);
-    g = line_goal(2, &to);
-    assert_int_equal(kc_check_from(&CHECK, PUMA_Q0, &g, &v), KC_E_UNREACHABLE);
+    g = kt_line_goal(2, &to);
+    assert_int_equal(kc_check_from(&CHECK, KT_PUMA_Q0, &g, &v), KC_E_UNREACHABLE);
     assert_int_equal(v.status, KC_E_UNREACHABLE);
     assert_int_equal(v.reason, KC_REASON_UNREACHABLE);
     assert_true(v.where > KC_R(0.0) && v.where < KC_R(2.0));
@@ -189,11 +175,11 @@ static void test_dry_run_verdicts(void **state)
     assert_int_equal(v.zone, -1);
 
     /* a motion longer than the check looks: too long, at its last tick */
-    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 5, PUMA_Q0), KC_OK);
+    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 5, KT_PUMA_Q0), KC_OK);
     to = start;
     to.t.v[1] += KC_R(0.2);
-    g = line_goal(3, &to);
-    assert_int_equal(kc_check_from(&CHECK, PUMA_Q0, &g, &v), KC_E_CAPACITY);
+    g = kt_line_goal(3, &to);
+    assert_int_equal(kc_check_from(&CHECK, KT_PUMA_Q0, &g, &v), KC_E_CAPACITY);
     assert_int_equal(v.reason, KC_REASON_PLAN);
     assert_int_equal(v.tick, 5);
 }
@@ -206,9 +192,9 @@ static void test_zone_verdict(void **state)
     setup();
     CFG.zones = &ZONES;
     kc_real qa[6], qb[6], qm[6];
-    memcpy(qa, PUMA_Q0, sizeof qa);
-    memcpy(qb, PUMA_Q0, sizeof qb);
-    memcpy(qm, PUMA_Q0, sizeof qm);
+    memcpy(qa, KT_PUMA_Q0, sizeof qa);
+    memcpy(qb, KT_PUMA_Q0, sizeof qb);
+    memcpy(qm, KT_PUMA_Q0, sizeof qm);
     qa[0] = KC_R(-0.8);
     qb[0] = KC_R(0.8);
     qm[0] = KC_R(0.0);
@@ -260,21 +246,21 @@ static void test_queue_end(void **state)
 {
     (void)state;
     setup();
-    assert_int_equal(kc_ctrl_init(&CTRL, &CHAIN, &CFG, PUMA_Q0), KC_OK);
-    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, PUMA_Q0), KC_OK);
+    assert_int_equal(kc_ctrl_init(&CTRL, &CHAIN, &CFG, KT_PUMA_Q0), KC_OK);
+    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, KT_PUMA_Q0), KC_OK);
     int64_t taken = 0;
     tick(NULL, &taken);
     kc_goal sent[KC_CTRL_QUEUE_MAX];
     kc_verdict v;
     kc_real target[6];
     for (int i = 0; i < KC_CTRL_QUEUE_MAX; i++) {
-        memcpy(target, PUMA_Q0, sizeof target);
-        target[0] = PUMA_Q0[0] + KC_R(0.05) * (kc_real)(i + 1);
-        target[5] = PUMA_Q0[5] - KC_R(0.05) * (kc_real)(i + 1);
+        memcpy(target, KT_PUMA_Q0, sizeof target);
+        target[0] = KT_PUMA_Q0[0] + KC_R(0.05) * (kc_real)(i + 1);
+        target[5] = KT_PUMA_Q0[5] - KC_R(0.05) * (kc_real)(i + 1);
         sent[i] = joint_goal(10 + i, target);
         assert_int_equal(kc_check_goal(&CHECK, &sent[i], &v), KC_OK);
         /* judged from the end of the goal before it */
-        const kc_real *from = i == 0 ? PUMA_Q0 : sent[i - 1].q;
+        const kc_real *from = i == 0 ? KT_PUMA_Q0 : sent[i - 1].q;
         for (int j = 0; j < 6; j++) {
             assert_true(CHECK.q_from[j] == from[j]);
             assert_true(v.q_end[j] == target[j]);
@@ -282,7 +268,7 @@ static void test_queue_end(void **state)
         kc_check_handed(&CHECK, &sent[i], &v);
     }
     /* handed on, not yet taken: the queue is full */
-    memcpy(target, PUMA_Q0, sizeof target);
+    memcpy(target, KT_PUMA_Q0, sizeof target);
     kc_goal more = joint_goal(30, target);
     assert_int_equal(kc_check_goal(&CHECK, &more, &v), KC_E_CAPACITY);
     assert_int_equal(v.reason, KC_REASON_QUEUE_FULL);
@@ -291,7 +277,7 @@ static void test_queue_end(void **state)
     more.replace = 1;
     assert_int_equal(kc_check_goal(&CHECK, &more, &v), KC_OK);
     for (int j = 0; j < 6; j++)
-        assert_true(CHECK.q_from[j] == PUMA_Q0[j]);
+        assert_true(CHECK.q_from[j] == KT_PUMA_Q0[j]);
     more.replace = 0;
 
     /* The controller takes one goal a tick, as the cycle does; the queue
@@ -301,11 +287,11 @@ static void test_queue_end(void **state)
     assert_int_equal(kc_check_goal(&CHECK, &more, &v), KC_OK); /* room again: 1 active, 7 queued */
     /* A goal whose id is in flight: the check takes it, the controller
      * refuses it, and the queue ends where it ended before. */
-    kc_goal dup = joint_goal(10 + KC_CTRL_QUEUE_MAX - 1, PUMA_Q0);
+    kc_goal dup = joint_goal(10 + KC_CTRL_QUEUE_MAX - 1, KT_PUMA_Q0);
     assert_int_equal(kc_check_goal(&CHECK, &dup, &v), KC_OK);
     kc_check_handed(&CHECK, &dup, &v);
     for (int j = 0; j < 6; j++)
-        assert_true(CHECK.q_end[j] == PUMA_Q0[j]);
+        assert_true(CHECK.q_end[j] == KT_PUMA_Q0[j]);
     tick(&dup, &taken);
     for (int j = 0; j < 6; j++)
         assert_true(CHECK.q_end[j] == sent[KC_CTRL_QUEUE_MAX - 1].q[j]);
@@ -371,24 +357,24 @@ static void test_sliced_same_verdict(void **state)
     (void)state;
     setup();
     kc_pose start, to, far;
-    kc_fk_eval(&CHAIN, PUMA_Q0, &start);
+    kc_fk_eval(&CHAIN, KT_PUMA_Q0, &start);
     to = start;
     to.t.v[1] += KC_R(0.2);
     far = to;
     far.t.v[0] += KC_R(2.0);
     kc_real bad[6];
-    memcpy(bad, PUMA_Q0, sizeof bad);
+    memcpy(bad, KT_PUMA_Q0, sizeof bad);
     bad[2] = KC_R(40.0);
-    kc_goal goals[4] = {line_goal(1, &to), line_goal(2, &far), line_goal(3, &to), joint_goal(4, bad)};
+    kc_goal goals[4] = {kt_line_goal(1, &to), kt_line_goal(2, &far), kt_line_goal(3, &to), joint_goal(4, bad)};
     int64_t max_ticks[4] = {100000, 100000, 50, 100000};
     static const int64_t slices[3] = {1, 13, 1 << 20};
     for (int i = 0; i < 4; i++) {
         kc_verdict one, part;
-        assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, max_ticks[i], PUMA_Q0), KC_OK);
+        assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, max_ticks[i], KT_PUMA_Q0), KC_OK);
         kc_status st = kc_check_goal(&CHECK, &goals[i], &one);
         assert_int_equal(st, one.status);
         for (int k = 0; k < 3; k++) {
-            int calls = sliced(PUMA_Q0, max_ticks[i], &goals[i], slices[k], &part);
+            int calls = sliced(KT_PUMA_Q0, max_ticks[i], &goals[i], slices[k], &part);
             assert_same_verdict(&one, &part);
             if (i < 3 && slices[k] == 1)
                 assert_int_equal(calls, one.tick); /* one tick a call, to the tick that ended it */
@@ -398,7 +384,7 @@ static void test_sliced_same_verdict(void **state)
     }
     assert_int_equal(goals[0].id, 1);
     kc_verdict v;
-    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, PUMA_Q0), KC_OK);
+    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, KT_PUMA_Q0), KC_OK);
     assert_int_equal(kc_check_goal(&CHECK, &goals[0], &v), KC_OK);
     assert_int_equal(kc_check_goal(&CHECK, &goals[1], &v), KC_E_UNREACHABLE);
     assert_int_equal(kc_check_goal(&CHECK, &goals[2], &v), KC_OK);
@@ -406,9 +392,9 @@ static void test_sliced_same_verdict(void **state)
     /* with zones, the sweep of test_zone_verdict: zone 0 in the way */
     CFG.zones = &ZONES;
     kc_real qa[6], qb[6], qm[6];
-    memcpy(qa, PUMA_Q0, sizeof qa);
-    memcpy(qb, PUMA_Q0, sizeof qb);
-    memcpy(qm, PUMA_Q0, sizeof qm);
+    memcpy(qa, KT_PUMA_Q0, sizeof qa);
+    memcpy(qb, KT_PUMA_Q0, sizeof qb);
+    memcpy(qm, KT_PUMA_Q0, sizeof qm);
     qa[0] = KC_R(-0.8);
     qb[0] = KC_R(0.8);
     qm[0] = KC_R(0.0);

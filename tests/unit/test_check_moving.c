@@ -22,8 +22,6 @@ static kc_zone_set ZONES;
 static kc_check CHECK;
 static kc_ctrl CTRL, PROBE;
 
-static const kc_real PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
-
 /* Ticks of the waist sweep before the replacement: joint 0 then moves at
  * about its top speed, far from both ends of the sweep. */
 #define SWEEP_TICKS 700
@@ -43,31 +41,19 @@ static kc_goal joint_goal(int64_t id, const kc_real *q)
     return g;
 }
 
-static kc_goal line_goal(int64_t id, const kc_pose *to)
-{
-    kc_goal g;
-    memset(&g, 0, sizeof g);
-    g.id = id;
-    g.kind = KC_GOAL_LINE;
-    g.vel_scale = g.acc_scale = KC_R(1.0);
-    g.pose = *to;
-    g.orient = KC_INTERP_SLERP;
-    return g;
-}
-
 /* The sweep the replacement interrupts: the waist from -0.8 to 0.8 rad,
  * both shifted by shift. */
 static kc_goal sweep_goal(int64_t id, kc_real shift)
 {
     kc_real qb[6];
-    memcpy(qb, PUMA_Q0, sizeof qb);
+    memcpy(qb, KT_PUMA_Q0, sizeof qb);
     qb[0] = KC_R(0.8) + shift;
     return joint_goal(id, qb);
 }
 
 static void sweep_start(kc_real *qa, kc_real shift)
 {
-    memcpy(qa, PUMA_Q0, sizeof(kc_real) * 6);
+    memcpy(qa, KT_PUMA_Q0, sizeof(kc_real) * 6);
     qa[0] = KC_R(-0.8) + shift;
 }
 
@@ -157,9 +143,9 @@ static void sweep_then_snapshot(void)
 static kc_goal reach_goal(int64_t id, const kc_real *q_snap)
 {
     kc_real q[6];
-    memcpy(q, PUMA_Q0, sizeof q);
+    memcpy(q, KT_PUMA_Q0, sizeof q);
     q[0] = q_snap[0];
-    q[2] = PUMA_Q0[2] + KC_R(0.9);
+    q[2] = KT_PUMA_Q0[2] + KC_R(0.9);
     return joint_goal(id, q);
 }
 
@@ -291,7 +277,7 @@ static void test_taken_as_controller(void **state)
     sweep_then_snapshot();
     kc_pose to = CTRL.pose;
     to.t.v[2] += KC_R(0.1);
-    g = line_goal(3, &to);
+    g = kt_line_goal(3, &to);
     g.replace = 1;
     assert_as_controller(&g, KC_REASON_NONE);
 
@@ -299,7 +285,7 @@ static void test_taken_as_controller(void **state)
     sweep_profile_then_snapshot(KC_GOAL_PROFILE_TRAPEZOID, KC_R(0.0));
     to = CTRL.pose;
     to.t.v[2] += KC_R(0.1);
-    g = line_goal(4, &to);
+    g = kt_line_goal(4, &to);
     g.replace = 1;
     assert_as_controller(&g, KC_REASON_STOP_FIRST);
 
@@ -388,7 +374,7 @@ static void test_stale_snapshot(void **state)
 
     /* a goal handed on and not yet taken */
     assert_int_equal(kc_check_snapshot(&CHECK, &CTRL, goals), KC_OK);
-    kc_goal more = joint_goal(5, PUMA_Q0);
+    kc_goal more = joint_goal(5, KT_PUMA_Q0);
     assert_int_equal(kc_check_goal(&CHECK, &more, &v), KC_OK);
     assert_int_equal(CHECK.run_moving, 0); /* queued: from the queue's end */
     assert_int_equal(kc_check_snapshot(&CHECK, &CTRL, goals), KC_OK);
