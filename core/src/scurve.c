@@ -171,7 +171,6 @@ static kc_real cruise_time_of(kc_real vp, kc_real d, kc_real v0, kc_real a0, kc_
     return t + c;
 }
 
-
 static kc_real dfun_eval(const dfun *f, kc_real x)
 {
     kc_real r, m = KC_R(0.0);
@@ -352,6 +351,27 @@ static void add_phase(kc_scurve *r, int kind, kc_real t_end, kc_real tr, kc_real
     set_phase(r, r->n++, kind, t_end, tr, p, v, a, j);
 }
 
+/* A plan's header alone (scurve_internal.h): the start, target, vp and
+ * duration T, with n = -1 and ticks = -1 (not counted: the stretch counts
+ * its own). */
+static kc_status header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vp, kc_real T,
+                        kc_real dt)
+{
+    if (!kc_isfinite(T))
+        return KC_E_CAPACITY;
+    prof->p0 = p0;
+    prof->v0 = v0;
+    prof->a0 = a0;
+    prof->p1 = p1;
+    prof->vp = vp;
+    prof->gap = 0;
+    prof->n = -1;
+    prof->T = T;
+    prof->dt = dt;
+    prof->ticks = -1;
+    return KC_OK;
+}
+
 /* The profile: the phases c from the start, a cruise at vp for tc, and
  * the stop s (a velocity change to rest) laid backwards from (p1, 0, 0) at
  * T, where T is `duration` when positive, the sum of the phases otherwise. */
@@ -383,12 +403,7 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
     kc_real bound = kc_fabs(p0) + kc_fabs(p1) + t_change * (kc_fabs(v0) + t_change * (kc_fabs(a0) + t_change * jm)) +
                     jm * t_stop * t_stop * t_stop;
     kc_scurve *o = bound <= KC_REAL_MAX / KC_R(16.0) ? prof : &r;
-    o->p0 = p0;
-    o->v0 = v0;
-    o->a0 = a0;
-    o->p1 = p1;
-    o->vp = vp;
-    o->gap = 0;
+    header(o, p0, v0, a0, p1, vp, T, dt); /* T is finite */
     o->n = 0;
     for (int i = 0; i < c->n; i++) {
         kc_real t0 = t, p_ = p, v_ = v, a_ = a;
@@ -409,8 +424,6 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
         advance(&pb, &vb, &ab, s->j[i], -s->t[i]);
         tb -= s->t[i];
     }
-    o->T = T;
-    o->dt = dt;
     o->ticks = ticks;
     if (o == prof)
         return KC_OK;
@@ -429,27 +442,6 @@ static kc_status build_vp(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, k
     vchange_plan(&c, v0, a0, vp, A, J);
     vchange_plan(&s, vp, KC_R(0.0), KC_R(0.0), As, J);
     return build(prof, p0, v0, a0, p1, &c, vp, tc, &s, duration, dt);
-}
-
-/* A plan's header alone (scurve_internal.h): the start, target, vp and
- * duration T, with n = -1 and ticks = -1 (not counted: the stretch counts
- * its own). */
-static kc_status header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vp, kc_real T,
-                        kc_real dt)
-{
-    if (!kc_isfinite(T))
-        return KC_E_CAPACITY;
-    prof->p0 = p0;
-    prof->v0 = v0;
-    prof->a0 = a0;
-    prof->p1 = p1;
-    prof->vp = vp;
-    prof->gap = 0;
-    prof->n = -1;
-    prof->T = T;
-    prof->dt = dt;
-    prof->ticks = -1;
-    return KC_OK;
 }
 
 /* The header of the profile build() would make of these phases, T summed
@@ -828,7 +820,7 @@ static void narrow(kc_real v, kc_real f, kc_real *vh, kc_real *th, kc_real *vl, 
 }
 
 /* A stretched profile without a cruise to take up the rounding of its
- * duration (a gap plan, the valley, the rest after the optimum): its end
+ * duration (a gap plan, the push, the rest after the optimum): its end
  * moved to duration, into prof. */
 static kc_status moved(kc_scurve *prof, kc_scurve *r, kc_real duration, kc_real dt)
 {
@@ -844,7 +836,7 @@ static kc_status moved(kc_scurve *prof, kc_scurve *r, kc_real duration, kc_real 
  * acceleration pushed further from zero at jerk J for t1, then the
  * time-optimal plan to f->d from there: its duration (KC_REAL_MAX when
  * there is none). */
-static kc_real valley_time(const dfun *f, kc_real t1)
+static kc_real push_time(const dfun *f, kc_real t1)
 {
     kc_scurve h;
     kc_real p = KC_R(0.0), v = f->v0, a = f->a0;
@@ -860,7 +852,7 @@ static kc_real valley_time(const dfun *f, kc_real t1)
 /* The push for t1 laid out before the time-optimal plan from where it
  * ends, into *r (the plan's phases shifted by t1). KC_E_LIMIT when that
  * plan leaves no phase for the push. */
-static kc_status lay_valley(kc_scurve *r, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J, kc_real t1,
+static kc_status lay_push(kc_scurve *r, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J, kc_real t1,
                             kc_real dt)
 {
     kc_real p = fast->p0, v = fast->v0, a = fast->a0, jp = a > KC_R(0.0) ? J : -J;
@@ -886,7 +878,7 @@ static kc_status lay_valley(kc_scurve *r, const kc_scurve *fast, kc_real vmax, k
  * the push (x = t1). */
 static kc_real blocked_time(const dfun *f, kc_real x)
 {
-    return f->gap == 3 ? stop_slowed_time(f, KC_R(1.0) / x) : valley_time(f, x);
+    return f->gap == 3 ? stop_slowed_time(f, KC_R(1.0) / x) : push_time(f, x);
 }
 
 /* The x in [xl, xh] where blocked_time reaches duration, from tl and th
@@ -952,7 +944,7 @@ static kc_status stretch_blocked(kc_scurve *prof, const kc_scurve *fast, kc_real
                 x = reach(&f, xl, tl, xh, th, duration);
                 if (x == KC_R(0.0))
                     break;
-                st = lay_valley(&r, fast, vmax, A, J, x, dt);
+                st = lay_push(&r, fast, vmax, A, J, x, dt);
                 if (st == KC_OK)
                     return moved(prof, &r, duration, dt);
                 if (st != KC_E_LIMIT)
