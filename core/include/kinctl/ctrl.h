@@ -462,7 +462,7 @@ typedef enum kc_ctrl_drive {
     KC_DRIVE_STOPPING_WAIT = 2, /* path: a stop is pending until it is feasible */
     KC_DRIVE_RETARGET = 3,      /* trapezoid joint move from a moving state: plan.retarget per joint */
     KC_DRIVE_SCURVE = 4,        /* jerk-limited joint move on its line, line, arc: u from drive_scurve */
-    KC_DRIVE_HALT = 5           /* jerk-limited joint move stopping joint by joint: plan.halt */
+    KC_DRIVE_HALT = 5           /* jerk-limited joint move or servo stream stopping joint by joint: plan.halt */
 } kc_ctrl_drive;
 
 /* What a jerk-limited joint move stopping on its straight line keeps of
@@ -542,8 +542,10 @@ typedef struct kc_ctrl {
     kc_pose servo_target;
     int64_t servo_last;        /* tick of the last servo update */
     int settle;                /* ticks a Cartesian segment has waited for the tool to settle */
-    /* A stop in joint space (e-stop, servo, a fault off the path): per-joint
-     * stop profiles from tick jstop_k0, ending in state after_stop. */
+    /* A stop in joint space (e-stop, the servo timeout, a fault off the
+     * path): per-joint stop profiles from tick jstop_k0, ending in state
+     * after_stop. A servo stream's jerk-limited stop (drive KC_DRIVE_HALT)
+     * runs plan.halt from jstop_k0 instead. */
     int jstop;
     kc_profile jstop_prof[KC_MAX_JOINTS];
     int64_t jstop_k0;
