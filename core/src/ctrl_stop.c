@@ -190,14 +190,14 @@ int kc_ctrl_joint_stop_eval(const kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *
  * and |qd_i| / A_i, and which phases there are, are the same for all):
  * the joints end on the same tick on the straight line of qd, as the
  * acceleration-limited stop's do, in the time the slowest joint needs at
- * its own limits. A joint whose |qdd| is beyond its scaled A_i (it would
- * first ramp down at a scaled jerk: a longer stop, an overshoot) makes
- * every joint stop as fast as its own limits allow instead. 0 when a
- * stop cannot be planned (a chain without jerk limits: kc_scurve_plan_stop
- * takes no infinite jmax). */
+ * its own limits; with qdd != 0 they end near that. A joint whose |qdd|
+ * is beyond its scaled A_i (it would first ramp down at a scaled jerk: a
+ * longer stop, an overshoot) stops as fast as its own limits allow
+ * instead. 0 when a stop cannot be planned (a chain without jerk limits:
+ * kc_scurve_plan_stop takes no infinite jmax). */
 static int servo_jerk_stop(kc_ctrl *c)
 {
-    int n = c->chain->n_joints, sync = 1;
+    int n = c->chain->n_joints;
     kc_real ca = INF, cj = INF;
     for (int i = 0; i < n; i++) {
         const kc_joint_limits *l = &c->chain->joints[i].limits;
@@ -208,14 +208,9 @@ static int servo_jerk_stop(kc_ctrl *c)
         }
     }
     for (int i = 0; i < n; i++) {
-        kc_real v = kc_fabs(c->qd[i]);
-        if (v > KC_R(0.0) ? !(kc_fabs(c->qdd[i]) <= ca * v) : c->qdd[i] != KC_R(0.0))
-            sync = 0;
-    }
-    for (int i = 0; i < n; i++) {
         const kc_joint_limits *l = &c->chain->joints[i].limits;
         kc_real v = kc_fabs(c->qd[i]), a = l->qdd_max, jm = l->qddd_max;
-        if (sync && v > KC_R(0.0))
+        if (v > KC_R(0.0) && kc_fabs(c->qdd[i]) <= ca * v)
             a = ca * v, jm = cj * v;
         if (kc_scurve_plan_stop(&c->plan.halt[i], c->q[i], c->qd[i], c->qdd[i], a, jm, c->cfg.dt) != KC_OK)
             return 0;
