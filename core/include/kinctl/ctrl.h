@@ -129,8 +129,17 @@
  * zone, a Cartesian motion that cannot be followed) are
  * acceleration-limited, not jerk-limited: the acceleration jumps to the
  * limit in one tick, because stopping soonest matters more there than
- * smoothness. STOP, PAUSE and RESUME of a jerk-limited joint move, line
- * or arc are jerk-limited (below).
+ * smoothness. So is the stop of a servo stream that goes quiet (the
+ * servo timeout: a safety stop). STOP, PAUSE and RESUME of a jerk-limited
+ * joint move, line or arc are jerk-limited (below), and so are STOP, PAUSE
+ * and a stop-first replacement of a servo stream: every joint from its
+ * (q, qd, qdd) to rest by kc_scurve_plan_stop within its qdd_max and
+ * qddd_max, synchronised by phase (each joint's acceleration and jerk
+ * bounds scaled with its speed: from qdd = 0 the joints end on the same
+ * tick on the straight line of qd, in the time the slowest joint needs;
+ * a joint whose qdd is beyond its scaled bound stops at its own limits);
+ * a chain without jerk limits stops acceleration-limited. RESUME of a
+ * servo stream hands the arm back to the stream's own law.
  * RESET: leaves FAULT or ESTOP (at rest) for IDLE.
  *
  * Stopping on the path. Interpolated segments are driven by a profile of
