@@ -3,7 +3,8 @@
  * PAUSE (and RESUME) and a replacement that stops first (a line, a joint
  * path) bring every joint to rest jerk-limited from its (q, qd, qdd),
  * while ESTOP and the servo timeout still brake at the acceleration
- * limits from their first tick. Streams of random speeds and
+ * limits from their first tick, as STOP does on a chain without jerk
+ * limits. Streams of random speeds and
  * accelerations (a target pose moving by sums of sines) on the PUMA 560
  * and the Panda, their own limits per joint. Every tick of a stop is
  * checked: |qd| <= qd_max, |qdd| <= qdd_max and the jerk, the change of
@@ -48,10 +49,15 @@ typedef struct harness {
 
 static harness H; /* large: not on the stack */
 
-static void setup(kc_model model)
+/* The model's arm at rest at its start; no_jerk: its jerk limits infinite
+ * (a chain without them). */
+static void setup(kc_model model, int no_jerk)
 {
     memset(&H, 0, sizeof H);
     assert_int_equal(kc_chain_init_model(&H.chain, model, NULL), KC_OK);
+    if (no_jerk)
+        for (int j = 0; j < H.chain.n_joints; j++)
+            H.chain.joints[j].limits.qddd_max = (kc_real)INFINITY;
     H.cfg = kc_ctrl_cfg_default();
     kc_real q0[KC_MAX_JOINTS];
     for (int j = 0; j < H.chain.n_joints; j++) {
@@ -176,7 +182,7 @@ static void test_stops_jerk_limited(void **state)
     (void)state;
     kc_model models[2] = {KC_MODEL_PUMA560, KC_MODEL_PANDA};
     for (int m = 0; m < 2; m++) {
-        setup(models[m]);
+        setup(models[m], 0);
         kt_rng r = kt_rng_make(1901 + (uint64_t)m);
         int n = H.chain.n_joints, stops = 0, longest = 0, together = 0;
         double spread = 0.0, worst_spread = 0.0;
@@ -291,17 +297,22 @@ static void test_stops_jerk_limited(void **state)
     }
 }
 
-/* ESTOP and the servo timeout brake at the acceleration limits: on their
- * first tick some moving joint's qdd is at its limit, reached by a jump
- * beyond the jerk limit (more than 1.5 qddd_max dt: the Panda's qdd_max
+/* ESTOP and the servo timeout brake at the acceleration limits, and so
+ * does STOP on a chain without jerk limits (no jerk-limited stop to plan):
+ * on their first tick some moving joint's qdd is at its limit, reached by
+ * a jump beyond the model's jerk limit (more than 1.5 qddd_max dt: the Panda's qdd_max
  * is 2 qddd_max dt at 1 kHz, the PUMA's 100). */
 static void test_estop_timeout_acceleration_limited(void **state)
 {
     (void)state;
     kc_model models[2] = {KC_MODEL_PUMA560, KC_MODEL_PANDA};
+    static kc_chain ref;
     for (int m = 0; m < 2; m++) {
-        for (int which = 0; which < 2; which++) {
-            setup(models[m]);
+        assert_int_equal(kc_chain_init_model(&ref, models[m], NULL), KC_OK);
+        for (int which = 0; which < 3; which++) {
+            /* 2: STOP where the chain has no jerk limits (no jerk-limited
+             * stop to plan: today's stop) */
+            setup(models[m], which == 2);
             kt_rng r = kt_rng_make(1911 + (uint64_t)(2 * m + which));
             stream_init(&r);
             /* A twist of random direction moving the target on at
@@ -318,6 +329,10 @@ static void test_estop_timeout_acceleration_limited(void **state)
             if (which == 0) {
                 tick(NULL, KC_CMD_ESTOP);
                 assert_int_equal(H.out.state, KC_CTRL_ESTOP);
+            } else if (which == 2) {
+                tick(NULL, KC_CMD_STOP);
+                assert_int_equal(H.out.state, KC_CTRL_STOPPING);
+                assert_int_equal(H.ctrl.jstop, 1);
             } else {
                 /* The stream goes quiet: the stop starts after the timeout. */
                 for (int k = 0; k <= H.cfg.servo_timeout_ticks + 1 && H.out.state == KC_CTRL_MOVING; k++) {
@@ -328,7 +343,8 @@ static void test_estop_timeout_acceleration_limited(void **state)
             }
             int at_limit = 0;
             for (int j = 0; j < H.chain.n_joints; j++) {
-                double a = (double)H.chain.joints[j].limits.qdd_max, jm = (double)H.chain.joints[j].limits.qddd_max;
+                double a = (double)H.chain.joints[j].limits.qdd_max;
+                double jm = (double)ref.joints[j].limits.qddd_max; /* the model's, also where H's is infinite */
                 double qdd = (double)H.out.qdd[j];
                 if (H.out.qd[j] != KC_R(0.0) && fabs(qdd) >= a * (1.0 - SLACK) &&
                     fabs(qdd - (double)before[j]) / (double)H.cfg.dt > 1.5 * jm)
@@ -338,10 +354,10 @@ static void test_estop_timeout_acceleration_limited(void **state)
             for (int k = 0; k < 10000 && moving(); k++)
                 tick(NULL, KC_CMD_NONE);
             assert_at_rest();
-            if (which == 1) {
+            if (which >= 1) {
                 assert_int_equal(H.out.state, KC_CTRL_IDLE);
                 assert_int_equal(H.events[KC_EVENT_ABORTED], 1);
-                assert_int_equal(H.out.events[0].reason, KC_REASON_SERVO_TIMEOUT);
+                assert_int_equal(H.out.events[0].reason, which == 1 ? KC_REASON_SERVO_TIMEOUT : KC_REASON_NONE);
             }
         }
     }
