@@ -189,8 +189,10 @@ int kc_ctrl_joint_stop_eval(const kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *
  * the same function of time times its start (the phase times A_i / J_i
  * and |qd_i| / A_i, and which phases there are, are the same for all):
  * the joints end on the same tick on the straight line of qd, as the
- * acceleration-limited stop's do, in the time the slowest joint needs at
- * its own limits; with qdd != 0 they end near that. A joint whose |qdd|
+ * acceleration-limited stop's do: the fastest stop of that shape, as long
+ * as the slowest joint's own where one joint binds both bounds, somewhat
+ * longer where one joint's acceleration and another's jerk bind; with
+ * qdd != 0 they end near the same tick. A joint whose |qdd|
  * is beyond its scaled A_i (it would first ramp down at a scaled jerk: a
  * longer stop, an overshoot) stops as fast as its own limits allow
  * instead. 0 when a stop cannot be planned (a chain without jerk limits:

@@ -136,8 +136,10 @@
  * (q, qd, qdd) to rest by kc_scurve_plan_stop within its qdd_max and
  * qddd_max, synchronised by phase (each joint's acceleration and jerk
  * bounds scaled with its speed: from qdd = 0 the joints end on the same
- * tick on the straight line of qd, in the time the slowest joint needs;
- * a joint whose qdd is beyond its scaled bound stops at its own limits);
+ * tick on the straight line of qd, in the slowest joint's own stopping
+ * time or somewhat more where one joint's acceleration limit and
+ * another's jerk limit bind; a joint whose qdd is beyond its scaled
+ * bound stops at its own limits);
  * a chain without jerk limits stops acceleration-limited. RESUME of a
  * servo stream hands the arm back to the stream's own law.
  * RESET: leaves FAULT or ESTOP (at rest) for IDLE.
