@@ -57,6 +57,13 @@ static inline int kc_ctrl_is_path(kc_goal_kind k) { return k == KC_GOAL_PATH || 
 /* A stop in joint space is under way. */
 static inline int kc_ctrl_joint_stopping(const kc_ctrl *c) { return c->jstop; }
 
+/* The active servo goal is stopping jerk-limited, joint by joint
+ * (plan.halt from tick jstop_k0), not by jstop_prof. */
+static inline int kc_ctrl_servo_halting(const kc_ctrl *c)
+{
+    return !c->jstop && c->active && c->goal.kind == KC_GOAL_SERVO && c->drive == KC_DRIVE_HALT;
+}
+
 /* ---- ctrl.c ---- */
 
 /* Puts an initialised controller back at rest at q_at, idle, nothing

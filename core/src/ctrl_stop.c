@@ -159,7 +159,17 @@ void kc_ctrl_joint_stop(kc_ctrl *c, int sync, kc_ctrl_state then)
 int kc_ctrl_joint_stop_eval(const kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
 {
     int done = 1;
+    int jerk = kc_ctrl_servo_halting(c);
     for (int j = 0; j < c->chain->n_joints; j++) {
+        if (jerk) {
+            kc_scurve_state s;
+            if (kc_scurve_eval(&c->plan.halt[j], c->cycle - c->jstop_k0, &s) != KC_DONE)
+                done = 0;
+            q[j] = s.p;
+            qd[j] = s.v;
+            qdd[j] = s.a;
+            continue;
+        }
         kc_profile_state s;
         if (kc_profile_eval(&c->jstop_prof[j], c->cycle - c->jstop_k0, &s) != KC_DONE)
             done = 0;
@@ -168,6 +178,46 @@ int kc_ctrl_joint_stop_eval(const kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *
         qdd[j] = s.a;
     }
     return done;
+}
+
+/* A servo stream's stop (kinctl/ctrl.h): every joint from its (q, qd,
+ * qdd) to rest by kc_scurve_plan_stop into plan.halt (a servo goal has
+ * no plan of its own there). Synchronised by phase where it can be: each
+ * joint's limits scaled with its speed, A_i = ca |qd_i| and
+ * J_i = cj |qd_i|, ca and cj the largest that keep every joint within
+ * its qdd_max and qddd_max. From qdd = 0 every joint's velocity is then
+ * the same function of time times its start (the phase times A_i / J_i
+ * and |qd_i| / A_i, and which phases there are, are the same for all):
+ * the joints end on the same tick on the straight line of qd, as the
+ * acceleration-limited stop's do: the fastest stop of that shape, as long
+ * as the slowest joint's own where one joint binds both bounds, somewhat
+ * longer where one joint's acceleration and another's jerk bind; with
+ * qdd != 0 they end near the same tick. A joint whose |qdd|
+ * is beyond its scaled A_i (it would first ramp down at a scaled jerk: a
+ * longer stop, an overshoot) stops as fast as its own limits allow
+ * instead. 0 when a stop cannot be planned (a chain without jerk limits:
+ * kc_scurve_plan_stop takes no infinite jmax). */
+static int servo_jerk_stop(kc_ctrl *c)
+{
+    int n = c->chain->n_joints;
+    kc_real ca = INF, cj = INF;
+    for (int i = 0; i < n; i++) {
+        const kc_joint_limits *l = &c->chain->joints[i].limits;
+        kc_real v = kc_fabs(c->qd[i]);
+        if (v > KC_R(0.0)) {
+            ca = kc_min(ca, l->qdd_max / v);
+            cj = kc_min(cj, l->qddd_max / v);
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        const kc_joint_limits *l = &c->chain->joints[i].limits;
+        kc_real v = kc_fabs(c->qd[i]), a = l->qdd_max, jm = l->qddd_max;
+        if (v > KC_R(0.0) && kc_fabs(c->qdd[i]) <= ca * v)
+            a = ca * v, jm = cj * v;
+        if (kc_scurve_plan_stop(&c->plan.halt[i], c->q[i], c->qd[i], c->qdd[i], a, jm, c->cfg.dt) != KC_OK)
+            return 0;
+    }
+    return 1;
 }
 
 /* The stop of a jerk-limited joint move (kinctl/ctrl.h): on its line by
@@ -255,6 +305,14 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
     int64_t j = (c->cycle - 1) - c->k0; /* the last setpoint's tick */
     kc_profile_state u;
     if (c->goal.kind == KC_GOAL_SERVO) {
+        /* Jerk-limited for STOP, PAUSE and a replacement; the servo
+         * timeout (a safety stop) and a fault brake at the acceleration
+         * limits, as does a jerk-limited stop that cannot be planned. */
+        if (intent != KC_CMD_NONE && c->fault_reason == KC_REASON_NONE && servo_jerk_stop(c)) {
+            c->drive = KC_DRIVE_HALT;
+            c->jstop_k0 = c->cycle - 1;
+            return;
+        }
         kc_ctrl_joint_stop(c, 1, intent == KC_CMD_PAUSE ? KC_CTRL_PAUSED : KC_CTRL_IDLE);
         c->active = 1; /* the servo goal stays active through its stop */
         return;
@@ -320,6 +378,7 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
     c->stop_intent = KC_CMD_NONE;
     if (c->goal.kind == KC_GOAL_SERVO) {
         c->servo_last = c->cycle;
+        c->drive = KC_DRIVE_NOMINAL; /* plan.halt held its stop */
         return;
     }
     if (c->goal.kind == KC_GOAL_JOINT &&

@@ -129,8 +129,19 @@
  * zone, a Cartesian motion that cannot be followed) are
  * acceleration-limited, not jerk-limited: the acceleration jumps to the
  * limit in one tick, because stopping soonest matters more there than
- * smoothness. STOP, PAUSE and RESUME of a jerk-limited joint move, line
- * or arc are jerk-limited (below).
+ * smoothness. So is the stop of a servo stream that goes quiet (the
+ * servo timeout: a safety stop). STOP, PAUSE and RESUME of a jerk-limited
+ * joint move, line or arc are jerk-limited (below), and so are STOP, PAUSE
+ * and a stop-first replacement of a servo stream: every joint from its
+ * (q, qd, qdd) to rest by kc_scurve_plan_stop within its qdd_max and
+ * qddd_max, synchronised by phase (each joint's acceleration and jerk
+ * bounds scaled with its speed: from qdd = 0 the joints end on the same
+ * tick on the straight line of qd, in the slowest joint's own stopping
+ * time or somewhat more where one joint's acceleration limit and
+ * another's jerk limit bind; a joint whose qdd is beyond its scaled
+ * bound stops at its own limits);
+ * a chain without jerk limits stops acceleration-limited. RESUME of a
+ * servo stream hands the arm back to the stream's own law.
  * RESET: leaves FAULT or ESTOP (at rest) for IDLE.
  *
  * Stopping on the path. Interpolated segments are driven by a profile of
@@ -462,7 +473,7 @@ typedef enum kc_ctrl_drive {
     KC_DRIVE_STOPPING_WAIT = 2, /* path: a stop is pending until it is feasible */
     KC_DRIVE_RETARGET = 3,      /* trapezoid joint move from a moving state: plan.retarget per joint */
     KC_DRIVE_SCURVE = 4,        /* jerk-limited joint move on its line, line, arc: u from drive_scurve */
-    KC_DRIVE_HALT = 5           /* jerk-limited joint move stopping joint by joint: plan.halt */
+    KC_DRIVE_HALT = 5           /* jerk-limited joint move or servo stream stopping joint by joint: plan.halt */
 } kc_ctrl_drive;
 
 /* What a jerk-limited joint move stopping on its straight line keeps of
@@ -542,8 +553,10 @@ typedef struct kc_ctrl {
     kc_pose servo_target;
     int64_t servo_last;        /* tick of the last servo update */
     int settle;                /* ticks a Cartesian segment has waited for the tool to settle */
-    /* A stop in joint space (e-stop, servo, a fault off the path): per-joint
-     * stop profiles from tick jstop_k0, ending in state after_stop. */
+    /* A stop in joint space (e-stop, the servo timeout, a fault off the
+     * path): per-joint stop profiles from tick jstop_k0, ending in state
+     * after_stop. A servo stream's jerk-limited stop (drive KC_DRIVE_HALT)
+     * runs plan.halt from jstop_k0 instead. */
     int jstop;
     kc_profile jstop_prof[KC_MAX_JOINTS];
     int64_t jstop_k0;
