@@ -8,7 +8,7 @@ receiver drops them in the kernel (daemon/lcm_rx.h). With the daemon in
 real-time mode (mlockall) where this machine allows it, a flood of them
 leaves its resident memory flat, every goal sent during the flood is
 answered exactly once, and an ESTOP sent during the flood is taken by the
-cycle (the setpoint that names it as its input). Behaviour is asserted, never
+cycle (the setpoints after it in ESTOP). Behaviour is asserted, never
 a clock."""
 import os
 import re
@@ -53,9 +53,16 @@ def test_fragment_flood_leaves_memory_flat_and_commands_heard(kinctld):
     seen = d.bus.last_setpoint().cycle
     d.bus.send_command("ESTOP")
     sender.join()
-    estop = d.bus.wait(lambda: [s for s in d.bus.setpoints if s.cycle > seen and s.input_command == command_t.ESTOP],
-                       5.0, "the setpoint that took the ESTOP")
-    assert estop[0].state == STATES["ESTOP"]
+    # This process's own LCM receiver is flooded too and may lose a
+    # datagram: the ESTOP is judged by the state every later setpoint
+    # carries, not by the one setpoint that names it as its input.
+    estop = d.bus.wait(lambda: [s for s in d.bus.setpoints if s.cycle > seen and s.state == STATES["ESTOP"]],
+                       5.0, "a setpoint in ESTOP after the ESTOP was sent")
+    with d.bus.lock:
+        took = [s for s in d.bus.setpoints if s.cycle > seen and s.input_command == command_t.ESTOP]
+    assert len(took) <= 1
+    if took:
+        assert took[0].cycle == estop[0].cycle, "the ESTOP's setpoint is the first in ESTOP"
     answers = {EVENTS["ACCEPTED"], EVENTS["REJECTED"]}
     d.bus.wait(lambda: all(any(s.event in answers for s in d.bus.events(g)) for g in ids), 10.0,
                "an answer to every goal sent during the flood")
