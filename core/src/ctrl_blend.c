@@ -1,14 +1,15 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* ctrl_blend.c - a replacing Cartesian goal taken over from a moving line,
- * arc or joint move without stopping (kinctl/ctrl.h): the replaced segment
- * M stops (kc_ctrl_stop_on_path, from tick k: a line or an arc on its
- * path, a joint move in joint space), coming to rest at pose P_s after T_s
+ * arc, joint move or servo stream without stopping (kinctl/ctrl.h): the
+ * replaced segment M stops (kc_ctrl_stop_on_path, from tick k: a line or
+ * an arc on its path, a joint move or a servo stream in joint space),
+ * coming to rest at pose P_s after T_s
  * ticks; the new segment G is planned from P_s at rest and starts t0 ticks
  * after k. The target while M's stop lasts is the superposition
  *     p = p_M + (p_G - p_s),   R = A R_M,  A = R_G R_s^T (left, base frame),
  *     v = v_M + v_G,           w = w_G + A w_M,
  * the derivative of R being (w_G^ A + A w_M^ A^T A) R_M = (w_G + A w_M)^ R.
- * A joint move's stop gives (p_M, R_M) = FK(q_M) and (v_M, w_M) =
+ * A stop in joint space gives (p_M, R_M) = FK(q_M) and (v_M, w_M) =
  * J(q_M) qd_M, its geometric Jacobian's twist (exact, where a difference
  * of consecutive ticks would lag by half a tick). Before t0 G is at rest
  * at P_s (A = I): the sum is M's stop; once the stop has ended (M at P_s)
@@ -40,34 +41,66 @@ typedef struct blend_bounds {
     kc_real w, dw, dj; /* its angular ones */
 } blend_bounds;
 
-/* The replaced joint move's jerk-limited stop at its tick j (>= 0), on
- * its line or joint by joint: its joints into o->q and their velocities
- * into o->qd. */
+/* One profile of a stop in joint space as the IK step integrates it:
+ * the step moves q by dt times the twist fed forward, so a stop fed its
+ * velocity at tick j + 1 from its position at tick j goes
+ *     p_E(j) = p(0) + dt (v(1) + ... + v(j))
+ *            = p(j) + dt/2 (v(j) - v(0)) + dt^2/12 (a(j) - a(0))
+ *              + dt^3/6 sum_k dJ_k B3(x_k)
+ * (Euler-Maclaurin, exact for v piecewise quadratic in t with v and a
+ * continuous: each switch of the jerk by dJ_k at x_k dt, 0 < x_k < j,
+ * adds its term, B3(x) = f (f - 1/2) (f - 1) of f = x - floor(x), the
+ * periodic Bernoulli polynomial; the end T is a switch to jerk 0). The
+ * setpoints then have the stop's own velocities, v(j + 1) at tick j + 1,
+ * from the one that ended the replaced motion on (v(0)): fed its velocity
+ * at tick j, the step would hold v(0) for the takeover's tick, its
+ * acceleration dropping to zero and back. *v gets v(j + 1). */
+static kc_real stop_euler(const kc_scurve *s, int64_t j, kc_real dt, kc_real *v)
+{
+    kc_scurve_state u0, u, u1;
+    kc_real b3 = KC_R(0.0);
+    kc_scurve_eval(s, 0, &u0);
+    kc_scurve_eval(s, j, &u);
+    kc_scurve_eval(s, j + 1, &u1);
+    for (int i = 0; i < s->n; i++) {
+        kc_real t = i + 1 < s->n ? s->t_end[i] : s->T, x = t / dt;
+        if (!(x < (kc_real)j))
+            break;
+        kc_real f = x - (kc_real)(int32_t)x; /* x < j <= 2^24: truncation is floor */
+        b3 += ((i + 1 < s->n ? s->j[i + 1] : KC_R(0.0)) - s->j[i]) * f * (f - KC_R(0.5)) * (f - KC_R(1.0));
+    }
+    *v = u1.v;
+    return u.p + dt / KC_R(2.0) * (u.v - u0.v) + dt * dt / KC_R(12.0) * (u.a - u0.a) + dt * dt * dt / KC_R(6.0) * b3;
+}
+
+/* The replaced joint move's or servo stream's jerk-limited stop at its
+ * tick j (>= 0), on its line or joint by joint, as the IK step follows it
+ * (stop_euler): its joints into o->q and the velocities fed forward from
+ * there into o->qd. */
 static void stop_joints(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
 {
     const kc_ctrl_blend *b = &c->blend;
-    kc_scurve_state u = {KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(0.0), 0};
+    kc_real u = KC_R(0.0), ud = KC_R(0.0), dt = c->cfg.dt;
     if (b->stop_drive == KC_DRIVE_SCURVE)
-        kc_scurve_eval(&b->stop.scurve, j, &u);
+        u = stop_euler(&b->stop.scurve, j, dt, &ud);
     for (int i = 0; i < c->chain->n_joints; i++) {
         if (b->stop_drive == KC_DRIVE_HALT) {
-            kc_scurve_eval(&b->plan.halt[i], j, &u);
-            o->q[i] = u.p;
-            o->qd[i] = u.v;
+            o->q[i] = stop_euler(&b->plan.halt[i], j, dt, &o->qd[i]);
         } else {
-            o->q[i] = b->plan.joint.q0[i] + b->plan.joint.dq[i] * u.p;
-            o->qd[i] = b->plan.joint.dq[i] * u.v;
+            o->q[i] = b->plan.joint.q0[i] + b->plan.joint.dq[i] * u;
+            o->qd[i] = b->plan.joint.dq[i] * ud;
         }
     }
 }
 
 /* The replaced segment's stop at its tick j: a line's or an arc's point,
- * or a joint move's tool pose and twist J(q) qd. */
+ * or a joint move's or servo stream's tool pose and twist J(q) qd
+ * (stop_joints' q and qd). */
 static void stop_point(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
 {
     const kc_ctrl_blend *b = &c->blend;
     j = j < 0 ? 0 : j;
-    if (b->kind != KC_GOAL_JOINT) {
+    if (b->kind == KC_GOAL_LINE || b->kind == KC_GOAL_ARC) {
         kc_ctrl_interp_point(b->kind, &b->plan.line, &b->plan.arc, b->stop_drive, &b->stop.prof, &b->stop.scurve, j,
                              o);
         return;
@@ -231,9 +264,10 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
 }
 
 /* Moves what M's stop reads out of c->plan into the record (G is planned
- * there): a line or an arc (small), a jerk-limited joint move's line or
- * its stops joint by joint (stop_ticks: its last joint's). Returns 0 for a
- * stop that is no such plan (the goal waits for it). */
+ * there), with its start tick: a line or an arc (small), a jerk-limited
+ * joint move's line, or a joint move's or servo stream's stops joint by
+ * joint (stop_ticks: its last joint's; a servo's from jstop_k0). Returns 0
+ * for a stop that is no such plan (the goal waits for it). */
 static int keep_stop(kc_ctrl *c)
 {
     kc_ctrl_blend *b = &c->blend;
@@ -242,9 +276,8 @@ static int keep_stop(kc_ctrl *c)
     b->kind = c->goal.kind;
     b->stop_drive = c->drive;
     b->stop_ticks = 0;
+    b->k0 = c->goal.kind == KC_GOAL_SERVO ? c->jstop_k0 : c->k0;
     if (c->drive == KC_DRIVE_HALT) {
-        if (b->kind != KC_GOAL_JOINT)
-            return 0;
         for (int i = 0; i < n; i++)
             b->stop_ticks = c->plan.halt[i].ticks > b->stop_ticks ? c->plan.halt[i].ticks : b->stop_ticks;
         memcpy(b->plan.halt, c->plan.halt, sizeof(kc_scurve) * (size_t)n);
@@ -307,15 +340,17 @@ static void give_back_stop(kc_ctrl *c)
 int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
 {
     kc_ctrl_blend *b = &c->blend;
+    int in_joints = c->goal.kind == KC_GOAL_JOINT || c->goal.kind == KC_GOAL_SERVO;
     if (!c->active || c->state != KC_CTRL_MOVING || b->on ||
-        (c->goal.kind != KC_GOAL_LINE && c->goal.kind != KC_GOAL_ARC && c->goal.kind != KC_GOAL_JOINT) ||
+        (c->goal.kind != KC_GOAL_LINE && c->goal.kind != KC_GOAL_ARC && !in_joints) ||
         (g->kind != KC_GOAL_LINE && g->kind != KC_GOAL_ARC && g->kind != KC_GOAL_PATH_CART))
         return 0;
     /* The IK step turns the sum's twist back into joint velocities, and
-     * gives a joint move's own back (J^+ J qd = qd) only where the task
-     * leaves no null space: a redundant arm's joint move stops first (its
-     * null-space motion would jump to the IK's objective). */
-    if (c->goal.kind == KC_GOAL_JOINT && c->chain->n_joints > kc_ik_task_rows(c->cfg.ik.mask))
+     * gives a joint-space stop's own back (J^+ J qd = qd) only where the
+     * task leaves no null space: a redundant arm's joint move or servo
+     * stream stops first (its null-space motion would jump to the IK's
+     * objective). */
+    if (in_joints && c->chain->n_joints > kc_ik_task_rows(c->cfg.ik.mask))
         return 0;
     /* A trapezoid joint move's stop brakes at a joint's acceleration limit
      * from its first tick to its last: the IK step, adding its correction
@@ -323,17 +358,18 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
      * its target. It stops first, in joint space. */
     if (c->goal.kind == KC_GOAL_JOINT && (c->drive == KC_DRIVE_RETARGET || c->plan.joint.kind != KC_PROFILE_JERK))
         return 0;
-    /* A joint move has no Cartesian limits of its own: G's bound the sum
-     * (or what M's stop alone does, where that is more). */
+    /* A joint move or a servo stream has no Cartesian limits of its own:
+     * G's bound the sum (or what M's stop alone does, where that is more;
+     * a servo stream's stop that cannot be planned jerk-limited is no
+     * KC_DRIVE_HALT: keep_stop refuses it, the goal waits for it). */
     kc_interp_limits lg = kc_ctrl_cart_limits(c, g);
-    kc_interp_limits lm = c->goal.kind == KC_GOAL_JOINT ? lg : kc_ctrl_cart_limits(c, &c->goal);
+    kc_interp_limits lm = in_joints ? lg : kc_ctrl_cart_limits(c, &c->goal);
     blend_bounds lim = {kc_max(lm.v, lg.v), kc_max(lm.a, lg.a), kc_max(lm.j, lg.j),
                         kc_max(lm.w, lg.w), kc_max(lm.dw, lg.dw), kc_max(lm.dj, lg.dj)};
     kc_real old_length = c->path_length;
     kc_ctrl_stop_on_path(c, INTENT_PREEMPT);
     if (!keep_stop(c))
         return 0; /* a stop that is not a profile: it goes on, the goal waits for it */
-    b->k0 = c->k0;
     kc_ctrl_seg_point rest;
     stop_point(c, b->stop_ticks, &rest);
     b->rest = rest.pose;
