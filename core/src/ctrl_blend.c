@@ -74,21 +74,28 @@ static kc_real stop_euler(const kc_scurve *s, int64_t j, kc_real dt, kc_real *v)
 }
 
 /* The replaced joint move's or servo stream's jerk-limited stop at its
- * tick j (>= 0), on its line or joint by joint, as the IK step follows it
- * (stop_euler): its joints into o->q and the velocities fed forward from
- * there into o->qd. */
-static void stop_joints(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
+ * tick j (>= 0), on its line or joint by joint: as the IK step follows it
+ * (stop_euler) its joints into o->q and the velocities fed forward from
+ * there into o->qd; exact (a joint path superposed in joint space) its
+ * (q, qd, qdd) at tick j. */
+static void stop_joints(const kc_ctrl *c, int64_t j, int exact, kc_ctrl_seg_point *o)
 {
     const kc_ctrl_blend *b = &c->blend;
-    kc_real u = KC_R(0.0), ud = KC_R(0.0), dt = c->cfg.dt;
-    if (b->stop_drive == KC_DRIVE_SCURVE)
-        u = stop_euler(&b->stop.scurve, j, dt, &ud);
+    kc_scurve_state u = {KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(0.0), 0};
+    kc_real dt = c->cfg.dt;
+    if (b->stop_drive == KC_DRIVE_SCURVE && exact)
+        kc_scurve_eval(&b->stop.scurve, j, &u);
+    else if (b->stop_drive == KC_DRIVE_SCURVE)
+        u.p = stop_euler(&b->stop.scurve, j, dt, &u.v);
     for (int i = 0; i < c->chain->n_joints; i++) {
-        if (b->stop_drive == KC_DRIVE_HALT) {
+        if (b->stop_drive == KC_DRIVE_HALT && exact) {
+            kc_scurve_eval(&b->plan.halt[i], j, &u);
+            o->q[i] = u.p, o->qd[i] = u.v, o->qdd[i] = u.a;
+        } else if (b->stop_drive == KC_DRIVE_HALT) {
             o->q[i] = stop_euler(&b->plan.halt[i], j, dt, &o->qd[i]);
         } else {
-            o->q[i] = b->plan.joint.q0[i] + b->plan.joint.dq[i] * u;
-            o->qd[i] = b->plan.joint.dq[i] * ud;
+            const kc_ctrl_blend_joint *bj = &b->plan.joint;
+            o->q[i] = bj->q0[i] + bj->dq[i] * u.p, o->qd[i] = bj->dq[i] * u.v, o->qdd[i] = bj->dq[i] * u.a;
         }
     }
 }
@@ -106,7 +113,7 @@ static void stop_point(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
         return;
     }
     kc_jacobian jac;
-    stop_joints(c, j, o);
+    stop_joints(c, j, 0, o);
     kc_fk_jacobian(c->chain, o->q, &jac, &o->pose);
     for (int r = 0; r < 6; r++) {
         o->twist[r] = KC_R(0.0);
@@ -223,7 +230,56 @@ static int admissible(const kc_ctrl *c, const blend_bounds *lim, int64_t t0, int
     return 1;
 }
 
+/* G's point o at its tick jg as the sum takes it: at rest until it starts
+ * (jg <= 0: its qd and qdd 0, where a path's qdd at its tick 0 may be
+ * that of its first phase). */
+static void path_at_rest(int64_t jg, int n, kc_ctrl_seg_point *o)
+{
+    for (int i = 0; i < n && jg <= 0; i++)
+        o->qd[i] = o->qdd[i] = KC_R(0.0);
+}
+
+/* Whether a joint path G started at t0, superposed in joint space on M's
+ * stop (q = q_M + q_G - q_s), keeps on every stride-th tick j of the
+ * overlap (t0 <= j <= T_s, M's ticks) every joint inside its position
+ * limits, and its qd, its qdd and the change of qdd over the tick (from
+ * M's tick 2 on) within the joint's limits, or within what M or G alone
+ * does there when that is more (a parabolic blend's jump of qdd). */
+static int admissible_joints(const kc_ctrl *c, int64_t t0, int64_t stride)
+{
+    const kc_ctrl_blend *b = &c->blend;
+    kc_real dt = c->cfg.dt, e = KC_R(1.0) + c->cfg.limit_slack;
+    kc_ctrl_seg_point m[2], g[2], s; /* [0]: tick j - 1, [1]: tick j */
+    stop_joints(c, b->stop_ticks, 1, &s); /* q_s */
+    for (int64_t j = t0 > 0 ? t0 : 1; j <= b->stop_ticks; j += stride) {
+        for (int k = 0; k < 2; k++) {
+            stop_joints(c, j - 1 + k, 1, &m[k]);
+            kc_ctrl_seg_eval(c, j - 1 + k - t0, &g[k]);
+            path_at_rest(j - 1 + k - t0, c->chain->n_joints, &g[k]);
+        }
+        for (int i = 0; i < c->chain->n_joints; i++) {
+            const kc_joint_limits *l = &c->chain->joints[i].limits;
+            kc_real q = m[1].q[i] + g[1].q[i] - s.q[i], qd = m[1].qd[i] + g[1].qd[i];
+            kc_real qdd = m[1].qdd[i] + g[1].qdd[i], dqdd = qdd - (m[0].qdd[i] + g[0].qdd[i]);
+            kc_real vb = kc_max(l->qd_max, kc_max(kc_fabs(m[1].qd[i]), kc_fabs(g[1].qd[i])));
+            kc_real ab = kc_max(l->qdd_max, kc_max(kc_fabs(m[1].qdd[i]), kc_fabs(g[1].qdd[i])));
+            kc_real jb = kc_max(l->qddd_max * dt, kc_max(kc_fabs(m[1].qdd[i] - m[0].qdd[i]),
+                                                         kc_fabs(g[1].qdd[i] - g[0].qdd[i])));
+            if (!(q >= l->q_min && q <= l->q_max && kc_fabs(qd) <= vb * e && kc_fabs(qdd) <= ab * e &&
+                  (j < 2 || kc_fabs(dqdd) <= jb * e)))
+                return 0;
+        }
+    }
+    return 1;
+}
+
 /* The earliest admissible t0 the search finds (T_s when none before). */
+/* admissible_joints for a joint path, else admissible. */
+static int admits(const kc_ctrl *c, const blend_bounds *lim, int64_t t0, int64_t stride)
+{
+    return c->goal.kind == KC_GOAL_PATH ? admissible_joints(c, t0, stride) : admissible(c, lim, t0, stride);
+}
+
 static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
 {
     int64_t ts = c->blend.stop_ticks, step = (ts + BLEND_GRID - 1) / BLEND_GRID;
@@ -231,7 +287,7 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
     if (step < 1)
         return ts;
     for (int64_t t = 0; t < ts; t += step) {
-        if (admissible(c, lim, t, BLEND_STRIDE)) {
+        if (admits(c, lim, t, BLEND_STRIDE)) {
             hi = t;
             break;
         }
@@ -239,7 +295,7 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
     }
     for (int i = 0; i < 20 && hi - lo > 1; i++) {
         int64_t mid = lo + (hi - lo) / 2;
-        if (admissible(c, lim, mid, BLEND_STRIDE))
+        if (admits(c, lim, mid, BLEND_STRIDE))
             hi = mid;
         else
             lo = mid;
@@ -248,13 +304,13 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
      * BLEND_STRIDE where the overlap refuses at its edge: checked on every
      * tick, a refused t0 gives way to a bisection (on every tick) up to
      * BLEND_STRIDE ticks later, then up to the next point of the grid. */
-    for (int tries = 0; hi < ts && !admissible(c, lim, hi, 1); tries++) {
+    for (int tries = 0; hi < ts && !admits(c, lim, hi, 1); tries++) {
         int64_t next = tries == 0 ? hi + BLEND_STRIDE : (hi / step + 1) * step;
         lo = hi;
         hi = next < ts ? next : ts;
         for (int i = 0; i < 20 && hi - lo > 1; i++) {
             int64_t mid = lo + (hi - lo) / 2;
-            if (admissible(c, lim, mid, 1))
+            if (admits(c, lim, mid, 1))
                 hi = mid;
             else
                 lo = mid;
@@ -343,14 +399,15 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     int in_joints = c->goal.kind == KC_GOAL_JOINT || c->goal.kind == KC_GOAL_SERVO;
     if (!c->active || c->state != KC_CTRL_MOVING || b->on ||
         (c->goal.kind != KC_GOAL_LINE && c->goal.kind != KC_GOAL_ARC && !in_joints) ||
-        (g->kind != KC_GOAL_LINE && g->kind != KC_GOAL_ARC && g->kind != KC_GOAL_PATH_CART))
+        (g->kind != KC_GOAL_LINE && g->kind != KC_GOAL_ARC && g->kind != KC_GOAL_PATH_CART &&
+         !(g->kind == KC_GOAL_PATH && in_joints)))
         return 0;
     /* The IK step turns the sum's twist back into joint velocities, and
      * gives a joint-space stop's own back (J^+ J qd = qd) only where the
      * task leaves no null space: a redundant arm's joint move or servo
      * stream stops first (its null-space motion would jump to the IK's
      * objective). */
-    if (in_joints && c->chain->n_joints > kc_ik_task_rows(c->cfg.ik.mask))
+    if (in_joints && g->kind != KC_GOAL_PATH && c->chain->n_joints > kc_ik_task_rows(c->cfg.ik.mask))
         return 0;
     /* A trapezoid joint move's stop brakes at a joint's acceleration limit
      * from its first tick to its last: the IK step, adding its correction
@@ -371,9 +428,21 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     if (!keep_stop(c))
         return 0; /* a stop that is not a profile: it goes on, the goal waits for it */
     kc_ctrl_seg_point rest;
-    stop_point(c, b->stop_ticks, &rest);
-    b->rest = rest.pose;
-    kc_status st = kc_ctrl_plan_cart_from(c, g, &b->rest);
+    kc_status st;
+    if (g->kind == KC_GOAL_PATH) {
+        /* In joint space, from where M's stop rests (q_s), at rest there
+         * (a path that is not, Lagrange's, needs a ramp: not superposed). */
+        kc_real d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
+        stop_joints(c, b->stop_ticks, 1, &rest);
+        st = kc_ctrl_plan_path_from(c, g, rest.q);
+        kc_path_eval_time(&c->plan.path, KC_R(0.0), rest.q, d1, d2);
+        for (int i = 0; i < c->chain->n_joints && st == KC_OK; i++)
+            st = d1[i] == KC_R(0.0) ? KC_OK : KC_E_ARG;
+    } else {
+        stop_point(c, b->stop_ticks, &rest);
+        b->rest = rest.pose;
+        st = kc_ctrl_plan_cart_from(c, g, &b->rest);
+    }
     if (st == KC_OK && g->kind == KC_GOAL_PATH_CART) {
         /* A path that does not start at rest (Lagrange's) needs a ramp of
          * its own: not superposed. */
@@ -408,8 +477,22 @@ void kc_ctrl_blend_apply(kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o)
 {
     kc_ctrl_blend *b = &c->blend;
     int64_t j = k - b->k0;
+    if (c->goal.kind == KC_GOAL_PATH)
+        path_at_rest(k - c->k0, c->chain->n_joints, o);
     if (j >= b->stop_ticks) {
         b->on = 0; /* M rests at P_s: the sum is G alone from here */
+        return;
+    }
+    if (c->goal.kind == KC_GOAL_PATH) {
+        /* In joint space: q = q_M + q_G - q_s, and so for qd, qdd. */
+        kc_ctrl_seg_point m, s;
+        stop_joints(c, j, 1, &m);
+        stop_joints(c, b->stop_ticks, 1, &s);
+        for (int i = 0; i < c->chain->n_joints; i++) {
+            o->q[i] += m.q[i] - s.q[i];
+            o->qd[i] += m.qd[i];
+            o->qdd[i] += m.qdd[i];
+        }
         return;
     }
     kc_ctrl_seg_point m;

@@ -146,6 +146,10 @@ kc_status kc_ctrl_plan_goal(kc_ctrl *c);
  * read. On error c->plan is scratch. */
 kc_status kc_ctrl_plan_cart_from(kc_ctrl *c, const kc_goal *g, const kc_pose *from);
 
+/* Plans joint path g into c->plan.path as if at rest at joints q0;
+ * c->goal is not read. On error c->plan is scratch. */
+kc_status kc_ctrl_plan_path_from(kc_ctrl *c, const kc_goal *g, const kc_real *q0);
+
 /* A line or an arc (kind) at tick j of its drive: its own law
  * (KC_DRIVE_NOMINAL), the profile prof (KC_DRIVE_PROFILE) or the
  * jerk-limited profile sc (KC_DRIVE_SCURVE) of its u. */
