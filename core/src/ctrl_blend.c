@@ -16,7 +16,10 @@
  * it is G. G starts at rest with no acceleration, so the sum continues M's
  * motion in position, velocity and acceleration. t0 is the earliest of a
  * bounded search in [0, T_s] whose sum keeps the Cartesian limits on every
- * tick of the overlap; T_s always does (no overlap). */
+ * tick of the overlap; T_s always does (no overlap). A joint path G
+ * replacing a joint move or a servo stream is superposed the same way in
+ * joint space, M's stop taken exactly: q = q_M + (q_G - q_s), t0 keeping
+ * the joints' limits (admissible_joints). */
 #include "ctrl_internal.h"
 #include "ik_internal.h"
 

@@ -173,9 +173,10 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
 /* ---- ctrl_blend.c: a replacing Cartesian goal superposed on the stop of
  * the motion it replaces (kinctl/ctrl.h) ---- */
 
-/* Replacing goal g (line, arc or Cartesian path) takes over from the
- * active line, arc, joint move or servo stream, moving: the old segment
- * stops (on its path, or in joint space) (kept in
+/* Replacing goal g (line, arc or Cartesian path; a joint path from a joint
+ * move or servo stream) takes over from the active line, arc, joint move
+ * or servo stream, moving: the old segment stops (on its path, or in
+ * joint space) (kept in
  * c->blend), g is planned from where that stop ends and starts at the
  * earliest tick its sum with the stop keeps the Cartesian limits. Returns
  * 1 when taken (ACCEPTED, PREEMPTED, STARTED emitted); 0 with the active

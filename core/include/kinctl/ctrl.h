@@ -113,6 +113,17 @@
  * stop goes on: for that time the two stops add, and the tool's
  * deceleration may reach the sum of the two goals' limits.
  *
+ * A joint path replacing a moving jerk-limited joint move or servo stream
+ * takes over in the tick it arrives the same way, in joint space: M's
+ * stop joint by joint (exact, no IK step in between), G planned from the
+ * joints q_s where it rests, at rest there (Lagrange's polynomial is not:
+ * it stops first), q = q_M + q_G - q_s (and so qd, qdd; G adds nothing
+ * before it starts), t0 the earliest of the same bounded search at which
+ * every joint of the sum stays inside its position limits and within its
+ * qd_max, qdd_max and qddd_max (the change of qdd over a tick), or within
+ * what M or G alone does at that tick where that is more (a parabolic
+ * blend's step of qdd), on every tick of the overlap.
+ *
  * Every other replacement stops first: the active segment stops on its
  * path, and the goal starts from where the arm comes to rest. Its ACCEPTED
  * event carries KC_REASON_STOP_FIRST. These are a joint move whose
@@ -124,8 +135,9 @@
  * at the acceleration limits) or a joint move or servo stream of an arm
  * whose joints outnumber the IK task's rows (the Panda's 7 under the full
  * task: the step would drop the motion's null-space part, its joint
- * velocities jumping); a Cartesian path that
- * does not start at rest (Lagrange's); a replacing joint path or servo stream; a
+ * velocities jumping); a path that does not start at rest (Lagrange's);
+ * a joint path replacing anything but a jerk-limited joint move or a
+ * servo stream; a replacing servo stream; a
  * replacement during a superposition or a stop; and a goal that cannot be
  * planned from P_s. Setpoints stay continuous in
  * position and velocity throughout, and in acceleration through
@@ -497,8 +509,9 @@ typedef struct kc_ctrl_blend_joint {
     kc_interp_sync sync;
 } kc_ctrl_blend_joint;
 
-/* A replacing Cartesian goal's transition: the line, arc, joint move or
- * servo stream it replaced, stopping, superposed on it (ctrl_blend.c). */
+/* A replacing goal's transition (a line, an arc or a Cartesian path; a
+ * joint path in joint space): the line, arc, joint move or servo stream
+ * it replaced, stopping, superposed on it (ctrl_blend.c). */
 typedef struct kc_ctrl_blend {
     int on;
     kc_goal_kind kind; /* the replaced segment: KC_GOAL_LINE, KC_GOAL_ARC, KC_GOAL_JOINT or KC_GOAL_SERVO */
@@ -576,8 +589,8 @@ typedef struct kc_ctrl {
     kc_zone_hit zone_now, zone_hit;
     kc_real zone_lever[KC_MAX_JOINTS]; /* kc_zone_levers of the chain */
     kc_real zone_brake;                /* a of the servo's braking law (m/s^2) */
-    /* A replacing Cartesian goal taking over from a moving line, arc, joint
-     * move or servo stream. */
+    /* A replacing goal taking over from a moving line, arc, joint move or
+     * servo stream. */
     kc_ctrl_blend blend;
 } kc_ctrl;
 
