@@ -6,7 +6,8 @@
  * replacement that is fine is taken, and the verdict's ticks and end
  * joints are where the real controller, given the goal in the next tick,
  * comes to rest, to the bit: a jerk-limited retarget, a line superposed on
- * a joint move's stop or on a servo stream's halt, a line replacing a
+ * a joint move's stop or on a servo stream's halt, a joint path superposed
+ * on a joint move's stop in joint space, a line replacing a
  * trapezoid joint move and a joint
  * goal whose retarget would carry the waist past its limit (both stop
  * first: the verdict says so, as the controller's ACCEPTED does). A
@@ -323,6 +324,22 @@ static void test_taken_as_controller(void **state)
     to.t.v[2] += KC_R(0.05);
     g = kt_line_goal(6, &to);
     g.replace = 1;
+    assert_as_controller(&g, KC_REASON_NONE);
+
+    /* a joint path superposed on the sweep's stop, in joint space */
+    sweep_then_snapshot();
+    memset(&g, 0, sizeof g);
+    g.id = 7;
+    g.kind = KC_GOAL_PATH;
+    g.replace = 1;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    g.method = KC_PATH_QUINTIC;
+    g.n_points = 2;
+    for (int j = 0; j < 6; j++) {
+        g.points[0][j] = CTRL.q[j] + KC_R(0.1);
+        g.points[1][j] = CTRL.q[j] + KC_R(0.2);
+    }
+    g.dim = 6;
     assert_as_controller(&g, KC_REASON_NONE);
 
     /* a line replacing a trapezoid joint move: the move stops first */
