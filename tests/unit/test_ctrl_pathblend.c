@@ -203,6 +203,56 @@ static void test_replaced_by_a_path(void **state)
     assert_true(overlapped > 0);
 }
 
+/* A STOP while a path is superposed on a joint move's stop: the path
+ * stops on its own law while the move's stop goes on; the arm comes to
+ * rest, idle, every tick within the joints' velocity limits and each
+ * joint's qd changing by at most qdd_max dt (kinctl/ctrl.h: the two stops
+ * add up while they overlap). */
+static void test_stop_while_superposed(void **state)
+{
+    (void)state;
+    kt_rng r = kt_rng_make(3039);
+    int stopped = 0;
+    for (int c = 0; c < CASES; c++) {
+        setup();
+        kc_real to[6];
+        for (int j = 0; j < 6; j++)
+            to[j] = KT_PUMA_Q0[j] + (kc_real)kt_uniform(&r, -0.4, 0.4);
+        kc_goal a = kt_joint_goal(1, to, 6);
+        tick(&a);
+        int64_t at = 2 + (int64_t)kt_uniform(&r, 0.0, (double)(H.ctrl.plan.joint.ticks - 4));
+        for (int64_t k = 1; k < at; k++)
+            tick(NULL);
+        kc_goal g = path_goal(&r, 2, KC_PATH_QUINTIC);
+        tick(&g);
+        assert_true(H.ctrl.blend.on);
+        int64_t overlap_end = H.ctrl.blend.k0 + H.ctrl.blend.stop_ticks;
+        if (H.ctrl.k0 + 2 >= overlap_end)
+            continue; /* no overlap to stop in */
+        while (H.out.cycle < H.ctrl.k0 + 2)
+            tick(NULL);
+        kc_ctrl_input in = {NULL, KC_CMD_STOP, 0, KC_REASON_NONE};
+        for (int k = 0; k < 20000 && (k == 0 || H.out.state != KC_CTRL_IDLE); k++) {
+            assert_int_equal(kc_ctrl_step(&H.ctrl, &in, &H.out), KC_OK);
+            in.command = KC_CMD_NONE;
+            for (int j = 0; j < 6; j++) {
+                const kc_joint_limits *l = &H.chain.joints[j].limits;
+                double qd = (double)H.out.qd[j];
+                if (!(fabs(qd) <= (double)l->qd_max * (1.0 + SLACK) &&
+                      fabs(qd - H.qd_prev[j]) <= (double)l->qdd_max * (double)H.cfg.dt * (1.0 + SLACK)))
+                    fail_msg("cycle %ld joint %d: qd %.6g after %.6g", (long)H.out.cycle, j, qd, H.qd_prev[j]);
+                H.qd_prev[j] = qd;
+            }
+            assert_true(H.out.state != KC_CTRL_FAULT);
+        }
+        assert_int_equal(H.out.state, KC_CTRL_IDLE);
+        for (int j = 0; j < 6; j++)
+            assert_true(H.out.qd[j] == KC_R(0.0));
+        stopped++;
+    }
+    assert_true(stopped > 0);
+}
+
 /* Lagrange's polynomial does not start at rest: not superposed, the move
  * stops first, and the path still ends on its last knot. */
 static void test_lagrange_stops_first(void **state)
@@ -233,6 +283,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_replaced_by_a_path),
+        cmocka_unit_test(test_stop_while_superposed),
         cmocka_unit_test(test_lagrange_stops_first),
     };
     int rc = cmocka_run_group_tests(tests, NULL, NULL);
