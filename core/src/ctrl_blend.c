@@ -245,9 +245,12 @@ static void path_at_rest(int64_t jg, int n, kc_ctrl_seg_point *o)
 /* Whether a joint path G started at t0, superposed in joint space on M's
  * stop (q = q_M + q_G - q_s), keeps on every stride-th tick j of the
  * overlap (t0 <= j <= T_s, M's ticks) every joint inside its position
- * limits, and its qd, its qdd and the change of qdd over the tick (from
- * M's tick 2 on) within the joint's limits, or within what M or G alone
- * does there when that is more (a parabolic blend's jump of qdd). */
+ * limits, the change of its qd over the tick within qdd_max dt (the final
+ * check's: the tick's mean qdd, which a jerk of qddd_max dt > qdd_max
+ * takes well away from its qdd at the tick), and its qd, its qdd and the
+ * change of qdd over the tick (tick 0 is the last setpoint, M's) within
+ * the joint's limits, or within what M or G alone does there when that is
+ * more (a parabolic blend's jump of qdd). */
 static int admissible_joints(const kc_ctrl *c, int64_t t0, int64_t stride)
 {
     const kc_ctrl_blend *b = &c->blend;
@@ -264,12 +267,13 @@ static int admissible_joints(const kc_ctrl *c, int64_t t0, int64_t stride)
             const kc_joint_limits *l = &c->chain->joints[i].limits;
             kc_real q = m[1].q[i] + g[1].q[i] - s.q[i], qd = m[1].qd[i] + g[1].qd[i];
             kc_real qdd = m[1].qdd[i] + g[1].qdd[i], dqdd = qdd - (m[0].qdd[i] + g[0].qdd[i]);
+            kc_real dqd = qd - (m[0].qd[i] + g[0].qd[i]);
             kc_real vb = kc_max(l->qd_max, kc_max(kc_fabs(m[1].qd[i]), kc_fabs(g[1].qd[i])));
             kc_real ab = kc_max(l->qdd_max, kc_max(kc_fabs(m[1].qdd[i]), kc_fabs(g[1].qdd[i])));
             kc_real jb = kc_max(l->qddd_max * dt, kc_max(kc_fabs(m[1].qdd[i] - m[0].qdd[i]),
                                                          kc_fabs(g[1].qdd[i] - g[0].qdd[i])));
             if (!(q >= l->q_min && q <= l->q_max && kc_fabs(qd) <= vb * e && kc_fabs(qdd) <= ab * e &&
-                  (j < 2 || kc_fabs(dqdd) <= jb * e)))
+                  kc_fabs(dqd) <= l->qdd_max * dt * e && kc_fabs(dqdd) <= jb * e))
                 return 0;
         }
     }
