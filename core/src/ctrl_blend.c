@@ -1,21 +1,25 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* ctrl_blend.c - a replacing Cartesian goal taken over from a moving line,
- * arc or joint move without stopping (kinctl/ctrl.h): the replaced segment
- * M stops (kc_ctrl_stop_on_path, from tick k: a line or an arc on its
- * path, a joint move in joint space), coming to rest at pose P_s after T_s
+ * arc, joint move or servo stream without stopping (kinctl/ctrl.h): the
+ * replaced segment M stops (kc_ctrl_stop_on_path, from tick k: a line or
+ * an arc on its path, a joint move or a servo stream in joint space),
+ * coming to rest at pose P_s after T_s
  * ticks; the new segment G is planned from P_s at rest and starts t0 ticks
  * after k. The target while M's stop lasts is the superposition
  *     p = p_M + (p_G - p_s),   R = A R_M,  A = R_G R_s^T (left, base frame),
  *     v = v_M + v_G,           w = w_G + A w_M,
  * the derivative of R being (w_G^ A + A w_M^ A^T A) R_M = (w_G + A w_M)^ R.
- * A joint move's stop gives (p_M, R_M) = FK(q_M) and (v_M, w_M) =
+ * A stop in joint space gives (p_M, R_M) = FK(q_M) and (v_M, w_M) =
  * J(q_M) qd_M, its geometric Jacobian's twist (exact, where a difference
  * of consecutive ticks would lag by half a tick). Before t0 G is at rest
  * at P_s (A = I): the sum is M's stop; once the stop has ended (M at P_s)
  * it is G. G starts at rest with no acceleration, so the sum continues M's
  * motion in position, velocity and acceleration. t0 is the earliest of a
  * bounded search in [0, T_s] whose sum keeps the Cartesian limits on every
- * tick of the overlap; T_s always does (no overlap). */
+ * tick of the overlap; T_s always does (no overlap). A joint path G
+ * replacing a joint move or a servo stream is superposed the same way in
+ * joint space, M's stop taken exactly: q = q_M + (q_G - q_s), t0 keeping
+ * the joints' limits (admissible_joints). */
 #include "ctrl_internal.h"
 #include "ik_internal.h"
 
@@ -40,40 +44,79 @@ typedef struct blend_bounds {
     kc_real w, dw, dj; /* its angular ones */
 } blend_bounds;
 
-/* The replaced joint move's jerk-limited stop at its tick j (>= 0), on
- * its line or joint by joint: its joints into o->q and their velocities
- * into o->qd. */
-static void stop_joints(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
+/* One profile of a stop in joint space as the IK step integrates it:
+ * the step moves q by dt times the twist fed forward, so a stop fed its
+ * velocity at tick j + 1 from its position at tick j goes
+ *     p_E(j) = p(0) + dt (v(1) + ... + v(j))
+ *            = p(j) + dt/2 (v(j) - v(0)) + dt^2/12 (a(j) - a(0))
+ *              + dt^3/6 sum_k dJ_k B3(x_k)
+ * (Euler-Maclaurin, exact for v piecewise quadratic in t with v and a
+ * continuous: each switch of the jerk by dJ_k at x_k dt, 0 < x_k < j,
+ * adds its term, B3(x) = f (f - 1/2) (f - 1) of f = x - floor(x), the
+ * periodic Bernoulli polynomial; the end T is a switch to jerk 0). The
+ * setpoints then have the stop's own velocities, v(j + 1) at tick j + 1,
+ * from the one that ended the replaced motion on (v(0)): fed its velocity
+ * at tick j, the step would hold v(0) for the takeover's tick, its
+ * acceleration dropping to zero and back. *v gets v(j + 1). */
+static kc_real stop_euler(const kc_scurve *s, int64_t j, kc_real dt, kc_real *v)
+{
+    kc_scurve_state u0, u, u1;
+    kc_real b3 = KC_R(0.0);
+    kc_scurve_eval(s, 0, &u0);
+    kc_scurve_eval(s, j, &u);
+    kc_scurve_eval(s, j + 1, &u1);
+    for (int i = 0; i < s->n; i++) {
+        kc_real t = i + 1 < s->n ? s->t_end[i] : s->T, x = t / dt;
+        if (!(x < (kc_real)j))
+            break;
+        kc_real f = x - (kc_real)(int32_t)x; /* x < j <= 2^24: truncation is floor */
+        b3 += ((i + 1 < s->n ? s->j[i + 1] : KC_R(0.0)) - s->j[i]) * f * (f - KC_R(0.5)) * (f - KC_R(1.0));
+    }
+    *v = u1.v;
+    return u.p + dt / KC_R(2.0) * (u.v - u0.v) + dt * dt / KC_R(12.0) * (u.a - u0.a) + dt * dt * dt / KC_R(6.0) * b3;
+}
+
+/* The replaced joint move's or servo stream's jerk-limited stop at its
+ * tick j (>= 0), on its line or joint by joint: as the IK step follows it
+ * (stop_euler) its joints into o->q and the velocities fed forward from
+ * there into o->qd; exact (a joint path superposed in joint space) its
+ * (q, qd, qdd) at tick j. */
+static void stop_joints(const kc_ctrl *c, int64_t j, int exact, kc_ctrl_seg_point *o)
 {
     const kc_ctrl_blend *b = &c->blend;
     kc_scurve_state u = {KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(0.0), 0};
-    if (b->stop_drive == KC_DRIVE_SCURVE)
+    kc_real dt = c->cfg.dt;
+    if (b->stop_drive == KC_DRIVE_SCURVE && exact)
         kc_scurve_eval(&b->stop.scurve, j, &u);
+    else if (b->stop_drive == KC_DRIVE_SCURVE)
+        u.p = stop_euler(&b->stop.scurve, j, dt, &u.v);
     for (int i = 0; i < c->chain->n_joints; i++) {
-        if (b->stop_drive == KC_DRIVE_HALT) {
+        if (b->stop_drive == KC_DRIVE_HALT && exact) {
             kc_scurve_eval(&b->plan.halt[i], j, &u);
-            o->q[i] = u.p;
-            o->qd[i] = u.v;
+            o->q[i] = u.p, o->qd[i] = u.v, o->qdd[i] = u.a;
+        } else if (b->stop_drive == KC_DRIVE_HALT) {
+            o->q[i] = stop_euler(&b->plan.halt[i], j, dt, &o->qd[i]);
         } else {
-            o->q[i] = b->plan.joint.q0[i] + b->plan.joint.dq[i] * u.p;
-            o->qd[i] = b->plan.joint.dq[i] * u.v;
+            const kc_ctrl_blend_joint *bj = &b->plan.joint;
+            o->q[i] = bj->q0[i] + bj->dq[i] * u.p, o->qd[i] = bj->dq[i] * u.v, o->qdd[i] = bj->dq[i] * u.a;
         }
     }
 }
 
 /* The replaced segment's stop at its tick j: a line's or an arc's point,
- * or a joint move's tool pose and twist J(q) qd. */
+ * or a joint move's or servo stream's tool pose and twist J(q) qd
+ * (stop_joints' q and qd). */
 static void stop_point(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
 {
     const kc_ctrl_blend *b = &c->blend;
     j = j < 0 ? 0 : j;
-    if (b->kind != KC_GOAL_JOINT) {
+    if (b->kind == KC_GOAL_LINE || b->kind == KC_GOAL_ARC) {
         kc_ctrl_interp_point(b->kind, &b->plan.line, &b->plan.arc, b->stop_drive, &b->stop.prof, &b->stop.scurve, j,
                              o);
         return;
     }
     kc_jacobian jac;
-    stop_joints(c, j, o);
+    stop_joints(c, j, 0, o);
     kc_fk_jacobian(c->chain, o->q, &jac, &o->pose);
     for (int r = 0; r < 6; r++) {
         o->twist[r] = KC_R(0.0);
@@ -190,7 +233,60 @@ static int admissible(const kc_ctrl *c, const blend_bounds *lim, int64_t t0, int
     return 1;
 }
 
+/* G's point o at its tick jg as the sum takes it: at rest until it starts
+ * (jg <= 0: its qd and qdd 0, where a path's qdd at its tick 0 may be
+ * that of its first phase). */
+static void path_at_rest(int64_t jg, int n, kc_ctrl_seg_point *o)
+{
+    for (int i = 0; i < n && jg <= 0; i++)
+        o->qd[i] = o->qdd[i] = KC_R(0.0);
+}
+
+/* Whether a joint path G started at t0, superposed in joint space on M's
+ * stop (q = q_M + q_G - q_s), keeps on every stride-th tick j of the
+ * overlap (t0 <= j <= T_s, M's ticks) every joint inside its position
+ * limits, the change of its qd over the tick within qdd_max dt (the final
+ * check's: the tick's mean qdd, which a jerk of qddd_max dt > qdd_max
+ * takes well away from its qdd at the tick), and its qd, its qdd and the
+ * change of qdd over the tick (tick 0 is the last setpoint, M's) within
+ * the joint's limits, or within what M or G alone does there when that is
+ * more (a parabolic blend's jump of qdd). */
+static int admissible_joints(const kc_ctrl *c, int64_t t0, int64_t stride)
+{
+    const kc_ctrl_blend *b = &c->blend;
+    kc_real dt = c->cfg.dt, e = KC_R(1.0) + c->cfg.limit_slack;
+    kc_ctrl_seg_point m[2], g[2], s; /* [0]: tick j - 1, [1]: tick j */
+    stop_joints(c, b->stop_ticks, 1, &s); /* q_s */
+    for (int64_t j = t0 > 0 ? t0 : 1; j <= b->stop_ticks; j += stride) {
+        for (int k = 0; k < 2; k++) {
+            stop_joints(c, j - 1 + k, 1, &m[k]);
+            kc_ctrl_seg_eval(c, j - 1 + k - t0, &g[k]);
+            path_at_rest(j - 1 + k - t0, c->chain->n_joints, &g[k]);
+        }
+        for (int i = 0; i < c->chain->n_joints; i++) {
+            const kc_joint_limits *l = &c->chain->joints[i].limits;
+            kc_real q = m[1].q[i] + g[1].q[i] - s.q[i], qd = m[1].qd[i] + g[1].qd[i];
+            kc_real qdd = m[1].qdd[i] + g[1].qdd[i], dqdd = qdd - (m[0].qdd[i] + g[0].qdd[i]);
+            kc_real dqd = qd - (m[0].qd[i] + g[0].qd[i]);
+            kc_real vb = kc_max(l->qd_max, kc_max(kc_fabs(m[1].qd[i]), kc_fabs(g[1].qd[i])));
+            kc_real ab = kc_max(l->qdd_max, kc_max(kc_fabs(m[1].qdd[i]), kc_fabs(g[1].qdd[i])));
+            kc_real jb = kc_max(l->qddd_max * dt, kc_max(kc_fabs(m[1].qdd[i] - m[0].qdd[i]),
+                                                         kc_fabs(g[1].qdd[i] - g[0].qdd[i])));
+            if (!(q >= l->q_min && q <= l->q_max && kc_fabs(qd) <= vb * e && kc_fabs(qdd) <= ab * e &&
+                  kc_fabs(dqd) <= l->qdd_max * dt * e && kc_fabs(dqdd) <= jb * e))
+                return 0;
+        }
+    }
+    return 1;
+}
+
 /* The earliest admissible t0 the search finds (T_s when none before). */
+/* admissible_joints for a joint path, else admissible. */
+static int admits(const kc_ctrl *c, const blend_bounds *lim, int64_t t0, int64_t stride)
+{
+    return c->goal.kind == KC_GOAL_PATH ? admissible_joints(c, t0, stride) : admissible(c, lim, t0, stride);
+}
+
 static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
 {
     int64_t ts = c->blend.stop_ticks, step = (ts + BLEND_GRID - 1) / BLEND_GRID;
@@ -198,7 +294,7 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
     if (step < 1)
         return ts;
     for (int64_t t = 0; t < ts; t += step) {
-        if (admissible(c, lim, t, BLEND_STRIDE)) {
+        if (admits(c, lim, t, BLEND_STRIDE)) {
             hi = t;
             break;
         }
@@ -206,7 +302,7 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
     }
     for (int i = 0; i < 20 && hi - lo > 1; i++) {
         int64_t mid = lo + (hi - lo) / 2;
-        if (admissible(c, lim, mid, BLEND_STRIDE))
+        if (admits(c, lim, mid, BLEND_STRIDE))
             hi = mid;
         else
             lo = mid;
@@ -215,13 +311,13 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
      * BLEND_STRIDE where the overlap refuses at its edge: checked on every
      * tick, a refused t0 gives way to a bisection (on every tick) up to
      * BLEND_STRIDE ticks later, then up to the next point of the grid. */
-    for (int tries = 0; hi < ts && !admissible(c, lim, hi, 1); tries++) {
+    for (int tries = 0; hi < ts && !admits(c, lim, hi, 1); tries++) {
         int64_t next = tries == 0 ? hi + BLEND_STRIDE : (hi / step + 1) * step;
         lo = hi;
         hi = next < ts ? next : ts;
         for (int i = 0; i < 20 && hi - lo > 1; i++) {
             int64_t mid = lo + (hi - lo) / 2;
-            if (admissible(c, lim, mid, 1))
+            if (admits(c, lim, mid, 1))
                 hi = mid;
             else
                 lo = mid;
@@ -231,9 +327,10 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
 }
 
 /* Moves what M's stop reads out of c->plan into the record (G is planned
- * there): a line or an arc (small), a jerk-limited joint move's line or
- * its stops joint by joint (stop_ticks: its last joint's). Returns 0 for a
- * stop that is no such plan (the goal waits for it). */
+ * there), with its start tick: a line or an arc (small), a jerk-limited
+ * joint move's line, or a joint move's or servo stream's stops joint by
+ * joint (stop_ticks: its last joint's; a servo's from jstop_k0). Returns 0
+ * for a stop that is no such plan (the goal waits for it). */
 static int keep_stop(kc_ctrl *c)
 {
     kc_ctrl_blend *b = &c->blend;
@@ -242,9 +339,8 @@ static int keep_stop(kc_ctrl *c)
     b->kind = c->goal.kind;
     b->stop_drive = c->drive;
     b->stop_ticks = 0;
+    b->k0 = c->goal.kind == KC_GOAL_SERVO ? c->jstop_k0 : c->k0;
     if (c->drive == KC_DRIVE_HALT) {
-        if (b->kind != KC_GOAL_JOINT)
-            return 0;
         for (int i = 0; i < n; i++)
             b->stop_ticks = c->plan.halt[i].ticks > b->stop_ticks ? c->plan.halt[i].ticks : b->stop_ticks;
         memcpy(b->plan.halt, c->plan.halt, sizeof(kc_scurve) * (size_t)n);
@@ -307,15 +403,18 @@ static void give_back_stop(kc_ctrl *c)
 int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
 {
     kc_ctrl_blend *b = &c->blend;
+    int in_joints = c->goal.kind == KC_GOAL_JOINT || c->goal.kind == KC_GOAL_SERVO;
     if (!c->active || c->state != KC_CTRL_MOVING || b->on ||
-        (c->goal.kind != KC_GOAL_LINE && c->goal.kind != KC_GOAL_ARC && c->goal.kind != KC_GOAL_JOINT) ||
-        (g->kind != KC_GOAL_LINE && g->kind != KC_GOAL_ARC && g->kind != KC_GOAL_PATH_CART))
+        (c->goal.kind != KC_GOAL_LINE && c->goal.kind != KC_GOAL_ARC && !in_joints) ||
+        (g->kind != KC_GOAL_LINE && g->kind != KC_GOAL_ARC && g->kind != KC_GOAL_PATH_CART &&
+         !(g->kind == KC_GOAL_PATH && in_joints)))
         return 0;
     /* The IK step turns the sum's twist back into joint velocities, and
-     * gives a joint move's own back (J^+ J qd = qd) only where the task
-     * leaves no null space: a redundant arm's joint move stops first (its
-     * null-space motion would jump to the IK's objective). */
-    if (c->goal.kind == KC_GOAL_JOINT && c->chain->n_joints > kc_ik_task_rows(c->cfg.ik.mask))
+     * gives a joint-space stop's own back (J^+ J qd = qd) only where the
+     * task leaves no null space: a redundant arm's joint move or servo
+     * stream stops first (its null-space motion would jump to the IK's
+     * objective). */
+    if (in_joints && g->kind != KC_GOAL_PATH && c->chain->n_joints > kc_ik_task_rows(c->cfg.ik.mask))
         return 0;
     /* A trapezoid joint move's stop brakes at a joint's acceleration limit
      * from its first tick to its last: the IK step, adding its correction
@@ -323,21 +422,34 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
      * its target. It stops first, in joint space. */
     if (c->goal.kind == KC_GOAL_JOINT && (c->drive == KC_DRIVE_RETARGET || c->plan.joint.kind != KC_PROFILE_JERK))
         return 0;
-    /* A joint move has no Cartesian limits of its own: G's bound the sum
-     * (or what M's stop alone does, where that is more). */
+    /* A joint move or a servo stream has no Cartesian limits of its own:
+     * G's bound the sum (or what M's stop alone does, where that is more;
+     * a servo stream's stop that cannot be planned jerk-limited is no
+     * KC_DRIVE_HALT: keep_stop refuses it, the goal waits for it). */
     kc_interp_limits lg = kc_ctrl_cart_limits(c, g);
-    kc_interp_limits lm = c->goal.kind == KC_GOAL_JOINT ? lg : kc_ctrl_cart_limits(c, &c->goal);
+    kc_interp_limits lm = in_joints ? lg : kc_ctrl_cart_limits(c, &c->goal);
     blend_bounds lim = {kc_max(lm.v, lg.v), kc_max(lm.a, lg.a), kc_max(lm.j, lg.j),
                         kc_max(lm.w, lg.w), kc_max(lm.dw, lg.dw), kc_max(lm.dj, lg.dj)};
     kc_real old_length = c->path_length;
     kc_ctrl_stop_on_path(c, INTENT_PREEMPT);
     if (!keep_stop(c))
         return 0; /* a stop that is not a profile: it goes on, the goal waits for it */
-    b->k0 = c->k0;
     kc_ctrl_seg_point rest;
-    stop_point(c, b->stop_ticks, &rest);
-    b->rest = rest.pose;
-    kc_status st = kc_ctrl_plan_cart_from(c, g, &b->rest);
+    kc_status st;
+    if (g->kind == KC_GOAL_PATH) {
+        /* In joint space, from where M's stop rests (q_s), at rest there
+         * (a path that is not, Lagrange's, needs a ramp: not superposed). */
+        kc_real d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
+        stop_joints(c, b->stop_ticks, 1, &rest);
+        st = kc_ctrl_plan_path_from(c, g, rest.q);
+        kc_path_eval_time(&c->plan.path, KC_R(0.0), rest.q, d1, d2);
+        for (int i = 0; i < c->chain->n_joints && st == KC_OK; i++)
+            st = d1[i] == KC_R(0.0) ? KC_OK : KC_E_ARG;
+    } else {
+        stop_point(c, b->stop_ticks, &rest);
+        b->rest = rest.pose;
+        st = kc_ctrl_plan_cart_from(c, g, &b->rest);
+    }
     if (st == KC_OK && g->kind == KC_GOAL_PATH_CART) {
         /* A path that does not start at rest (Lagrange's) needs a ramp of
          * its own: not superposed. */
@@ -372,8 +484,22 @@ void kc_ctrl_blend_apply(kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o)
 {
     kc_ctrl_blend *b = &c->blend;
     int64_t j = k - b->k0;
+    if (c->goal.kind == KC_GOAL_PATH)
+        path_at_rest(k - c->k0, c->chain->n_joints, o);
     if (j >= b->stop_ticks) {
         b->on = 0; /* M rests at P_s: the sum is G alone from here */
+        return;
+    }
+    if (c->goal.kind == KC_GOAL_PATH) {
+        /* In joint space: q = q_M + q_G - q_s, and so for qd, qdd. */
+        kc_ctrl_seg_point m, s;
+        stop_joints(c, j, 1, &m);
+        stop_joints(c, b->stop_ticks, 1, &s);
+        for (int i = 0; i < c->chain->n_joints; i++) {
+            o->q[i] += m.q[i] - s.q[i];
+            o->qd[i] += m.qd[i];
+            o->qdd[i] += m.qdd[i];
+        }
         return;
     }
     kc_ctrl_seg_point m;

@@ -146,6 +146,10 @@ kc_status kc_ctrl_plan_goal(kc_ctrl *c);
  * read. On error c->plan is scratch. */
 kc_status kc_ctrl_plan_cart_from(kc_ctrl *c, const kc_goal *g, const kc_pose *from);
 
+/* Plans joint path g into c->plan.path as if at rest at joints q0;
+ * c->goal is not read. On error c->plan is scratch. */
+kc_status kc_ctrl_plan_path_from(kc_ctrl *c, const kc_goal *g, const kc_real *q0);
+
 /* A line or an arc (kind) at tick j of its drive: its own law
  * (KC_DRIVE_NOMINAL), the profile prof (KC_DRIVE_PROFILE) or the
  * jerk-limited profile sc (KC_DRIVE_SCURVE) of its u. */
@@ -169,8 +173,10 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
 /* ---- ctrl_blend.c: a replacing Cartesian goal superposed on the stop of
  * the motion it replaces (kinctl/ctrl.h) ---- */
 
-/* Replacing goal g (line, arc or Cartesian path) takes over from the
- * active line or arc, moving: the old segment stops on its path (kept in
+/* Replacing goal g (line, arc or Cartesian path; a joint path from a joint
+ * move or servo stream) takes over from the active line, arc, joint move
+ * or servo stream, moving: the old segment stops (on its path, or in
+ * joint space) (kept in
  * c->blend), g is planned from where that stop ends and starts at the
  * earliest tick its sum with the stop keeps the Cartesian limits. Returns
  * 1 when taken (ACCEPTED, PREEMPTED, STARTED emitted); 0 with the active

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* ctrl_queue.c - events, the goal queue, and a goal taken in a tick:
  * servo updates, refusals, queueing, preemption, the retarget of a joint
- * move and the takeover of a Cartesian one (ctrl_blend.c) (kinctl/ctrl.h). */
+ * move and the takeover of a Cartesian one or of a joint path
+ * (ctrl_blend.c) (kinctl/ctrl.h). */
 #include "ctrl_internal.h"
 
 #include <string.h>

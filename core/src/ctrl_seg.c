@@ -48,7 +48,7 @@ kc_interp_limits kc_ctrl_cart_limits(const kc_ctrl *c, const kc_goal *g)
 
 /* Plans path goal g through the current state and its points (a
  * Cartesian one from the tool pose *from). */
-static kc_status plan_path(kc_ctrl *c, const kc_goal *g, const kc_pose *from)
+static kc_status plan_path(kc_ctrl *c, const kc_goal *g, const kc_pose *from, const kc_real *q0)
 {
     int n = c->chain->n_joints, m = g->n_points + 1;
     kc_real times[KC_PATH_MAX_KNOTS];
@@ -59,7 +59,7 @@ static kc_status plan_path(kc_ctrl *c, const kc_goal *g, const kc_pose *from)
         kc_real knots[KC_PATH_MAX_KNOTS * KC_MAX_JOINTS];
         kc_path_cfg cfg = kc_path_cfg_default();
         for (int j = 0; j < n; j++)
-            knots[j] = c->q[j];
+            knots[j] = q0[j];
         for (int i = 1; i < m; i++)
             for (int j = 0; j < n; j++)
                 knots[i * n + j] = g->points[i - 1][j];
@@ -141,9 +141,15 @@ kc_status kc_ctrl_plan_cart_from(kc_ctrl *c, const kc_goal *g, const kc_pose *fr
         st = kc_interp_arc_plan(&c->plan.arc, from, &g->via, &g->pose.t, &lim, c->cfg.dt);
         c->path_length = c->plan.arc.length;
     } else if (g->kind == KC_GOAL_PATH_CART) {
-        st = plan_path(c, g, from);
+        st = plan_path(c, g, from, c->q);
     }
     return st;
+}
+
+kc_status kc_ctrl_plan_path_from(kc_ctrl *c, const kc_goal *g, const kc_real *q0)
+{
+    c->path_length = KC_R(0.0);
+    return plan_path(c, g, &c->pose, q0);
 }
 
 kc_status kc_ctrl_plan_goal(kc_ctrl *c)
@@ -161,7 +167,7 @@ kc_status kc_ctrl_plan_goal(kc_ctrl *c)
     case KC_GOAL_PATH_CART:
         return kc_ctrl_plan_cart_from(c, g, from);
     case KC_GOAL_PATH:
-        return plan_path(c, g, from);
+        return plan_path(c, g, from, c->q);
     case KC_GOAL_SERVO:
         c->servo_target = g->servo_twist ? *from : g->pose;
         c->servo_last = c->cycle;
@@ -470,10 +476,12 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
         kc_ctrl_seg_eval(c, j, &now);
     out->progress = now.progress;
     if (!cart) {
+        if (c->blend.on) /* a joint path superposed on a stop in joint space */
+            kc_ctrl_blend_apply(c, c->cycle, &now);
         memcpy(q, now.q, sizeof(kc_real) * (size_t)n);
         memcpy(qd, now.qd, sizeof(kc_real) * (size_t)n);
         memcpy(qdd, now.qdd, sizeof(kc_real) * (size_t)n);
-        return now.done;
+        return now.done && !c->blend.on;
     }
     /* Cartesian: the target where the segment is at the last setpoint's
      * instant, its twist fed forward; the step heads for tick j. */

@@ -6,7 +6,9 @@
  * replacement that is fine is taken, and the verdict's ticks and end
  * joints are where the real controller, given the goal in the next tick,
  * comes to rest, to the bit: a jerk-limited retarget, a line superposed on
- * a joint move's stop, a line replacing a trapezoid joint move and a joint
+ * a joint move's stop or on a servo stream's halt, a joint path superposed
+ * on a joint move's stop in joint space, a line replacing a
+ * trapezoid joint move and a joint
  * goal whose retarget would carry the waist past its limit (both stop
  * first: the verdict says so, as the controller's ACCEPTED does). A
  * snapshot older than the latest tick, or one that has not seen every goal
@@ -126,6 +128,37 @@ static void sweep_profile_then_snapshot(kc_goal_profile profile, kc_real shift)
     kc_ctrl_output out;
     for (int k = 0; k < SWEEP_TICKS; k++) {
         step(&CTRL, k == 0 ? &sweep : NULL, &goals, &out);
+        assert_int_equal(out.state, KC_CTRL_MOVING);
+        kc_check_tick(&CHECK, &out, goals);
+    }
+    assert_int_equal(kc_check_snapshot(&CHECK, &CTRL, goals), KC_OK);
+}
+
+/* CTRL and CHECK set up at KT_PUMA_Q0 with CFG, a servo stream (its
+ * target moving at 0.1 m/s along (1, 1, 1)/sqrt(3)) judged, handed on and
+ * streamed for 400 ticks, each fed to the check; then the snapshot. */
+static void servo_then_snapshot(void)
+{
+    assert_int_equal(kc_ctrl_init(&CTRL, &CHAIN, &CFG, KT_PUMA_Q0), KC_OK);
+    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, KT_PUMA_Q0), KC_OK);
+    kc_goal s;
+    memset(&s, 0, sizeof s);
+    s.id = 1;
+    s.kind = KC_GOAL_SERVO;
+    s.vel_scale = s.acc_scale = KC_R(1.0);
+    s.servo_twist = 1;
+    for (int i = 0; i < 3; i++)
+        s.twist[i] = KC_R(0.1) / kc_sqrt(KC_R(3.0));
+    kc_verdict v;
+    assert_int_equal(kc_check_goal(&CHECK, &s, &v), KC_OK);
+    kc_check_handed(&CHECK, &s, &v);
+    int64_t goals = 0;
+    kc_ctrl_output out;
+    for (int k = 0; k < 400; k++) {
+        /* the stream's messages after the first are one goal: not counted */
+        kc_ctrl_input in = {&s, KC_CMD_NONE, 0, KC_REASON_NONE};
+        assert_int_equal(kc_ctrl_step(&CTRL, &in, &out), KC_OK);
+        goals = 1;
         assert_int_equal(out.state, KC_CTRL_MOVING);
         kc_check_tick(&CHECK, &out, goals);
     }
@@ -279,6 +312,34 @@ static void test_taken_as_controller(void **state)
     to.t.v[2] += KC_R(0.1);
     g = kt_line_goal(3, &to);
     g.replace = 1;
+    assert_as_controller(&g, KC_REASON_NONE);
+
+    /* a line superposed on a servo stream's halt (not stopped first) */
+    servo_then_snapshot();
+    kc_real speed = KC_R(0.0);
+    for (int j = 0; j < 6; j++)
+        speed += kc_fabs(CTRL.qd[j]);
+    assert_true(CTRL.goal.kind == KC_GOAL_SERVO && speed > KC_R(0.05));
+    to = CTRL.pose;
+    to.t.v[2] += KC_R(0.05);
+    g = kt_line_goal(6, &to);
+    g.replace = 1;
+    assert_as_controller(&g, KC_REASON_NONE);
+
+    /* a joint path superposed on the sweep's stop, in joint space */
+    sweep_then_snapshot();
+    memset(&g, 0, sizeof g);
+    g.id = 7;
+    g.kind = KC_GOAL_PATH;
+    g.replace = 1;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    g.method = KC_PATH_QUINTIC;
+    g.n_points = 2;
+    for (int j = 0; j < 6; j++) {
+        g.points[0][j] = CTRL.q[j] + KC_R(0.1);
+        g.points[1][j] = CTRL.q[j] + KC_R(0.2);
+    }
+    g.dim = 6;
     assert_as_controller(&g, KC_REASON_NONE);
 
     /* a line replacing a trapezoid joint move: the move stops first */

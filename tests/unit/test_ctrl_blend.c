@@ -123,25 +123,39 @@ typedef struct target {
     kc_vec3 vg, wg; /* G's own twist */
 } target;
 
-/* The replaced joint move's joints and their velocities at tick jm
- * (>= 0) of its jerk-limited stop, from the stops the controller planned,
- * through the public evaluators: on its line q = q0 + dq u, or joint by
- * joint. */
+/* The replaced joint move's joints at tick jm (>= 0) of its jerk-limited
+ * stop as the IK step integrates it, and the velocities fed forward from
+ * there (ctrl_blend.c stop_euler), from the stops the controller planned,
+ * through the public evaluators: each profile's p(0) + dt (v(1) + ... +
+ * v(jm)), summed here tick by tick, and v(jm + 1); on its line
+ * q = q0 + dq u, or joint by joint. */
+static kc_real euler_sum(const kc_scurve *sc, int64_t jm, kc_real *v)
+{
+    kc_scurve_state s;
+    kc_scurve_eval(sc, 0, &s);
+    double p = (double)s.p;
+    for (int64_t i = 1; i <= jm; i++) {
+        kc_scurve_eval(sc, i, &s);
+        p += (double)H.cfg.dt * (double)s.v;
+    }
+    kc_scurve_eval(sc, jm + 1, &s);
+    *v = s.v;
+    return (kc_real)p;
+}
+
 static void joint_stop_eval(int64_t jm, kc_real *q, kc_real *qd)
 {
     const kc_ctrl_blend *b = &H.ctrl.blend;
-    kc_scurve_state s;
+    kc_real u = KC_R(0.0), ud = KC_R(0.0);
     assert_true(b->stop_drive == KC_DRIVE_SCURVE || b->stop_drive == KC_DRIVE_HALT);
     if (b->stop_drive == KC_DRIVE_SCURVE)
-        kc_scurve_eval(&b->stop.scurve, jm, &s);
+        u = euler_sum(&b->stop.scurve, jm, &ud);
     for (int i = 0; i < H.chain.n_joints; i++) {
         if (b->stop_drive == KC_DRIVE_HALT) {
-            kc_scurve_eval(&b->plan.halt[i], jm, &s);
-            q[i] = s.p;
-            qd[i] = s.v;
+            q[i] = euler_sum(&b->plan.halt[i], jm, &qd[i]);
         } else {
-            q[i] = b->plan.joint.q0[i] + b->plan.joint.dq[i] * s.p;
-            qd[i] = b->plan.joint.dq[i] * s.v;
+            q[i] = b->plan.joint.q0[i] + b->plan.joint.dq[i] * u;
+            qd[i] = b->plan.joint.dq[i] * ud;
         }
     }
 }

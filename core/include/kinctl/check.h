@@ -23,7 +23,8 @@
  * gives it in the next tick, and stepped until the goal ends, at the
  * controller's own period: the verdict covers the transition the
  * controller makes (kinctl/ctrl.h: a joint goal's retarget from (q, qd,
- * qdd), a Cartesian goal superposed on the old motion's stop, or the stop
+ * qdd), a Cartesian goal or a joint path superposed on the old motion's
+ * stop, or the stop
  * first and then the goal from rest where it ends); a fault on the way
  * (a zone, a joint the IK step cannot bring along: the old motion's stop
  * included) refuses the goal; and a goal taken with the motion stopped

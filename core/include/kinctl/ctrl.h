@@ -59,13 +59,19 @@
  * a Cartesian motion retargets the same way, from the joints' (q, qd, qdd)
  * (qdd of a Cartesian motion: the change of qd over the last tick).
  *
- * A line, an arc or a Cartesian path replacing a moving line, arc or
- * jerk-limited joint move takes over in the tick it arrives by
- * superposition (ctrl_blend.c). The old segment M gets its stop (the law
- * of STOP, below: a line or an arc on its path, jerk-limited by default, a
- * trapezoid's for a trapezoid line or arc; a joint move in joint space,
- * on its line or joint by joint, whose tool pose is FK(q_M) and twist
- * J(q_M) qd_M, the geometric Jacobian's), which
+ * A line, an arc or a Cartesian path replacing a moving line, arc,
+ * jerk-limited joint move or servo stream takes over in the tick it
+ * arrives by superposition (ctrl_blend.c). The old segment M gets its stop
+ * (the law of STOP, below: a line or an arc on its path, jerk-limited by
+ * default, a trapezoid's for a trapezoid line or arc; a joint move in
+ * joint space, on its line or joint by joint; a servo stream's
+ * jerk-limited halt joint by joint; a stop in joint space has tool pose
+ * FK(q_M) and twist J(q_M) qd_M, the geometric Jacobian's, q_M the stop
+ * as the IK step integrates it: its velocity at the next tick fed forward
+ * from q_M, q_M(j) = q_M(0) + dt (qd_M(1) + ... + qd_M(j)) in closed
+ * form, so that the setpoints carry on with the stop's own velocities and
+ * accelerations from the takeover's tick, within its joints' jerk
+ * limits, and M rests up to dt |qd| / 2 from where STOP would), which
  * would bring the tool to rest at pose P_s = (R_s, p_s) T_s ticks after
  * the takeover; the new goal G is planned from P_s as if at rest there,
  * and starts t0 ticks after the takeover. The Cartesian target is
@@ -86,16 +92,18 @@
  * (jerk), and the same three of its angular velocity, stay within the
  * larger of the two goals' Cartesian limits (a joint move has none: G's)
  * (or within what M or G alone does at that tick, where that is more: an
- * arc's centripetal part, a joint move's stop). t0 = T_s,
+ * arc's centripetal part, a stop in joint space). t0 = T_s,
  * no overlap, always qualifies: the new motion starts the tick the old
  * one stops, without waiting for the tool to settle. While M's stop lasts,
  * and after it until the tool is back within cfg.track_tol and closing
  * in, the tracking bound is a stop's (TRACK_GIVE_UP times it); from the
- * takeover the setpoint is the IK step's, following the sum (a joint
- * move's stop included: with a task that leaves no null space the step
+ * takeover the setpoint is the IK step's, following the sum (a stop in
+ * joint space included: with a task that leaves no null space the step
  * gives its joint velocities back, J^+ J qd_M = qd_M). Limits:
  * the joints are not judged over the overlap beforehand (M's stop stays
- * inside the position limits its motion was planned or checked within;
+ * inside the position limits its motion was planned or checked within,
+ * give or take dt |qd| / 2; their jerk is M's stop's until G moves, then
+ * that and what G asks of them, G being bounded in Cartesian jerk only;
  * the final check of every setpoint still holds, a joint that cannot
  * follow faults as any Cartesian motion does; the dry run, given a
  * snapshot of the controller, steps this very takeover and refuses a G
@@ -105,17 +113,31 @@
  * stop goes on: for that time the two stops add, and the tool's
  * deceleration may reach the sum of the two goals' limits.
  *
+ * A joint path replacing a moving jerk-limited joint move or servo stream
+ * takes over in the tick it arrives the same way, in joint space: M's
+ * stop joint by joint (exact, no IK step in between), G planned from the
+ * joints q_s where it rests, at rest there (Lagrange's polynomial is not:
+ * it stops first), q = q_M + q_G - q_s (and so qd, qdd; G adds nothing
+ * before it starts), t0 the earliest of the same bounded search at which
+ * every joint of the sum stays inside its position limits and within its
+ * qd_max, qdd_max and qddd_max (the change of qdd over a tick), or within
+ * what M or G alone does at that tick where that is more (a parabolic
+ * blend's step of qdd), on every tick of the overlap.
+ *
  * Every other replacement stops first: the active segment stops on its
  * path, and the goal starts from where the arm comes to rest. Its ACCEPTED
  * event carries KC_REASON_STOP_FIRST. These are a joint move whose
  * retarget would pass a limit; a Cartesian goal replacing a path, a
- * servo stream, a trapezoid joint move (its stop brakes at a joint's
- * acceleration limit from its first tick to its last, which the IK step
- * cannot follow through a Cartesian target with its correction added) or
- * a joint move of an arm whose joints outnumber the IK task's rows (the
- * Panda's 7 under the full task: the step would drop the move's
- * null-space motion, its joint velocities jumping); a Cartesian path that
- * does not start at rest (Lagrange's); a replacing joint path or servo stream; a
+ * trapezoid joint move (its stop brakes at a joint's acceleration limit
+ * from its first tick to its last, which the IK step cannot follow
+ * through a Cartesian target with its correction added), a servo stream
+ * whose stop is not jerk-limited (a chain without jerk limits: it brakes
+ * at the acceleration limits) or a joint move or servo stream of an arm
+ * whose joints outnumber the IK task's rows (the Panda's 7 under the full
+ * task: the step would drop the motion's null-space part, its joint
+ * velocities jumping); a path that does not start at rest (Lagrange's);
+ * a joint path replacing anything but a jerk-limited joint move or a
+ * servo stream; a replacing servo stream; a
  * replacement during a superposition or a stop; and a goal that cannot be
  * planned from P_s. Setpoints stay continuous in
  * position and velocity throughout, and in acceleration through
@@ -487,14 +509,15 @@ typedef struct kc_ctrl_blend_joint {
     kc_interp_sync sync;
 } kc_ctrl_blend_joint;
 
-/* A replacing Cartesian goal's transition: the line, arc or joint move it
- * replaced, stopping, superposed on it (ctrl_blend.c). */
+/* A replacing goal's transition (a line, an arc or a Cartesian path; a
+ * joint path in joint space): the line, arc, joint move or servo stream
+ * it replaced, stopping, superposed on it (ctrl_blend.c). */
 typedef struct kc_ctrl_blend {
     int on;
-    kc_goal_kind kind; /* the replaced segment: KC_GOAL_LINE, KC_GOAL_ARC or KC_GOAL_JOINT */
-    /* Its plan, or for a jerk-limited joint move what its stop needs: its
-     * line (stop_drive KC_DRIVE_SCURVE) or one jerk-limited stop a joint
-     * (KC_DRIVE_HALT). */
+    kc_goal_kind kind; /* the replaced segment: KC_GOAL_LINE, KC_GOAL_ARC, KC_GOAL_JOINT or KC_GOAL_SERVO */
+    /* Its plan, or for a jerk-limited joint move or a servo stream what
+     * its stop needs: its line (stop_drive KC_DRIVE_SCURVE) or one
+     * jerk-limited stop a joint (KC_DRIVE_HALT). */
     union {
         kc_interp_line line;
         kc_interp_arc arc;
@@ -503,8 +526,8 @@ typedef struct kc_ctrl_blend {
     } plan;
     /* Its u from the takeover to rest: a jerk-limited stop (stop_drive
      * KC_DRIVE_SCURVE, stop.scurve) or a trapezoid's (KC_DRIVE_PROFILE,
-     * stop.prof, a line or an arc); a joint move's stop joint by joint has
-     * none (plan.halt); stop_ticks ticks (its last joint's). */
+     * stop.prof, a line or an arc); a stop joint by joint has none
+     * (plan.halt); stop_ticks ticks (its last joint's). */
     kc_ctrl_drive stop_drive;
     union {
         kc_profile prof;
@@ -566,7 +589,8 @@ typedef struct kc_ctrl {
     kc_zone_hit zone_now, zone_hit;
     kc_real zone_lever[KC_MAX_JOINTS]; /* kc_zone_levers of the chain */
     kc_real zone_brake;                /* a of the servo's braking law (m/s^2) */
-    /* A replacing Cartesian goal taking over from a moving line or arc. */
+    /* A replacing goal taking over from a moving line, arc, joint move or
+     * servo stream. */
     kc_ctrl_blend blend;
 } kc_ctrl;
 
