@@ -32,7 +32,12 @@
  * the twist fed forward turns them into the joint setpoint. If the tool
  * falls more than cfg.track_tol behind (a joint limit, a singularity) the
  * arm stops on the path and the controller faults, naming the segment and
- * the path length where it happened.
+ * the path length where it happened. Their limits are Cartesian: every
+ * joint stays within qd_max and qdd_max (the IK step's scaling, the final
+ * check), but its jerk is what the arm's Jacobian makes of the tool's
+ * motion, not bounded by qddd_max (where the Jacobian amplifies, e.g. a
+ * line near a singularity, it may exceed it; slower Cartesian limits
+ * avoid that).
  *
  * Goal ids name one goal while it is in flight: a goal whose id is that of
  * the active goal or of a queued one is refused (KC_REASON_DUPLICATE_ID),
