@@ -31,11 +31,13 @@
  * second difference over a 1 ms tick is several hundred rad/s^3: 10-20
  * times the PUMA's 50 rad/s^3 in any Cartesian motion, with or without a
  * superposition (measured here: printed, not judged). */
-/* KINDS_RUN: the Cartesian kinds run. In float a Cartesian path of these
- * runs (seed 2019's first), given alone from rest where the halt ends,
- * fails to settle at its end within the IK's tolerance and faults, as it
- * does superposed: a float limit of the path's end, not of the
- * superposition; float runs the line and the arc. */
+/* KINDS_RUN: the Cartesian kinds run. The float build draws other cases
+ * (CASES), and its first Cartesian path (seed 2019's) passes near the
+ * wrist's singularity (q5 from 0.32 to 0.2 rad): joint 4 would need more
+ * than its qdd_max, the IK step's scaling holds it there, the tool falls
+ * 1 mm behind and the controller faults, given alone from rest where the
+ * halt ends as superposed (a path the arm cannot follow, not a limit of
+ * float or of the superposition); float runs the line and the arc. */
 #ifdef KC_REAL_FLOAT
 #define SLACK 1e-4
 #define TOL_POSE 1e-4
