@@ -75,10 +75,8 @@ typedef struct harness {
      * goal's own (alone[j]), and the goal's own over the limit. */
     double worst_g, worst_alone;
     int events[8];
-    /* The stream: a target pose start + sum of sines per axis. */
-    kc_pose start;
-    double amp[3], w[3], phi[3];
-    int64_t t; /* ticks streamed */
+    kc_pose start;    /* the tool pose at the start */
+    kt_stream stream; /* the servo stream, from start */
 } harness;
 
 static harness H; /* large: not on the stack */
@@ -146,31 +144,11 @@ static void tick(const kc_goal *g)
         H.events[H.out.events[e].kind]++;
 }
 
-/* A new stream: up to 3 cm at up to 5 rad/s per axis. */
-static void stream_init(kt_rng *r)
-{
-    for (int k = 0; k < 3; k++) {
-        H.amp[k] = kt_uniform(r, 0.0, 0.03);
-        H.w[k] = kt_uniform(r, 0.5, 5.0);
-        H.phi[k] = kt_uniform(r, 0.0, 2.0 * KT_PI);
-    }
-    H.t = 0;
-}
-
 /* Streams servo goal id for n ticks (its messages one a tick). */
 static void stream(int64_t id, int n)
 {
     for (int k = 0; k < n; k++) {
-        kc_goal g;
-        memset(&g, 0, sizeof g);
-        g.id = id;
-        g.kind = KC_GOAL_SERVO;
-        g.vel_scale = g.acc_scale = KC_R(1.0);
-        g.pose = H.start;
-        double t = (double)H.t * (double)H.cfg.dt;
-        for (int a = 0; a < 3; a++)
-            g.pose.t.v[a] += (kc_real)(H.amp[a] * (sin(H.w[a] * t + H.phi[a]) - sin(H.phi[a])));
-        H.t++;
+        kc_goal g = kt_stream_next(&H.stream, id);
         tick(&g);
         assert_int_equal(H.out.goal_id, id);
     }
@@ -335,7 +313,7 @@ static void test_stream_replaced(void **state)
         for (int c = 0; c < CASES; c++) {
             setup(KC_MODEL_PUMA560, 0);
             int64_t id = 100 + c;
-            stream_init(&r);
+            kt_stream_init(&H.stream, &r, &H.start, (double)H.cfg.dt);
             stream(id, 200 + (int)kt_uniform(&r, 0.0, 400.0));
             kc_goal g = random_goal(&r, KINDS[kind], 1000 + c, rest_ahead());
             if (JUDGE_JERK)
@@ -378,7 +356,7 @@ static void test_stops_first(void **state)
     kt_rng r = kt_rng_make(2029);
     for (int which = 0; which < 2; which++) {
         setup(which == 0 ? KC_MODEL_PANDA : KC_MODEL_PUMA560, which == 1);
-        stream_init(&r);
+        kt_stream_init(&H.stream, &r, &H.start, (double)H.cfg.dt);
         stream(7, 300);
         kc_goal g = random_goal(&r, KC_GOAL_LINE, 8, rest_ahead());
         H.check = which == 0;

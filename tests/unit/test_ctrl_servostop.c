@@ -41,10 +41,8 @@ typedef struct harness {
     int check; /* 1: the ticks of a stop, checked against every limit */
     double worst_j;
     int events[8];
-    /* The stream: a target pose start + sum of sines per axis. */
-    kc_pose start;
-    double amp[3], w[3], phi[3];
-    int64_t t; /* ticks streamed */
+    kc_pose start;    /* the tool pose at the start */
+    kt_stream stream; /* the servo stream, from start */
 } harness;
 
 static harness H; /* large: not on the stack */
@@ -102,39 +100,11 @@ static void tick(const kc_goal *g, kc_ctrl_command cmd)
         H.events[H.out.events[e].kind]++;
 }
 
-/* A new stream: up to 3 cm at up to 5 rad/s per axis (tool speeds up to
- * about 0.25 m/s, accelerations up to about 1.3 m/s^2). */
-static void stream_init(kt_rng *r)
-{
-    for (int k = 0; k < 3; k++) {
-        H.amp[k] = kt_uniform(r, 0.0, 0.03);
-        H.w[k] = kt_uniform(r, 0.5, 5.0);
-        H.phi[k] = kt_uniform(r, 0.0, 2.0 * KT_PI);
-    }
-    H.t = 0;
-}
-
-/* The stream's next message for servo goal id. */
-static kc_goal stream_next(int64_t id)
-{
-    kc_goal g;
-    memset(&g, 0, sizeof g);
-    g.id = id;
-    g.kind = KC_GOAL_SERVO;
-    g.vel_scale = g.acc_scale = KC_R(1.0);
-    g.pose = H.start;
-    double t = (double)H.t * (double)H.cfg.dt;
-    for (int k = 0; k < 3; k++)
-        g.pose.t.v[k] += (kc_real)(H.amp[k] * (sin(H.w[k] * t + H.phi[k]) - sin(H.phi[k])));
-    H.t++;
-    return g;
-}
-
 /* Streams goal id for n ticks. */
 static void stream(int64_t id, int n)
 {
     for (int k = 0; k < n; k++) {
-        kc_goal g = stream_next(id);
+        kc_goal g = kt_stream_next(&H.stream, id);
         tick(&g, KC_CMD_NONE);
         assert_int_equal(H.out.goal_id, id);
     }
@@ -188,12 +158,12 @@ static void test_stops_jerk_limited(void **state)
         double spread = 0.0, worst_spread = 0.0;
         for (int c = 0; c < CASES; c++) {
             int64_t id = 100 + c;
-            stream_init(&r);
+            kt_stream_init(&H.stream, &r, &H.start, (double)H.cfg.dt);
             stream(id, 200 + (int)kt_uniform(&r, 0.0, 400.0));
             int k = 0, mode = c % 4;
             H.check = 1;
             if (mode == 0) {
-                kc_goal g = stream_next(id);
+                kc_goal g = kt_stream_next(&H.stream, id);
                 tick(&g, KC_CMD_STOP);
                 first_stop_tick(&spread);
                 for (; k < 10000 && H.out.state != KC_CTRL_IDLE; k++)
@@ -218,7 +188,7 @@ static void test_stops_jerk_limited(void **state)
                 stream(id, 100);
                 assert_true(moving());
                 H.check = 1;
-                kc_goal g = stream_next(id);
+                kc_goal g = kt_stream_next(&H.stream, id);
                 tick(&g, KC_CMD_STOP);
                 first_stop_tick(&spread);
                 for (; k < 10000 && H.out.state != KC_CTRL_IDLE; k++)
@@ -317,10 +287,10 @@ static void test_estop_timeout_acceleration_limited(void **state)
              * stop to plan: today's stop) */
             setup(models[m], which == 2);
             kt_rng r = kt_rng_make(1911 + (uint64_t)(2 * m + which));
-            stream_init(&r);
+            kt_stream_init(&H.stream, &r, &H.start, (double)H.cfg.dt);
             /* A twist of random direction moving the target on at
              * 0.05 m/s: the arm moving steadily when it stops. */
-            kc_goal g = stream_next(7);
+            kc_goal g = kt_stream_next(&H.stream, 7);
             kc_vec3 u = kt_rand_unit(&r);
             g.servo_twist = 1;
             for (int k = 0; k < 3; k++)
@@ -381,8 +351,8 @@ static void test_steady_stream_stops_together(void **state)
         setup(models[m], 0);
         kt_rng r = kt_rng_make(1921 + (uint64_t)m);
         for (int c = 0; c < 4; c++) {
-            stream_init(&r);
-            kc_goal g = stream_next(300 + c);
+            kt_stream_init(&H.stream, &r, &H.start, (double)H.cfg.dt);
+            kc_goal g = kt_stream_next(&H.stream, 300 + c);
             kc_vec3 u = kt_rand_unit(&r);
             g.servo_twist = 1;
             for (int k = 0; k < 3; k++)

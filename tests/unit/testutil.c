@@ -460,3 +460,30 @@ double kt_scurve_optimum_time(double D, double V, double A, double J)
     double ta = half_time(v, A, J);
     return 2.0 * ta + (D - v * ta) / v;
 }
+
+void kt_stream_init(kt_stream *s, kt_rng *r, const kc_pose *start, double dt)
+{
+    s->start = *start;
+    s->dt = dt;
+    for (int k = 0; k < 3; k++) {
+        s->amp[k] = kt_uniform(r, 0.0, 0.03);
+        s->w[k] = kt_uniform(r, 0.5, 5.0);
+        s->phi[k] = kt_uniform(r, 0.0, 2.0 * KT_PI);
+    }
+    s->t = 0;
+}
+
+kc_goal kt_stream_next(kt_stream *s, int64_t id)
+{
+    kc_goal g;
+    memset(&g, 0, sizeof g);
+    g.id = id;
+    g.kind = KC_GOAL_SERVO;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    g.pose = s->start;
+    double t = (double)s->t * s->dt;
+    for (int k = 0; k < 3; k++)
+        g.pose.t.v[k] += (kc_real)(s->amp[k] * (sin(s->w[k] * t + s->phi[k]) - sin(s->phi[k])));
+    s->t++;
+    return g;
+}

@@ -175,6 +175,22 @@ kc_vec3 kt_rand_unit(kt_rng *r);
  * limit is replaced by -pi or pi). */
 void kt_rand_q(kt_rng *r, const kc_chain *chain, kc_real *q);
 
+/* A servo stream for the controller suites: the tool's position moves
+ * from start by amp (sin(w t + phi) - sin(phi)) along each axis, amp up
+ * to 3 cm and w 0.5-5 rad/s, drawn by kt_stream_init (tool speeds up to
+ * about 0.25 m/s, accelerations up to about 1.3 m/s^2); its orientation
+ * stays start's. */
+typedef struct kt_stream {
+    kc_pose start;
+    double dt;
+    double amp[3], w[3], phi[3];
+    long t; /* ticks streamed */
+} kt_stream;
+
+void kt_stream_init(kt_stream *s, kt_rng *r, const kc_pose *start, double dt);
+/* The stream's next message for servo goal id (at the full limits). */
+kc_goal kt_stream_next(kt_stream *s, int64_t id);
+
 /* An independent rest-to-rest optimum of a jerk-limited move over distance
  * D >= 0 within V, A, J: not kinctl/scurve.h's closed form, but from the
  * physics of one symmetric half. Reaching a speed v from rest and stopping
