@@ -505,10 +505,17 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
     }
 
     /* Done when within tolerance, the target still, and slow enough to stop
-     * in this tick without exceeding an acceleration limit. */
+     * in this tick without exceeding an acceleration limit, nor a jerk
+     * limit (the stop takes qdd to -qd/dt and the next tick back to 0)
+     * unless qd moves q by less than a few units of its last place over
+     * the tick (float: about 5e-4 rad/s at 1 ms, above qddd_max dt^2; the
+     * law's rounding keeps qd there). */
     int at_rest = !moving_target;
-    for (int j = 0; j < n; j++)
-        at_rest = at_rest && kc_fabs(qd[j]) <= chain->joints[j].limits.qdd_max * dt;
+    for (int j = 0; j < n; j++) {
+        const kc_joint_limits *l = &chain->joints[j].limits;
+        kc_real ulps = KC_R(4.0) * KC_REAL_EPS * kc_max(kc_fabs(q[j]), KC_R(1.0)) / dt;
+        at_rest = at_rest && kc_fabs(qd[j]) <= kc_min(l->qdd_max * dt, kc_max(l->qddd_max * dt * dt, ulps));
+    }
     if (pos_err <= cfg->tol_pos && rot_err <= cfg->tol_rot && at_rest) {
         for (int j = 0; j < n; j++) {
             q_next[j] = q[j];

@@ -252,7 +252,8 @@ static void test_deterministic(void **state)
 }
 
 /* The online law at 1 kHz: converges, never exceeds a velocity or an
- * acceleration limit, never leaves the position limits. */
+ * acceleration limit, never leaves the position limits, and comes to
+ * rest within the jerk limits. */
 static void test_step_online(void **state)
 {
     (void)state;
@@ -274,10 +275,24 @@ static void test_step_online(void **state)
         kc_ik_result res;
         kc_status st = KC_OK;
         int ticks;
+        double qdd_prev[6] = {0};
         for (ticks = 0; ticks < 20000 && st != KC_DONE; ticks++) {
             kc_real qn[6], qdn[6];
             st = kc_ik_step(&c, &cfg, &target, NULL, dt, q, qd, qn, qdn, &res);
             assert_true(st == KC_OK || st == KC_DONE || st == KC_E_SINGULAR);
+            for (int j = 0; j < 6 && st == KC_DONE; j++) {
+                /* The stop at the end: qdd from the law's to -qd/dt, then
+                 * back to 0 on the next tick, each change within qddd_max
+                 * dt (float: within what rounding leaves, a few units of
+                 * q's last place a tick, ik.h). */
+                double jd = (double)c.joints[j].limits.qddd_max * (double)dt;
+                double ulps = 4.0 * (double)KC_REAL_EPS * fmax(fabs((double)q[j]), 1.0) / (double)dt / (double)dt;
+                double stop = -(double)qd[j] / (double)dt, bound = fmax(jd, ulps) * (1.0 + 1e-9);
+                kt_near(fabs(stop - qdd_prev[j]) <= bound, 1.0, 0.0, "jerk of the stop at the end");
+                kt_near(fabs(stop) <= bound, 1.0, 0.0, "jerk of the tick after the stop");
+            }
+            for (int j = 0; j < 6; j++)
+                qdd_prev[j] = ((double)qdn[j] - (double)qd[j]) / (double)dt;
             for (int j = 0; j < 6; j++) {
                 const kc_joint_limits *l = &c.joints[j].limits;
                 kt_near(fabs((double)qdn[j]) <= (double)l->qd_max * (1.0 + 1e-6), 1.0, 0.0, "velocity limit");
