@@ -731,26 +731,22 @@ static kc_real stretch_speed(kc_real D, kc_real A, kc_real J, kc_real T)
     return J * x * x;
 }
 
+/* The rest-to-rest optimum fast stretched to duration > fast->T: its
+ * peak speed lowered to the one that lasts duration (stretch_speed), never
+ * above the optimum's own. */
+static kc_status stretch_rest(kc_scurve *prof, const kc_scurve *fast, kc_real amax, kc_real jmax, kc_real duration)
+{
+    kc_real p0 = fast->p0, p1 = fast->p1, D = kc_fabs(p1 - p0), dt = fast->dt;
+    if (D == KC_R(0.0))
+        return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, KC_R(0.0), duration, amax, amax, jmax, duration, dt);
+    kc_real v = kc_min(stretch_speed(D, amax, jmax, duration), fast->vp < KC_R(0.0) ? -fast->vp : fast->vp);
+    return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, p1 > p0 ? v : -v, KC_R(0.0), amax, amax, jmax, duration, dt);
+}
+
 kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_real vmax, kc_real amax,
                                   kc_real jmax, kc_real duration, kc_real dt)
 {
-    kc_scurve fast;
-    if (prof == NULL || !kc_isfinite(duration) || duration < KC_R(0.0))
-        return KC_E_ARG;
-    kc_status st = kc_scurve_plan(&fast, p0, KC_R(0.0), KC_R(0.0), p1, vmax, amax, jmax, dt);
-    if (st != KC_OK)
-        return st;
-    if (duration <= fast.T) {
-        if (duration < fast.T * (KC_R(1.0) - KC_R(8.0) * KC_REAL_EPS))
-            return KC_E_LIMIT;
-        *prof = fast;
-        return KC_OK;
-    }
-    kc_real D = kc_fabs(p1 - p0);
-    if (D == KC_R(0.0))
-        return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, KC_R(0.0), duration, amax, amax, jmax, duration, dt);
-    kc_real v = kc_min(stretch_speed(D, amax, jmax, duration), fast.vp < KC_R(0.0) ? -fast.vp : fast.vp);
-    return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, p1 > p0 ? v : -v, KC_R(0.0), amax, amax, jmax, duration, dt);
+    return kc_scurve_plan_duration_from(prof, p0, KC_R(0.0), KC_R(0.0), p1, vmax, amax, jmax, duration, dt);
 }
 
 /* The root between v1 and v3 of the quadratic through (v1, g1), (v2, g2),
@@ -1072,8 +1068,6 @@ kc_status kc_scurve_plan_duration_from(kc_scurve *prof, kc_real p0, kc_real v0, 
     kc_scurve fast;
     if (prof == NULL || !kc_isfinite(duration) || duration < KC_R(0.0))
         return KC_E_ARG;
-    if (v0 == KC_R(0.0) && a0 == KC_R(0.0))
-        return kc_scurve_plan_duration(prof, p0, p1, vmax, amax, jmax, duration, dt);
     kc_status st = kc_scurve_plan(&fast, p0, v0, a0, p1, vmax, amax, jmax, dt);
     if (st != KC_OK)
         return st;
@@ -1102,7 +1096,7 @@ kc_status kc_scurve_stretch(kc_scurve *prof, const kc_scurve *fast, kc_real vmax
         return KC_OK;
     }
     if (fast->v0 == KC_R(0.0) && fast->a0 == KC_R(0.0))
-        return kc_scurve_plan_duration(prof, fast->p0, fast->p1, vmax, amax, jmax, duration, fast->dt);
+        return stretch_rest(prof, fast, amax, jmax, duration);
     return stretch_from(prof, fast, vmax, amax, jmax, duration, fast->dt);
 }
 
