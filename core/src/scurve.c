@@ -374,9 +374,11 @@ static kc_status header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_
 
 /* The profile: the phases c from the start, a cruise at vp for tc, and
  * the stop s (a velocity change to rest) laid backwards from (p1, 0, 0) at
- * T, where T is `duration` when positive, the sum of the phases otherwise. */
+ * T, where T is `duration` when positive, the sum of the phases otherwise;
+ * or, unless lay, its header alone (a time-optimal plan's end,
+ * kc_scurve_plan_time). */
 static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, const vchange *cp, kc_real vp,
-                       kc_real tc, const vchange *sp, kc_real duration, kc_real dt)
+                       kc_real tc, const vchange *sp, kc_real duration, kc_real dt, int lay)
 {
     kc_scurve r;
     const vchange *c = cp, *s = sp;
@@ -390,8 +392,8 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
         jm = kc_max(jm, kc_fabs(s->j[i]));
     }
     kc_real T = duration > KC_R(0.0) ? duration : t_change + kc_max(tc, KC_R(0.0)) + t_stop;
-    if (!kc_isfinite(T))
-        return KC_E_CAPACITY;
+    if (!lay || !kc_isfinite(T))
+        return header(prof, p0, v0, a0, p1, vp, T, dt);
     int64_t ticks = kc_profile_ticks(T, dt);
     if (ticks < 0)
         return KC_E_CAPACITY;
@@ -434,45 +436,14 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
 }
 
 /* The plain profile through the extremum vp: change (within A), cruise,
- * stop (within As). */
+ * stop (within As); or its header alone (build()). */
 static kc_status build_vp(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vp, kc_real tc,
-                          kc_real A, kc_real As, kc_real J, kc_real duration, kc_real dt)
+                          kc_real A, kc_real As, kc_real J, kc_real duration, kc_real dt, int lay)
 {
     vchange c, s;
     vchange_plan(&c, v0, a0, vp, A, J);
     vchange_plan(&s, vp, KC_R(0.0), KC_R(0.0), As, J);
-    return build(prof, p0, v0, a0, p1, &c, vp, tc, &s, duration, dt);
-}
-
-/* The header of the profile build() would make of these phases, T summed
- * as build() sums it. */
-static kc_status build_header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, const vchange *c,
-                              kc_real vp, kc_real tc, const vchange *s, kc_real dt)
-{
-    kc_real t = KC_R(0.0), t_stop = KC_R(0.0);
-    for (int i = 0; i < c->n; i++)
-        t += c->t[i];
-    for (int i = 0; i < s->n; i++)
-        t_stop += s->t[i];
-    return header(prof, p0, v0, a0, p1, vp, t + kc_max(tc, KC_R(0.0)) + t_stop, dt);
-}
-
-/* The end of a time-optimal plan: the profile (lay), or its header alone. */
-static kc_status finish(kc_scurve *prof, int lay, kc_real p0, kc_real v0, kc_real a0, kc_real p1, const vchange *c,
-                        kc_real vp, kc_real tc, const vchange *s, kc_real dt)
-{
-    return lay ? build(prof, p0, v0, a0, p1, c, vp, tc, s, KC_R(0.0), dt)
-               : build_header(prof, p0, v0, a0, p1, c, vp, tc, s, dt);
-}
-
-/* finish() for the plain plan through vp (build_vp). */
-static kc_status finish_vp(kc_scurve *prof, int lay, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vp,
-                           kc_real tc, kc_real A, kc_real As, kc_real J, kc_real dt)
-{
-    vchange c, s;
-    vchange_plan(&c, v0, a0, vp, A, J);
-    vchange_plan(&s, vp, KC_R(0.0), KC_R(0.0), As, J);
-    return finish(prof, lay, p0, v0, a0, p1, &c, vp, tc, &s, dt);
+    return build(prof, p0, v0, a0, p1, &c, vp, tc, &s, duration, dt, lay);
 }
 
 /* Rest to rest over D >= 0 (kinctl/scurve.h, Biagiotti & Melchiorri 3.4):
@@ -521,9 +492,9 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     if (v0 == KC_R(0.0) && a0 == KC_R(0.0)) {
         kc_real vpeak, tc;
         if (d == KC_R(0.0))
-            return finish_vp(prof, lay, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, A, J, dt);
+            return build_vp(prof, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, A, J, KC_R(0.0), dt, lay);
         rest_to_rest(kc_fabs(d), vmax, A, J, &vpeak, &tc);
-        return finish_vp(prof, lay, p0, v0, a0, p1, d > KC_R(0.0) ? vpeak : -vpeak, tc, A, A, J, dt);
+        return build_vp(prof, p0, v0, a0, p1, d > KC_R(0.0) ? vpeak : -vpeak, tc, A, A, J, KC_R(0.0), dt, lay);
     }
     /* The velocity range to search: vmax, or without a speed limit a bound
      * that brackets d, found by doubling (at most 64 times). */
@@ -545,13 +516,13 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     if (!kc_isfinite(dh))
         return KC_E_CAPACITY;
     if (d >= dh)
-        return lay ? finish_vp(prof, lay, p0, v0, a0, p1, V, (d - dh) / V, A, As, J, dt)
+        return lay ? build_vp(prof, p0, v0, a0, p1, V, (d - dh) / V, A, As, J, KC_R(0.0), dt, lay)
                    : header(prof, p0, v0, a0, p1, V, th + (d - dh) / V, dt);
     kc_real tl = change_stop_time(-V, v0, a0, A, As, J, &dl);
     if (!kc_isfinite(dl))
         return KC_E_CAPACITY;
     if (d <= dl)
-        return lay ? finish_vp(prof, lay, p0, v0, a0, p1, -V, (dl - d) / V, A, As, J, dt)
+        return lay ? build_vp(prof, p0, v0, a0, p1, -V, (dl - d) / V, A, As, J, KC_R(0.0), dt, lay)
                    : header(prof, p0, v0, a0, p1, -V, tl + (dl - d) / V, dt);
     /* dl < d < dh, Tc = 0. The plain branches are vp <= min(vn, 0) and
      * vp >= max(vn, 0), where the change ends on the other side of zero
@@ -596,7 +567,7 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     if (s_gap >= KC_R(0.0)) {
         vchange c, st;
         gap_dist(s_gap, v0, a0, As, J, &c, &st, NULL);
-        kc_status r = finish(prof, lay, p0, v0, a0, p1, &c, KC_R(0.0), KC_R(0.0), &st, dt);
+        kc_status r = build(prof, p0, v0, a0, p1, &c, KC_R(0.0), KC_R(0.0), &st, KC_R(0.0), dt, lay);
         if (r == KC_OK)
             prof->gap = 1;
         return r;
@@ -605,7 +576,7 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
         vp = root(&f, m1, m2, d1 - d, d2 - d, d);
         best = lay ? best : change_stop_time(vp, v0, a0, A, As, J, NULL);
     }
-    return lay ? finish_vp(prof, lay, p0, v0, a0, p1, vp, KC_R(0.0), A, As, J, dt)
+    return lay ? build_vp(prof, p0, v0, a0, p1, vp, KC_R(0.0), A, As, J, KC_R(0.0), dt, lay)
                : header(prof, p0, v0, a0, p1, vp, best, dt);
 }
 
@@ -645,7 +616,7 @@ kc_status kc_scurve_plan_stop(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a
     kc_real p1 = p0 + vchange_dist(&s, v0, a0, NULL);
     if (!kc_isfinite(p1))
         return KC_E_CAPACITY;
-    return build(prof, p0, v0, a0, p1, &none, KC_R(0.0), KC_R(0.0), &s, KC_R(0.0), dt);
+    return build(prof, p0, v0, a0, p1, &none, KC_R(0.0), KC_R(0.0), &s, KC_R(0.0), dt, 1);
 }
 
 /* Records p, v, a in the extent. */
@@ -738,9 +709,9 @@ static kc_status stretch_rest(kc_scurve *prof, const kc_scurve *fast, kc_real am
 {
     kc_real p0 = fast->p0, p1 = fast->p1, D = kc_fabs(p1 - p0), dt = fast->dt;
     if (D == KC_R(0.0))
-        return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, KC_R(0.0), duration, amax, amax, jmax, duration, dt);
+        return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, KC_R(0.0), duration, amax, amax, jmax, duration, dt, 1);
     kc_real v = kc_min(stretch_speed(D, amax, jmax, duration), fast->vp < KC_R(0.0) ? -fast->vp : fast->vp);
-    return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, p1 > p0 ? v : -v, KC_R(0.0), amax, amax, jmax, duration, dt);
+    return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, p1 > p0 ? v : -v, KC_R(0.0), amax, amax, jmax, duration, dt, 1);
 }
 
 kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_real vmax, kc_real amax,
@@ -964,7 +935,7 @@ static kc_status stretch_blocked(kc_scurve *prof, const kc_scurve *fast, kc_real
             return KC_E_LIMIT;
         add_phase(&r, 3, duration, r.T, p1, KC_R(0.0), KC_R(0.0), KC_R(0.0));
     } else if (!r.gap) {
-        return build_vp(prof, p0, fast->v0, a0, p1, r.vp, KC_R(0.0), A, As, J, duration, dt);
+        return build_vp(prof, p0, fast->v0, a0, p1, r.vp, KC_R(0.0), A, As, J, duration, dt, 1);
     }
     return moved(prof, &r, duration, dt);
 }
@@ -982,7 +953,7 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
      * distances (a start on its stop to p1, as the rest of a stretched
      * plan is: a tiny e of either sign would have it come back instead). */
     if (kc_fabs(e) <= KC_R(8.0) * KC_REAL_EPS * (kc_fabs(p0) + kc_fabs(p1) + kc_fabs(ds)))
-        return build_vp(prof, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, A, J, duration, dt);
+        return build_vp(prof, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, A, J, duration, dt, 1);
     kc_real s = e > KC_R(0.0) ? KC_R(1.0) : KC_R(-1.0);
     kc_real V = kc_isfinite(vmax) ? vmax : kc_max(kc_fabs(fast->vp), kc_fabs(v0)) + A * A / J;
     /* vh: the fastest cruise on that side: the optimum's own vp when it is
@@ -1059,7 +1030,7 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
     }
     if (!(tc >= KC_R(0.0))) /* the change and the stop alone pass the target */
         return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
-    return build_vp(prof, p0, v0, a0, p1, vp, tc, A, A, J, duration, dt);
+    return build_vp(prof, p0, v0, a0, p1, vp, tc, A, A, J, duration, dt, 1);
 }
 
 kc_status kc_scurve_plan_duration_from(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
@@ -1088,7 +1059,7 @@ kc_status kc_scurve_stretch(kc_scurve *prof, const kc_scurve *fast, kc_real vmax
          * the change and the stop; a gap plan is planned again. */
         if (fast->n < 0 && !fast->gap)
             return build_vp(prof, fast->p0, fast->v0, fast->a0, fast->p1, fast->vp, KC_R(0.0), amax, amax, jmax, fast->T,
-                            fast->dt);
+                            fast->dt, 1);
         if (fast->n < 0)
             return kc_scurve_plan(prof, fast->p0, fast->v0, fast->a0, fast->p1, vmax, amax, jmax, fast->dt);
         if (prof != fast)
