@@ -255,6 +255,13 @@ static kc_real root(const dfun *f, kc_real lo, kc_real hi, kc_real flo, kc_real 
     return bracket_best(&b);
 }
 
+/* root() on the bracket of x1 and x2 in either order (f1, f2: f - d
+ * there). */
+static kc_real root_of(const dfun *f, kc_real x1, kc_real x2, kc_real f1, kc_real f2, kc_real d)
+{
+    return x1 < x2 ? root(f, x1, x2, f1, f2, d) : root(f, x2, x1, f2, f1, d);
+}
+
 /* The root strictly between lo and hi of qa x^2 + qb x + qc (the two
  * roots without cancellation), or 0 when it has none there. */
 static kc_real poly2_root(kc_real qa, kc_real qb, kc_real qc, kc_real lo, kc_real hi)
@@ -300,7 +307,7 @@ static kc_real plain_root(const dfun *f, kc_real lo, kc_real hi, kc_real dlo, kc
     if (s * vb > s * v_near) {
         kc_real db = dfun_eval(f, vb);
         if (s * (d - db) < KC_R(0.0)) /* between the v_near end and vb */
-            return s > KC_R(0.0) ? root(f, lo, vb, dlo - d, db - d, d) : root(f, vb, hi, db - d, dhi - d, d);
+            return root_of(f, v_near, vb, d_near - d, db - d, d);
         v_near = vb;
         d_near = db;
     }
@@ -322,7 +329,7 @@ static kc_real plain_root(const dfun *f, kc_real lo, kc_real hi, kc_real dlo, kc
             d_far = fx + d;
         }
     }
-    return s > KC_R(0.0) ? root(f, v_near, v_far, d_near - d, d_far - d, d) : root(f, v_far, v_near, d_far - d, d_near - d, d);
+    return root_of(f, v_near, v_far, d_near - d, d_far - d, d);
 }
 
 static int limits_ok(kc_real vmax, kc_real amax, kc_real jmax, kc_real dt)
@@ -966,7 +973,7 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
         dfun f = {0, v0, a0, A, A, J, KC_R(0.0), KC_R(0.0), NULL};
         if (s * (d - dv) < KC_R(0.0)) {
             kc_real f0 = -e;
-            vh = s > KC_R(0.0) ? root(&f, KC_R(0.0), vh, f0, dv - d, d) : root(&f, vh, KC_R(0.0), dv - d, f0, d);
+            vh = root_of(&f, KC_R(0.0), vh, f0, dv - d, d);
             if (vh == KC_R(0.0))
                 return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
         }
@@ -1021,10 +1028,10 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
         narrow(vm, tm, &vh, &th, &vl, &tl);
     }
     if (vp == KC_R(0.0)) {
-        /* In x = 1 / vp, ascending: 1 / vh < 1 / vl for s > 0, the other
-         * way round for s < 0. */
+        /* In x = 1 / vp (1 / vh < 1 / vl for s > 0, the other way round
+         * for s < 0: root_of orders them). */
         kc_real xh = KC_R(1.0) / vh, xl = KC_R(1.0) / vl;
-        kc_real x = s > KC_R(0.0) ? root(&t, xh, xl, th, tl, duration) : root(&t, xl, xh, tl, th, duration);
+        kc_real x = root_of(&t, xh, xl, th, tl, duration);
         vp = KC_R(1.0) / x;
         tc = memo[0] == x ? memo[1] : (d - dist_of(vp, v0, a0, A, A, J)) / vp;
     }
