@@ -284,6 +284,15 @@ static kc_real poly2_root(kc_real qa, kc_real qb, kc_real qc, kc_real lo, kc_rea
     return KC_R(0.0);
 }
 
+/* The root strictly between x1 and x2 of the quadratic with leading
+ * coefficient c2 through (x1, y1 - y0) and (x2, y2 - y0) (poly2_root), or
+ * 0 when it has none there. */
+static kc_real poly2_through(kc_real c2, kc_real x1, kc_real y1, kc_real x2, kc_real y2, kc_real y0)
+{
+    kc_real c1 = (y2 - y1) / (x2 - x1) - c2 * (x2 + x1), c0 = y1 - y0 - x1 * (c2 * x1 + c1);
+    return poly2_root(c2, c1, c0, kc_min(x1, x2), kc_max(x1, x2));
+}
+
 /* The root of d(vp) = d on a plain branch [lo, hi] ([max(vn, 0), V] or
  * [-V, min(vn, 0)]; dlo, dhi: d at its ends, bracketing d). Along the
  * branch the change ends beyond vn (sg = s, the branch's sign). Where it
@@ -311,11 +320,9 @@ static kc_real plain_root(const dfun *f, kc_real lo, kc_real hi, kc_real dlo, kc
         v_near = vb;
         d_near = db;
     }
-    /* c2 x^2 + c1 x + c0 = 0 through (v_near, d_near - d), (v_far, d_far - d),
-     * its root between them (the two roots without cancellation). */
-    kc_real c2 = s * (KC_R(0.5) / A + KC_R(0.5) / As), c1 = (d_far - d_near) / (v_far - v_near) - c2 * (v_far + v_near);
-    kc_real c0 = d_near - d - v_near * (c2 * v_near + c1);
-    kc_real x = poly2_root(c2, c1, c0, kc_min(v_near, v_far), kc_max(v_near, v_far));
+    /* The quadratic through (v_near, d_near - d), (v_far, d_far - d), its
+     * root between them. */
+    kc_real x = poly2_through(s * (KC_R(0.5) / A + KC_R(0.5) / As), v_near, d_near, v_far, d_far, d);
     if (x != KC_R(0.0)) {
         kc_real fx = dfun_eval(f, x) - d;
         if (kc_fabs(fx) <= KC_R(4.0) * KC_REAL_EPS * kc_fabs(d))
@@ -1009,9 +1016,7 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
      * vh and vl alone fix the quadratic, and its root needs no check. */
     kc_real vp = KC_R(0.0);
     if (exact) {
-        kc_real c2 = (sg + s) / (KC_R(2.0) * A), fh = th * vh, fl = tl * vl;
-        kc_real c1 = (fh - fl) / (vh - vl) - c2 * (vh + vl), c0 = fh - vh * (c2 * vh + c1);
-        vp = poly2_root(c2, c1, c0, kc_min(vl, vh), kc_max(vl, vh));
+        vp = poly2_through((sg + s) / (KC_R(2.0) * A), vh, th * vh, vl, tl * vl, KC_R(0.0));
         tc = KC_R(0.0); /* within the bracket, which the cruise covers */
     }
     if (vp == KC_R(0.0)) {
