@@ -94,18 +94,10 @@ static kc_real stop_time(kc_real vp, kc_real A, kc_real J)
     return w * J >= A * A ? w / A + A / J : KC_R(2.0) * kc_sqrt(w / J);
 }
 
-/* d(vp): the distance of the change from (v0, a0) to vp and the stop from
- * vp, with no cruise; the change within A, the stop within As <= A (A
- * but for a stop slowed by kc_scurve_stretch, see stretch_blocked()). */
-static kc_real dist_of(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real As, kc_real J)
-{
-    vchange c;
-    vchange_plan(&c, v0, a0, vp, A, J);
-    return vchange_dist(&c, v0, a0, NULL) + KC_R(0.5) * vp * stop_time(vp, As, J);
-}
-
-/* Duration of the change from (v0, a0) to vp and the stop from vp; their
- * distance d(vp) into *dist when given. */
+/* Duration of the change from (v0, a0) to vp and the stop from vp, with
+ * no cruise; their distance d(vp) into *dist when given. The change
+ * within A, the stop within As <= A (A but for a stop slowed by
+ * kc_scurve_stretch, see stretch_blocked()). */
 static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real As, kc_real J,
                                 kc_real *dist)
 {
@@ -116,6 +108,14 @@ static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, k
     if (dist != NULL)
         *dist = p;
     return tc + ts;
+}
+
+/* d(vp) (change_stop_time). */
+static kc_real dist_of(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real As, kc_real J)
+{
+    kc_real p;
+    change_stop_time(vp, v0, a0, A, As, J, &p);
+    return p;
 }
 
 /* What a root search solves: d(x) = d for the plain family (x = vp) or the
@@ -178,8 +178,6 @@ static kc_real dfun_eval(const dfun *f, kc_real x)
         return gap_dist(x, f->v0, f->a0, f->As, f->J, NULL, NULL, NULL);
     else if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
         r = cruise_time_of(KC_R(1.0) / x, f->d, f->v0, f->a0, f->A, f->J, &m);
-    else if (f->memo == NULL)
-        return dist_of(x, f->v0, f->a0, f->A, f->As, f->J);
     else
         m = change_stop_time(x, f->v0, f->a0, f->A, f->As, f->J, &r);
     if (f->memo != NULL) {
