@@ -576,20 +576,21 @@ static int limits_ok(const kc_interp_limits *l)
 
 /* The speed law of a Cartesian segment whose tool point moves by S and
  * turns by Theta (kinctl/interp.h, the line's "Speed law"): u's bounds
- * u_lim[0..2] on its first three derivatives, then the trapezoid into
- * *prof or, with a finite bound on u''', the jerk-limited profile into
- * *su; *kind, *T and *ticks say which and how long. */
-static kc_status plan_cart_u(kc_real S, kc_real Theta, const kc_interp_limits *lim, kc_real dt, kc_real *u_lim,
-                             kc_profile_kind *kind, kc_profile *prof, kc_scurve *su, kc_real *T, int64_t *ticks)
+ * *u_vmax, *u_amax, *u_jmax on its first three derivatives, then the
+ * trapezoid into *prof or, with a finite bound on u''', the jerk-limited
+ * profile into *su; *kind, *T and *ticks say which and how long. */
+static kc_status plan_cart_u(kc_real S, kc_real Theta, const kc_interp_limits *lim, kc_real dt, kc_real *u_vmax,
+                             kc_real *u_amax, kc_real *u_jmax, kc_profile_kind *kind, kc_profile *prof, kc_scurve *su,
+                             kc_real *T, int64_t *ticks)
 {
     kc_real V = INF, A = INF, J = INF, unused = INF;
     bound_u(S, lim->v, lim->a, &V, &A);
     bound_u(Theta, lim->w, lim->dw, &V, &A);
     bound_u(S, lim->j, INF, &J, &unused);
     bound_u(Theta, lim->dj, INF, &J, &unused);
-    u_lim[0] = V;
-    u_lim[1] = A;
-    u_lim[2] = J;
+    *u_vmax = V;
+    *u_amax = A;
+    *u_jmax = J;
     kc_status st;
     if (kc_isfinite(J) && kc_isfinite(A)) {
         *kind = KC_PROFILE_JERK;
@@ -789,11 +790,8 @@ kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const k
     kc_real Theta = r.angle > KC_R(16.0) * KC_REAL_EPS ? r.angle : KC_R(0.0);
     if (r.length == KC_R(0.0) && Theta > KC_R(0.0) && !kc_isfinite(lim->dw))
         return KC_E_ARG; /* a pure rotation needs an angular acceleration limit */
-    kc_real u_lim[3];
-    kc_status st = plan_cart_u(r.length, Theta, lim, dt, u_lim, &r.kind, &r.prof, &r.su, &r.T, &r.ticks);
-    r.u_vmax = u_lim[0];
-    r.u_amax = u_lim[1];
-    r.u_jmax = u_lim[2];
+    kc_status st = plan_cart_u(r.length, Theta, lim, dt, &r.u_vmax, &r.u_amax, &r.u_jmax, &r.kind, &r.prof, &r.su,
+                               &r.T, &r.ticks);
     if (st != KC_OK)
         return st;
     /* The end orientation, signed as the path arrives there. */
@@ -909,11 +907,8 @@ kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_
     kc_quat_mul(&turn, &r.q1, &r.q3);
     /* Speed law on the angle: alpha' <= min(v / R, w), alpha'' <= min(a / R, dw),
      * alpha''' <= min(j / R, dj). */
-    kc_real u_lim[3];
-    kc_status st = plan_cart_u(r.length, r.angle, lim, dt, u_lim, &r.kind, &r.prof, &r.su, &r.T, &r.ticks);
-    r.u_vmax = u_lim[0];
-    r.u_amax = u_lim[1];
-    r.u_jmax = u_lim[2];
+    kc_status st = plan_cart_u(r.length, r.angle, lim, dt, &r.u_vmax, &r.u_amax, &r.u_jmax, &r.kind, &r.prof, &r.su,
+                               &r.T, &r.ticks);
     if (st != KC_OK)
         return st;
     *plan = r;
