@@ -153,10 +153,10 @@ kc_interp_joint_cfg kc_interp_joint_cfg_default(void)
 /* The jerk-limited move (kinctl/interp.h, kc_interp_joint_plan_cfg). */
 static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 {
-    kc_real V = INF, A = INF, J = INF, T = KC_R(0.0);
+    kc_real J = INF, T = KC_R(0.0);
     kc_status st;
     /* The limits, the start and the leading joints as the trapezoid has
-     * them (u_vmax, u_amax, lead_vel, lead_acc). */
+     * them (u_vmax, u_amax, lead_vel, lead_acc): u's bounds V and A. */
     st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt, 1);
     if (st != KC_OK)
         return st;
@@ -178,8 +178,6 @@ static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
             T = out->sj[i].T;
             out->lead = i;
         }
-        V = kc_min(V, c->qd_max[i] / D);
-        A = kc_min(A, c->qdd_max[i] / D);
         J = kc_min(J, c->qddd_max[i] / D);
     }
     if (c->duration > KC_R(0.0)) {
@@ -187,8 +185,7 @@ static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
             return KC_E_LIMIT;
         T = kc_max(T, c->duration);
     }
-    out->u_vmax = V;
-    out->u_amax = A;
+    kc_real V = out->u_vmax, A = out->u_amax;
     out->u_jmax = J;
     out->T = T;
     out->sync = KC_INTERP_SYNC_PHASE;
