@@ -524,18 +524,21 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     }
     /* A header's duration is the one its choice was made with: the
      * change and the stop (change_stop_time) and the cruise. */
-    kc_real dh, dl, th = change_stop_time(V, v0, a0, A, As, J, &dh);
+    kc_real dh, dl = KC_R(0.0), t = change_stop_time(V, v0, a0, A, As, J, &dh), vc = V;
     if (!kc_isfinite(dh))
         return KC_E_CAPACITY;
-    if (d >= dh)
-        return lay ? build_vp(prof, p0, v0, a0, p1, V, (d - dh) / V, A, As, J, KC_R(0.0), dt, lay)
-                   : header(prof, p0, v0, a0, p1, V, th + (d - dh) / V, dt);
-    kc_real tl = change_stop_time(-V, v0, a0, A, As, J, &dl);
-    if (!kc_isfinite(dl))
-        return KC_E_CAPACITY;
-    if (d <= dl)
-        return lay ? build_vp(prof, p0, v0, a0, p1, -V, (dl - d) / V, A, As, J, KC_R(0.0), dt, lay)
-                   : header(prof, p0, v0, a0, p1, -V, tl + (dl - d) / V, dt);
+    if (d < dh) {
+        t = change_stop_time(-V, v0, a0, A, As, J, &dl);
+        if (!kc_isfinite(dl))
+            return KC_E_CAPACITY;
+        vc = -V;
+    }
+    if (d >= dh || d <= dl) {
+        /* A cruise at V (d >= dh) or -V (d <= dl) covers the rest. */
+        kc_real tc = (d >= dh ? d - dh : dl - d) / V;
+        return lay ? build_vp(prof, p0, v0, a0, p1, vc, tc, A, As, J, KC_R(0.0), dt, lay)
+                   : header(prof, p0, v0, a0, p1, vc, t + tc, dt);
+    }
     /* dl < d < dh, Tc = 0. The plain branches are vp <= min(vn, 0) and
      * vp >= max(vn, 0), where the change ends on the other side of zero
      * acceleration than the stop starts, so vp is a true extremum; d
