@@ -35,32 +35,40 @@ static void vchange_plan(vchange *c, kc_real v, kc_real a, kc_real w, kc_real A,
     kc_real iJ = KC_R(1.0) / J;
     c->n = 0;
     kc_real vn = v + a * kc_fabs(a) * (KC_R(0.5) * iJ);
+    /* The phases: jerk j1 for t1, a hold for th, -sg J for t3 (those of
+     * zero length left out). */
+    kc_real sg = KC_R(1.0), j1, t1, th = KC_R(0.0), t3 = KC_R(0.0);
     if (w == vn) {
-        vchange_add(c, a > KC_R(0.0) ? -J : J, kc_fabs(a) * iJ);
-        return;
-    }
-    /* Work along sg, the side the acceleration must go to. */
-    kc_real sg = w > vn ? KC_R(1.0) : KC_R(-1.0);
-    kc_real as = sg * a, dw = sg * (w - v), dn = sg * (w - vn);
-    if (as > A) {
-        /* Outside the limit: ramp down to A, hold, ramp to zero. */
-        vchange_add(c, -sg * J, (as - A) * iJ);
-        vchange_add(c, KC_R(0.0), dn / A);
-        vchange_add(c, -sg * J, A * iJ);
-        return;
-    }
-    kc_real full = (KC_R(2.0) * A * A - as * as) * (KC_R(0.5) * iJ);
-    kc_real ap = A, th = KC_R(0.0);
-    if (dw >= full) {
-        th = (dw - full) / A;
+        /* The ramp of a to zero alone. */
+        j1 = a > KC_R(0.0) ? -J : J;
+        t1 = kc_fabs(a) * iJ;
     } else {
-        ap = kc_sqrt(kc_max(J * dw + KC_R(0.5) * as * as, KC_R(0.0)));
-        /* dn > 0 makes ap > max(as, 0) exactly; keep it so under rounding. */
-        ap = kc_min(kc_max(ap, kc_max(as, KC_R(0.0))), A);
+        /* Work along sg, the side the acceleration must go to. */
+        sg = w > vn ? KC_R(1.0) : KC_R(-1.0);
+        kc_real as = sg * a, dw = sg * (w - v), dn = sg * (w - vn);
+        if (as > A) {
+            /* Outside the limit: ramp down to A, hold, ramp to zero. */
+            j1 = -sg * J;
+            t1 = (as - A) * iJ;
+            th = dn / A;
+            t3 = A * iJ;
+        } else {
+            kc_real full = (KC_R(2.0) * A * A - as * as) * (KC_R(0.5) * iJ), ap = A;
+            if (dw >= full) {
+                th = (dw - full) / A;
+            } else {
+                ap = kc_sqrt(kc_max(J * dw + KC_R(0.5) * as * as, KC_R(0.0)));
+                /* dn > 0 makes ap > max(as, 0) exactly; keep it so under rounding. */
+                ap = kc_min(kc_max(ap, kc_max(as, KC_R(0.0))), A);
+            }
+            j1 = sg * J;
+            t1 = (ap - as) * iJ;
+            t3 = ap * iJ;
+        }
     }
-    vchange_add(c, sg * J, (ap - as) * iJ);
+    vchange_add(c, j1, t1);
     vchange_add(c, KC_R(0.0), th);
-    vchange_add(c, -sg * J, ap * iJ);
+    vchange_add(c, -sg * J, t3);
 }
 
 /* Advances (p, v, a) by a phase of jerk j over tau (which may be
