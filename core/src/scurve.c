@@ -510,11 +510,10 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
         return KC_E_ARG;
     kc_real A = amax, As = astop, J = jmax;
     if (v0 == KC_R(0.0) && a0 == KC_R(0.0)) {
-        kc_real vpeak, tc;
-        if (d == KC_R(0.0))
-            return build_vp(prof, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, A, J, KC_R(0.0), dt, lay);
-        rest_to_rest(kc_fabs(d), vmax, A, J, &vpeak, &tc);
-        return build_vp(prof, p0, v0, a0, p1, d > KC_R(0.0) ? vpeak : -vpeak, tc, A, A, J, KC_R(0.0), dt, lay);
+        kc_real vpeak = KC_R(0.0), tc = KC_R(0.0);
+        if (d != KC_R(0.0))
+            rest_to_rest(kc_fabs(d), vmax, A, J, &vpeak, &tc);
+        return build_vp(prof, p0, v0, a0, p1, d < KC_R(0.0) ? -vpeak : vpeak, tc, A, A, J, KC_R(0.0), dt, lay);
     }
     /* The velocity range to search: vmax, or without a speed limit a bound
      * that brackets d, found by doubling (at most 64 times). */
