@@ -726,14 +726,15 @@ static kc_real stretch_speed(kc_real D, kc_real A, kc_real J, kc_real T)
 
 /* The rest-to-rest optimum fast stretched to duration > fast->T: its
  * peak speed lowered to the one that lasts duration (stretch_speed), never
- * above the optimum's own. */
+ * above the optimum's own; no move is a wait at p0 for the duration. */
 static kc_status stretch_rest(kc_scurve *prof, const kc_scurve *fast, kc_real amax, kc_real jmax, kc_real duration)
 {
-    kc_real p0 = fast->p0, p1 = fast->p1, D = kc_fabs(p1 - p0), dt = fast->dt;
-    if (D == KC_R(0.0))
-        return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, KC_R(0.0), duration, amax, amax, jmax, duration, dt, 1);
-    kc_real v = kc_min(stretch_speed(D, amax, jmax, duration), fast->vp < KC_R(0.0) ? -fast->vp : fast->vp);
-    return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, p1 > p0 ? v : -v, KC_R(0.0), amax, amax, jmax, duration, dt, 1);
+    kc_real p0 = fast->p0, p1 = fast->p1, D = kc_fabs(p1 - p0), v = KC_R(0.0), tc = duration;
+    if (D != KC_R(0.0)) {
+        v = kc_min(stretch_speed(D, amax, jmax, duration), fast->vp < KC_R(0.0) ? -fast->vp : fast->vp);
+        tc = KC_R(0.0);
+    }
+    return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, p1 < p0 ? -v : v, tc, amax, amax, jmax, duration, fast->dt, 1);
 }
 
 kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_real vmax, kc_real amax,
