@@ -27,12 +27,14 @@ static void bound_u(kc_real D, kc_real vmax, kc_real amax, kc_real *V, kc_real *
  * bounds A, i.e. nothing moves by a representable amount) takes 0 ticks. */
 static kc_status plan_u(kc_profile *prof, kc_real V, kc_real A, kc_real duration, kc_real dt)
 {
-    if (!kc_isfinite(A)) /* already there: u = 1 throughout */
-        return duration > KC_R(0.0) ? kc_profile_plan_duration(prof, KC_R(1.0), KC_R(1.0), INF, KC_R(1.0), duration, dt)
-                                    : kc_profile_plan(prof, KC_R(1.0), KC_R(0.0), KC_R(1.0), INF, KC_R(1.0), dt);
-    if (duration > KC_R(0.0))
-        return kc_profile_plan_duration(prof, KC_R(0.0), KC_R(1.0), V, A, duration, dt);
-    return kc_profile_plan(prof, KC_R(0.0), KC_R(0.0), KC_R(1.0), V, A, dt);
+    kc_real u0 = KC_R(0.0);
+    if (!kc_isfinite(A)) { /* already there: u = 1 throughout */
+        u0 = KC_R(1.0);
+        V = INF;
+        A = KC_R(1.0);
+    }
+    return duration > KC_R(0.0) ? kc_profile_plan_duration(prof, u0, KC_R(1.0), V, A, duration, dt)
+                                : kc_profile_plan(prof, u0, KC_R(0.0), KC_R(1.0), V, A, dt);
 }
 
 /* ---- joint move ---- */
