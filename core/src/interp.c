@@ -191,21 +191,20 @@ static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
     out->u_jmax = J;
     out->T = T;
     out->sync = KC_INTERP_SYNC_PHASE;
+    /* Phase: the straight line, if it is as fast, stretched to T in place;
+     * when nothing moves (by a representable amount), u stays at 1 for T. */
+    kc_real u0 = KC_R(0.0);
     if (out->lead < 0 || !kc_isfinite(J)) {
-        /* Nothing moves (by a representable amount): u stays at 1. */
-        st = kc_scurve_plan_duration(&out->su, KC_R(1.0), KC_R(1.0), INF, KC_R(1.0), KC_R(1.0), T, c->dt);
-        if (st != KC_OK)
-            return st;
-        out->ticks = out->su.ticks;
-        return KC_OK;
+        u0 = KC_R(1.0);
+        V = INF;
+        A = J = KC_R(1.0);
     }
-    /* Phase: the straight line, if it is as fast. */
-    st = kc_scurve_plan(&out->su, KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(1.0), V, A, J, c->dt);
+    st = kc_scurve_plan(&out->su, u0, KC_R(0.0), KC_R(0.0), KC_R(1.0), V, A, J, c->dt);
     if (st != KC_OK)
         return st;
     if (out->su.T <= T * (KC_R(1.0) + KC_R(8.0) * KC_REAL_EPS)) {
         if (T > out->su.T) {
-            st = kc_scurve_plan_duration(&out->su, KC_R(0.0), KC_R(1.0), V, A, J, T, c->dt);
+            st = kc_scurve_stretch(&out->su, &out->su, V, A, J, T);
             if (st != KC_OK)
                 return st;
         }
