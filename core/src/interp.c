@@ -744,10 +744,11 @@ kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const k
     r.length = kc_hypot(kc_hypot(r.dp.v[0], r.dp.v[1]), r.dp.v[2]);
     if (!kc_vec3_isfinite(&r.dp) || !kc_isfinite(r.length))
         return KC_E_CAPACITY;
+    kc_quat q2;
     kc_quat_from_mat3(&from->R, &r.q1);
+    kc_quat_from_mat3(&to->R, &q2);
     if (orient == KC_INTERP_SLERP) {
-        kc_quat q2, rel, c1;
-        kc_quat_from_mat3(&to->R, &q2);
+        kc_quat rel, c1;
         kc_quat_conj(&r.q1, &c1);
         kc_quat_mul(&c1, &q2, &rel);
         if (rel.w < KC_R(0.0))
@@ -793,10 +794,9 @@ kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const k
     if (st != KC_OK)
         return st;
     /* The end orientation, signed as the path arrives there. */
-    kc_quat q_path, q2;
+    kc_quat q_path;
     kc_vec3 w;
     line_rotation(&r, KC_R(1.0), &q_path, &w);
-    kc_quat_from_mat3(&to->R, &q2);
     r.q2 = match_sign(&q2, &q_path);
     *plan = r;
     return KC_OK;
