@@ -849,11 +849,22 @@ kc_status kc_interp_line_eval_profile(const kc_interp_line *plan, const kc_profi
 
 /* ---- arc ---- */
 
+/* The counter-clockwise angle about the arc's normal from T1 to the point
+ * p, in (0, 2 pi]. */
+static kc_real arc_angle(const kc_interp_arc *arc, const kc_vec3 *p)
+{
+    kc_vec3 rp, x;
+    kc_vec3_sub(p, &arc->centre, &rp);
+    kc_vec3_cross(&arc->r, &rp, &x);
+    kc_real angle = kc_atan2(kc_vec3_dot(&arc->normal, &x), kc_vec3_dot(&arc->r, &rp));
+    return angle <= KC_R(0.0) ? angle + KC_R(2.0) * KC_PI : angle;
+}
+
 kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_vec3 *via, const kc_vec3 *to,
                              const kc_interp_limits *lim, kc_real dt)
 {
     kc_interp_arc r;
-    kc_vec3 a, b, m, t1, t2, r3, rv, x;
+    kc_vec3 a, b, m, t1, t2;
     if (plan == NULL || from == NULL || via == NULL || to == NULL || lim == NULL || !pose_ok(from) ||
         !kc_vec3_isfinite(via) || !kc_vec3_isfinite(to) || !limits_ok(lim) || !dt_ok(dt))
         return KC_E_ARG;
@@ -881,17 +892,8 @@ kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_
     r.radius = kc_vec3_norm(&r.r);
     if (!kc_vec3_isfinite(&r.centre) || !(r.radius > KC_R(0.0)) || !kc_isfinite(r.radius))
         return KC_E_SINGULAR;
-    /* Counter-clockwise angles about N from T1 (in (0, 2 pi)). */
-    kc_vec3_sub(to, &r.centre, &r3);
-    kc_vec3_sub(via, &r.centre, &rv);
-    kc_vec3_cross(&r.r, &r3, &x);
-    r.angle = kc_atan2(kc_vec3_dot(&r.normal, &x), kc_vec3_dot(&r.r, &r3));
-    if (r.angle <= KC_R(0.0))
-        r.angle += KC_R(2.0) * KC_PI;
-    kc_vec3_cross(&r.r, &rv, &x);
-    r.angle_via = kc_atan2(kc_vec3_dot(&r.normal, &x), kc_vec3_dot(&r.r, &rv));
-    if (r.angle_via <= KC_R(0.0))
-        r.angle_via += KC_R(2.0) * KC_PI;
+    r.angle = arc_angle(&r, to);
+    r.angle_via = arc_angle(&r, via);
     /* T1 -> T2 -> T3 is counter-clockwise about N by construction; only
      * points at the collinearity threshold could round out of order. */
     if (!(r.angle_via < r.angle))
