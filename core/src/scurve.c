@@ -8,6 +8,7 @@
 #include "kinctl/profile.h"
 #include "profile_internal.h"
 #include "scurve_internal.h"
+#include "size_internal.h"
 
 /* One velocity change: at most three phases of constant jerk. */
 typedef struct vchange {
@@ -119,7 +120,7 @@ static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, k
 }
 
 /* d(vp) (change_stop_time). */
-static kc_real dist_of(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real As, kc_real J)
+static KC_SIZE_NOINLINE kc_real dist_of(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real As, kc_real J)
 {
     kc_real p;
     change_stop_time(vp, v0, a0, A, As, J, &p);
@@ -237,7 +238,7 @@ static inline void bracket_take(bracket *b, kc_real x, kc_real fx)
 }
 
 /* The end of the bracket nearest the root. */
-static kc_real bracket_best(const bracket *b) { return kc_fabs(b->flo) <= kc_fabs(b->fhi) ? b->lo : b->hi; }
+static KC_SIZE_NOINLINE kc_real bracket_best(const bracket *b) { return kc_fabs(b->flo) <= kc_fabs(b->fhi) ? b->lo : b->hi; }
 
 /* Root of f(x) = d on [lo, hi], with f - d of opposite signs (or zero) at
  * the ends (flo, fhi), by regula falsi (bracket above). At most
@@ -353,8 +354,9 @@ static int limits_ok(kc_real vmax, kc_real amax, kc_real jmax, kc_real dt)
 }
 
 /* Phase i: its kind, end time, and the state (p, v, a) at its reference
- * time tr, jerk j. */
-static void set_phase(kc_scurve *r, int i, int kind, kc_real t_end, kc_real tr, kc_real p, kc_real v, kc_real a,
+ * time tr, jerk j. One copy built for size (178 B less on the Cortex-M4F
+ * than inlined at its four callers). */
+static KC_SIZE_NOINLINE void set_phase(kc_scurve *r, int i, int kind, kc_real t_end, kc_real tr, kc_real p, kc_real v, kc_real a,
                       kc_real j)
 {
     r->kind[i] = kind;
@@ -866,7 +868,7 @@ static kc_status lay_push(kc_scurve *r, const kc_scurve *fast, kc_real vmax, kc_
 
 /* dfun kinds 3 and 4: the duration of the slower stop (x = 1 / As) or of
  * the push (x = t1). */
-static kc_real blocked_time(const dfun *f, kc_real x)
+static KC_SIZE_NOINLINE kc_real blocked_time(const dfun *f, kc_real x)
 {
     return f->gap == 3 ? stop_slowed_time(f, KC_R(1.0) / x) : push_time(f, x);
 }
