@@ -238,7 +238,10 @@ static inline void bracket_take(bracket *b, kc_real x, kc_real fx)
 }
 
 /* The end of the bracket nearest the root. */
-static KC_SIZE_NOINLINE kc_real bracket_best(const bracket *b) { return kc_fabs(b->flo) <= kc_fabs(b->fhi) ? b->lo : b->hi; }
+static KC_SIZE_NOINLINE kc_real bracket_best(const bracket *b)
+{
+    return kc_fabs(b->flo) <= kc_fabs(b->fhi) ? b->lo : b->hi;
+}
 
 /* Root of f(x) = d on [lo, hi], with f - d of opposite signs (or zero) at
  * the ends (flo, fhi), by regula falsi (bracket above). At most
@@ -356,8 +359,8 @@ static int limits_ok(kc_real vmax, kc_real amax, kc_real jmax, kc_real dt)
 /* Phase i: its kind, end time, and the state (p, v, a) at its reference
  * time tr, jerk j. One copy built for size (178 B less on the Cortex-M4F
  * than inlined at its four callers). */
-static KC_SIZE_NOINLINE void set_phase(kc_scurve *r, int i, int kind, kc_real t_end, kc_real tr, kc_real p, kc_real v, kc_real a,
-                      kc_real j)
+static KC_SIZE_NOINLINE void set_phase(kc_scurve *r, int i, int kind, kc_real t_end, kc_real tr, kc_real p, kc_real v,
+                                       kc_real a, kc_real j)
 {
     r->kind[i] = kind;
     r->t_end[i] = t_end;
