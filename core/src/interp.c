@@ -6,6 +6,7 @@
 
 #include "interp_internal.h"
 #include "scurve_internal.h"
+#include "size_internal.h"
 
 #include <stddef.h>
 #include <string.h>
@@ -25,7 +26,7 @@ static void bound_u(kc_real D, kc_real vmax, kc_real amax, kc_real *V, kc_real *
 
 /* The profile of u from 0 to 1 with limits V and A; a zero motion (nothing
  * bounds A, i.e. nothing moves by a representable amount) takes 0 ticks. */
-static kc_status plan_u(kc_profile *prof, kc_real V, kc_real A, kc_real duration, kc_real dt)
+static KC_SIZE_NOINLINE kc_status plan_u(kc_profile *prof, kc_real V, kc_real A, kc_real duration, kc_real dt)
 {
     kc_real u0 = KC_R(0.0);
     if (!kc_isfinite(A)) { /* already there: u = 1 throughout */
@@ -267,7 +268,8 @@ static kc_status stretch_in_place(kc_interp_joint *out, const kc_interp_joint_cf
  * until every joint stretches, then halving the step between the last
  * refused and the first planned duration ten times. The optima stay in out->sj while searching
  * (one profile of scratch); then each is replaced by its stretch. */
-static kc_status stretch_past_blocked(kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl, kc_real T)
+static KC_SIZE_NOINLINE kc_status stretch_past_blocked(kc_interp_joint *out, const kc_interp_joint_cfg *c,
+                                                      const kc_real *jl, kc_real T)
 {
     kc_scurve tmp;
     kc_real lo = T, hi = T + T * (KC_R(1.0) / KC_R(1024.0)), grow = KC_R(2.0) / KC_R(1024.0);
@@ -629,7 +631,7 @@ static kc_quat match_sign(const kc_quat *q_end, const kc_quat *q_path)
     return quat_dot(q_end, q_path) < KC_R(0.0) ? quat_neg(q_end) : *q_end;
 }
 
-static void state_done(kc_interp_cart_state *out, const kc_vec3 *p, const kc_quat *q, kc_real s)
+static KC_SIZE_NOINLINE void state_done(kc_interp_cart_state *out, const kc_vec3 *p, const kc_quat *q, kc_real s)
 {
     out->p = *p;
     out->q = *q;
