@@ -168,13 +168,13 @@ static kc_real gap_dist(kc_real s, kc_real v0, kc_real a0, kc_real As, kc_real J
     return p;
 }
 
-/* The duration of the plain plan through vp with the cruise that covers d
- * (kinctl/scurve.h, "from a moving start"); the cruise's time into *tc
- * when given. */
-static kc_real cruise_time_of(kc_real vp, kc_real d, kc_real v0, kc_real a0, kc_real A, kc_real J, kc_real *tc)
+/* The duration of the plain plan from (f->v0, f->a0) through vp with the
+ * cruise that covers f->d, within f->A and f->J (kinctl/scurve.h, "from
+ * a moving start"); the cruise's time into *tc when given. */
+static kc_real cruise_time_of(const dfun *f, kc_real vp, kc_real *tc)
 {
-    kc_real dv, t = change_stop_time(vp, v0, a0, A, A, J, &dv);
-    kc_real c = (d - dv) / vp;
+    kc_real dv, t = change_stop_time(vp, f->v0, f->a0, f->A, f->A, f->J, &dv);
+    kc_real c = (f->d - dv) / vp;
     if (tc != NULL)
         *tc = c;
     return t + c;
@@ -186,7 +186,7 @@ static kc_real dfun_eval(const dfun *f, kc_real x)
     if (f->gap == 1)
         return gap_dist(x, f->v0, f->a0, f->As, f->J, NULL, NULL, NULL);
     else if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
-        r = cruise_time_of(KC_R(1.0) / x, f->d, f->v0, f->a0, f->A, f->J, &m);
+        r = cruise_time_of(f, KC_R(1.0) / x, &m);
     else
         m = change_stop_time(x, f->v0, f->a0, f->A, f->As, f->J, &r);
     if (f->memo != NULL) {
@@ -1002,7 +1002,7 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
     kc_real memo[2] = {KC_R(0.0) / KC_R(0.0), KC_R(0.0)};
     dfun t = {2, v0, a0, A, A, J, d, KC_R(0.0), memo};
     /* The optimum through vh is fast itself: its duration is T(vh). */
-    kc_real th = (vh == fast->vp && !fast->gap ? fast->T : cruise_time_of(vh, d, v0, a0, A, J, NULL)) - duration;
+    kc_real th = (vh == fast->vp && !fast->gap ? fast->T : cruise_time_of(&t, vh, NULL)) - duration;
     if (!(th <= KC_R(0.0))) /* between the optimum and the slowest cruise this side allows */
         return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
     /* vl: where the cruise alone, e / vp, would fill the duration, then
@@ -1015,7 +1015,7 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
         if (i > 0)
             vl *= KC_R(0.5);
         exact = exact_fit(v0, a0, vl, vh, A, J, &sg);
-        tl = (exact ? held_time(vl, sg, d, v0, a0, A, J) : cruise_time_of(vl, d, v0, a0, A, J, NULL)) - duration;
+        tl = (exact ? held_time(vl, sg, d, v0, a0, A, J) : cruise_time_of(&t, vl, NULL)) - duration;
     }
     if (!(tl >= KC_R(0.0)) || !kc_isfinite(tl))
         return KC_E_CAPACITY;
@@ -1035,10 +1035,10 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
     }
     if (vp == KC_R(0.0)) {
         kc_real vm = KC_R(2.0) / (KC_R(1.0) / vh + KC_R(1.0) / vl);
-        kc_real tm = cruise_time_of(vm, d, v0, a0, A, J, NULL) - duration;
+        kc_real tm = cruise_time_of(&t, vm, NULL) - duration;
         vp = quad_root(vh, th * vh, vm, tm * vm, vl, tl * vl);
         if (vp != KC_R(0.0)) {
-            kc_real tq = cruise_time_of(vp, d, v0, a0, A, J, &tc) - duration;
+            kc_real tq = cruise_time_of(&t, vp, &tc) - duration;
             if (kc_fabs(tq) > KC_R(4.0) * KC_REAL_EPS * duration) {
                 narrow(vp, tq, &vh, &th, &vl, &tl);
                 vp = KC_R(0.0);
