@@ -227,6 +227,23 @@ static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
     return KC_OK;
 }
 
+/* Joint i's time-optimal plan from its moving start, its duration alone
+ * (kc_scurve_plan_time), into out->sj[i]; jl[i] its jerk limit. */
+static KC_SIZE_NOINLINE kc_status joint_optimum(kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl,
+                                                int i)
+{
+    return kc_scurve_plan_time(&out->sj[i], out->q0[i], c->qd0[i], c->qdd0[i], out->q1[i], c->qd_max[i], c->qdd_max[i],
+                               jl[i], c->dt);
+}
+
+/* Joint i's optimum out->sj[i] stretched to T, into *dst (which may be
+ * out->sj[i]). */
+static KC_SIZE_NOINLINE kc_status joint_stretch(kc_scurve *dst, const kc_interp_joint *out,
+                                                const kc_interp_joint_cfg *c, const kc_real *jl, int i, kc_real T)
+{
+    return kc_scurve_stretch(dst, &out->sj[i], c->qd_max[i], c->qdd_max[i], jl[i], T);
+}
+
 /* Whether every joint's optimum in out->sj stretches to T: KC_OK,
  * KC_E_LIMIT when one refuses (kinctl/scurve.h: only a rest after an
  * optimum of seven phases), or another error. */
@@ -234,7 +251,7 @@ static kc_status stretches_all(const kc_interp_joint *out, const kc_interp_joint
                                kc_scurve *tmp)
 {
     for (int i = 0; i < c->n; i++) {
-        kc_status st = kc_scurve_stretch(tmp, &out->sj[i], c->qd_max[i], c->qdd_max[i], jl[i], T);
+        kc_status st = joint_stretch(tmp, out, c, jl, i, T);
         if (st != KC_OK)
             return st;
     }
@@ -248,12 +265,11 @@ static kc_status stretches_all(const kc_interp_joint *out, const kc_interp_joint
 static kc_status stretch_in_place(kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl, kc_real T)
 {
     for (int i = 0; i < c->n; i++) {
-        kc_status st = kc_scurve_stretch(&out->sj[i], &out->sj[i], c->qd_max[i], c->qdd_max[i], jl[i], T);
+        kc_status st = joint_stretch(&out->sj[i], out, c, jl, i, T);
         if (st == KC_OK)
             continue;
         for (int k = 0; k < i && st == KC_E_LIMIT; k++) {
-            kc_status sk = kc_scurve_plan_time(&out->sj[k], out->q0[k], c->qd0[k], c->qdd0[k], out->q1[k],
-                                               c->qd_max[k], c->qdd_max[k], jl[k], c->dt);
+            kc_status sk = joint_optimum(out, c, jl, k);
             if (sk != KC_OK)
                 return sk;
         }
@@ -366,8 +382,7 @@ static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cf
         if (!still && (!(c->qddd_max[i] > KC_R(0.0)) || !kc_isfinite(c->qddd_max[i])))
             return KC_E_ARG;
         jl[i] = still ? KC_R(1.0) : c->qddd_max[i];
-        st = kc_scurve_plan_time(&out->sj[i], out->q0[i], c->qd0[i], c->qdd0[i], out->q1[i], c->qd_max[i],
-                                 c->qdd_max[i], jl[i], c->dt);
+        st = joint_optimum(out, c, jl, i);
         if (st != KC_OK)
             return st;
         if (out->sj[i].T > T) {
