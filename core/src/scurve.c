@@ -103,6 +103,30 @@ static kc_real stop_time(kc_real vp, kc_real A, kc_real J)
     return w * J >= A * A ? w / A + A / J : KC_R(2.0) * kc_sqrt(w / J);
 }
 
+/* Duration of the change from (v0, a0) to vp and the stop from vp, with
+ * no cruise; their distance d(vp) into *dist when given. The change
+ * within A, the stop within As <= A (A but for a stop slowed by
+ * kc_scurve_stretch, see stretch_blocked()). */
+static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real As, kc_real J,
+                                kc_real *dist)
+{
+    vchange c;
+    kc_real tc, ts = stop_time(vp, As, J);
+    vchange_plan(&c, v0, a0, vp, A, J);
+    kc_real p = vchange_dist(&c, v0, a0, &tc) + KC_R(0.5) * vp * ts;
+    if (dist != NULL)
+        *dist = p;
+    return tc + ts;
+}
+
+/* d(vp) (change_stop_time). */
+static KC_SIZE_NOINLINE kc_real dist_of(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real As, kc_real J)
+{
+    kc_real p;
+    change_stop_time(vp, v0, a0, A, As, J, &p);
+    return p;
+}
+
 /* What a root search solves: d(x) = d for the plain family (x = vp) or the
  * gap family (x = s, the fraction of a0 ramped away, kinctl/scurve.h), or
  * T(vp) = T for a stretched plan. */
@@ -120,36 +144,13 @@ typedef struct dfun {
     kc_real *memo;
 } dfun;
 
-/* Duration of the change from (f->v0, f->a0) to vp and the stop from vp,
- * with no cruise; their distance d(vp) into *dist when given. The change
- * within f->A, the stop within f->As <= f->A (f->A but for a stop slowed
- * by kc_scurve_stretch, see stretch_blocked()), at jerk f->J. */
-static kc_real change_stop_time(const dfun *f, kc_real vp, kc_real *dist)
-{
-    vchange c;
-    kc_real tc, ts = stop_time(vp, f->As, f->J);
-    vchange_plan(&c, f->v0, f->a0, vp, f->A, f->J);
-    kc_real p = vchange_dist(&c, f->v0, f->a0, &tc) + KC_R(0.5) * vp * ts;
-    if (dist != NULL)
-        *dist = p;
-    return tc + ts;
-}
-
-/* d(vp) (change_stop_time). */
-static KC_SIZE_NOINLINE kc_real dist_of(const dfun *f, kc_real vp)
-{
-    kc_real p;
-    change_stop_time(f, vp, &p);
-    return p;
-}
-
-/* The gap family: ramp f->a0 towards zero by the fraction s at jerk
- * f->J, then the fastest change to rest within f->As. Fills the phases
- * when c and st are given. */
-static kc_real gap_dist(const dfun *f, kc_real s, vchange *c, vchange *st, kc_real *time)
+/* The gap family: ramp a0 towards zero by the fraction s at jerk J, then
+ * the fastest change to rest. Fills the phases when c and st are given. */
+static kc_real gap_dist(kc_real s, kc_real v0, kc_real a0, kc_real As, kc_real J, vchange *c, vchange *st,
+                        kc_real *time)
 {
     vchange r, sp;
-    kc_real a0 = f->a0, As = f->As, J = f->J, p = KC_R(0.0), v = f->v0, a = a0, ts = KC_R(0.0);
+    kc_real p = KC_R(0.0), v = v0, a = a0, ts = KC_R(0.0);
     r.n = 0;
     vchange_add(&r, a0 > KC_R(0.0) ? -J : J, s * kc_fabs(a0) / J);
     if (r.n > 0)
@@ -172,7 +173,7 @@ static kc_real gap_dist(const dfun *f, kc_real s, vchange *c, vchange *st, kc_re
  * a moving start"); the cruise's time into *tc when given. */
 static kc_real cruise_time_of(const dfun *f, kc_real vp, kc_real *tc)
 {
-    kc_real dv, t = change_stop_time(f, vp, &dv); /* f->As = f->A */
+    kc_real dv, t = change_stop_time(vp, f->v0, f->a0, f->A, f->A, f->J, &dv);
     kc_real c = (f->d - dv) / vp;
     if (tc != NULL)
         *tc = c;
@@ -183,11 +184,11 @@ static kc_real dfun_eval(const dfun *f, kc_real x)
 {
     kc_real r, m = KC_R(0.0);
     if (f->gap == 1)
-        return gap_dist(f, x, NULL, NULL, NULL);
+        return gap_dist(x, f->v0, f->a0, f->As, f->J, NULL, NULL, NULL);
     else if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
         r = cruise_time_of(f, KC_R(1.0) / x, &m);
     else
-        m = change_stop_time(f, x, &r);
+        m = change_stop_time(x, f->v0, f->a0, f->A, f->As, f->J, &r);
     if (f->memo != NULL) {
         f->memo[0] = x;
         f->memo[1] = m;
@@ -519,9 +520,6 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
             rest_to_rest(kc_fabs(d), vmax, A, J, &vpeak, &tc);
         return build_vp(prof, p0, v0, a0, p1, d < KC_R(0.0) ? -vpeak : vpeak, tc, A, A, J, KC_R(0.0), dt, lay);
     }
-    /* The root searches remember their last point's duration. */
-    kc_real memo[2] = {KC_R(0.0) / KC_R(0.0), KC_R(0.0)};
-    dfun f = {0, v0, a0, A, As, J, KC_R(0.0), KC_R(0.0), memo}, g = {1, v0, a0, A, As, J, KC_R(0.0), KC_R(0.0), NULL};
     /* The velocity range to search: vmax, or without a speed limit a bound
      * that brackets d, found by doubling (at most 64 times). */
     kc_real V = vmax;
@@ -529,7 +527,7 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
         kc_real vn = v0 + a0 * kc_fabs(a0) / (KC_R(2.0) * J);
         V = kc_max(kc_max(kc_fabs(v0), kc_fabs(vn)), kc_max(kc_sqrt(A * kc_fabs(d)), A * A / J));
         int i = 0;
-        while ((dist_of(&f, V) < d || dist_of(&f, -V) > d) && i < 64) {
+        while ((dist_of(V, v0, a0, A, As, J) < d || dist_of(-V, v0, a0, A, As, J) > d) && i < 64) {
             V *= KC_R(2.0);
             i++;
         }
@@ -538,11 +536,11 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     }
     /* A header's duration is the one its choice was made with: the
      * change and the stop (change_stop_time) and the cruise. */
-    kc_real dh, dl = KC_R(0.0), t = change_stop_time(&f, V, &dh), vc = V;
+    kc_real dh, dl = KC_R(0.0), t = change_stop_time(V, v0, a0, A, As, J, &dh), vc = V;
     if (!kc_isfinite(dh))
         return KC_E_CAPACITY;
     if (d < dh) {
-        t = change_stop_time(&f, -V, &dl);
+        t = change_stop_time(-V, v0, a0, A, As, J, &dl);
         if (!kc_isfinite(dl))
             return KC_E_CAPACITY;
         vc = -V;
@@ -562,15 +560,18 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
      * change to a vp between the branches. */
     kc_real vn = kc_clamp(v0 + a0 * kc_fabs(a0) / (KC_R(2.0) * J), -V, V);
     kc_real m1 = kc_min(vn, KC_R(0.0)), m2 = kc_max(vn, KC_R(0.0));
-    kc_real d1 = dist_of(&f, m1), d2 = dist_of(&f, m2);
+    kc_real d1 = dist_of(m1, v0, a0, A, As, J), d2 = dist_of(m2, v0, a0, A, As, J);
     kc_real vp = KC_R(0.0), best = KC_R(-1.0), s_gap = KC_R(-1.0);
+    /* The root searches remember their last point's duration. */
+    kc_real memo[2] = {KC_R(0.0) / KC_R(0.0), KC_R(0.0)};
+    dfun f = {0, v0, a0, A, As, J, KC_R(0.0), KC_R(0.0), memo}, g = {1, v0, a0, A, As, J, KC_R(0.0), KC_R(0.0), NULL};
     if (d <= d1) {
         vp = plain_root(&f, -V, m1, dl, d1, d);
-        best = memo[0] == vp ? memo[1] : change_stop_time(&f, vp, NULL);
+        best = memo[0] == vp ? memo[1] : change_stop_time(vp, v0, a0, A, As, J, NULL);
     }
     if (d >= d2) {
         kc_real w = plain_root(&f, m2, V, d2, dh, d);
-        kc_real tw = memo[0] == w ? memo[1] : change_stop_time(&f, w, NULL);
+        kc_real tw = memo[0] == w ? memo[1] : change_stop_time(w, v0, a0, A, As, J, NULL);
         if (best < KC_R(0.0) || tw < best) {
             vp = w;
             best = tw;
@@ -578,13 +579,13 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     }
     /* s = 0 is the stop at once, d(0): d1 or d2 (with a slowed stop, the
      * stop at once within As). */
-    kc_real g0 = (As != A ? gap_dist(&g, KC_R(0.0), NULL, NULL, NULL) : m1 == KC_R(0.0) ? d1 : d2) - d;
-    kc_real g1 = gap_dist(&g, KC_R(1.0), NULL, NULL, NULL) - d;
+    kc_real g0 = (As != A ? gap_dist(KC_R(0.0), v0, a0, As, J, NULL, NULL, NULL) : m1 == KC_R(0.0) ? d1 : d2) - d;
+    kc_real g1 = gap_dist(KC_R(1.0), v0, a0, As, J, NULL, NULL, NULL) - d;
     /* Signs compared, not multiplied: a product of small distances may
      * underflow to zero in float. */
     if (a0 != KC_R(0.0) && ((g0 <= KC_R(0.0) && g1 >= KC_R(0.0)) || (g0 >= KC_R(0.0) && g1 <= KC_R(0.0)))) {
         kc_real s = root(&g, KC_R(0.0), KC_R(1.0), g0, g1, d), ts;
-        gap_dist(&g, s, NULL, NULL, &ts);
+        gap_dist(s, v0, a0, As, J, NULL, NULL, &ts);
         if (best < KC_R(0.0) || ts < best) {
             s_gap = s;
             best = ts;
@@ -592,7 +593,7 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     }
     if (s_gap >= KC_R(0.0)) {
         vchange c, st;
-        gap_dist(&g, s_gap, &c, &st, NULL);
+        gap_dist(s_gap, v0, a0, As, J, &c, &st, NULL);
         kc_status r = build(prof, p0, v0, a0, p1, &c, KC_R(0.0), KC_R(0.0), &st, KC_R(0.0), dt, lay);
         if (r == KC_OK)
             prof->gap = 1;
@@ -600,7 +601,7 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     }
     if (best < KC_R(0.0)) {
         vp = root(&f, m1, m2, d1 - d, d2 - d, d);
-        best = lay ? best : change_stop_time(&f, vp, NULL);
+        best = lay ? best : change_stop_time(vp, v0, a0, A, As, J, NULL);
     }
     return lay ? build_vp(prof, p0, v0, a0, p1, vp, KC_R(0.0), A, As, J, KC_R(0.0), dt, lay)
                : header(prof, p0, v0, a0, p1, vp, best, dt);
@@ -975,9 +976,7 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
     kc_real p0 = fast->p0, v0 = fast->v0, a0 = fast->a0, p1 = fast->p1, d = p1 - p0;
     /* e: how far the target lies beyond where stopping at once ends; the
      * cruise runs towards it (sign s). */
-    kc_real memo[2] = {KC_R(0.0) / KC_R(0.0), KC_R(0.0)};
-    dfun t = {2, v0, a0, A, A, J, d, KC_R(0.0), memo};
-    kc_real ds = dist_of(&t, KC_R(0.0)), e = d - ds;
+    kc_real ds = dist_of(KC_R(0.0), v0, a0, A, A, J), e = d - ds;
     /* Stop at once, then wait: also for an e within the rounding of the
      * distances (a start on its stop to p1, as the rest of a stretched
      * plan is: a tiny e of either sign would have it come back instead). */
@@ -991,7 +990,7 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
     kc_real vh = fast->vp;
     if (fast->gap || !(s * vh > KC_R(0.0))) {
         vh = s * V;
-        kc_real dv = dist_of(&t, vh);
+        kc_real dv = dist_of(vh, v0, a0, A, A, J);
         dfun f = {0, v0, a0, A, A, J, KC_R(0.0), KC_R(0.0), NULL};
         if (s * (d - dv) < KC_R(0.0)) {
             kc_real f0 = -e;
@@ -1000,6 +999,8 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
                 return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
         }
     }
+    kc_real memo[2] = {KC_R(0.0) / KC_R(0.0), KC_R(0.0)};
+    dfun t = {2, v0, a0, A, A, J, d, KC_R(0.0), memo};
     /* The optimum through vh is fast itself: its duration is T(vh). */
     kc_real th = (vh == fast->vp && !fast->gap ? fast->T : cruise_time_of(&t, vh, NULL)) - duration;
     if (!(th <= KC_R(0.0))) /* between the optimum and the slowest cruise this side allows */
@@ -1051,7 +1052,7 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
         kc_real xh = KC_R(1.0) / vh, xl = KC_R(1.0) / vl;
         kc_real x = root_of(&t, xh, xl, th, tl, duration);
         vp = KC_R(1.0) / x;
-        tc = memo[0] == x ? memo[1] : (d - dist_of(&t, vp)) / vp;
+        tc = memo[0] == x ? memo[1] : (d - dist_of(vp, v0, a0, A, A, J)) / vp;
     }
     if (!(tc >= KC_R(0.0))) /* the change and the stop alone pass the target */
         return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
