@@ -144,13 +144,13 @@ typedef struct dfun {
     kc_real *memo;
 } dfun;
 
-/* The gap family: ramp a0 towards zero by the fraction s at jerk J, then
- * the fastest change to rest. Fills the phases when c and st are given. */
-static kc_real gap_dist(kc_real s, kc_real v0, kc_real a0, kc_real As, kc_real J, vchange *c, vchange *st,
-                        kc_real *time)
+/* The gap family: ramp f->a0 towards zero by the fraction s at jerk
+ * f->J, then the fastest change to rest within f->As. Fills the phases
+ * when c and st are given. */
+static kc_real gap_dist(const dfun *f, kc_real s, vchange *c, vchange *st, kc_real *time)
 {
     vchange r, sp;
-    kc_real p = KC_R(0.0), v = v0, a = a0, ts = KC_R(0.0);
+    kc_real a0 = f->a0, As = f->As, J = f->J, p = KC_R(0.0), v = f->v0, a = a0, ts = KC_R(0.0);
     r.n = 0;
     vchange_add(&r, a0 > KC_R(0.0) ? -J : J, s * kc_fabs(a0) / J);
     if (r.n > 0)
@@ -184,7 +184,7 @@ static kc_real dfun_eval(const dfun *f, kc_real x)
 {
     kc_real r, m = KC_R(0.0);
     if (f->gap == 1)
-        return gap_dist(x, f->v0, f->a0, f->As, f->J, NULL, NULL, NULL);
+        return gap_dist(f, x, NULL, NULL, NULL);
     else if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
         r = cruise_time_of(f, KC_R(1.0) / x, &m);
     else
@@ -579,13 +579,13 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     }
     /* s = 0 is the stop at once, d(0): d1 or d2 (with a slowed stop, the
      * stop at once within As). */
-    kc_real g0 = (As != A ? gap_dist(KC_R(0.0), v0, a0, As, J, NULL, NULL, NULL) : m1 == KC_R(0.0) ? d1 : d2) - d;
-    kc_real g1 = gap_dist(KC_R(1.0), v0, a0, As, J, NULL, NULL, NULL) - d;
+    kc_real g0 = (As != A ? gap_dist(&g, KC_R(0.0), NULL, NULL, NULL) : m1 == KC_R(0.0) ? d1 : d2) - d;
+    kc_real g1 = gap_dist(&g, KC_R(1.0), NULL, NULL, NULL) - d;
     /* Signs compared, not multiplied: a product of small distances may
      * underflow to zero in float. */
     if (a0 != KC_R(0.0) && ((g0 <= KC_R(0.0) && g1 >= KC_R(0.0)) || (g0 >= KC_R(0.0) && g1 <= KC_R(0.0)))) {
         kc_real s = root(&g, KC_R(0.0), KC_R(1.0), g0, g1, d), ts;
-        gap_dist(s, v0, a0, As, J, NULL, NULL, &ts);
+        gap_dist(&g, s, NULL, NULL, &ts);
         if (best < KC_R(0.0) || ts < best) {
             s_gap = s;
             best = ts;
@@ -593,7 +593,7 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     }
     if (s_gap >= KC_R(0.0)) {
         vchange c, st;
-        gap_dist(s_gap, v0, a0, As, J, &c, &st, NULL);
+        gap_dist(&g, s_gap, &c, &st, NULL);
         kc_status r = build(prof, p0, v0, a0, p1, &c, KC_R(0.0), KC_R(0.0), &st, KC_R(0.0), dt, lay);
         if (r == KC_OK)
             prof->gap = 1;
