@@ -159,13 +159,12 @@ static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
     kc_real J = INF, T = KC_R(0.0);
     kc_status st;
     /* The limits, the start and the leading joints as the trapezoid has
-     * them (u_vmax, u_amax, lead_vel, lead_acc): u's bounds V and A. */
+     * them (u_vmax, u_amax, lead_vel, lead_acc): u's bounds V and A; the
+     * rest of the plan cleared (prof stays so), no leading joint yet. */
     st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt, 1);
     if (st != KC_OK)
         return st;
-    memset(&out->prof, 0, sizeof out->prof);
     out->kind = KC_PROFILE_JERK;
-    out->lead = -1;
     for (int i = 0; i < c->n; i++) {
         kc_real D = kc_fabs(out->dq[i]);
         if (D == KC_R(0.0))
@@ -364,13 +363,13 @@ static void line_from_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 {
     kc_real T = KC_R(0.0);
-    /* Every sj[i] is planned below; prof and su stay cleared. */
+    /* Every sj[i] is planned below; prof and su stay cleared, no leading
+     * joint yet. */
     kc_status st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt, 0);
     if (st != KC_OK)
         return st;
     out->kind = KC_PROFILE_JERK;
     out->sync = KC_INTERP_SYNC_TIME;
-    out->lead = -1;
     out->u_jmax = INF;
     /* Each joint's optimum into out->sj[i], its duration without its
      * phases (kc_scurve_plan_time: the slowest joint's are laid out when
