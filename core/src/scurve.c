@@ -968,20 +968,16 @@ static kc_status stretch_blocked(kc_scurve *prof, const kc_scurve *fast, kc_real
     return moved(prof, &r, duration, dt);
 }
 
-/* The moving start (v0, a0) != 0 stretched to duration > fast->T, fast
- * its time-optimal plan (kinctl/scurve.h, kc_scurve_plan_duration_from). */
-static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J,
-                              kc_real duration, kc_real dt)
+/* The slower cruise that stretches the moving start of fast to duration
+ * (kinctl/scurve.h, kc_scurve_plan_duration_from), e the distance from
+ * where stopping at once ends to the target (not within its rounding):
+ * its velocity and duration into *vp_out and *tc_out. KC_E_LIMIT when no
+ * slower cruise does (stretch_blocked()), KC_E_CAPACITY when the search
+ * fails. */
+static kc_status slower_cruise(const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J, kc_real duration, kc_real e,
+                               kc_real *vp_out, kc_real *tc_out)
 {
     kc_real p0 = fast->p0, v0 = fast->v0, a0 = fast->a0, p1 = fast->p1, d = p1 - p0;
-    /* e: how far the target lies beyond where stopping at once ends; the
-     * cruise runs towards it (sign s). */
-    kc_real ds = dist_of(KC_R(0.0), v0, a0, A, A, J), e = d - ds;
-    /* Stop at once, then wait: also for an e within the rounding of the
-     * distances (a start on its stop to p1, as the rest of a stretched
-     * plan is: a tiny e of either sign would have it come back instead). */
-    if (kc_fabs(e) <= KC_R(8.0) * KC_REAL_EPS * (kc_fabs(p0) + kc_fabs(p1) + kc_fabs(ds)))
-        return build_vp(prof, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, A, J, duration, dt, 1);
     kc_real s = e > KC_R(0.0) ? KC_R(1.0) : KC_R(-1.0);
     kc_real V = kc_isfinite(vmax) ? vmax : kc_max(kc_fabs(fast->vp), kc_fabs(v0)) + A * A / J;
     /* vh: the fastest cruise on that side: the optimum's own vp when it is
@@ -996,7 +992,7 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
             kc_real f0 = -e;
             vh = root_of(&f, KC_R(0.0), vh, f0, dv - d, d);
             if (vh == KC_R(0.0))
-                return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
+                return KC_E_LIMIT;
         }
     }
     kc_real memo[2] = {KC_R(0.0) / KC_R(0.0), KC_R(0.0)};
@@ -1004,7 +1000,7 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
     /* The optimum through vh is fast itself: its duration is T(vh). */
     kc_real th = (vh == fast->vp && !fast->gap ? fast->T : cruise_time_of(&t, vh, NULL)) - duration;
     if (!(th <= KC_R(0.0))) /* between the optimum and the slowest cruise this side allows */
-        return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
+        return KC_E_LIMIT;
     /* vl: where the cruise alone, e / vp, would fill the duration, then
      * halved until the plan lasts at least that long (the cruise grows as
      * 1 / vp: rarely more than a halving); its duration in closed form
@@ -1055,7 +1051,31 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
         tc = memo[0] == x ? memo[1] : (d - dist_of(vp, v0, a0, A, A, J)) / vp;
     }
     if (!(tc >= KC_R(0.0))) /* the change and the stop alone pass the target */
-        return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
+        return KC_E_LIMIT;
+    *vp_out = vp;
+    *tc_out = tc;
+    return KC_OK;
+}
+
+/* The moving start (v0, a0) != 0 stretched to duration > fast->T, fast
+ * its time-optimal plan (kinctl/scurve.h, kc_scurve_plan_duration_from). */
+static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J,
+                              kc_real duration, kc_real dt)
+{
+    kc_real p0 = fast->p0, v0 = fast->v0, a0 = fast->a0, p1 = fast->p1, d = p1 - p0, vp = KC_R(0.0), tc = KC_R(0.0);
+    /* e: how far the target lies beyond where stopping at once ends; the
+     * cruise runs towards it. */
+    kc_real ds = dist_of(KC_R(0.0), v0, a0, A, A, J), e = d - ds;
+    /* Else stop at once, then wait: also for an e within the rounding of
+     * the distances (a start on its stop to p1, as the rest of a stretched
+     * plan is: a tiny e of either sign would have it come back instead). */
+    if (kc_fabs(e) > KC_R(8.0) * KC_REAL_EPS * (kc_fabs(p0) + kc_fabs(p1) + kc_fabs(ds))) {
+        kc_status st = slower_cruise(fast, vmax, A, J, duration, e, &vp, &tc);
+        if (st == KC_E_LIMIT)
+            return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
+        if (st != KC_OK)
+            return st;
+    }
     return build_vp(prof, p0, v0, a0, p1, vp, tc, A, A, J, duration, dt, 1);
 }
 
