@@ -119,14 +119,6 @@ static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, k
     return tc + ts;
 }
 
-/* d(vp) (change_stop_time). */
-static KC_SIZE_NOINLINE kc_real dist_of(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real As, kc_real J)
-{
-    kc_real p;
-    change_stop_time(vp, v0, a0, A, As, J, &p);
-    return p;
-}
-
 /* What a root search solves: d(x) = d for the plain family (x = vp) or the
  * gap family (x = s, the fraction of a0 ramped away, kinctl/scurve.h), or
  * T(vp) = T for a stretched plan. */
@@ -143,6 +135,14 @@ typedef struct dfun {
      * (kind 2), so that a root's caller need not evaluate it again. */
     kc_real *memo;
 } dfun;
+
+/* d(vp) (change_stop_time) from f's start within its limits. */
+static KC_SIZE_NOINLINE kc_real dist_of(const dfun *f, kc_real vp)
+{
+    kc_real p;
+    change_stop_time(vp, f->v0, f->a0, f->A, f->As, f->J, &p);
+    return p;
+}
 
 /* The gap family: ramp f->a0 towards zero by the fraction s at jerk
  * f->J, then the fastest change to rest within f->As. Fills the phases
@@ -524,10 +524,11 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
      * that brackets d, found by doubling (at most 64 times). */
     kc_real V = vmax;
     if (!kc_isfinite(V)) {
+        dfun f = {0, v0, a0, A, As, J, KC_R(0.0), KC_R(0.0), NULL};
         kc_real vn = v0 + a0 * kc_fabs(a0) / (KC_R(2.0) * J);
         V = kc_max(kc_max(kc_fabs(v0), kc_fabs(vn)), kc_max(kc_sqrt(A * kc_fabs(d)), A * A / J));
         int i = 0;
-        while ((dist_of(V, v0, a0, A, As, J) < d || dist_of(-V, v0, a0, A, As, J) > d) && i < 64) {
+        while ((dist_of(&f, V) < d || dist_of(&f, -V) > d) && i < 64) {
             V *= KC_R(2.0);
             i++;
         }
@@ -560,11 +561,11 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
      * change to a vp between the branches. */
     kc_real vn = kc_clamp(v0 + a0 * kc_fabs(a0) / (KC_R(2.0) * J), -V, V);
     kc_real m1 = kc_min(vn, KC_R(0.0)), m2 = kc_max(vn, KC_R(0.0));
-    kc_real d1 = dist_of(m1, v0, a0, A, As, J), d2 = dist_of(m2, v0, a0, A, As, J);
-    kc_real vp = KC_R(0.0), best = KC_R(-1.0), s_gap = KC_R(-1.0);
     /* The root searches remember their last point's duration. */
     kc_real memo[2] = {KC_R(0.0) / KC_R(0.0), KC_R(0.0)};
     dfun f = {0, v0, a0, A, As, J, KC_R(0.0), KC_R(0.0), memo}, g = {1, v0, a0, A, As, J, KC_R(0.0), KC_R(0.0), NULL};
+    kc_real d1 = dist_of(&f, m1), d2 = dist_of(&f, m2);
+    kc_real vp = KC_R(0.0), best = KC_R(-1.0), s_gap = KC_R(-1.0);
     if (d <= d1) {
         vp = plain_root(&f, -V, m1, dl, d1, d);
         best = memo[0] == vp ? memo[1] : change_stop_time(vp, v0, a0, A, As, J, NULL);
@@ -986,8 +987,8 @@ static kc_status slower_cruise(const kc_scurve *fast, kc_real vmax, kc_real A, k
     kc_real vh = fast->vp;
     if (fast->gap || !(s * vh > KC_R(0.0))) {
         vh = s * V;
-        kc_real dv = dist_of(vh, v0, a0, A, A, J);
         dfun f = {0, v0, a0, A, A, J, KC_R(0.0), KC_R(0.0), NULL};
+        kc_real dv = dist_of(&f, vh);
         if (s * (d - dv) < KC_R(0.0)) {
             kc_real f0 = -e;
             vh = root_of(&f, KC_R(0.0), vh, f0, dv - d, d);
@@ -1048,7 +1049,7 @@ static kc_status slower_cruise(const kc_scurve *fast, kc_real vmax, kc_real A, k
         kc_real xh = KC_R(1.0) / vh, xl = KC_R(1.0) / vl;
         kc_real x = root_of(&t, xh, xl, th, tl, duration);
         vp = KC_R(1.0) / x;
-        tc = memo[0] == x ? memo[1] : (d - dist_of(vp, v0, a0, A, A, J)) / vp;
+        tc = memo[0] == x ? memo[1] : (d - dist_of(&t, vp)) / vp;
     }
     if (!(tc >= KC_R(0.0))) /* the change and the stop alone pass the target */
         return KC_E_LIMIT;
@@ -1065,7 +1066,8 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
     kc_real p0 = fast->p0, v0 = fast->v0, a0 = fast->a0, p1 = fast->p1, d = p1 - p0, vp = KC_R(0.0), tc = KC_R(0.0);
     /* e: how far the target lies beyond where stopping at once ends; the
      * cruise runs towards it. */
-    kc_real ds = dist_of(KC_R(0.0), v0, a0, A, A, J), e = d - ds;
+    dfun f = {0, v0, a0, A, A, J, KC_R(0.0), KC_R(0.0), NULL};
+    kc_real ds = dist_of(&f, KC_R(0.0)), e = d - ds;
     /* Else stop at once, then wait: also for an e within the rounding of
      * the distances (a start on its stop to p1, as the rest of a stretched
      * plan is: a tiny e of either sign would have it come back instead). */
