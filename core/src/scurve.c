@@ -136,6 +136,13 @@ typedef struct dfun {
     kc_real *memo;
 } dfun;
 
+/* The duration of the change to vp and the stop (change_stop_time) from
+ * f's start within its limits. */
+static KC_SIZE_NOINLINE kc_real time_of(const dfun *f, kc_real vp)
+{
+    return change_stop_time(vp, f->v0, f->a0, f->A, f->As, f->J, NULL);
+}
+
 /* d(vp) (change_stop_time) from f's start within its limits. */
 static KC_SIZE_NOINLINE kc_real dist_of(const dfun *f, kc_real vp)
 {
@@ -568,11 +575,11 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     kc_real vp = KC_R(0.0), best = KC_R(-1.0), s_gap = KC_R(-1.0);
     if (d <= d1) {
         vp = plain_root(&f, -V, m1, dl, d1, d);
-        best = memo[0] == vp ? memo[1] : change_stop_time(vp, v0, a0, A, As, J, NULL);
+        best = memo[0] == vp ? memo[1] : time_of(&f, vp);
     }
     if (d >= d2) {
         kc_real w = plain_root(&f, m2, V, d2, dh, d);
-        kc_real tw = memo[0] == w ? memo[1] : change_stop_time(w, v0, a0, A, As, J, NULL);
+        kc_real tw = memo[0] == w ? memo[1] : time_of(&f, w);
         if (best < KC_R(0.0) || tw < best) {
             vp = w;
             best = tw;
@@ -602,7 +609,7 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     }
     if (best < KC_R(0.0)) {
         vp = root(&f, m1, m2, d1 - d, d2 - d, d);
-        best = lay ? best : change_stop_time(vp, v0, a0, A, As, J, NULL);
+        best = lay ? best : time_of(&f, vp);
     }
     return lay ? build_vp(prof, p0, v0, a0, p1, vp, KC_R(0.0), A, As, J, KC_R(0.0), dt, lay)
                : header(prof, p0, v0, a0, p1, vp, best, dt);
