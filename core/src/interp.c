@@ -6,6 +6,7 @@
 
 #include "interp_internal.h"
 #include "scurve_internal.h"
+#include "size_internal.h"
 
 #include <stddef.h>
 #include <string.h>
@@ -25,14 +26,16 @@ static void bound_u(kc_real D, kc_real vmax, kc_real amax, kc_real *V, kc_real *
 
 /* The profile of u from 0 to 1 with limits V and A; a zero motion (nothing
  * bounds A, i.e. nothing moves by a representable amount) takes 0 ticks. */
-static kc_status plan_u(kc_profile *prof, kc_real V, kc_real A, kc_real duration, kc_real dt)
+static KC_SIZE_NOINLINE kc_status plan_u(kc_profile *prof, kc_real V, kc_real A, kc_real duration, kc_real dt)
 {
-    if (!kc_isfinite(A)) /* already there: u = 1 throughout */
-        return duration > KC_R(0.0) ? kc_profile_plan_duration(prof, KC_R(1.0), KC_R(1.0), INF, KC_R(1.0), duration, dt)
-                                    : kc_profile_plan(prof, KC_R(1.0), KC_R(0.0), KC_R(1.0), INF, KC_R(1.0), dt);
-    if (duration > KC_R(0.0))
-        return kc_profile_plan_duration(prof, KC_R(0.0), KC_R(1.0), V, A, duration, dt);
-    return kc_profile_plan(prof, KC_R(0.0), KC_R(0.0), KC_R(1.0), V, A, dt);
+    kc_real u0 = KC_R(0.0);
+    if (!kc_isfinite(A)) { /* already there: u = 1 throughout */
+        u0 = KC_R(1.0);
+        V = INF;
+        A = KC_R(1.0);
+    }
+    return duration > KC_R(0.0) ? kc_profile_plan_duration(prof, u0, KC_R(1.0), V, A, duration, dt)
+                                : kc_profile_plan(prof, u0, KC_R(0.0), KC_R(1.0), V, A, dt);
 }
 
 /* ---- joint move ---- */
@@ -153,16 +156,15 @@ kc_interp_joint_cfg kc_interp_joint_cfg_default(void)
 /* The jerk-limited move (kinctl/interp.h, kc_interp_joint_plan_cfg). */
 static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 {
-    kc_real V = INF, A = INF, J = INF, T = KC_R(0.0);
+    kc_real J = INF, T = KC_R(0.0);
     kc_status st;
     /* The limits, the start and the leading joints as the trapezoid has
-     * them (u_vmax, u_amax, lead_vel, lead_acc). */
+     * them (u_vmax, u_amax, lead_vel, lead_acc): u's bounds V and A; the
+     * rest of the plan cleared (prof stays so), no leading joint yet. */
     st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt, 1);
     if (st != KC_OK)
         return st;
-    memset(&out->prof, 0, sizeof out->prof);
     out->kind = KC_PROFILE_JERK;
-    out->lead = -1;
     for (int i = 0; i < c->n; i++) {
         kc_real D = kc_fabs(out->dq[i]);
         if (D == KC_R(0.0))
@@ -178,8 +180,6 @@ static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
             T = out->sj[i].T;
             out->lead = i;
         }
-        V = kc_min(V, c->qd_max[i] / D);
-        A = kc_min(A, c->qdd_max[i] / D);
         J = kc_min(J, c->qddd_max[i] / D);
     }
     if (c->duration > KC_R(0.0)) {
@@ -187,26 +187,24 @@ static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
             return KC_E_LIMIT;
         T = kc_max(T, c->duration);
     }
-    out->u_vmax = V;
-    out->u_amax = A;
+    kc_real V = out->u_vmax, A = out->u_amax;
     out->u_jmax = J;
     out->T = T;
     out->sync = KC_INTERP_SYNC_PHASE;
+    /* Phase: the straight line, if it is as fast, stretched to T in place;
+     * when nothing moves (by a representable amount), u stays at 1 for T. */
+    kc_real u0 = KC_R(0.0);
     if (out->lead < 0 || !kc_isfinite(J)) {
-        /* Nothing moves (by a representable amount): u stays at 1. */
-        st = kc_scurve_plan_duration(&out->su, KC_R(1.0), KC_R(1.0), INF, KC_R(1.0), KC_R(1.0), T, c->dt);
-        if (st != KC_OK)
-            return st;
-        out->ticks = out->su.ticks;
-        return KC_OK;
+        u0 = KC_R(1.0);
+        V = INF;
+        A = J = KC_R(1.0);
     }
-    /* Phase: the straight line, if it is as fast. */
-    st = kc_scurve_plan(&out->su, KC_R(0.0), KC_R(0.0), KC_R(0.0), KC_R(1.0), V, A, J, c->dt);
+    st = kc_scurve_plan(&out->su, u0, KC_R(0.0), KC_R(0.0), KC_R(1.0), V, A, J, c->dt);
     if (st != KC_OK)
         return st;
     if (out->su.T <= T * (KC_R(1.0) + KC_R(8.0) * KC_REAL_EPS)) {
         if (T > out->su.T) {
-            st = kc_scurve_plan_duration(&out->su, KC_R(0.0), KC_R(1.0), V, A, J, T, c->dt);
+            st = kc_scurve_stretch(&out->su, &out->su, V, A, J, T);
             if (st != KC_OK)
                 return st;
         }
@@ -228,6 +226,23 @@ static kc_status plan_jerk(kc_interp_joint *out, const kc_interp_joint_cfg *c)
     return KC_OK;
 }
 
+/* Joint i's time-optimal plan from its moving start, its duration alone
+ * (kc_scurve_plan_time), into out->sj[i]; jl[i] its jerk limit. */
+static KC_SIZE_NOINLINE kc_status joint_optimum(kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl,
+                                                int i)
+{
+    return kc_scurve_plan_time(&out->sj[i], out->q0[i], c->qd0[i], c->qdd0[i], out->q1[i], c->qd_max[i], c->qdd_max[i],
+                               jl[i], c->dt);
+}
+
+/* Joint i's optimum out->sj[i] stretched to T, into *dst (which may be
+ * out->sj[i]). */
+static KC_SIZE_NOINLINE kc_status joint_stretch(kc_scurve *dst, const kc_interp_joint *out,
+                                                const kc_interp_joint_cfg *c, const kc_real *jl, int i, kc_real T)
+{
+    return kc_scurve_stretch(dst, &out->sj[i], c->qd_max[i], c->qdd_max[i], jl[i], T);
+}
+
 /* Whether every joint's optimum in out->sj stretches to T: KC_OK,
  * KC_E_LIMIT when one refuses (kinctl/scurve.h: only a rest after an
  * optimum of seven phases), or another error. */
@@ -235,7 +250,7 @@ static kc_status stretches_all(const kc_interp_joint *out, const kc_interp_joint
                                kc_scurve *tmp)
 {
     for (int i = 0; i < c->n; i++) {
-        kc_status st = kc_scurve_stretch(tmp, &out->sj[i], c->qd_max[i], c->qdd_max[i], jl[i], T);
+        kc_status st = joint_stretch(tmp, out, c, jl, i, T);
         if (st != KC_OK)
             return st;
     }
@@ -249,12 +264,11 @@ static kc_status stretches_all(const kc_interp_joint *out, const kc_interp_joint
 static kc_status stretch_in_place(kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl, kc_real T)
 {
     for (int i = 0; i < c->n; i++) {
-        kc_status st = kc_scurve_stretch(&out->sj[i], &out->sj[i], c->qd_max[i], c->qdd_max[i], jl[i], T);
+        kc_status st = joint_stretch(&out->sj[i], out, c, jl, i, T);
         if (st == KC_OK)
             continue;
         for (int k = 0; k < i && st == KC_E_LIMIT; k++) {
-            kc_status sk = kc_scurve_plan_time(&out->sj[k], out->q0[k], c->qd0[k], c->qdd0[k], out->q1[k],
-                                               c->qd_max[k], c->qdd_max[k], jl[k], c->dt);
+            kc_status sk = joint_optimum(out, c, jl, k);
             if (sk != KC_OK)
                 return sk;
         }
@@ -269,7 +283,8 @@ static kc_status stretch_in_place(kc_interp_joint *out, const kc_interp_joint_cf
  * until every joint stretches, then halving the step between the last
  * refused and the first planned duration ten times. The optima stay in out->sj while searching
  * (one profile of scratch); then each is replaced by its stretch. */
-static kc_status stretch_past_blocked(kc_interp_joint *out, const kc_interp_joint_cfg *c, const kc_real *jl, kc_real T)
+static KC_SIZE_NOINLINE kc_status stretch_past_blocked(kc_interp_joint *out, const kc_interp_joint_cfg *c,
+                                                      const kc_real *jl, kc_real T)
 {
     kc_scurve tmp;
     kc_real lo = T, hi = T + T * (KC_R(1.0) / KC_R(1024.0)), grow = KC_R(2.0) / KC_R(1024.0);
@@ -348,13 +363,13 @@ static void line_from_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cfg *c)
 {
     kc_real T = KC_R(0.0);
-    /* Every sj[i] is planned below; prof and su stay cleared. */
+    /* Every sj[i] is planned below; prof and su stay cleared, no leading
+     * joint yet. */
     kc_status st = plan_common(out, c->n, c->q0, c->q1, c->qd_max, c->qdd_max, KC_R(0.0), c->dt, 0);
     if (st != KC_OK)
         return st;
     out->kind = KC_PROFILE_JERK;
     out->sync = KC_INTERP_SYNC_TIME;
-    out->lead = -1;
     out->u_jmax = INF;
     /* Each joint's optimum into out->sj[i], its duration without its
      * phases (kc_scurve_plan_time: the slowest joint's are laid out when
@@ -366,8 +381,7 @@ static kc_status plan_jerk_moving(kc_interp_joint *out, const kc_interp_joint_cf
         if (!still && (!(c->qddd_max[i] > KC_R(0.0)) || !kc_isfinite(c->qddd_max[i])))
             return KC_E_ARG;
         jl[i] = still ? KC_R(1.0) : c->qddd_max[i];
-        st = kc_scurve_plan_time(&out->sj[i], out->q0[i], c->qd0[i], c->qdd0[i], out->q1[i], c->qd_max[i],
-                                 c->qdd_max[i], jl[i], c->dt);
+        st = joint_optimum(out, c, jl, i);
         if (st != KC_OK)
             return st;
         if (out->sj[i].T > T) {
@@ -576,20 +590,21 @@ static int limits_ok(const kc_interp_limits *l)
 
 /* The speed law of a Cartesian segment whose tool point moves by S and
  * turns by Theta (kinctl/interp.h, the line's "Speed law"): u's bounds
- * u_lim[0..2] on its first three derivatives, then the trapezoid into
- * *prof or, with a finite bound on u''', the jerk-limited profile into
- * *su; *kind, *T and *ticks say which and how long. */
-static kc_status plan_cart_u(kc_real S, kc_real Theta, const kc_interp_limits *lim, kc_real dt, kc_real *u_lim,
-                             kc_profile_kind *kind, kc_profile *prof, kc_scurve *su, kc_real *T, int64_t *ticks)
+ * *u_vmax, *u_amax, *u_jmax on its first three derivatives, then the
+ * trapezoid into *prof or, with a finite bound on u''', the jerk-limited
+ * profile into *su; *kind, *T and *ticks say which and how long. */
+static kc_status plan_cart_u(kc_real S, kc_real Theta, const kc_interp_limits *lim, kc_real dt, kc_real *u_vmax,
+                             kc_real *u_amax, kc_real *u_jmax, kc_profile_kind *kind, kc_profile *prof, kc_scurve *su,
+                             kc_real *T, int64_t *ticks)
 {
     kc_real V = INF, A = INF, J = INF, unused = INF;
     bound_u(S, lim->v, lim->a, &V, &A);
     bound_u(Theta, lim->w, lim->dw, &V, &A);
     bound_u(S, lim->j, INF, &J, &unused);
     bound_u(Theta, lim->dj, INF, &J, &unused);
-    u_lim[0] = V;
-    u_lim[1] = A;
-    u_lim[2] = J;
+    *u_vmax = V;
+    *u_amax = A;
+    *u_jmax = J;
     kc_status st;
     if (kc_isfinite(J) && kc_isfinite(A)) {
         *kind = KC_PROFILE_JERK;
@@ -630,7 +645,7 @@ static kc_quat match_sign(const kc_quat *q_end, const kc_quat *q_path)
     return quat_dot(q_end, q_path) < KC_R(0.0) ? quat_neg(q_end) : *q_end;
 }
 
-static void state_done(kc_interp_cart_state *out, const kc_vec3 *p, const kc_quat *q, kc_real s)
+static KC_SIZE_NOINLINE void state_done(kc_interp_cart_state *out, const kc_vec3 *p, const kc_quat *q, kc_real s)
 {
     out->p = *p;
     out->q = *q;
@@ -745,10 +760,11 @@ kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const k
     r.length = kc_hypot(kc_hypot(r.dp.v[0], r.dp.v[1]), r.dp.v[2]);
     if (!kc_vec3_isfinite(&r.dp) || !kc_isfinite(r.length))
         return KC_E_CAPACITY;
+    kc_quat q2;
     kc_quat_from_mat3(&from->R, &r.q1);
+    kc_quat_from_mat3(&to->R, &q2);
     if (orient == KC_INTERP_SLERP) {
-        kc_quat q2, rel, c1;
-        kc_quat_from_mat3(&to->R, &q2);
+        kc_quat rel, c1;
         kc_quat_conj(&r.q1, &c1);
         kc_quat_mul(&c1, &q2, &rel);
         if (rel.w < KC_R(0.0))
@@ -789,18 +805,14 @@ kc_status kc_interp_line_plan(kc_interp_line *plan, const kc_pose *from, const k
     kc_real Theta = r.angle > KC_R(16.0) * KC_REAL_EPS ? r.angle : KC_R(0.0);
     if (r.length == KC_R(0.0) && Theta > KC_R(0.0) && !kc_isfinite(lim->dw))
         return KC_E_ARG; /* a pure rotation needs an angular acceleration limit */
-    kc_real u_lim[3];
-    kc_status st = plan_cart_u(r.length, Theta, lim, dt, u_lim, &r.kind, &r.prof, &r.su, &r.T, &r.ticks);
-    r.u_vmax = u_lim[0];
-    r.u_amax = u_lim[1];
-    r.u_jmax = u_lim[2];
+    kc_status st = plan_cart_u(r.length, Theta, lim, dt, &r.u_vmax, &r.u_amax, &r.u_jmax, &r.kind, &r.prof, &r.su,
+                               &r.T, &r.ticks);
     if (st != KC_OK)
         return st;
     /* The end orientation, signed as the path arrives there. */
-    kc_quat q_path, q2;
+    kc_quat q_path;
     kc_vec3 w;
     line_rotation(&r, KC_R(1.0), &q_path, &w);
-    kc_quat_from_mat3(&to->R, &q2);
     r.q2 = match_sign(&q2, &q_path);
     *plan = r;
     return KC_OK;
@@ -853,11 +865,22 @@ kc_status kc_interp_line_eval_profile(const kc_interp_line *plan, const kc_profi
 
 /* ---- arc ---- */
 
+/* The counter-clockwise angle about the arc's normal from T1 to the point
+ * p, in (0, 2 pi]. */
+static kc_real arc_angle(const kc_interp_arc *arc, const kc_vec3 *p)
+{
+    kc_vec3 rp, x;
+    kc_vec3_sub(p, &arc->centre, &rp);
+    kc_vec3_cross(&arc->r, &rp, &x);
+    kc_real angle = kc_atan2(kc_vec3_dot(&arc->normal, &x), kc_vec3_dot(&arc->r, &rp));
+    return angle <= KC_R(0.0) ? angle + KC_R(2.0) * KC_PI : angle;
+}
+
 kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_vec3 *via, const kc_vec3 *to,
                              const kc_interp_limits *lim, kc_real dt)
 {
     kc_interp_arc r;
-    kc_vec3 a, b, m, t1, t2, r3, rv, x;
+    kc_vec3 a, b, m, t1, t2;
     if (plan == NULL || from == NULL || via == NULL || to == NULL || lim == NULL || !pose_ok(from) ||
         !kc_vec3_isfinite(via) || !kc_vec3_isfinite(to) || !limits_ok(lim) || !dt_ok(dt))
         return KC_E_ARG;
@@ -885,17 +908,8 @@ kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_
     r.radius = kc_vec3_norm(&r.r);
     if (!kc_vec3_isfinite(&r.centre) || !(r.radius > KC_R(0.0)) || !kc_isfinite(r.radius))
         return KC_E_SINGULAR;
-    /* Counter-clockwise angles about N from T1 (in (0, 2 pi)). */
-    kc_vec3_sub(to, &r.centre, &r3);
-    kc_vec3_sub(via, &r.centre, &rv);
-    kc_vec3_cross(&r.r, &r3, &x);
-    r.angle = kc_atan2(kc_vec3_dot(&r.normal, &x), kc_vec3_dot(&r.r, &r3));
-    if (r.angle <= KC_R(0.0))
-        r.angle += KC_R(2.0) * KC_PI;
-    kc_vec3_cross(&r.r, &rv, &x);
-    r.angle_via = kc_atan2(kc_vec3_dot(&r.normal, &x), kc_vec3_dot(&r.r, &rv));
-    if (r.angle_via <= KC_R(0.0))
-        r.angle_via += KC_R(2.0) * KC_PI;
+    r.angle = arc_angle(&r, to);
+    r.angle_via = arc_angle(&r, via);
     /* T1 -> T2 -> T3 is counter-clockwise about N by construction; only
      * points at the collinearity threshold could round out of order. */
     if (!(r.angle_via < r.angle))
@@ -909,11 +923,8 @@ kc_status kc_interp_arc_plan(kc_interp_arc *plan, const kc_pose *from, const kc_
     kc_quat_mul(&turn, &r.q1, &r.q3);
     /* Speed law on the angle: alpha' <= min(v / R, w), alpha'' <= min(a / R, dw),
      * alpha''' <= min(j / R, dj). */
-    kc_real u_lim[3];
-    kc_status st = plan_cart_u(r.length, r.angle, lim, dt, u_lim, &r.kind, &r.prof, &r.su, &r.T, &r.ticks);
-    r.u_vmax = u_lim[0];
-    r.u_amax = u_lim[1];
-    r.u_jmax = u_lim[2];
+    kc_status st = plan_cart_u(r.length, r.angle, lim, dt, &r.u_vmax, &r.u_amax, &r.u_jmax, &r.kind, &r.prof, &r.su,
+                               &r.T, &r.ticks);
     if (st != KC_OK)
         return st;
     *plan = r;

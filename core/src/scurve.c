@@ -8,6 +8,7 @@
 #include "kinctl/profile.h"
 #include "profile_internal.h"
 #include "scurve_internal.h"
+#include "size_internal.h"
 
 /* One velocity change: at most three phases of constant jerk. */
 typedef struct vchange {
@@ -35,32 +36,40 @@ static void vchange_plan(vchange *c, kc_real v, kc_real a, kc_real w, kc_real A,
     kc_real iJ = KC_R(1.0) / J;
     c->n = 0;
     kc_real vn = v + a * kc_fabs(a) * (KC_R(0.5) * iJ);
+    /* The phases: jerk j1 for t1, a hold for th, -sg J for t3 (those of
+     * zero length left out). */
+    kc_real sg = KC_R(1.0), j1, t1, th = KC_R(0.0), t3 = KC_R(0.0);
     if (w == vn) {
-        vchange_add(c, a > KC_R(0.0) ? -J : J, kc_fabs(a) * iJ);
-        return;
-    }
-    /* Work along sg, the side the acceleration must go to. */
-    kc_real sg = w > vn ? KC_R(1.0) : KC_R(-1.0);
-    kc_real as = sg * a, dw = sg * (w - v), dn = sg * (w - vn);
-    if (as > A) {
-        /* Outside the limit: ramp down to A, hold, ramp to zero. */
-        vchange_add(c, -sg * J, (as - A) * iJ);
-        vchange_add(c, KC_R(0.0), dn / A);
-        vchange_add(c, -sg * J, A * iJ);
-        return;
-    }
-    kc_real full = (KC_R(2.0) * A * A - as * as) * (KC_R(0.5) * iJ);
-    kc_real ap = A, th = KC_R(0.0);
-    if (dw >= full) {
-        th = (dw - full) / A;
+        /* The ramp of a to zero alone. */
+        j1 = a > KC_R(0.0) ? -J : J;
+        t1 = kc_fabs(a) * iJ;
     } else {
-        ap = kc_sqrt(kc_max(J * dw + KC_R(0.5) * as * as, KC_R(0.0)));
-        /* dn > 0 makes ap > max(as, 0) exactly; keep it so under rounding. */
-        ap = kc_min(kc_max(ap, kc_max(as, KC_R(0.0))), A);
+        /* Work along sg, the side the acceleration must go to. */
+        sg = w > vn ? KC_R(1.0) : KC_R(-1.0);
+        kc_real as = sg * a, dw = sg * (w - v), dn = sg * (w - vn);
+        if (as > A) {
+            /* Outside the limit: ramp down to A, hold, ramp to zero. */
+            j1 = -sg * J;
+            t1 = (as - A) * iJ;
+            th = dn / A;
+            t3 = A * iJ;
+        } else {
+            kc_real full = (KC_R(2.0) * A * A - as * as) * (KC_R(0.5) * iJ), ap = A;
+            if (dw >= full) {
+                th = (dw - full) / A;
+            } else {
+                ap = kc_sqrt(kc_max(J * dw + KC_R(0.5) * as * as, KC_R(0.0)));
+                /* dn > 0 makes ap > max(as, 0) exactly; keep it so under rounding. */
+                ap = kc_min(kc_max(ap, kc_max(as, KC_R(0.0))), A);
+            }
+            j1 = sg * J;
+            t1 = (ap - as) * iJ;
+            t3 = ap * iJ;
+        }
     }
-    vchange_add(c, sg * J, (ap - as) * iJ);
+    vchange_add(c, j1, t1);
     vchange_add(c, KC_R(0.0), th);
-    vchange_add(c, -sg * J, ap * iJ);
+    vchange_add(c, -sg * J, t3);
 }
 
 /* Advances (p, v, a) by a phase of jerk j over tau (which may be
@@ -94,18 +103,10 @@ static kc_real stop_time(kc_real vp, kc_real A, kc_real J)
     return w * J >= A * A ? w / A + A / J : KC_R(2.0) * kc_sqrt(w / J);
 }
 
-/* d(vp): the distance of the change from (v0, a0) to vp and the stop from
- * vp, with no cruise; the change within A, the stop within As <= A (A
- * but for a stop slowed by kc_scurve_stretch, see stretch_blocked()). */
-static kc_real dist_of(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real As, kc_real J)
-{
-    vchange c;
-    vchange_plan(&c, v0, a0, vp, A, J);
-    return vchange_dist(&c, v0, a0, NULL) + KC_R(0.5) * vp * stop_time(vp, As, J);
-}
-
-/* Duration of the change from (v0, a0) to vp and the stop from vp; their
- * distance d(vp) into *dist when given. */
+/* Duration of the change from (v0, a0) to vp and the stop from vp, with
+ * no cruise; their distance d(vp) into *dist when given. The change
+ * within A, the stop within As <= A (A but for a stop slowed by
+ * kc_scurve_stretch, see stretch_blocked()). */
 static kc_real change_stop_time(kc_real vp, kc_real v0, kc_real a0, kc_real A, kc_real As, kc_real J,
                                 kc_real *dist)
 {
@@ -135,13 +136,28 @@ typedef struct dfun {
     kc_real *memo;
 } dfun;
 
-/* The gap family: ramp a0 towards zero by the fraction s at jerk J, then
- * the fastest change to rest. Fills the phases when c and st are given. */
-static kc_real gap_dist(kc_real s, kc_real v0, kc_real a0, kc_real As, kc_real J, vchange *c, vchange *st,
-                        kc_real *time)
+/* The duration of the change to vp and the stop (change_stop_time) from
+ * f's start within its limits. */
+static KC_SIZE_NOINLINE kc_real time_of(const dfun *f, kc_real vp)
+{
+    return change_stop_time(vp, f->v0, f->a0, f->A, f->As, f->J, NULL);
+}
+
+/* d(vp) (change_stop_time) from f's start within its limits. */
+static KC_SIZE_NOINLINE kc_real dist_of(const dfun *f, kc_real vp)
+{
+    kc_real p;
+    change_stop_time(vp, f->v0, f->a0, f->A, f->As, f->J, &p);
+    return p;
+}
+
+/* The gap family: ramp f->a0 towards zero by the fraction s at jerk
+ * f->J, then the fastest change to rest within f->As. Fills the phases
+ * when c and st are given. */
+static kc_real gap_dist(const dfun *f, kc_real s, vchange *c, vchange *st, kc_real *time)
 {
     vchange r, sp;
-    kc_real p = KC_R(0.0), v = v0, a = a0, ts = KC_R(0.0);
+    kc_real a0 = f->a0, As = f->As, J = f->J, p = KC_R(0.0), v = f->v0, a = a0, ts = KC_R(0.0);
     r.n = 0;
     vchange_add(&r, a0 > KC_R(0.0) ? -J : J, s * kc_fabs(a0) / J);
     if (r.n > 0)
@@ -159,13 +175,13 @@ static kc_real gap_dist(kc_real s, kc_real v0, kc_real a0, kc_real As, kc_real J
     return p;
 }
 
-/* The duration of the plain plan through vp with the cruise that covers d
- * (kinctl/scurve.h, "from a moving start"); the cruise's time into *tc
- * when given. */
-static kc_real cruise_time_of(kc_real vp, kc_real d, kc_real v0, kc_real a0, kc_real A, kc_real J, kc_real *tc)
+/* The duration of the plain plan from (f->v0, f->a0) through vp with the
+ * cruise that covers f->d, within f->A and f->J (kinctl/scurve.h, "from
+ * a moving start"); the cruise's time into *tc when given. */
+static kc_real cruise_time_of(const dfun *f, kc_real vp, kc_real *tc)
 {
-    kc_real dv, t = change_stop_time(vp, v0, a0, A, A, J, &dv);
-    kc_real c = (d - dv) / vp;
+    kc_real dv, t = change_stop_time(vp, f->v0, f->a0, f->A, f->A, f->J, &dv);
+    kc_real c = (f->d - dv) / vp;
     if (tc != NULL)
         *tc = c;
     return t + c;
@@ -175,11 +191,9 @@ static kc_real dfun_eval(const dfun *f, kc_real x)
 {
     kc_real r, m = KC_R(0.0);
     if (f->gap == 1)
-        return gap_dist(x, f->v0, f->a0, f->As, f->J, NULL, NULL, NULL);
+        return gap_dist(f, x, NULL, NULL, NULL);
     else if (f->gap == 2) /* x = 1 / vp: the cruise's 1 / vp made linear */
-        r = cruise_time_of(KC_R(1.0) / x, f->d, f->v0, f->a0, f->A, f->J, &m);
-    else if (f->memo == NULL)
-        return dist_of(x, f->v0, f->a0, f->A, f->As, f->J);
+        r = cruise_time_of(f, KC_R(1.0) / x, &m);
     else
         m = change_stop_time(x, f->v0, f->a0, f->A, f->As, f->J, &r);
     if (f->memo != NULL) {
@@ -231,7 +245,10 @@ static inline void bracket_take(bracket *b, kc_real x, kc_real fx)
 }
 
 /* The end of the bracket nearest the root. */
-static kc_real bracket_best(const bracket *b) { return kc_fabs(b->flo) <= kc_fabs(b->fhi) ? b->lo : b->hi; }
+static KC_SIZE_NOINLINE kc_real bracket_best(const bracket *b)
+{
+    return kc_fabs(b->flo) <= kc_fabs(b->fhi) ? b->lo : b->hi;
+}
 
 /* Root of f(x) = d on [lo, hi], with f - d of opposite signs (or zero) at
  * the ends (flo, fhi), by regula falsi (bracket above). At most
@@ -255,6 +272,13 @@ static kc_real root(const dfun *f, kc_real lo, kc_real hi, kc_real flo, kc_real 
     return bracket_best(&b);
 }
 
+/* root() on the bracket of x1 and x2 in either order (f1, f2: f - d
+ * there). */
+static kc_real root_of(const dfun *f, kc_real x1, kc_real x2, kc_real f1, kc_real f2, kc_real d)
+{
+    return x1 < x2 ? root(f, x1, x2, f1, f2, d) : root(f, x2, x1, f2, f1, d);
+}
+
 /* The root strictly between lo and hi of qa x^2 + qb x + qc (the two
  * roots without cancellation), or 0 when it has none there. */
 static kc_real poly2_root(kc_real qa, kc_real qb, kc_real qc, kc_real lo, kc_real hi)
@@ -275,6 +299,15 @@ static kc_real poly2_root(kc_real qa, kc_real qb, kc_real qc, kc_real lo, kc_rea
     if (r2 > lo && r2 < hi)
         return r2;
     return KC_R(0.0);
+}
+
+/* The root strictly between x1 and x2 of the quadratic with leading
+ * coefficient c2 through (x1, y1 - y0) and (x2, y2 - y0) (poly2_root), or
+ * 0 when it has none there. */
+static kc_real poly2_through(kc_real c2, kc_real x1, kc_real y1, kc_real x2, kc_real y2, kc_real y0)
+{
+    kc_real c1 = (y2 - y1) / (x2 - x1) - c2 * (x2 + x1), c0 = y1 - y0 - x1 * (c2 * x1 + c1);
+    return poly2_root(c2, c1, c0, kc_min(x1, x2), kc_max(x1, x2));
 }
 
 /* The root of d(vp) = d on a plain branch [lo, hi] ([max(vn, 0), V] or
@@ -300,15 +333,13 @@ static kc_real plain_root(const dfun *f, kc_real lo, kc_real hi, kc_real dlo, kc
     if (s * vb > s * v_near) {
         kc_real db = dfun_eval(f, vb);
         if (s * (d - db) < KC_R(0.0)) /* between the v_near end and vb */
-            return s > KC_R(0.0) ? root(f, lo, vb, dlo - d, db - d, d) : root(f, vb, hi, db - d, dhi - d, d);
+            return root_of(f, v_near, vb, d_near - d, db - d, d);
         v_near = vb;
         d_near = db;
     }
-    /* c2 x^2 + c1 x + c0 = 0 through (v_near, d_near - d), (v_far, d_far - d),
-     * its root between them (the two roots without cancellation). */
-    kc_real c2 = s * (KC_R(0.5) / A + KC_R(0.5) / As), c1 = (d_far - d_near) / (v_far - v_near) - c2 * (v_far + v_near);
-    kc_real c0 = d_near - d - v_near * (c2 * v_near + c1);
-    kc_real x = poly2_root(c2, c1, c0, kc_min(v_near, v_far), kc_max(v_near, v_far));
+    /* The quadratic through (v_near, d_near - d), (v_far, d_far - d), its
+     * root between them. */
+    kc_real x = poly2_through(s * (KC_R(0.5) / A + KC_R(0.5) / As), v_near, d_near, v_far, d_far, d);
     if (x != KC_R(0.0)) {
         kc_real fx = dfun_eval(f, x) - d;
         if (kc_fabs(fx) <= KC_R(4.0) * KC_REAL_EPS * kc_fabs(d))
@@ -322,7 +353,7 @@ static kc_real plain_root(const dfun *f, kc_real lo, kc_real hi, kc_real dlo, kc
             d_far = fx + d;
         }
     }
-    return s > KC_R(0.0) ? root(f, v_near, v_far, d_near - d, d_far - d, d) : root(f, v_far, v_near, d_far - d, d_near - d, d);
+    return root_of(f, v_near, v_far, d_near - d, d_far - d, d);
 }
 
 static int limits_ok(kc_real vmax, kc_real amax, kc_real jmax, kc_real dt)
@@ -333,9 +364,10 @@ static int limits_ok(kc_real vmax, kc_real amax, kc_real jmax, kc_real dt)
 }
 
 /* Phase i: its kind, end time, and the state (p, v, a) at its reference
- * time tr, jerk j. */
-static void set_phase(kc_scurve *r, int i, int kind, kc_real t_end, kc_real tr, kc_real p, kc_real v, kc_real a,
-                      kc_real j)
+ * time tr, jerk j. One copy built for size (178 B less on the Cortex-M4F
+ * than inlined at its four callers). */
+static KC_SIZE_NOINLINE void set_phase(kc_scurve *r, int i, int kind, kc_real t_end, kc_real tr, kc_real p, kc_real v,
+                                       kc_real a, kc_real j)
 {
     r->kind[i] = kind;
     r->t_end[i] = t_end;
@@ -374,9 +406,11 @@ static kc_status header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_
 
 /* The profile: the phases c from the start, a cruise at vp for tc, and
  * the stop s (a velocity change to rest) laid backwards from (p1, 0, 0) at
- * T, where T is `duration` when positive, the sum of the phases otherwise. */
+ * T, where T is `duration` when positive, the sum of the phases otherwise;
+ * or, unless lay, its header alone (a time-optimal plan's end,
+ * kc_scurve_plan_time). */
 static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, const vchange *cp, kc_real vp,
-                       kc_real tc, const vchange *sp, kc_real duration, kc_real dt)
+                       kc_real tc, const vchange *sp, kc_real duration, kc_real dt, int lay)
 {
     kc_scurve r;
     const vchange *c = cp, *s = sp;
@@ -390,8 +424,8 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
         jm = kc_max(jm, kc_fabs(s->j[i]));
     }
     kc_real T = duration > KC_R(0.0) ? duration : t_change + kc_max(tc, KC_R(0.0)) + t_stop;
-    if (!kc_isfinite(T))
-        return KC_E_CAPACITY;
+    if (!lay || !kc_isfinite(T))
+        return header(prof, p0, v0, a0, p1, vp, T, dt);
     int64_t ticks = kc_profile_ticks(T, dt);
     if (ticks < 0)
         return KC_E_CAPACITY;
@@ -434,45 +468,14 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
 }
 
 /* The plain profile through the extremum vp: change (within A), cruise,
- * stop (within As). */
+ * stop (within As); or its header alone (build()). */
 static kc_status build_vp(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vp, kc_real tc,
-                          kc_real A, kc_real As, kc_real J, kc_real duration, kc_real dt)
+                          kc_real A, kc_real As, kc_real J, kc_real duration, kc_real dt, int lay)
 {
     vchange c, s;
     vchange_plan(&c, v0, a0, vp, A, J);
     vchange_plan(&s, vp, KC_R(0.0), KC_R(0.0), As, J);
-    return build(prof, p0, v0, a0, p1, &c, vp, tc, &s, duration, dt);
-}
-
-/* The header of the profile build() would make of these phases, T summed
- * as build() sums it. */
-static kc_status build_header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, const vchange *c,
-                              kc_real vp, kc_real tc, const vchange *s, kc_real dt)
-{
-    kc_real t = KC_R(0.0), t_stop = KC_R(0.0);
-    for (int i = 0; i < c->n; i++)
-        t += c->t[i];
-    for (int i = 0; i < s->n; i++)
-        t_stop += s->t[i];
-    return header(prof, p0, v0, a0, p1, vp, t + kc_max(tc, KC_R(0.0)) + t_stop, dt);
-}
-
-/* The end of a time-optimal plan: the profile (lay), or its header alone. */
-static kc_status finish(kc_scurve *prof, int lay, kc_real p0, kc_real v0, kc_real a0, kc_real p1, const vchange *c,
-                        kc_real vp, kc_real tc, const vchange *s, kc_real dt)
-{
-    return lay ? build(prof, p0, v0, a0, p1, c, vp, tc, s, KC_R(0.0), dt)
-               : build_header(prof, p0, v0, a0, p1, c, vp, tc, s, dt);
-}
-
-/* finish() for the plain plan through vp (build_vp). */
-static kc_status finish_vp(kc_scurve *prof, int lay, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vp,
-                           kc_real tc, kc_real A, kc_real As, kc_real J, kc_real dt)
-{
-    vchange c, s;
-    vchange_plan(&c, v0, a0, vp, A, J);
-    vchange_plan(&s, vp, KC_R(0.0), KC_R(0.0), As, J);
-    return finish(prof, lay, p0, v0, a0, p1, &c, vp, tc, &s, dt);
+    return build(prof, p0, v0, a0, p1, &c, vp, tc, &s, duration, dt, lay);
 }
 
 /* Rest to rest over D >= 0 (kinctl/scurve.h, Biagiotti & Melchiorri 3.4):
@@ -519,20 +522,20 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
         return KC_E_ARG;
     kc_real A = amax, As = astop, J = jmax;
     if (v0 == KC_R(0.0) && a0 == KC_R(0.0)) {
-        kc_real vpeak, tc;
-        if (d == KC_R(0.0))
-            return finish_vp(prof, lay, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, A, J, dt);
-        rest_to_rest(kc_fabs(d), vmax, A, J, &vpeak, &tc);
-        return finish_vp(prof, lay, p0, v0, a0, p1, d > KC_R(0.0) ? vpeak : -vpeak, tc, A, A, J, dt);
+        kc_real vpeak = KC_R(0.0), tc = KC_R(0.0);
+        if (d != KC_R(0.0))
+            rest_to_rest(kc_fabs(d), vmax, A, J, &vpeak, &tc);
+        return build_vp(prof, p0, v0, a0, p1, d < KC_R(0.0) ? -vpeak : vpeak, tc, A, A, J, KC_R(0.0), dt, lay);
     }
     /* The velocity range to search: vmax, or without a speed limit a bound
      * that brackets d, found by doubling (at most 64 times). */
     kc_real V = vmax;
     if (!kc_isfinite(V)) {
+        dfun f = {0, v0, a0, A, As, J, KC_R(0.0), KC_R(0.0), NULL};
         kc_real vn = v0 + a0 * kc_fabs(a0) / (KC_R(2.0) * J);
         V = kc_max(kc_max(kc_fabs(v0), kc_fabs(vn)), kc_max(kc_sqrt(A * kc_fabs(d)), A * A / J));
         int i = 0;
-        while ((dist_of(V, v0, a0, A, As, J) < d || dist_of(-V, v0, a0, A, As, J) > d) && i < 64) {
+        while ((dist_of(&f, V) < d || dist_of(&f, -V) > d) && i < 64) {
             V *= KC_R(2.0);
             i++;
         }
@@ -541,18 +544,21 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     }
     /* A header's duration is the one its choice was made with: the
      * change and the stop (change_stop_time) and the cruise. */
-    kc_real dh, dl, th = change_stop_time(V, v0, a0, A, As, J, &dh);
+    kc_real dh, dl = KC_R(0.0), t = change_stop_time(V, v0, a0, A, As, J, &dh), vc = V;
     if (!kc_isfinite(dh))
         return KC_E_CAPACITY;
-    if (d >= dh)
-        return lay ? finish_vp(prof, lay, p0, v0, a0, p1, V, (d - dh) / V, A, As, J, dt)
-                   : header(prof, p0, v0, a0, p1, V, th + (d - dh) / V, dt);
-    kc_real tl = change_stop_time(-V, v0, a0, A, As, J, &dl);
-    if (!kc_isfinite(dl))
-        return KC_E_CAPACITY;
-    if (d <= dl)
-        return lay ? finish_vp(prof, lay, p0, v0, a0, p1, -V, (dl - d) / V, A, As, J, dt)
-                   : header(prof, p0, v0, a0, p1, -V, tl + (dl - d) / V, dt);
+    if (d < dh) {
+        t = change_stop_time(-V, v0, a0, A, As, J, &dl);
+        if (!kc_isfinite(dl))
+            return KC_E_CAPACITY;
+        vc = -V;
+    }
+    if (d >= dh || d <= dl) {
+        /* A cruise at V (d >= dh) or -V (d <= dl) covers the rest. */
+        kc_real tc = (d >= dh ? d - dh : dl - d) / V;
+        return lay ? build_vp(prof, p0, v0, a0, p1, vc, tc, A, As, J, KC_R(0.0), dt, lay)
+                   : header(prof, p0, v0, a0, p1, vc, t + tc, dt);
+    }
     /* dl < d < dh, Tc = 0. The plain branches are vp <= min(vn, 0) and
      * vp >= max(vn, 0), where the change ends on the other side of zero
      * acceleration than the stop starts, so vp is a true extremum; d
@@ -562,18 +568,18 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
      * change to a vp between the branches. */
     kc_real vn = kc_clamp(v0 + a0 * kc_fabs(a0) / (KC_R(2.0) * J), -V, V);
     kc_real m1 = kc_min(vn, KC_R(0.0)), m2 = kc_max(vn, KC_R(0.0));
-    kc_real d1 = dist_of(m1, v0, a0, A, As, J), d2 = dist_of(m2, v0, a0, A, As, J);
-    kc_real vp = KC_R(0.0), best = KC_R(-1.0), s_gap = KC_R(-1.0);
     /* The root searches remember their last point's duration. */
     kc_real memo[2] = {KC_R(0.0) / KC_R(0.0), KC_R(0.0)};
     dfun f = {0, v0, a0, A, As, J, KC_R(0.0), KC_R(0.0), memo}, g = {1, v0, a0, A, As, J, KC_R(0.0), KC_R(0.0), NULL};
+    kc_real d1 = dist_of(&f, m1), d2 = dist_of(&f, m2);
+    kc_real vp = KC_R(0.0), best = KC_R(-1.0), s_gap = KC_R(-1.0);
     if (d <= d1) {
         vp = plain_root(&f, -V, m1, dl, d1, d);
-        best = memo[0] == vp ? memo[1] : change_stop_time(vp, v0, a0, A, As, J, NULL);
+        best = memo[0] == vp ? memo[1] : time_of(&f, vp);
     }
     if (d >= d2) {
         kc_real w = plain_root(&f, m2, V, d2, dh, d);
-        kc_real tw = memo[0] == w ? memo[1] : change_stop_time(w, v0, a0, A, As, J, NULL);
+        kc_real tw = memo[0] == w ? memo[1] : time_of(&f, w);
         if (best < KC_R(0.0) || tw < best) {
             vp = w;
             best = tw;
@@ -581,13 +587,13 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     }
     /* s = 0 is the stop at once, d(0): d1 or d2 (with a slowed stop, the
      * stop at once within As). */
-    kc_real g0 = (As != A ? gap_dist(KC_R(0.0), v0, a0, As, J, NULL, NULL, NULL) : m1 == KC_R(0.0) ? d1 : d2) - d;
-    kc_real g1 = gap_dist(KC_R(1.0), v0, a0, As, J, NULL, NULL, NULL) - d;
+    kc_real g0 = (As != A ? gap_dist(&g, KC_R(0.0), NULL, NULL, NULL) : m1 == KC_R(0.0) ? d1 : d2) - d;
+    kc_real g1 = gap_dist(&g, KC_R(1.0), NULL, NULL, NULL) - d;
     /* Signs compared, not multiplied: a product of small distances may
      * underflow to zero in float. */
     if (a0 != KC_R(0.0) && ((g0 <= KC_R(0.0) && g1 >= KC_R(0.0)) || (g0 >= KC_R(0.0) && g1 <= KC_R(0.0)))) {
         kc_real s = root(&g, KC_R(0.0), KC_R(1.0), g0, g1, d), ts;
-        gap_dist(s, v0, a0, As, J, NULL, NULL, &ts);
+        gap_dist(&g, s, NULL, NULL, &ts);
         if (best < KC_R(0.0) || ts < best) {
             s_gap = s;
             best = ts;
@@ -595,17 +601,17 @@ static kc_status plan(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_re
     }
     if (s_gap >= KC_R(0.0)) {
         vchange c, st;
-        gap_dist(s_gap, v0, a0, As, J, &c, &st, NULL);
-        kc_status r = finish(prof, lay, p0, v0, a0, p1, &c, KC_R(0.0), KC_R(0.0), &st, dt);
+        gap_dist(&g, s_gap, &c, &st, NULL);
+        kc_status r = build(prof, p0, v0, a0, p1, &c, KC_R(0.0), KC_R(0.0), &st, KC_R(0.0), dt, lay);
         if (r == KC_OK)
             prof->gap = 1;
         return r;
     }
     if (best < KC_R(0.0)) {
         vp = root(&f, m1, m2, d1 - d, d2 - d, d);
-        best = lay ? best : change_stop_time(vp, v0, a0, A, As, J, NULL);
+        best = lay ? best : time_of(&f, vp);
     }
-    return lay ? finish_vp(prof, lay, p0, v0, a0, p1, vp, KC_R(0.0), A, As, J, dt)
+    return lay ? build_vp(prof, p0, v0, a0, p1, vp, KC_R(0.0), A, As, J, KC_R(0.0), dt, lay)
                : header(prof, p0, v0, a0, p1, vp, best, dt);
 }
 
@@ -645,7 +651,7 @@ kc_status kc_scurve_plan_stop(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a
     kc_real p1 = p0 + vchange_dist(&s, v0, a0, NULL);
     if (!kc_isfinite(p1))
         return KC_E_CAPACITY;
-    return build(prof, p0, v0, a0, p1, &none, KC_R(0.0), KC_R(0.0), &s, KC_R(0.0), dt);
+    return build(prof, p0, v0, a0, p1, &none, KC_R(0.0), KC_R(0.0), &s, KC_R(0.0), dt, 1);
 }
 
 /* Records p, v, a in the extent. */
@@ -731,26 +737,23 @@ static kc_real stretch_speed(kc_real D, kc_real A, kc_real J, kc_real T)
     return J * x * x;
 }
 
+/* The rest-to-rest optimum fast stretched to duration > fast->T: its
+ * peak speed lowered to the one that lasts duration (stretch_speed), never
+ * above the optimum's own; no move is a wait at p0 for the duration. */
+static kc_status stretch_rest(kc_scurve *prof, const kc_scurve *fast, kc_real amax, kc_real jmax, kc_real duration)
+{
+    kc_real p0 = fast->p0, p1 = fast->p1, D = kc_fabs(p1 - p0), v = KC_R(0.0), tc = duration;
+    if (D != KC_R(0.0)) {
+        v = kc_min(stretch_speed(D, amax, jmax, duration), fast->vp < KC_R(0.0) ? -fast->vp : fast->vp);
+        tc = KC_R(0.0);
+    }
+    return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, p1 < p0 ? -v : v, tc, amax, amax, jmax, duration, fast->dt, 1);
+}
+
 kc_status kc_scurve_plan_duration(kc_scurve *prof, kc_real p0, kc_real p1, kc_real vmax, kc_real amax,
                                   kc_real jmax, kc_real duration, kc_real dt)
 {
-    kc_scurve fast;
-    if (prof == NULL || !kc_isfinite(duration) || duration < KC_R(0.0))
-        return KC_E_ARG;
-    kc_status st = kc_scurve_plan(&fast, p0, KC_R(0.0), KC_R(0.0), p1, vmax, amax, jmax, dt);
-    if (st != KC_OK)
-        return st;
-    if (duration <= fast.T) {
-        if (duration < fast.T * (KC_R(1.0) - KC_R(8.0) * KC_REAL_EPS))
-            return KC_E_LIMIT;
-        *prof = fast;
-        return KC_OK;
-    }
-    kc_real D = kc_fabs(p1 - p0);
-    if (D == KC_R(0.0))
-        return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, KC_R(0.0), duration, amax, amax, jmax, duration, dt);
-    kc_real v = kc_min(stretch_speed(D, amax, jmax, duration), fast.vp < KC_R(0.0) ? -fast.vp : fast.vp);
-    return build_vp(prof, p0, KC_R(0.0), KC_R(0.0), p1, p1 > p0 ? v : -v, KC_R(0.0), amax, amax, jmax, duration, dt);
+    return kc_scurve_plan_duration_from(prof, p0, KC_R(0.0), KC_R(0.0), p1, vmax, amax, jmax, duration, dt);
 }
 
 /* The root between v1 and v3 of the quadratic through (v1, g1), (v2, g2),
@@ -876,7 +879,7 @@ static kc_status lay_push(kc_scurve *r, const kc_scurve *fast, kc_real vmax, kc_
 
 /* dfun kinds 3 and 4: the duration of the slower stop (x = 1 / As) or of
  * the push (x = t1). */
-static kc_real blocked_time(const dfun *f, kc_real x)
+static KC_SIZE_NOINLINE kc_real blocked_time(const dfun *f, kc_real x)
 {
     return f->gap == 3 ? stop_slowed_time(f, KC_R(1.0) / x) : push_time(f, x);
 }
@@ -968,25 +971,21 @@ static kc_status stretch_blocked(kc_scurve *prof, const kc_scurve *fast, kc_real
             return KC_E_LIMIT;
         add_phase(&r, 3, duration, r.T, p1, KC_R(0.0), KC_R(0.0), KC_R(0.0));
     } else if (!r.gap) {
-        return build_vp(prof, p0, fast->v0, a0, p1, r.vp, KC_R(0.0), A, As, J, duration, dt);
+        return build_vp(prof, p0, fast->v0, a0, p1, r.vp, KC_R(0.0), A, As, J, duration, dt, 1);
     }
     return moved(prof, &r, duration, dt);
 }
 
-/* The moving start (v0, a0) != 0 stretched to duration > fast->T, fast
- * its time-optimal plan (kinctl/scurve.h, kc_scurve_plan_duration_from). */
-static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J,
-                              kc_real duration, kc_real dt)
+/* The slower cruise that stretches the moving start of fast to duration
+ * (kinctl/scurve.h, kc_scurve_plan_duration_from), e the distance from
+ * where stopping at once ends to the target (not within its rounding):
+ * its velocity and duration into *vp_out and *tc_out. KC_E_LIMIT when no
+ * slower cruise does (stretch_blocked()), KC_E_CAPACITY when the search
+ * fails. */
+static kc_status slower_cruise(const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J, kc_real duration, kc_real e,
+                               kc_real *vp_out, kc_real *tc_out)
 {
     kc_real p0 = fast->p0, v0 = fast->v0, a0 = fast->a0, p1 = fast->p1, d = p1 - p0;
-    /* e: how far the target lies beyond where stopping at once ends; the
-     * cruise runs towards it (sign s). */
-    kc_real ds = dist_of(KC_R(0.0), v0, a0, A, A, J), e = d - ds;
-    /* Stop at once, then wait: also for an e within the rounding of the
-     * distances (a start on its stop to p1, as the rest of a stretched
-     * plan is: a tiny e of either sign would have it come back instead). */
-    if (kc_fabs(e) <= KC_R(8.0) * KC_REAL_EPS * (kc_fabs(p0) + kc_fabs(p1) + kc_fabs(ds)))
-        return build_vp(prof, p0, v0, a0, p1, KC_R(0.0), KC_R(0.0), A, A, J, duration, dt);
     kc_real s = e > KC_R(0.0) ? KC_R(1.0) : KC_R(-1.0);
     kc_real V = kc_isfinite(vmax) ? vmax : kc_max(kc_fabs(fast->vp), kc_fabs(v0)) + A * A / J;
     /* vh: the fastest cruise on that side: the optimum's own vp when it is
@@ -995,21 +994,21 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
     kc_real vh = fast->vp;
     if (fast->gap || !(s * vh > KC_R(0.0))) {
         vh = s * V;
-        kc_real dv = dist_of(vh, v0, a0, A, A, J);
         dfun f = {0, v0, a0, A, A, J, KC_R(0.0), KC_R(0.0), NULL};
+        kc_real dv = dist_of(&f, vh);
         if (s * (d - dv) < KC_R(0.0)) {
             kc_real f0 = -e;
-            vh = s > KC_R(0.0) ? root(&f, KC_R(0.0), vh, f0, dv - d, d) : root(&f, vh, KC_R(0.0), dv - d, f0, d);
+            vh = root_of(&f, KC_R(0.0), vh, f0, dv - d, d);
             if (vh == KC_R(0.0))
-                return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
+                return KC_E_LIMIT;
         }
     }
     kc_real memo[2] = {KC_R(0.0) / KC_R(0.0), KC_R(0.0)};
     dfun t = {2, v0, a0, A, A, J, d, KC_R(0.0), memo};
     /* The optimum through vh is fast itself: its duration is T(vh). */
-    kc_real th = (vh == fast->vp && !fast->gap ? fast->T : cruise_time_of(vh, d, v0, a0, A, J, NULL)) - duration;
+    kc_real th = (vh == fast->vp && !fast->gap ? fast->T : cruise_time_of(&t, vh, NULL)) - duration;
     if (!(th <= KC_R(0.0))) /* between the optimum and the slowest cruise this side allows */
-        return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
+        return KC_E_LIMIT;
     /* vl: where the cruise alone, e / vp, would fill the duration, then
      * halved until the plan lasts at least that long (the cruise grows as
      * 1 / vp: rarely more than a halving); its duration in closed form
@@ -1020,7 +1019,7 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
         if (i > 0)
             vl *= KC_R(0.5);
         exact = exact_fit(v0, a0, vl, vh, A, J, &sg);
-        tl = (exact ? held_time(vl, sg, d, v0, a0, A, J) : cruise_time_of(vl, d, v0, a0, A, J, NULL)) - duration;
+        tl = (exact ? held_time(vl, sg, d, v0, a0, A, J) : cruise_time_of(&t, vl, NULL)) - duration;
     }
     if (!(tl >= KC_R(0.0)) || !kc_isfinite(tl))
         return KC_E_CAPACITY;
@@ -1035,17 +1034,15 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
      * vh and vl alone fix the quadratic, and its root needs no check. */
     kc_real vp = KC_R(0.0);
     if (exact) {
-        kc_real c2 = (sg + s) / (KC_R(2.0) * A), fh = th * vh, fl = tl * vl;
-        kc_real c1 = (fh - fl) / (vh - vl) - c2 * (vh + vl), c0 = fh - vh * (c2 * vh + c1);
-        vp = poly2_root(c2, c1, c0, kc_min(vl, vh), kc_max(vl, vh));
+        vp = poly2_through((sg + s) / (KC_R(2.0) * A), vh, th * vh, vl, tl * vl, KC_R(0.0));
         tc = KC_R(0.0); /* within the bracket, which the cruise covers */
     }
     if (vp == KC_R(0.0)) {
         kc_real vm = KC_R(2.0) / (KC_R(1.0) / vh + KC_R(1.0) / vl);
-        kc_real tm = cruise_time_of(vm, d, v0, a0, A, J, NULL) - duration;
+        kc_real tm = cruise_time_of(&t, vm, NULL) - duration;
         vp = quad_root(vh, th * vh, vm, tm * vm, vl, tl * vl);
         if (vp != KC_R(0.0)) {
-            kc_real tq = cruise_time_of(vp, d, v0, a0, A, J, &tc) - duration;
+            kc_real tq = cruise_time_of(&t, vp, &tc) - duration;
             if (kc_fabs(tq) > KC_R(4.0) * KC_REAL_EPS * duration) {
                 narrow(vp, tq, &vh, &th, &vl, &tl);
                 vp = KC_R(0.0);
@@ -1054,16 +1051,41 @@ static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vm
         narrow(vm, tm, &vh, &th, &vl, &tl);
     }
     if (vp == KC_R(0.0)) {
-        /* In x = 1 / vp, ascending: 1 / vh < 1 / vl for s > 0, the other
-         * way round for s < 0. */
+        /* In x = 1 / vp (1 / vh < 1 / vl for s > 0, the other way round
+         * for s < 0: root_of orders them). */
         kc_real xh = KC_R(1.0) / vh, xl = KC_R(1.0) / vl;
-        kc_real x = s > KC_R(0.0) ? root(&t, xh, xl, th, tl, duration) : root(&t, xl, xh, tl, th, duration);
+        kc_real x = root_of(&t, xh, xl, th, tl, duration);
         vp = KC_R(1.0) / x;
-        tc = memo[0] == x ? memo[1] : (d - dist_of(vp, v0, a0, A, A, J)) / vp;
+        tc = memo[0] == x ? memo[1] : (d - dist_of(&t, vp)) / vp;
     }
     if (!(tc >= KC_R(0.0))) /* the change and the stop alone pass the target */
-        return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
-    return build_vp(prof, p0, v0, a0, p1, vp, tc, A, A, J, duration, dt);
+        return KC_E_LIMIT;
+    *vp_out = vp;
+    *tc_out = tc;
+    return KC_OK;
+}
+
+/* The moving start (v0, a0) != 0 stretched to duration > fast->T, fast
+ * its time-optimal plan (kinctl/scurve.h, kc_scurve_plan_duration_from). */
+static kc_status stretch_from(kc_scurve *prof, const kc_scurve *fast, kc_real vmax, kc_real A, kc_real J,
+                              kc_real duration, kc_real dt)
+{
+    kc_real p0 = fast->p0, v0 = fast->v0, a0 = fast->a0, p1 = fast->p1, d = p1 - p0, vp = KC_R(0.0), tc = KC_R(0.0);
+    /* e: how far the target lies beyond where stopping at once ends; the
+     * cruise runs towards it. */
+    dfun f = {0, v0, a0, A, A, J, KC_R(0.0), KC_R(0.0), NULL};
+    kc_real ds = dist_of(&f, KC_R(0.0)), e = d - ds;
+    /* Else stop at once, then wait: also for an e within the rounding of
+     * the distances (a start on its stop to p1, as the rest of a stretched
+     * plan is: a tiny e of either sign would have it come back instead). */
+    if (kc_fabs(e) > KC_R(8.0) * KC_REAL_EPS * (kc_fabs(p0) + kc_fabs(p1) + kc_fabs(ds))) {
+        kc_status st = slower_cruise(fast, vmax, A, J, duration, e, &vp, &tc);
+        if (st == KC_E_LIMIT)
+            return stretch_blocked(prof, fast, vmax, A, J, duration, dt);
+        if (st != KC_OK)
+            return st;
+    }
+    return build_vp(prof, p0, v0, a0, p1, vp, tc, A, A, J, duration, dt, 1);
 }
 
 kc_status kc_scurve_plan_duration_from(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vmax,
@@ -1072,8 +1094,6 @@ kc_status kc_scurve_plan_duration_from(kc_scurve *prof, kc_real p0, kc_real v0, 
     kc_scurve fast;
     if (prof == NULL || !kc_isfinite(duration) || duration < KC_R(0.0))
         return KC_E_ARG;
-    if (v0 == KC_R(0.0) && a0 == KC_R(0.0))
-        return kc_scurve_plan_duration(prof, p0, p1, vmax, amax, jmax, duration, dt);
     kc_status st = kc_scurve_plan(&fast, p0, v0, a0, p1, vmax, amax, jmax, dt);
     if (st != KC_OK)
         return st;
@@ -1094,7 +1114,7 @@ kc_status kc_scurve_stretch(kc_scurve *prof, const kc_scurve *fast, kc_real vmax
          * the change and the stop; a gap plan is planned again. */
         if (fast->n < 0 && !fast->gap)
             return build_vp(prof, fast->p0, fast->v0, fast->a0, fast->p1, fast->vp, KC_R(0.0), amax, amax, jmax, fast->T,
-                            fast->dt);
+                            fast->dt, 1);
         if (fast->n < 0)
             return kc_scurve_plan(prof, fast->p0, fast->v0, fast->a0, fast->p1, vmax, amax, jmax, fast->dt);
         if (prof != fast)
@@ -1102,7 +1122,7 @@ kc_status kc_scurve_stretch(kc_scurve *prof, const kc_scurve *fast, kc_real vmax
         return KC_OK;
     }
     if (fast->v0 == KC_R(0.0) && fast->a0 == KC_R(0.0))
-        return kc_scurve_plan_duration(prof, fast->p0, fast->p1, vmax, amax, jmax, duration, fast->dt);
+        return stretch_rest(prof, fast, amax, jmax, duration);
     return stretch_from(prof, fast, vmax, amax, jmax, duration, fast->dt);
 }
 
