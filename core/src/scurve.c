@@ -386,11 +386,9 @@ static void add_phase(kc_scurve *r, int kind, kc_real t_end, kc_real tr, kc_real
 /* A plan's header alone (scurve_internal.h): the start, target, vp and
  * duration T, with n = -1 and ticks = -1 (not counted: the stretch counts
  * its own). */
-static kc_status header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vp, kc_real T,
-                        kc_real dt)
+static void set_header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vp, kc_real T,
+                       kc_real dt)
 {
-    if (!kc_isfinite(T))
-        return KC_E_CAPACITY;
     prof->p0 = p0;
     prof->v0 = v0;
     prof->a0 = a0;
@@ -401,6 +399,15 @@ static kc_status header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_
     prof->T = T;
     prof->dt = dt;
     prof->ticks = -1;
+}
+
+/* set_header where T is finite, else KC_E_CAPACITY (prof untouched). */
+static kc_status header(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_real p1, kc_real vp, kc_real T,
+                        kc_real dt)
+{
+    if (!kc_isfinite(T))
+        return KC_E_CAPACITY;
+    set_header(prof, p0, v0, a0, p1, vp, T, dt);
     return KC_OK;
 }
 
@@ -437,7 +444,7 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
     kc_real bound = kc_fabs(p0) + kc_fabs(p1) + t_change * (kc_fabs(v0) + t_change * (kc_fabs(a0) + t_change * jm)) +
                     jm * t_stop * t_stop * t_stop;
     kc_scurve *o = bound <= KC_REAL_MAX / KC_R(16.0) ? prof : &r;
-    header(o, p0, v0, a0, p1, vp, T, dt); /* T is finite */
+    set_header(o, p0, v0, a0, p1, vp, T, dt); /* T is finite */
     o->n = 0;
     for (int i = 0; i < c->n; i++) {
         kc_real t0 = t, p_ = p, v_ = v, a_ = a;
