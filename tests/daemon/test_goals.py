@@ -10,9 +10,8 @@ import time
 
 import pytest
 
-from kinctl_testing import (END, EVENTS, N, QN, QN_ORIENTATION, QN_POSITION, STATES, assert_smooth, close,
-                            finished, go_nominal, goal_arc_t, goal_path_t, goal_servo_t,
-                            setpoints_since)
+from kinctl_testing import (END, EVENTS, N, QN, QN_ORIENTATION, QN_POSITION, STATES, assert_smooth, close, finished,
+                            go_nominal, goal_arc_t, goal_path_t, servo_twist, setpoints_since)
 
 
 def same_rotation(qa, qb, tol):
@@ -94,13 +93,7 @@ def test_cartesian_path_completes(kinctld):
 def test_servo_stream_goes_stale_and_stops(kinctld):
     d = kinctld()
     s0 = go_nominal(d)
-    g = goal_servo_t()
-    g.goal_id = 6
-    g.mode = goal_servo_t.REPLACE
-    g.kind = goal_servo_t.TWIST
-    g.twist = [0.0, 0.05, 0.0, 0.0, 0.0, 0.0]
-    g.orientation = [1.0, 0.0, 0.0, 0.0]
-    g.timeout_us = 50000
+    g = servo_twist(6, [0.0, 0.05, 0.0, 0.0, 0.0, 0.0], 50000)
     for _ in range(30):
         d.bus.send("GOAL_SERVO", g)
         time.sleep(0.01)

@@ -16,8 +16,8 @@ the line ends on its target. The joint path likewise, ending on its
 last knot."""
 import time
 
-from kinctl_testing import (EVENTS, N, STATES, assert_smooth, close, finished, go_nominal, goal_path_t,
-                            goal_servo_t, max_jerk_ratio, setpoints_since)
+from kinctl_testing import (EVENTS, N, STATES, assert_smooth, close, finished, go_nominal, goal_path_t, max_jerk_ratio,
+                            servo_twist, setpoints_since)
 
 # Relative slack of the limit checks: the daemon's core is double.
 SLACK = 1e-6
@@ -34,13 +34,7 @@ def stream(d, goal_id):
     (its timeout long enough not to end it first); returns the nominal
     setpoint and the stream's latest."""
     s0 = go_nominal(d)
-    g = goal_servo_t()
-    g.goal_id = goal_id
-    g.mode = goal_servo_t.REPLACE
-    g.kind = goal_servo_t.TWIST
-    g.twist = [0.0, 0.1, 0.0, 0.0, 0.0, 0.0]
-    g.orientation = [1.0, 0.0, 0.0, 0.0]
-    g.timeout_us = 500000
+    g = servo_twist(goal_id, [0.0, 0.1, 0.0, 0.0, 0.0, 0.0], 500000)
     for _ in range(40):
         d.bus.send("GOAL_SERVO", g)
         time.sleep(0.01)

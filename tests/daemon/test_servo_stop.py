@@ -9,7 +9,7 @@ a safety stop, still brakes at the acceleration limit
 (test_goals.py, test_servo_stream_goes_stale_and_stops)."""
 import time
 
-from kinctl_testing import (END, EVENTS, N, STATES, assert_smooth, go_nominal, goal_servo_t, max_jerk_ratio,
+from kinctl_testing import (END, EVENTS, N, STATES, assert_smooth, go_nominal, max_jerk_ratio, servo_twist,
                             setpoints_since)
 
 # Relative slack of the limit checks: the daemon's core is double, and a
@@ -23,13 +23,7 @@ def stream_then(d, goal_id, command):
     since the nominal pose and those of the stop (from the stream's last
     moving one to the first at rest), once the arm rests."""
     s0 = go_nominal(d)
-    g = goal_servo_t()
-    g.goal_id = goal_id
-    g.mode = goal_servo_t.REPLACE
-    g.kind = goal_servo_t.TWIST
-    g.twist = [0.0, 0.1, 0.0, 0.0, 0.0, 0.0]
-    g.orientation = [1.0, 0.0, 0.0, 0.0]
-    g.timeout_us = 500000
+    g = servo_twist(goal_id, [0.0, 0.1, 0.0, 0.0, 0.0, 0.0], 500000)
     for _ in range(40):
         d.bus.send("GOAL_SERVO", g)
         time.sleep(0.01)
@@ -66,13 +60,7 @@ def test_servo_pause_is_jerk_limited_and_resumes(kinctld):
     assert rj <= 1.0 + SLACK and ra <= 1.0 + SLACK, (rj, ra)
     # RESUME: the stream takes over again (the tool's timeout ends it).
     d.bus.send_command("RESUME")
-    g = goal_servo_t()
-    g.goal_id = 31
-    g.mode = goal_servo_t.REPLACE
-    g.kind = goal_servo_t.TWIST
-    g.twist = [0.0, -0.1, 0.0, 0.0, 0.0, 0.0]
-    g.orientation = [1.0, 0.0, 0.0, 0.0]
-    g.timeout_us = 50000
+    g = servo_twist(31, [0.0, -0.1, 0.0, 0.0, 0.0, 0.0], 50000)
     for _ in range(20):
         d.bus.send("GOAL_SERVO", g)
         time.sleep(0.01)

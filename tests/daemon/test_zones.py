@@ -12,7 +12,7 @@ import os
 import re
 import time
 
-from kinctl_testing import EVENTS, EVENT_NAMES, MODELS, SLOW, goal_servo_t, run_kinctld
+from kinctl_testing import EVENTS, EVENT_NAMES, MODELS, SLOW, run_kinctld, servo_twist
 
 QN = [0.0, 0.7854, -3.1416, 0.0, 0.7854, 0.0]
 QN_POSITION = [0.5963008264104923, -0.15005, 0.6574746899005355]
@@ -81,13 +81,7 @@ def test_servo_into_a_wall_stops_at_the_margin(kinctld, tmp_path):
     x_w = QN_POSITION[0] + 0.10 + MARGIN + 0.10
     wall = f'{{ name = "wall"; shape = "halfspace"; point = [{x_w!r}, 0.0, 0.0]; normal = [-1.0, 0.0, 0.0]; }}'
     d = kinctld("--config", config(tmp_path, [wall], extra=f"  home = [{', '.join(map(str, QN))}];\n"))
-    g = goal_servo_t()
-    g.goal_id = 5
-    g.mode = goal_servo_t.REPLACE
-    g.kind = goal_servo_t.TWIST
-    g.twist = [0.1, 0.0, 0.0, 0.0, 0.0, 0.0]
-    g.orientation = [1.0, 0.0, 0.0, 0.0]
-    g.timeout_us = 100000
+    g = servo_twist(5, [0.1, 0.0, 0.0, 0.0, 0.0, 0.0], 100000)
     xs = []
     for _ in range(200):  # 2 s of a 0.1 m/s stream: it would go 20 cm
         d.bus.send("GOAL_SERVO", g)

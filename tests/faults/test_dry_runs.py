@@ -10,8 +10,7 @@ answers, the staleness flag the cycle gave the controller), never a clock."""
 import os
 import time
 
-from kinctl_testing import (EVENTS, MODELS, QN, STATES, command_t, go_nominal, goal_joint_t, goal_line_t,
-                            goal_servo_t)
+from kinctl_testing import EVENTS, MODELS, QN, STATES, command_t, go_nominal, goal_joint_t, goal_line_t, servo_twist
 
 ANSWERS = (EVENTS["ACCEPTED"], EVENTS["REJECTED"])
 RT = os.geteuid() == 0 and not os.environ.get("KINCTLD_SANITIZED")
@@ -69,13 +68,7 @@ def test_estop_behind_the_longest_dry_run_takes_effect_first(kinctld, tmp_path):
 def test_servo_stream_not_stale_while_a_long_goal_is_checked(kinctld, tmp_path):
     d = kinctld("--config", config(tmp_path, 60000, "  servo_timeout_ms = 300.0;\n"), rt=RT)
     s0 = go_nominal(d)
-    g = goal_servo_t()
-    g.goal_id = 7
-    g.mode = goal_servo_t.REPLACE
-    g.kind = goal_servo_t.TWIST
-    g.twist = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]
-    g.orientation = [1.0, 0.0, 0.0, 0.0]
-    g.timeout_us = 300000
+    g = servo_twist(7, [0.0, 0.0, 0.0, 0.0, 0.0, 0.0], 300000)
     d.bus.send("GOAL_SERVO", g)
     first = d.bus.wait(lambda: [s for s in d.bus.setpoints if s.input_goal_id == 7], 5.0, "the servo taken")[0]
     d.bus.send("GOAL_LINE", crawl(8, s0))

@@ -13,7 +13,7 @@ import time
 
 import pytest
 
-from kinctl_testing import (END, EVENTS, N, QN, SLOW, STATES, assert_smooth, finished, go_nominal, goal_servo_t,
+from kinctl_testing import (END, EVENTS, N, QN, SLOW, STATES, assert_smooth, finished, go_nominal, servo_twist,
                             setpoints_since, unique_url)
 FAR = [1.0, 0.5, -2.5, 0.5, 0.5, 0.5]
 
@@ -175,10 +175,7 @@ def test_wall_clock_jumps_change_nothing(kinctld, tmp_path):
     # The daemon stamps setpoints with the wall clock it read at start: a day
     # ahead here, which shows the shift reaches it.
     assert abs(s0.utime - time.time() * 1e6 - day / 1000) < 60e6
-    g = goal_servo_t()
-    g.goal_id, g.mode, g.kind, g.timeout_us = 40, goal_servo_t.REPLACE, goal_servo_t.TWIST, 60000
-    g.twist = [0.0, 0.03, 0.0, 0.0, 0.0, 0.0]
-    g.orientation = [1.0, 0.0, 0.0, 0.0]
+    g = servo_twist(40, [0.0, 0.03, 0.0, 0.0, 0.0, 0.0], 60000)
     def shift(ns):
         with open(offset, "r+b") as f:  # in place: the daemon has it mapped
             f.write(struct.pack("=q", ns))

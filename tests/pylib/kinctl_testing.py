@@ -367,6 +367,20 @@ QN_ORIENTATION = [0.7071054825112363, 0.0, 0.7071080798594737, 0.0]
 END = ("COMPLETED", "REJECTED", "ABORTED", "FAULT")
 
 
+def servo_twist(goal_id, twist, timeout_us):
+    """A goal_servo_t that replaces what runs by a twist stream (m/s, rad/s;
+    the target's orientation the tool's own), going stale after timeout_us
+    without a message."""
+    g = goal_servo_t()
+    g.goal_id = goal_id
+    g.mode = goal_servo_t.REPLACE
+    g.kind = goal_servo_t.TWIST
+    g.twist = list(twist)
+    g.orientation = [1.0, 0.0, 0.0, 0.0]
+    g.timeout_us = timeout_us
+    return g
+
+
 def go_nominal(d, goal_id=1):
     d.bus.send_goal_joint(goal_id, QN)
     st = d.bus.wait_event(goal_id, END)
