@@ -474,9 +474,7 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     b->lax = 1;
     b->err = INF;
     c->k0 = b->k0 + start_offset(c, &lim);
-    kc_ctrl_emit(out, KC_EVENT_ACCEPTED, g->id, KC_REASON_NONE, 0);
-    kc_ctrl_emit(out, KC_EVENT_PREEMPTED, old_id, KC_REASON_NONE, 0);
-    kc_ctrl_emit(out, KC_EVENT_STARTED, g->id, KC_REASON_NONE, 0);
+    kc_ctrl_emit_takeover(out, g->id, old_id);
     return 1;
 }
 

@@ -110,6 +110,10 @@ void kc_ctrl_zone_guard(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ct
 /* Appends an event to the tick's output (zone and volume -1). */
 void kc_ctrl_emit(kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id, kc_ctrl_reason reason, kc_real where);
 
+/* A replacing goal taken over at once (a retarget, a superposition): its
+ * ACCEPTED, the replaced goal's PREEMPTED, its STARTED. */
+void kc_ctrl_emit_takeover(kc_ctrl_output *out, int64_t id, int64_t old_id);
+
 /* Drops every queued goal, each with PREEMPTED. */
 void kc_ctrl_queue_clear(kc_ctrl *c, kc_ctrl_output *out);
 

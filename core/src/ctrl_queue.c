@@ -20,6 +20,13 @@ void kc_ctrl_emit(kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id, kc_c
     e->volume = -1;
 }
 
+void kc_ctrl_emit_takeover(kc_ctrl_output *out, int64_t id, int64_t old_id)
+{
+    kc_ctrl_emit(out, KC_EVENT_ACCEPTED, id, KC_REASON_NONE, 0);
+    kc_ctrl_emit(out, KC_EVENT_PREEMPTED, old_id, KC_REASON_NONE, 0);
+    kc_ctrl_emit(out, KC_EVENT_STARTED, id, KC_REASON_NONE, 0);
+}
+
 void kc_ctrl_queue_clear(kc_ctrl *c, kc_ctrl_output *out)
 {
     for (int i = 0; i < c->queue_len; i++)
@@ -174,10 +181,8 @@ void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
         if (g->kind == KC_GOAL_JOINT && c->active &&
             (c->state == KC_CTRL_MOVING || c->state == KC_CTRL_STOPPING) &&
             (kc_ctrl_goal_profile(c, g) == KC_PROFILE_JERK ? retarget_jerk(c, g) : retarget(c, g))) {
-            kc_ctrl_emit(out, KC_EVENT_ACCEPTED, g->id, KC_REASON_NONE, 0);
-            kc_ctrl_emit(out, KC_EVENT_PREEMPTED, c->goal.id, KC_REASON_NONE, 0);
+            kc_ctrl_emit_takeover(out, g->id, c->goal.id);
             take_retarget(c, g);
-            kc_ctrl_emit(out, KC_EVENT_STARTED, g->id, KC_REASON_NONE, 0);
             return;
         }
         if (kc_ctrl_blend_take(c, g, out))
