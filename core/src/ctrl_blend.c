@@ -335,6 +335,37 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
     return hi;
 }
 
+/* a and b exchanged, n each. */
+static void swap_reals(kc_real *a, kc_real *b, int n)
+{
+    for (int i = 0; i < n; i++) {
+        kc_real t = a[i];
+        a[i] = b[i];
+        b[i] = t;
+    }
+}
+
+/* Exchanges what a jerk-limited joint move's stop reads of its plan (its
+ * line) between c->plan.joint and the record: keep_stop moves it in,
+ * give_back_stop back (what G's planning left in c->plan is not read
+ * again). */
+static void swap_joint_line(kc_ctrl *c)
+{
+    kc_interp_joint *pj = &c->plan.joint;
+    kc_ctrl_blend_joint *bj = &c->blend.plan.joint;
+    int n = pj->n;
+    kc_profile_kind kind = pj->kind;
+    kc_interp_sync sync = pj->sync;
+    swap_reals(pj->q0, bj->q0, c->chain->n_joints);
+    swap_reals(pj->q1, bj->q1, c->chain->n_joints);
+    swap_reals(pj->dq, bj->dq, c->chain->n_joints);
+    swap_reals(&pj->u_vmax, &bj->u_vmax, 1);
+    swap_reals(&pj->u_amax, &bj->u_amax, 1);
+    swap_reals(&pj->u_jmax, &bj->u_jmax, 1);
+    pj->n = bj->n, pj->kind = bj->kind, pj->sync = bj->sync;
+    bj->n = n, bj->kind = kind, bj->sync = sync;
+}
+
 /* Moves what M's stop reads out of c->plan into the record (G is planned
  * there), with its start tick: a line or an arc (small), a jerk-limited
  * joint move's line, or a joint move's or servo stream's stops joint by
@@ -344,7 +375,6 @@ static int keep_stop(kc_ctrl *c)
 {
     kc_ctrl_blend *b = &c->blend;
     int n = c->chain->n_joints;
-    const kc_interp_joint *pj = &c->plan.joint;
     b->kind = c->goal.kind;
     b->stop_drive = c->drive;
     b->stop_ticks = 0;
@@ -369,16 +399,7 @@ static int keep_stop(kc_ctrl *c)
     } else if (b->kind == KC_GOAL_ARC) {
         b->plan.arc = c->plan.arc;
     } else {
-        kc_ctrl_blend_joint *bj = &b->plan.joint;
-        bj->n = pj->n;
-        memcpy(bj->q0, pj->q0, sizeof(kc_real) * (size_t)n);
-        memcpy(bj->q1, pj->q1, sizeof(kc_real) * (size_t)n);
-        memcpy(bj->dq, pj->dq, sizeof(kc_real) * (size_t)n);
-        bj->u_vmax = pj->u_vmax;
-        bj->u_amax = pj->u_amax;
-        bj->u_jmax = pj->u_jmax;
-        bj->kind = pj->kind;
-        bj->sync = pj->sync;
+        swap_joint_line(c);
     }
     return 1;
 }
@@ -388,7 +409,6 @@ static void give_back_stop(kc_ctrl *c)
 {
     const kc_ctrl_blend *b = &c->blend;
     int n = c->chain->n_joints;
-    kc_interp_joint *pj = &c->plan.joint;
     if (b->kind == KC_GOAL_LINE) {
         c->plan.line = b->plan.line;
     } else if (b->kind == KC_GOAL_ARC) {
@@ -396,16 +416,7 @@ static void give_back_stop(kc_ctrl *c)
     } else if (b->stop_drive == KC_DRIVE_HALT) {
         memcpy(c->plan.halt, b->plan.halt, sizeof(kc_scurve) * (size_t)n);
     } else {
-        const kc_ctrl_blend_joint *bj = &b->plan.joint;
-        pj->n = bj->n;
-        memcpy(pj->q0, bj->q0, sizeof(kc_real) * (size_t)n);
-        memcpy(pj->q1, bj->q1, sizeof(kc_real) * (size_t)n);
-        memcpy(pj->dq, bj->dq, sizeof(kc_real) * (size_t)n);
-        pj->u_vmax = bj->u_vmax;
-        pj->u_amax = bj->u_amax;
-        pj->u_jmax = bj->u_jmax;
-        pj->kind = bj->kind;
-        pj->sync = bj->sync;
+        swap_joint_line(c);
     }
 }
 
