@@ -518,16 +518,9 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
         kc_real where = c->path_length > KC_R(0.0) ? before.s : before.progress;
         if (c->state == KC_CTRL_STOPPING || st == KC_E_LIMIT || st == KC_E_ARG) {
             /* Even the stop on the path cannot be followed: stop in joint
-             * space from the last setpoint. */
-            int was_fault = c->fault_reason != KC_REASON_NONE;
-            if (!was_fault) {
-                c->fault_reason = KC_REASON_TRACKING;
-                kc_ctrl_emit(out, KC_EVENT_FAULT, c->goal.id, KC_REASON_TRACKING, where);
-                kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_TRACKING, where);
-                kc_ctrl_queue_clear(c, out);
-            }
-            kc_ctrl_joint_stop(c, 1, KC_CTRL_FAULT);
-            c->state = KC_CTRL_STOPPING;
+             * space from the last setpoint (the goal is active: its events
+             * name it). */
+            kc_ctrl_fault(c, KC_REASON_TRACKING, where, 0, out);
             return -1;
         }
         kc_ctrl_fault(c, KC_REASON_TRACKING, where, 1, out);
