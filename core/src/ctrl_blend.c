@@ -22,6 +22,7 @@
  * the joints' limits (admissible_joints). */
 #include "ctrl_internal.h"
 #include "ik_internal.h"
+#include "size_internal.h"
 
 #include <string.h>
 
@@ -289,13 +290,27 @@ static int admissible_joints(const kc_ctrl *c, int64_t t0, int64_t stride)
     return 1;
 }
 
-/* The earliest admissible t0 the search finds (T_s when none before). */
 /* admissible_joints for a joint path, else admissible. */
 static int admits(const kc_ctrl *c, const blend_bounds *lim, int64_t t0, int64_t stride)
 {
     return c->goal.kind == KC_GOAL_PATH ? admissible_joints(c, t0, stride) : admissible(c, lim, t0, stride);
 }
 
+/* The first admitted t0 in (lo, hi] (hi admitted, lo refused or -1) that
+ * at most 20 bisection steps find. */
+static KC_SIZE_NOINLINE int64_t bisect(const kc_ctrl *c, const blend_bounds *lim, int64_t lo, int64_t hi, int64_t stride)
+{
+    for (int i = 0; i < 20 && hi - lo > 1; i++) {
+        int64_t mid = lo + (hi - lo) / 2;
+        if (admits(c, lim, mid, stride))
+            hi = mid;
+        else
+            lo = mid;
+    }
+    return hi;
+}
+
+/* The earliest admissible t0 the search finds (T_s when none before). */
 static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
 {
     int64_t ts = c->blend.stop_ticks, step = (ts + BLEND_GRID - 1) / BLEND_GRID;
@@ -309,13 +324,7 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
         }
         lo = t;
     }
-    for (int i = 0; i < 20 && hi - lo > 1; i++) {
-        int64_t mid = lo + (hi - lo) / 2;
-        if (admits(c, lim, mid, BLEND_STRIDE))
-            hi = mid;
-        else
-            lo = mid;
-    }
+    hi = bisect(c, lim, lo, hi, BLEND_STRIDE);
     /* A sparse check can miss the ticks that refuse, fewer than
      * BLEND_STRIDE where the overlap refuses at its edge: checked on every
      * tick, a refused t0 gives way to a bisection (on every tick) up to
@@ -323,14 +332,7 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
     for (int tries = 0; hi < ts && !admits(c, lim, hi, 1); tries++) {
         int64_t next = tries == 0 ? hi + BLEND_STRIDE : (hi / step + 1) * step;
         lo = hi;
-        hi = next < ts ? next : ts;
-        for (int i = 0; i < 20 && hi - lo > 1; i++) {
-            int64_t mid = lo + (hi - lo) / 2;
-            if (admits(c, lim, mid, 1))
-                hi = mid;
-            else
-                lo = mid;
-        }
+        hi = bisect(c, lim, lo, next < ts ? next : ts, 1);
     }
     return hi;
 }
