@@ -85,6 +85,10 @@ void kc_ctrl_goal_copy(kc_goal *dst, const kc_goal *src);
 kc_status kc_ctrl_refuse(kc_verdict *v, kc_ctrl_reason why, kc_goal_field field, int point, int joint,
                          kc_real value);
 
+/* kc_ctrl_refuse for a field that is not finite or out of its domain,
+ * naming none (KC_REASON_BAD_GOAL). */
+kc_status kc_ctrl_bad_goal(kc_verdict *v);
+
 /* ---- ctrl_zone.c: forbidden zones ---- */
 
 /* The zone state of a controller at rest at c->q: no hit yet, the levers,
