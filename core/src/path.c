@@ -529,7 +529,6 @@ static int64_t tick_count(kc_real duration, kc_real dt)
 /* Writes the checked plan. */
 void kc_path_commit(kc_path *path, const kc_path_knots *K)
 {
-    piece_coeffs c;
     int np = kc_path_n_pieces(K), nc = n_coeffs(K);
     path->method = K->method;
     path->blend = K->blend;
@@ -547,12 +546,9 @@ void kc_path_commit(kc_path *path, const kc_path_knots *K)
         path->t_knot[i] = i < K->n ? K->t0 + K->d[i] : KC_R(0.0);
     memset(path->c, 0, sizeof path->c);
     for (int p = 0; p < np; p++) {
-        build_piece(K, p, c);
+        build_piece(K, p, path->c[p]); /* every row and column: those past nc and dim are 0 */
         path->start[p] = piece_start(K, p);
         path->len[p] = piece_len(K, p);
-        for (int m = 0; m < nc; m++)
-            for (int j = 0; j < KC_MAX_JOINTS; j++)
-                path->c[p][m][j] = c[m][j];
     }
     for (int p = np; p < KC_PATH_MAX_PIECES; p++)
         path->start[p] = path->len[p] = KC_R(0.0);
