@@ -133,9 +133,10 @@ kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *g, kc_verdict
     if ((unsigned)g->kind > (unsigned)KC_GOAL_SERVO || !scale_ok(g->vel_scale) || !scale_ok(g->acc_scale) ||
         (unsigned)g->profile > (unsigned)KC_GOAL_PROFILE_JERK)
         return kc_ctrl_bad_goal(v);
-    if (!limit_ok(g->speed) || !limit_ok(g->accel) || !limit_ok(g->omega) || !limit_ok(g->alpha) ||
-        !limit_ok(g->jerk) || !limit_ok(g->angular_jerk))
-        return kc_ctrl_bad_goal(v);
+    const kc_real limits[6] = {g->speed, g->accel, g->omega, g->alpha, g->jerk, g->angular_jerk};
+    for (int i = 0; i < 6; i++)
+        if (!limit_ok(limits[i]))
+            return kc_ctrl_bad_goal(v);
     switch (g->kind) {
     case KC_GOAL_JOINT:
         if (g->dim != 0 && g->dim != chain->n_joints)
