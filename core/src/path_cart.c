@@ -372,14 +372,15 @@ kc_status kc_path_cart_plan(kc_path_cart *path, const kc_path_cart_cfg *cfg)
     kc_path_commit(&path->pos, &K);
     memset(path->rc, 0, sizeof path->rc);
     memset(path->vc, 0, sizeof path->vc);
+    for (int p = 0; p < np; p++)
+        for (int i = 1; i < path->pos.n_coeffs; i++)
+            for (int x = 0; x < 3; x++)
+                path->vc[p][i - 1][x] = (kc_real)i * path->pos.c[p][i][x];
     memset(path->pc, 0, sizeof path->pc);
     for (int p = 0; p < np; p++)
         for (int i = 0; i < path->pos.n_coeffs; i++)
-            for (int x = 0; x < 3; x++) {
+            for (int x = 0; x < 3; x++)
                 path->pc[p][i][x] = path->pos.c[p][i][x];
-                if (i > 0)
-                    path->vc[p][i - 1][x] = (kc_real)i * path->pos.c[p][i][x];
-            }
     memset(path->tau_arc, 0, sizeof path->tau_arc);
     memset(path->s_arc, 0, sizeof path->s_arc);
     for (int p = 0; p < KC_PATH_MAX_PIECES; p++) {
