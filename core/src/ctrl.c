@@ -49,22 +49,13 @@ static kc_ctrl_cfg_field cfg_problem(const kc_ctrl_cfg *cfg, const kc_chain *cha
     *joint = -1;
     if (cfg == NULL || chain == NULL)
         return KC_CFG_FIELD_ARG;
-    if (!positive(cfg->dt))
-        return KC_CFG_FIELD_DT;
-    if (!positive(cfg->cart_speed))
-        return KC_CFG_FIELD_CART_SPEED;
-    if (!positive(cfg->cart_accel))
-        return KC_CFG_FIELD_CART_ACCEL;
-    if (!positive(cfg->cart_omega))
-        return KC_CFG_FIELD_CART_OMEGA;
-    if (!positive(cfg->cart_alpha))
-        return KC_CFG_FIELD_CART_ALPHA;
-    if (!positive(cfg->cart_jerk))
-        return KC_CFG_FIELD_CART_JERK;
-    if (!positive(cfg->cart_angular_jerk))
-        return KC_CFG_FIELD_CART_ANGULAR_JERK;
-    if (!positive(cfg->track_tol))
-        return KC_CFG_FIELD_TRACK_TOL;
+    /* The positive numbers, in the order of their fields (KC_CFG_FIELD_DT
+     * to KC_CFG_FIELD_TRACK_TOL). */
+    const kc_real pos[8] = {cfg->dt,         cfg->cart_speed, cfg->cart_accel,        cfg->cart_omega,
+                            cfg->cart_alpha, cfg->cart_jerk,  cfg->cart_angular_jerk, cfg->track_tol};
+    for (int i = 0; i < 8; i++)
+        if (!positive(pos[i]))
+            return (kc_ctrl_cfg_field)(KC_CFG_FIELD_DT + i);
     if (!kc_isfinite(cfg->limit_slack) || cfg->limit_slack < KC_R(0.0))
         return KC_CFG_FIELD_LIMIT_SLACK;
     if (cfg->servo_timeout_ticks < 1)
