@@ -737,11 +737,10 @@ static void end_state(const kc_path *path, kc_real *q, kc_real *qd, kc_real *qdd
     }
 }
 
-kc_status kc_path_eval_time(const kc_path *path, kc_real t, kc_real *q, kc_real *qd, kc_real *qdd)
+/* The path at time t, or its end (end != 0): KC_DONE there, else KC_OK. */
+static kc_status eval_at(const kc_path *path, kc_real t, int end, kc_real *q, kc_real *qd, kc_real *qdd)
 {
-    if (path == NULL || q == NULL || !(t >= KC_R(0.0)) || path->n_pieces < 1)
-        return KC_E_ARG;
-    if (t >= path->duration) {
+    if (end) {
         end_state(path, q, qd, qdd);
         return KC_DONE;
     }
@@ -750,18 +749,18 @@ kc_status kc_path_eval_time(const kc_path *path, kc_real t, kc_real *q, kc_real 
     return KC_OK;
 }
 
+kc_status kc_path_eval_time(const kc_path *path, kc_real t, kc_real *q, kc_real *qd, kc_real *qdd)
+{
+    if (path == NULL || q == NULL || !(t >= KC_R(0.0)) || path->n_pieces < 1)
+        return KC_E_ARG;
+    return eval_at(path, t, t >= path->duration, q, qd, qdd);
+}
+
 kc_status kc_path_eval(const kc_path *path, int64_t k, kc_real *q, kc_real *qd, kc_real *qdd)
 {
     if (path == NULL || q == NULL || k < 0 || path->n_pieces < 1)
         return KC_E_ARG;
-    if (k >= path->ticks) {
-        end_state(path, q, qd, qdd);
-        return KC_DONE;
-    }
-    kc_real t = (kc_real)k * path->dt;
-    int p = kc_path_find_piece(path, t);
-    eval_piece(path, p, t - path->start[p], q, qd, qdd);
-    return KC_OK;
+    return eval_at(path, (kc_real)k * path->dt, k >= path->ticks, q, qd, qdd);
 }
 
 kc_status kc_path_eval_piece(const kc_path *path, int p, kc_real tau, kc_real *q, kc_real *qd, kc_real *qdd)
