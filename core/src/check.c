@@ -112,7 +112,7 @@ static kc_status run_set(kc_check *k, int64_t max_ticks)
 static kc_status begin_from(kc_check *k, const kc_real *q_start, const kc_goal *goal, kc_verdict *v)
 {
     if (q_start == NULL)
-        return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, -1, KC_R(0.0));
+        return kc_ctrl_bad_goal(v);
     const kc_chain *chain = k->chain;
     int n = chain->n_joints;
     /* A start outside the position limits (an arm a stop carried past one)
@@ -177,7 +177,7 @@ kc_status kc_check_run(kc_check *k, int64_t max_ticks, kc_verdict *v)
         int64_t tick = ++k->run_tick;
         if (kc_ctrl_step(&k->scratch, &k->run_in, &out) != KC_OK) { /* not reached: the scratch controller is initialised */
             k->running = 0;
-            return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, -1, KC_R(0.0));
+            return kc_ctrl_bad_goal(v);
         }
         k->run_in.goal = NULL;
         k->run_progress = out.progress;
@@ -210,7 +210,7 @@ static kc_status opening(kc_check *k, const kc_goal *goal, kc_verdict *v)
         return KC_E_ARG;
     kc_ctrl_verdict_init(v);
     if (k == NULL || k->chain == NULL || goal == NULL)
-        return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, -1, KC_R(0.0));
+        return kc_ctrl_bad_goal(v);
     k->running = 0;
     k->run_moving = 0;
     k->run_stop_first = 0;

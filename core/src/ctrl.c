@@ -49,22 +49,13 @@ static kc_ctrl_cfg_field cfg_problem(const kc_ctrl_cfg *cfg, const kc_chain *cha
     *joint = -1;
     if (cfg == NULL || chain == NULL)
         return KC_CFG_FIELD_ARG;
-    if (!positive(cfg->dt))
-        return KC_CFG_FIELD_DT;
-    if (!positive(cfg->cart_speed))
-        return KC_CFG_FIELD_CART_SPEED;
-    if (!positive(cfg->cart_accel))
-        return KC_CFG_FIELD_CART_ACCEL;
-    if (!positive(cfg->cart_omega))
-        return KC_CFG_FIELD_CART_OMEGA;
-    if (!positive(cfg->cart_alpha))
-        return KC_CFG_FIELD_CART_ALPHA;
-    if (!positive(cfg->cart_jerk))
-        return KC_CFG_FIELD_CART_JERK;
-    if (!positive(cfg->cart_angular_jerk))
-        return KC_CFG_FIELD_CART_ANGULAR_JERK;
-    if (!positive(cfg->track_tol))
-        return KC_CFG_FIELD_TRACK_TOL;
+    /* The positive numbers, in the order of their fields (KC_CFG_FIELD_DT
+     * to KC_CFG_FIELD_TRACK_TOL). */
+    const kc_real pos[8] = {cfg->dt,         cfg->cart_speed, cfg->cart_accel,        cfg->cart_omega,
+                            cfg->cart_alpha, cfg->cart_jerk,  cfg->cart_angular_jerk, cfg->track_tol};
+    for (int i = 0; i < 8; i++)
+        if (!positive(pos[i]))
+            return (kc_ctrl_cfg_field)(KC_CFG_FIELD_DT + i);
     if (!kc_isfinite(cfg->limit_slack) || cfg->limit_slack < KC_R(0.0))
         return KC_CFG_FIELD_LIMIT_SLACK;
     if (cfg->servo_timeout_ticks < 1)
@@ -318,24 +309,16 @@ kc_status kc_ctrl_step(kc_ctrl *c, const kc_ctrl_input *in, kc_ctrl_output *out)
         kc_ctrl_zone_servo_limit(c, q, qd, qdd);
 
     if (!setpoint_ok(c, q, qd)) {
-        /* Never send it: hold the last good position, stop in joint space. */
-        if (c->fault_reason == KC_REASON_NONE) {
-            kc_ctrl_emit(out, KC_EVENT_FAULT, c->active ? c->goal.id : 0, KC_REASON_LIMIT_GUARD, 0);
-            if (c->active)
-                kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_LIMIT_GUARD, 0);
-            c->fault_reason = KC_REASON_LIMIT_GUARD;
-            kc_ctrl_queue_clear(c, out);
-        }
-        c->active = 0;
+        /* Never send it: hold the last good position, stop in joint space.
+         * Continue at the last velocity for this tick is not allowed either:
+         * a joint-space stop from the last good state (kc_ctrl_fault, its
+         * events unless in a fault already), its first tick. */
+        kc_ctrl_fault(c, KC_REASON_LIMIT_GUARD, KC_R(0.0), 0, out);
         finished = 0; /* a segment whose last setpoint is refused has not ended: it was aborted */
         for (int j = 0; j < n; j++) {
             q[j] = c->q[j];
             qd[j] = c->qd[j];
         }
-        /* Continue at the last velocity for this tick is not allowed either:
-         * a joint-space stop from the last good state, its first tick. */
-        kc_ctrl_joint_stop(c, 1, KC_CTRL_FAULT);
-        c->state = KC_CTRL_STOPPING;
         kc_ctrl_joint_stop_eval(c, q, qd, qdd);
     }
 

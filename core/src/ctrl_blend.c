@@ -22,6 +22,7 @@
  * the joints' limits (admissible_joints). */
 #include "ctrl_internal.h"
 #include "ik_internal.h"
+#include "size_internal.h"
 
 #include <string.h>
 
@@ -144,12 +145,20 @@ static void compose(const kc_ctrl_blend *b, const kc_ctrl_seg_point *m, kc_ctrl_
         o->twist[3 + i] += awm.v[i];
 }
 
-/* The twists of M's stop, of G and of their sum at one tick, and their
- * tool points (p). */
+/* M's stop, G and their sum at one tick (x[0], x[1], x[2]): each one's
+ * twist (0..5) and tool point (6..8). */
 typedef struct blend_twists {
-    kc_real m[6], g[6], s[6];
-    kc_real pm[3], pg[3], ps[3];
+    kc_real x[3][9];
 } blend_twists;
+
+/* A point's twist and tool point into x. */
+static void put_twist(const kc_ctrl_seg_point *p, kc_real *x)
+{
+    for (int i = 0; i < 6; i++)
+        x[i] = p->twist[i];
+    for (int i = 0; i < 3; i++)
+        x[6 + i] = p->pose.t.v[i];
+}
 
 /* The twists at M's tick j with G started at t0; m and g are scratch. */
 static void twists_at(const kc_ctrl *c, int64_t t0, int64_t j, kc_ctrl_seg_point *m, kc_ctrl_seg_point *g,
@@ -157,19 +166,10 @@ static void twists_at(const kc_ctrl *c, int64_t t0, int64_t j, kc_ctrl_seg_point
 {
     stop_point(c, j, m);
     kc_ctrl_seg_eval(c, j - t0, g);
-    for (int i = 0; i < 6; i++) {
-        out->m[i] = m->twist[i];
-        out->g[i] = g->twist[i];
-    }
-    for (int i = 0; i < 3; i++) {
-        out->pm[i] = m->pose.t.v[i];
-        out->pg[i] = g->pose.t.v[i];
-    }
+    put_twist(m, out->x[0]);
+    put_twist(g, out->x[1]);
     compose(&c->blend, m, g);
-    for (int i = 0; i < 6; i++)
-        out->s[i] = g->twist[i];
-    for (int i = 0; i < 3; i++)
-        out->ps[i] = g->pose.t.v[i];
+    put_twist(g, out->x[2]);
 }
 
 /* |x0 + c1 x1 + c2 x2| of three components (x2 may be NULL). */
@@ -183,6 +183,29 @@ static kc_real comb3(const kc_real *x0, kc_real c1, const kc_real *x1, kc_real c
 
 /* |x| of three components. */
 static kc_real norm3(const kc_real *x) { return comb3(x, KC_R(0.0), x, KC_R(0.0), NULL); }
+
+/* Of x[s][k..k+2] at ticks j, j - 1, j - 2 (w[0], w[1], w[2]): the norm
+ * at tick j (order 0), of its change over the tick (1), or of the change
+ * of that change (2). */
+static kc_real diff3(const blend_twists *const w[3], int s, int k, int order)
+{
+    return comb3(&w[0]->x[s][k], (kc_real)-order, &w[order > 0]->x[s][k], KC_R(1.0),
+                 order == 2 ? &w[2]->x[s][k] : NULL);
+}
+
+/* Whether the sum's diff3 of this order at k is within *bound times
+ * dt^order (and e, plus extra), *bound raised first to what M or G alone
+ * does there when that is more. */
+static int keeps(const blend_twists *const w[3], int k, int order, kc_real *bound, kc_real dt, kc_real e,
+                 kc_real extra)
+{
+    kc_real scale = order == 2 ? dt * dt : order == 1 ? dt : KC_R(1.0);
+    kc_real b = kc_max(*bound, kc_max(diff3(w, 0, k, order), diff3(w, 1, k, order)) / scale);
+    *bound = b;
+    for (int i = 0; i < order; i++)
+        b *= dt;
+    return diff3(w, 2, k, order) <= b * e + extra;
+}
 
 /* Whether the sum with G starting at t0 keeps, on every stride-th tick j
  * of the overlap (t0 <= j <= T_s, M's ticks), its speed (at the tick, and
@@ -203,30 +226,17 @@ static int admissible(const kc_ctrl *c, const blend_bounds *lim, int64_t t0, int
             if (i >= 0)
                 twists_at(c, t0, i, &m, &g, &w[i % 3]);
         have = j;
-        const blend_twists *t1 = &w[j % 3], *t0w = &w[(j - 1) % 3], *tm = j >= 2 ? &w[(j - 2) % 3] : NULL;
+        const blend_twists *t[3] = {&w[j % 3], &w[(j - 1) % 3], j >= 2 ? &w[(j - 2) % 3] : NULL};
         for (int k = 0; k < 6; k += 3) {
             kc_real vmax = k == 0 ? lim->v : lim->w, amax = k == 0 ? lim->a : lim->dw;
             kc_real jmax = k == 0 ? lim->j : lim->dj;
-            vmax = kc_max(vmax, kc_max(norm3(&t1->m[k]), norm3(&t1->g[k])));
-            amax = kc_max(amax, kc_max(comb3(&t1->m[k], -1, &t0w->m[k], 0, NULL),
-                                       comb3(&t1->g[k], -1, &t0w->g[k], 0, NULL)) / dt);
-            if (!(norm3(&t1->s[k]) <= vmax * e &&
-                  comb3(&t1->s[k], -1, &t0w->s[k], 0, NULL) <= amax * dt * e))
+            if (!keeps(t, k, 0, &vmax, dt, e, KC_R(0.0)) || !keeps(t, k, 1, &amax, dt, e, KC_R(0.0)))
                 return 0;
-            if (k == 0) {
-                /* The step, with the rounding of the two positions it is
-                 * the difference of (a few units of KC_REAL_EPS |p|). */
-                kc_real step = kc_max(vmax, kc_max(comb3(t1->pm, -1, t0w->pm, 0, NULL),
-                                                   comb3(t1->pg, -1, t0w->pg, 0, NULL)) / dt);
-                kc_real round = KC_R(4.0) * KC_REAL_EPS * norm3(t1->ps);
-                if (!(comb3(t1->ps, -1, t0w->ps, 0, NULL) <= step * dt * e + round))
-                    return 0;
-            }
-            if (tm == NULL)
-                continue;
-            jmax = kc_max(jmax, kc_max(comb3(&t1->m[k], -2, &t0w->m[k], 1, &tm->m[k]),
-                                       comb3(&t1->g[k], -2, &t0w->g[k], 1, &tm->g[k])) / (dt * dt));
-            if (!(comb3(&t1->s[k], -2, &t0w->s[k], 1, &tm->s[k]) <= jmax * dt * dt * e))
+            /* The step, with the rounding of the two positions it is the
+             * difference of (a few units of KC_REAL_EPS |p|). */
+            if (k == 0 && !keeps(t, 6, 1, &vmax, dt, e, KC_R(4.0) * KC_REAL_EPS * norm3(&t[0]->x[2][6])))
+                return 0;
+            if (t[2] != NULL && !keeps(t, k, 2, &jmax, dt, e, KC_R(0.0)))
                 return 0;
         }
     }
@@ -280,13 +290,27 @@ static int admissible_joints(const kc_ctrl *c, int64_t t0, int64_t stride)
     return 1;
 }
 
-/* The earliest admissible t0 the search finds (T_s when none before). */
 /* admissible_joints for a joint path, else admissible. */
 static int admits(const kc_ctrl *c, const blend_bounds *lim, int64_t t0, int64_t stride)
 {
     return c->goal.kind == KC_GOAL_PATH ? admissible_joints(c, t0, stride) : admissible(c, lim, t0, stride);
 }
 
+/* The first admitted t0 in (lo, hi] (hi admitted, lo refused or -1) that
+ * at most 20 bisection steps find. */
+static KC_SIZE_NOINLINE int64_t bisect(const kc_ctrl *c, const blend_bounds *lim, int64_t lo, int64_t hi, int64_t stride)
+{
+    for (int i = 0; i < 20 && hi - lo > 1; i++) {
+        int64_t mid = lo + (hi - lo) / 2;
+        if (admits(c, lim, mid, stride))
+            hi = mid;
+        else
+            lo = mid;
+    }
+    return hi;
+}
+
+/* The earliest admissible t0 the search finds (T_s when none before). */
 static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
 {
     int64_t ts = c->blend.stop_ticks, step = (ts + BLEND_GRID - 1) / BLEND_GRID;
@@ -300,13 +324,7 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
         }
         lo = t;
     }
-    for (int i = 0; i < 20 && hi - lo > 1; i++) {
-        int64_t mid = lo + (hi - lo) / 2;
-        if (admits(c, lim, mid, BLEND_STRIDE))
-            hi = mid;
-        else
-            lo = mid;
-    }
+    hi = bisect(c, lim, lo, hi, BLEND_STRIDE);
     /* A sparse check can miss the ticks that refuse, fewer than
      * BLEND_STRIDE where the overlap refuses at its edge: checked on every
      * tick, a refused t0 gives way to a bisection (on every tick) up to
@@ -314,16 +332,40 @@ static int64_t start_offset(const kc_ctrl *c, const blend_bounds *lim)
     for (int tries = 0; hi < ts && !admits(c, lim, hi, 1); tries++) {
         int64_t next = tries == 0 ? hi + BLEND_STRIDE : (hi / step + 1) * step;
         lo = hi;
-        hi = next < ts ? next : ts;
-        for (int i = 0; i < 20 && hi - lo > 1; i++) {
-            int64_t mid = lo + (hi - lo) / 2;
-            if (admits(c, lim, mid, 1))
-                hi = mid;
-            else
-                lo = mid;
-        }
+        hi = bisect(c, lim, lo, next < ts ? next : ts, 1);
     }
     return hi;
+}
+
+/* a and b exchanged, n each. */
+static void swap_reals(kc_real *a, kc_real *b, int n)
+{
+    for (int i = 0; i < n; i++) {
+        kc_real t = a[i];
+        a[i] = b[i];
+        b[i] = t;
+    }
+}
+
+/* Exchanges what a jerk-limited joint move's stop reads of its plan (its
+ * line) between c->plan.joint and the record: keep_stop moves it in,
+ * give_back_stop back (what G's planning left in c->plan is not read
+ * again). */
+static void swap_joint_line(kc_ctrl *c)
+{
+    kc_interp_joint *pj = &c->plan.joint;
+    kc_ctrl_blend_joint *bj = &c->blend.plan.joint;
+    int n = pj->n;
+    kc_profile_kind kind = pj->kind;
+    kc_interp_sync sync = pj->sync;
+    swap_reals(pj->q0, bj->q0, c->chain->n_joints);
+    swap_reals(pj->q1, bj->q1, c->chain->n_joints);
+    swap_reals(pj->dq, bj->dq, c->chain->n_joints);
+    swap_reals(&pj->u_vmax, &bj->u_vmax, 1);
+    swap_reals(&pj->u_amax, &bj->u_amax, 1);
+    swap_reals(&pj->u_jmax, &bj->u_jmax, 1);
+    pj->n = bj->n, pj->kind = bj->kind, pj->sync = bj->sync;
+    bj->n = n, bj->kind = kind, bj->sync = sync;
 }
 
 /* Moves what M's stop reads out of c->plan into the record (G is planned
@@ -335,7 +377,6 @@ static int keep_stop(kc_ctrl *c)
 {
     kc_ctrl_blend *b = &c->blend;
     int n = c->chain->n_joints;
-    const kc_interp_joint *pj = &c->plan.joint;
     b->kind = c->goal.kind;
     b->stop_drive = c->drive;
     b->stop_ticks = 0;
@@ -360,16 +401,7 @@ static int keep_stop(kc_ctrl *c)
     } else if (b->kind == KC_GOAL_ARC) {
         b->plan.arc = c->plan.arc;
     } else {
-        kc_ctrl_blend_joint *bj = &b->plan.joint;
-        bj->n = pj->n;
-        memcpy(bj->q0, pj->q0, sizeof(kc_real) * (size_t)n);
-        memcpy(bj->q1, pj->q1, sizeof(kc_real) * (size_t)n);
-        memcpy(bj->dq, pj->dq, sizeof(kc_real) * (size_t)n);
-        bj->u_vmax = pj->u_vmax;
-        bj->u_amax = pj->u_amax;
-        bj->u_jmax = pj->u_jmax;
-        bj->kind = pj->kind;
-        bj->sync = pj->sync;
+        swap_joint_line(c);
     }
     return 1;
 }
@@ -379,7 +411,6 @@ static void give_back_stop(kc_ctrl *c)
 {
     const kc_ctrl_blend *b = &c->blend;
     int n = c->chain->n_joints;
-    kc_interp_joint *pj = &c->plan.joint;
     if (b->kind == KC_GOAL_LINE) {
         c->plan.line = b->plan.line;
     } else if (b->kind == KC_GOAL_ARC) {
@@ -387,16 +418,7 @@ static void give_back_stop(kc_ctrl *c)
     } else if (b->stop_drive == KC_DRIVE_HALT) {
         memcpy(c->plan.halt, b->plan.halt, sizeof(kc_scurve) * (size_t)n);
     } else {
-        const kc_ctrl_blend_joint *bj = &b->plan.joint;
-        pj->n = bj->n;
-        memcpy(pj->q0, bj->q0, sizeof(kc_real) * (size_t)n);
-        memcpy(pj->q1, bj->q1, sizeof(kc_real) * (size_t)n);
-        memcpy(pj->dq, bj->dq, sizeof(kc_real) * (size_t)n);
-        pj->u_vmax = bj->u_vmax;
-        pj->u_amax = bj->u_amax;
-        pj->u_jmax = bj->u_jmax;
-        pj->kind = bj->kind;
-        pj->sync = bj->sync;
+        swap_joint_line(c);
     }
 }
 
@@ -474,9 +496,7 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     b->lax = 1;
     b->err = INF;
     c->k0 = b->k0 + start_offset(c, &lim);
-    kc_ctrl_emit(out, KC_EVENT_ACCEPTED, g->id, KC_REASON_NONE, 0);
-    kc_ctrl_emit(out, KC_EVENT_PREEMPTED, old_id, KC_REASON_NONE, 0);
-    kc_ctrl_emit(out, KC_EVENT_STARTED, g->id, KC_REASON_NONE, 0);
+    kc_ctrl_emit_takeover(out, g->id, old_id);
     return 1;
 }
 

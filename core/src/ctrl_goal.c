@@ -77,8 +77,7 @@ kc_status kc_ctrl_refuse(kc_verdict *v, kc_ctrl_reason why, kc_goal_field field,
     return KC_E_ARG;
 }
 
-/* Refused for a field that is not finite or out of its domain. */
-static kc_status bad(kc_verdict *v)
+kc_status kc_ctrl_bad_goal(kc_verdict *v)
 {
     return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_NONE, -1, -1, KC_R(0.0));
 }
@@ -111,7 +110,7 @@ static kc_status path_ok(const kc_chain *chain, const kc_goal *g, kc_verdict *v)
     if ((unsigned)g->method > (unsigned)KC_PATH_QUINTIC || (unsigned)g->blend > (unsigned)KC_PATH_BLEND_PARABOLIC ||
         (unsigned)g->spline_end > (unsigned)KC_PATH_SPLINE_NATURAL || !kc_isfinite(g->blend_time) ||
         g->blend_time < KC_R(0.0))
-        return bad(v);
+        return kc_ctrl_bad_goal(v);
     for (int i = 0; i < g->n_points; i++) {
         for (int j = 0; j < dim; j++)
             if (!kc_isfinite(g->points[i][j]))
@@ -130,13 +129,14 @@ kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *g, kc_verdict
     if (v != NULL)
         kc_ctrl_verdict_init(v);
     if (chain == NULL || g == NULL)
-        return bad(v);
+        return kc_ctrl_bad_goal(v);
     if ((unsigned)g->kind > (unsigned)KC_GOAL_SERVO || !scale_ok(g->vel_scale) || !scale_ok(g->acc_scale) ||
         (unsigned)g->profile > (unsigned)KC_GOAL_PROFILE_JERK)
-        return bad(v);
-    if (!limit_ok(g->speed) || !limit_ok(g->accel) || !limit_ok(g->omega) || !limit_ok(g->alpha) ||
-        !limit_ok(g->jerk) || !limit_ok(g->angular_jerk))
-        return bad(v);
+        return kc_ctrl_bad_goal(v);
+    const kc_real limits[6] = {g->speed, g->accel, g->omega, g->alpha, g->jerk, g->angular_jerk};
+    for (int i = 0; i < 6; i++)
+        if (!limit_ok(limits[i]))
+            return kc_ctrl_bad_goal(v);
     switch (g->kind) {
     case KC_GOAL_JOINT:
         if (g->dim != 0 && g->dim != chain->n_joints)
@@ -148,11 +148,11 @@ kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *g, kc_verdict
         if (!pose_ok(&g->pose))
             return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_ORIENTATION, -1, -1, (kc_real)NAN);
         if (g->orient != KC_INTERP_TWO_ROTATIONS && g->orient != KC_INTERP_SLERP)
-            return bad(v);
+            return kc_ctrl_bad_goal(v);
         break;
     case KC_GOAL_ARC:
         if (!kc_vec3_isfinite(&g->pose.t) || !kc_vec3_isfinite(&g->via))
-            return bad(v);
+            return kc_ctrl_bad_goal(v);
         break;
     case KC_GOAL_PATH:
     case KC_GOAL_PATH_CART:
@@ -163,7 +163,7 @@ kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *g, kc_verdict
         if (g->servo_twist) {
             for (int i = 0; i < 6; i++)
                 if (!kc_isfinite(g->twist[i]))
-                    return bad(v);
+                    return kc_ctrl_bad_goal(v);
         } else if (!pose_ok(&g->pose)) {
             return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_ORIENTATION, -1, -1, (kc_real)NAN);
         }

@@ -85,6 +85,10 @@ void kc_ctrl_goal_copy(kc_goal *dst, const kc_goal *src);
 kc_status kc_ctrl_refuse(kc_verdict *v, kc_ctrl_reason why, kc_goal_field field, int point, int joint,
                          kc_real value);
 
+/* kc_ctrl_refuse for a field that is not finite or out of its domain,
+ * naming none (KC_REASON_BAD_GOAL). */
+kc_status kc_ctrl_bad_goal(kc_verdict *v);
+
 /* ---- ctrl_zone.c: forbidden zones ---- */
 
 /* The zone state of a controller at rest at c->q: no hit yet, the levers,
@@ -109,6 +113,10 @@ void kc_ctrl_zone_guard(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ct
 
 /* Appends an event to the tick's output (zone and volume -1). */
 void kc_ctrl_emit(kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id, kc_ctrl_reason reason, kc_real where);
+
+/* A replacing goal taken over at once (a retarget, a superposition): its
+ * ACCEPTED, the replaced goal's PREEMPTED, its STARTED. */
+void kc_ctrl_emit_takeover(kc_ctrl_output *out, int64_t id, int64_t old_id);
 
 /* Drops every queued goal, each with PREEMPTED. */
 void kc_ctrl_queue_clear(kc_ctrl *c, kc_ctrl_output *out);

@@ -20,6 +20,13 @@ void kc_ctrl_emit(kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id, kc_c
     e->volume = -1;
 }
 
+void kc_ctrl_emit_takeover(kc_ctrl_output *out, int64_t id, int64_t old_id)
+{
+    kc_ctrl_emit(out, KC_EVENT_ACCEPTED, id, KC_REASON_NONE, 0);
+    kc_ctrl_emit(out, KC_EVENT_PREEMPTED, old_id, KC_REASON_NONE, 0);
+    kc_ctrl_emit(out, KC_EVENT_STARTED, id, KC_REASON_NONE, 0);
+}
+
 void kc_ctrl_queue_clear(kc_ctrl *c, kc_ctrl_output *out)
 {
     for (int i = 0; i < c->queue_len; i++)
@@ -132,28 +139,28 @@ static void take_retarget(kc_ctrl *c, const kc_goal *g)
 void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
 {
     kc_verdict v;
-    /* A servo update for the active servo goal moves its target. */
-    if (g->kind == KC_GOAL_SERVO && c->active && c->goal.kind == KC_GOAL_SERVO && g->id == c->goal.id &&
-        kc_ctrl_goal_check(c->chain, g, &v) == KC_OK) {
-        c->goal.servo_twist = g->servo_twist;
-        memcpy(c->goal.twist, g->twist, sizeof g->twist);
-        if (!g->servo_twist)
-            c->servo_target = g->pose;
-        c->servo_last = c->cycle;
-        return;
-    }
-    /* So does one for a servo goal still waiting in the queue (a replacing
-     * servo goal waits while the motion before it stops on its path): the
+    kc_status st = kc_ctrl_goal_check(c->chain, g, &v);
+    /* A servo update for the active servo goal moves its target; so does
+     * one for a servo goal still waiting in the queue (a replacing servo
+     * goal waits while the motion before it stops on its path): the
      * stream's messages are one goal, answered once. */
-    if (g->kind == KC_GOAL_SERVO && kc_ctrl_goal_check(c->chain, g, &v) == KC_OK) {
-        for (int i = 0; i < c->queue_len; i++) {
-            kc_goal *w = &c->queue[(c->queue_head + i) % KC_CTRL_QUEUE_MAX];
-            if (w->kind == KC_GOAL_SERVO && w->id == g->id) {
-                w->servo_twist = g->servo_twist;
-                memcpy(w->twist, g->twist, sizeof g->twist);
+    if (g->kind == KC_GOAL_SERVO && st == KC_OK) {
+        kc_goal *w = c->active && c->goal.kind == KC_GOAL_SERVO && g->id == c->goal.id ? &c->goal : NULL;
+        for (int i = 0; i < c->queue_len && w == NULL; i++) {
+            kc_goal *q = &c->queue[(c->queue_head + i) % KC_CTRL_QUEUE_MAX];
+            w = q->kind == KC_GOAL_SERVO && q->id == g->id ? q : NULL;
+        }
+        if (w != NULL) {
+            w->servo_twist = g->servo_twist;
+            memcpy(w->twist, g->twist, sizeof g->twist);
+            if (w != &c->goal) {
                 w->pose = g->pose;
-                return;
+            } else {
+                if (!g->servo_twist)
+                    c->servo_target = g->pose;
+                c->servo_last = c->cycle;
             }
+            return;
         }
     }
     if (c->state == KC_CTRL_FAULT || c->state == KC_CTRL_ESTOP || c->fault_reason != KC_REASON_NONE) {
@@ -165,7 +172,7 @@ void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
         kc_ctrl_emit(out, KC_EVENT_REJECTED, g->id, KC_REASON_DUPLICATE_ID, 0);
         return;
     }
-    if (kc_ctrl_goal_check(c->chain, g, &v) != KC_OK) {
+    if (st != KC_OK) {
         kc_ctrl_emit(out, KC_EVENT_REJECTED, g->id, v.reason, 0);
         return;
     }
@@ -174,10 +181,8 @@ void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
         if (g->kind == KC_GOAL_JOINT && c->active &&
             (c->state == KC_CTRL_MOVING || c->state == KC_CTRL_STOPPING) &&
             (kc_ctrl_goal_profile(c, g) == KC_PROFILE_JERK ? retarget_jerk(c, g) : retarget(c, g))) {
-            kc_ctrl_emit(out, KC_EVENT_ACCEPTED, g->id, KC_REASON_NONE, 0);
-            kc_ctrl_emit(out, KC_EVENT_PREEMPTED, c->goal.id, KC_REASON_NONE, 0);
+            kc_ctrl_emit_takeover(out, g->id, c->goal.id);
             take_retarget(c, g);
-            kc_ctrl_emit(out, KC_EVENT_STARTED, g->id, KC_REASON_NONE, 0);
             return;
         }
         if (kc_ctrl_blend_take(c, g, out))

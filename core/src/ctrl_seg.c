@@ -190,26 +190,23 @@ int kc_ctrl_start_next(kc_ctrl *c, kc_ctrl_output *out)
         c->settle = 0;
         c->blend.on = 0;
         c->blend.lax = 0;
-        if (kc_ctrl_plan_goal(c) != KC_OK) {
-            kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
-            continue;
-        }
-        if (kc_ctrl_is_path(c->goal.kind) && !kc_ctrl_path_starts_at_rest(c)) {
+        kc_status st = kc_ctrl_plan_goal(c);
+        if (st == KC_OK && kc_ctrl_is_path(c->goal.kind) && !kc_ctrl_path_starts_at_rest(c)) {
             /* Lagrange's polynomial moves at its first and last knot: run
              * it on a tau' that ramps up from rest and down into the end. */
             kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
             kc_real C = kc_ctrl_path_ramp_rate(c, KC_R(0.0)), Jt = kc_ctrl_path_tau_jerk(c, KC_R(0.0), T);
             /* Jerk-limited (tau'' continuous) where the law is (kinctl/ctrl.h). */
-            kc_status st = !(C > KC_R(0.0)) ? KC_E_LIMIT
-                           : kc_isfinite(Jt)
-                               ? kc_scurve_plan(&c->drive_scurve, KC_R(0.0), KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, Jt,
-                                                c->cfg.dt)
-                               : kc_profile_plan(&c->drive_prof, KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, c->cfg.dt);
-            if (st != KC_OK) {
-                kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
-                continue;
-            }
-            c->drive = kc_isfinite(Jt) ? KC_DRIVE_SCURVE : KC_DRIVE_PROFILE;
+            st = !(C > KC_R(0.0)) ? KC_E_LIMIT
+                 : kc_isfinite(Jt)
+                     ? kc_scurve_plan(&c->drive_scurve, KC_R(0.0), KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, Jt, c->cfg.dt)
+                     : kc_profile_plan(&c->drive_prof, KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, c->cfg.dt);
+            if (st == KC_OK)
+                c->drive = kc_isfinite(Jt) ? KC_DRIVE_SCURVE : KC_DRIVE_PROFILE;
+        }
+        if (st != KC_OK) {
+            kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
+            continue;
         }
         c->active = 1;
         c->state = KC_CTRL_MOVING;
@@ -518,16 +515,9 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
         kc_real where = c->path_length > KC_R(0.0) ? before.s : before.progress;
         if (c->state == KC_CTRL_STOPPING || st == KC_E_LIMIT || st == KC_E_ARG) {
             /* Even the stop on the path cannot be followed: stop in joint
-             * space from the last setpoint. */
-            int was_fault = c->fault_reason != KC_REASON_NONE;
-            if (!was_fault) {
-                c->fault_reason = KC_REASON_TRACKING;
-                kc_ctrl_emit(out, KC_EVENT_FAULT, c->goal.id, KC_REASON_TRACKING, where);
-                kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_TRACKING, where);
-                kc_ctrl_queue_clear(c, out);
-            }
-            kc_ctrl_joint_stop(c, 1, KC_CTRL_FAULT);
-            c->state = KC_CTRL_STOPPING;
+             * space from the last setpoint (the goal is active: its events
+             * name it). */
+            kc_ctrl_fault(c, KC_REASON_TRACKING, where, 0, out);
             return -1;
         }
         kc_ctrl_fault(c, KC_REASON_TRACKING, where, 1, out);

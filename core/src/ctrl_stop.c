@@ -3,8 +3,17 @@
  * path parameter, paths by their plan time), in joint space, resuming, and
  * faults (kinctl/ctrl.h). */
 #include "ctrl_internal.h"
+#include "size_internal.h"
 
 #include <string.h>
+
+/* The active segment driven by drive from the last setpoint on (its tick
+ * 0, as for every segment). */
+static KC_SIZE_NOINLINE void drive_from_here(kc_ctrl *c, kc_ctrl_drive drive)
+{
+    c->drive = drive;
+    c->k0 = c->cycle - 1;
+}
 
 /* Largest |q'' tau'^2 + q' tau''| / qdd_max (Cartesian: the tool point's
  * acceleration over its limit) on sampled instants of a change of tau' at
@@ -233,8 +242,7 @@ static void jerk_stop(kc_ctrl *c)
         if (!kc_isfinite(a) || !kc_isfinite(jm))
             a = jm = KC_R(1.0); /* a zero motion: nothing to stop */
         if (kc_scurve_plan_stop(&c->drive_scurve, u.p, u.v, u.a, a, jm, c->cfg.dt) == KC_OK) {
-            c->drive = KC_DRIVE_SCURVE;
-            c->k0 = c->cycle - 1;
+            drive_from_here(c, KC_DRIVE_SCURVE);
             return;
         }
     }
@@ -245,8 +253,7 @@ static void jerk_stop(kc_ctrl *c)
         if (kc_scurve_plan_stop(&c->plan.halt[i], c->q[i], c->qd[i], c->qdd[i], amax[i],
                                 c->chain->joints[i].limits.qddd_max, c->cfg.dt) != KC_OK)
             kc_scurve_plan_stop(&c->plan.halt[i], c->q[i], KC_R(0.0), KC_R(0.0), KC_R(1.0), KC_R(1.0), c->cfg.dt);
-    c->drive = KC_DRIVE_HALT;
-    c->k0 = c->cycle - 1;
+    drive_from_here(c, KC_DRIVE_HALT);
 }
 
 /* The bounds of u's first three derivatives of the active joint move,
@@ -332,42 +339,34 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
         kc_ctrl_scaled_limits(c, &c->goal, vmax, amax);
         for (int i = 0; i < c->chain->n_joints; i++)
             kc_profile_plan_stop(&c->plan.retarget[i], c->q[i], c->qd[i], amax[i], c->cfg.dt);
-        c->k0 = c->cycle - 1;
+        drive_from_here(c, c->drive);
         return;
     }
     kc_ctrl_drive_state(c, j, &u);
+    kc_real dec, jmax;
+    int jerk;
     if (kc_ctrl_is_path(c->goal.kind)) {
-        kc_real dec = path_stop_rate(c, u.p, u.v);
+        dec = path_stop_rate(c, u.p, u.v);
         if (!(dec > KC_R(0.0))) {
             c->drive = c->drive == KC_DRIVE_PROFILE || c->drive == KC_DRIVE_SCURVE ? c->drive : KC_DRIVE_STOPPING_WAIT;
             return;
         }
         /* Jerk-limited from (tau, tau', tau''), but for a fault. */
         kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
-        int st = c->fault_reason == KC_REASON_NONE ? path_scurve_stop(c, &u, dec, T) : 0;
-        if (st < 0)
+        jerk = c->fault_reason == KC_REASON_NONE ? path_scurve_stop(c, &u, dec, T) : 0;
+        if (jerk < 0)
             return; /* the drive under way stops at the end first */
-        if (st > 0) {
-            c->drive = KC_DRIVE_SCURVE;
-            c->k0 = c->cycle - 1;
-            return;
-        }
-        kc_profile_plan_stop(&c->drive_prof, u.p, u.v, dec, c->cfg.dt);
     } else {
-        kc_real vmax, amax, jmax;
-        kc_profile_kind kind = seg_u_bounds(c, &vmax, &amax, &jmax);
+        kc_real vmax;
+        kc_profile_kind kind = seg_u_bounds(c, &vmax, &dec, &jmax);
         /* A jerk-limited line or arc stops jerk-limited, from (u, u', u''),
          * but for a fault (kinctl/ctrl.h: stopping soonest matters more). */
-        if (kind == KC_PROFILE_JERK && c->fault_reason == KC_REASON_NONE && c->drive != KC_DRIVE_PROFILE &&
-            kc_scurve_plan_stop(&c->drive_scurve, u.p, u.v, u.a, amax, jmax, c->cfg.dt) == KC_OK) {
-            c->drive = KC_DRIVE_SCURVE;
-            c->k0 = c->cycle - 1;
-            return;
-        }
-        kc_profile_plan_stop(&c->drive_prof, u.p, u.v, amax, c->cfg.dt);
+        jerk = kind == KC_PROFILE_JERK && c->fault_reason == KC_REASON_NONE && c->drive != KC_DRIVE_PROFILE &&
+               kc_scurve_plan_stop(&c->drive_scurve, u.p, u.v, u.a, dec, jmax, c->cfg.dt) == KC_OK;
     }
-    c->drive = KC_DRIVE_PROFILE;
-    c->k0 = c->cycle - 1;
+    if (!jerk)
+        kc_profile_plan_stop(&c->drive_prof, u.p, u.v, dec, c->cfg.dt);
+    drive_from_here(c, jerk ? KC_DRIVE_SCURVE : KC_DRIVE_PROFILE);
 }
 
 void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
@@ -385,8 +384,7 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
         (c->drive == KC_DRIVE_RETARGET || c->drive == KC_DRIVE_SCURVE || c->drive == KC_DRIVE_HALT)) {
         /* At rest a retarget, or a jerk-limited move stopped, is an
          * ordinary joint move from here. */
-        c->drive = KC_DRIVE_NOMINAL;
-        c->k0 = c->cycle - 1;
+        drive_from_here(c, KC_DRIVE_NOMINAL);
         if (kc_ctrl_plan_goal(c) != KC_OK) {
             kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
             c->active = 0;
@@ -395,6 +393,8 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
         return;
     }
     kc_ctrl_drive_state(c, j, &u);
+    kc_real end = KC_R(1.0), vmax, amax, jmax;
+    int jerk;
     if (kc_ctrl_is_path(c->goal.kind)) {
         kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
         /* (a constant-rate stop may have come to rest past the end) */
@@ -402,28 +402,18 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
         kc_real C = kc_ctrl_path_ramp_rate(c, u.p);
         if (!(C > KC_R(0.0)))
             C = KC_R(1.0); /* the rates tried all fail: the gentlest ramp there is */
-        kc_real Jt = kc_ctrl_path_tau_jerk(c, u.p, T);
-        if (kc_isfinite(Jt) &&
-            kc_scurve_plan(&c->drive_scurve, u.p, KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, Jt, c->cfg.dt) == KC_OK) {
-            c->drive = KC_DRIVE_SCURVE;
-            c->k0 = c->cycle - 1;
-            return;
-        }
-        kc_profile_plan(&c->drive_prof, u.p, KC_R(0.0), T, KC_R(1.0), C, c->cfg.dt);
+        end = T, vmax = KC_R(1.0), amax = C;
+        jmax = kc_ctrl_path_tau_jerk(c, u.p, T);
+        jerk = kc_isfinite(jmax);
     } else {
-        kc_real vmax, amax, jmax;
-        if (seg_u_bounds(c, &vmax, &amax, &jmax) == KC_PROFILE_JERK &&
-            kc_scurve_plan(&c->drive_scurve, u.p, KC_R(0.0), KC_R(0.0), KC_R(1.0), vmax, amax, jmax, c->cfg.dt) ==
-                KC_OK) {
-            /* A jerk-limited line or arc resumes jerk-limited. */
-            c->drive = KC_DRIVE_SCURVE;
-            c->k0 = c->cycle - 1;
-            return;
-        }
-        kc_profile_plan(&c->drive_prof, u.p, KC_R(0.0), KC_R(1.0), vmax, amax, c->cfg.dt);
+        /* A jerk-limited line or arc resumes jerk-limited. */
+        jerk = seg_u_bounds(c, &vmax, &amax, &jmax) == KC_PROFILE_JERK;
     }
-    c->drive = KC_DRIVE_PROFILE;
-    c->k0 = c->cycle - 1;
+    jerk = jerk && kc_scurve_plan(&c->drive_scurve, u.p, KC_R(0.0), KC_R(0.0), end, vmax, amax, jmax, c->cfg.dt) ==
+                       KC_OK;
+    if (!jerk)
+        kc_profile_plan(&c->drive_prof, u.p, KC_R(0.0), end, vmax, amax, c->cfg.dt);
+    drive_from_here(c, jerk ? KC_DRIVE_SCURVE : KC_DRIVE_PROFILE);
 }
 
 void kc_ctrl_stop_finished(kc_ctrl *c, kc_ctrl_output *out)

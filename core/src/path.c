@@ -529,7 +529,6 @@ static int64_t tick_count(kc_real duration, kc_real dt)
 /* Writes the checked plan. */
 void kc_path_commit(kc_path *path, const kc_path_knots *K)
 {
-    piece_coeffs c;
     int np = kc_path_n_pieces(K), nc = n_coeffs(K);
     path->method = K->method;
     path->blend = K->blend;
@@ -547,12 +546,9 @@ void kc_path_commit(kc_path *path, const kc_path_knots *K)
         path->t_knot[i] = i < K->n ? K->t0 + K->d[i] : KC_R(0.0);
     memset(path->c, 0, sizeof path->c);
     for (int p = 0; p < np; p++) {
-        build_piece(K, p, c);
+        build_piece(K, p, path->c[p]); /* every row and column: those past nc and dim are 0 */
         path->start[p] = piece_start(K, p);
         path->len[p] = piece_len(K, p);
-        for (int m = 0; m < nc; m++)
-            for (int j = 0; j < KC_MAX_JOINTS; j++)
-                path->c[p][m][j] = c[m][j];
     }
     for (int p = np; p < KC_PATH_MAX_PIECES; p++)
         path->start[p] = path->len[p] = KC_R(0.0);
@@ -741,11 +737,10 @@ static void end_state(const kc_path *path, kc_real *q, kc_real *qd, kc_real *qdd
     }
 }
 
-kc_status kc_path_eval_time(const kc_path *path, kc_real t, kc_real *q, kc_real *qd, kc_real *qdd)
+/* The path at time t, or its end (end != 0): KC_DONE there, else KC_OK. */
+static kc_status eval_at(const kc_path *path, kc_real t, int end, kc_real *q, kc_real *qd, kc_real *qdd)
 {
-    if (path == NULL || q == NULL || !(t >= KC_R(0.0)) || path->n_pieces < 1)
-        return KC_E_ARG;
-    if (t >= path->duration) {
+    if (end) {
         end_state(path, q, qd, qdd);
         return KC_DONE;
     }
@@ -754,18 +749,18 @@ kc_status kc_path_eval_time(const kc_path *path, kc_real t, kc_real *q, kc_real 
     return KC_OK;
 }
 
+kc_status kc_path_eval_time(const kc_path *path, kc_real t, kc_real *q, kc_real *qd, kc_real *qdd)
+{
+    if (path == NULL || q == NULL || !(t >= KC_R(0.0)) || path->n_pieces < 1)
+        return KC_E_ARG;
+    return eval_at(path, t, t >= path->duration, q, qd, qdd);
+}
+
 kc_status kc_path_eval(const kc_path *path, int64_t k, kc_real *q, kc_real *qd, kc_real *qdd)
 {
     if (path == NULL || q == NULL || k < 0 || path->n_pieces < 1)
         return KC_E_ARG;
-    if (k >= path->ticks) {
-        end_state(path, q, qd, qdd);
-        return KC_DONE;
-    }
-    kc_real t = (kc_real)k * path->dt;
-    int p = kc_path_find_piece(path, t);
-    eval_piece(path, p, t - path->start[p], q, qd, qdd);
-    return KC_OK;
+    return eval_at(path, (kc_real)k * path->dt, k >= path->ticks, q, qd, qdd);
 }
 
 kc_status kc_path_eval_piece(const kc_path *path, int p, kc_real tau, kc_real *q, kc_real *qd, kc_real *qdd)

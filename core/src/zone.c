@@ -109,13 +109,11 @@ kc_status kc_zone_check(const kc_chain *chain, const kc_zone_set *set, const kc_
                     /* Only the closest pair needs its exact distance: GJK
                      * stops once a pair is known to be farther than the
                      * closest so far. */
-                    kc_real radii = kc_shape_core_radius(&w) + kc_shape_core_radius(zn);
+                    kc_real cw = kc_shape_core_radius(&w), cz = kc_shape_core_radius(zn);
                     if (gap > far)
                         d = gap;
                     else
-                        d = kc_max(kc_shape_gjk(&w, zn, best.distance + radii) - kc_shape_core_radius(&w) -
-                                       kc_shape_core_radius(zn),
-                                   KC_R(0.0));
+                        d = kc_max(kc_shape_gjk(&w, zn, best.distance + (cw + cz)) - cw - cz, KC_R(0.0));
                 }
                 if (d < best.distance) {
                     best.distance = d;
