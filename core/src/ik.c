@@ -510,13 +510,13 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
      * unless qd moves q by less than a few units of its last place over
      * the tick (float: about 5e-4 rad/s at 1 ms, above qddd_max dt^2; the
      * law's rounding keeps qd there). */
-    int at_rest = !moving_target;
-    for (int j = 0; j < n; j++) {
+    int at_rest = !moving_target && pos_err <= cfg->tol_pos && rot_err <= cfg->tol_rot;
+    for (int j = 0; j < n && at_rest; j++) {
         const kc_joint_limits *l = &chain->joints[j].limits;
         kc_real ulps = KC_R(4.0) * KC_REAL_EPS * kc_max(kc_fabs(q[j]), KC_R(1.0)) / dt;
-        at_rest = at_rest && kc_fabs(qd[j]) <= kc_min(l->qdd_max * dt, kc_max(l->qddd_max * dt * dt, ulps));
+        at_rest = kc_fabs(qd[j]) <= kc_min(l->qdd_max * dt, kc_max(l->qddd_max * dt * dt, ulps));
     }
-    if (pos_err <= cfg->tol_pos && rot_err <= cfg->tol_rot && at_rest) {
+    if (at_rest) {
         for (int j = 0; j < n; j++) {
             q_next[j] = q[j];
             qd_next[j] = KC_R(0.0);
