@@ -160,21 +160,8 @@ static kc_goal random_line(kt_rng *r, int64_t id, kc_real speed, kc_real accel, 
 {
     kc_pose home;
     kc_fk_eval(&H.chain, KT_PUMA_Q0, &home);
-    for (int tries = 0; tries < 100; tries++) {
-        kc_goal g = kt_line_goal(id, &home);
-        kc_vec3 d = kt_rand_unit(r);
-        kc_real len = (kc_real)kt_uniform(r, 0.0, 0.15);
-        for (int i = 0; i < 3; i++)
-            g.pose.t.v[i] += len * d.v[i];
-        g.speed = speed;
-        g.accel = accel;
-        g.jerk = jerk;
-        kc_verdict v;
-        if (kc_check_from(&CHECK, H.ctrl.q, &g, &v) == KC_OK)
-            return g;
-    }
-    fail_msg("no line the arm can follow in 100 tries");
-    return kt_line_goal(id, &home);
+    kt_line_draw d = {0.0, 0.15, 0.0, speed, accel, jerk};
+    return kt_checked_line(r, &CHECK, H.ctrl.q, &home, id, &d);
 }
 
 /* A line from rest: jerk-limited by default, in the optimum time of u. */

@@ -80,27 +80,8 @@ static kc_goal random_line(kt_rng *r, int64_t id, kc_real speed, kc_real accel, 
 {
     kc_pose home;
     kc_fk_eval(&H.chain, KT_PUMA_Q0, &home);
-    for (int tries = 0; tries < 100; tries++) {
-        kc_goal g = kt_line_goal(id, &home);
-        kc_vec3 d = kt_rand_unit(r), axis = kt_rand_unit(r), rv;
-        kc_real len = (kc_real)kt_uniform(r, 0.02, 0.3);
-        for (int i = 0; i < 3; i++)
-            g.pose.t.v[i] += len * d.v[i];
-        kc_vec3_scale(&axis, (kc_real)kt_uniform(r, 0.0, 0.2), &rv);
-        kc_mat3 dR;
-        kc_quat dq;
-        kc_quat_exp(&rv, &dq);
-        kc_quat_to_mat3(&dq, &dR);
-        kc_mat3_mul(&dR, &home.R, &g.pose.R);
-        g.speed = speed;
-        g.accel = accel;
-        g.jerk = jerk;
-        kc_verdict v;
-        if (kc_check_from(&CHECK, H.ctrl.q, &g, &v) == KC_OK)
-            return g;
-    }
-    fail_msg("no line the arm can follow in 100 tries");
-    return kt_line_goal(id, &home);
+    kt_line_draw d = {0.02, 0.3, 0.2, speed, accel, jerk};
+    return kt_checked_line(r, &CHECK, H.ctrl.q, &home, id, &d);
 }
 
 static void test_lines_come_to_rest_within_jerk(void **state)

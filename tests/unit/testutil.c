@@ -487,3 +487,32 @@ kc_goal kt_stream_next(kt_stream *s, int64_t id)
     s->t++;
     return g;
 }
+
+kc_goal kt_checked_line(kt_rng *r, kc_check *check, const kc_real *q, const kc_pose *home, int64_t id,
+                        const kt_line_draw *d)
+{
+    for (int tries = 0; tries < 100; tries++) {
+        kc_goal g = kt_line_goal(id, home);
+        kc_vec3 dir = kt_rand_unit(r);
+        kc_real len = (kc_real)kt_uniform(r, d->len_lo, d->len_hi);
+        for (int i = 0; i < 3; i++)
+            g.pose.t.v[i] += len * dir.v[i];
+        if (d->turn > 0.0) {
+            kc_vec3 axis = kt_rand_unit(r), rv;
+            kc_quat dq;
+            kc_mat3 dR;
+            kc_vec3_scale(&axis, (kc_real)kt_uniform(r, 0.0, d->turn), &rv);
+            kc_quat_exp(&rv, &dq);
+            kc_quat_to_mat3(&dq, &dR);
+            kc_mat3_mul(&dR, &home->R, &g.pose.R);
+        }
+        g.speed = d->speed;
+        g.accel = d->accel;
+        g.jerk = d->jerk;
+        kc_verdict v;
+        if (kc_check_from(check, q, &g, &v) == KC_OK)
+            return g;
+    }
+    fail_msg("no line the arm can follow in 100 tries");
+    return kt_line_goal(id, home);
+}

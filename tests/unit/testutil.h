@@ -191,6 +191,22 @@ void kt_stream_init(kt_stream *s, kt_rng *r, const kc_pose *start, double dt);
 /* The stream's next message for servo goal id (at the full limits). */
 kc_goal kt_stream_next(kt_stream *s, int64_t id);
 
+/* Where a random line goal may go (kt_checked_line): a length in
+ * [len_lo, len_hi) m along a random direction from home, the tool turned
+ * about a random axis by up to turn rad (0: in home's orientation, no
+ * axis drawn), and the goal's speed, accel and jerk (0: the defaults). */
+typedef struct kt_line_draw {
+    double len_lo, len_hi, turn;
+    kc_real speed, accel, jerk;
+} kt_line_draw;
+
+/* Line goal id as d draws it from home that the dry run (kinctl/check.h)
+ * takes from joints q, as the daemon would: lines the arm cannot follow
+ * (near a singularity: a tracking fault) are drawn again, up to 100 times
+ * (then the test fails). */
+kc_goal kt_checked_line(kt_rng *r, kc_check *check, const kc_real *q, const kc_pose *home, int64_t id,
+                        const kt_line_draw *d);
+
 /* An independent rest-to-rest optimum of a jerk-limited move over distance
  * D >= 0 within V, A, J: not kinctl/scurve.h's closed form, but from the
  * physics of one symmetric half. Reaching a speed v from rest and stopping
