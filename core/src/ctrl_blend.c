@@ -265,8 +265,7 @@ static int admissible_joints(const kc_ctrl *c, int64_t t0, int64_t stride)
 {
     const kc_ctrl_blend *b = &c->blend;
     kc_real dt = c->cfg.dt, e = KC_R(1.0) + c->cfg.limit_slack;
-    kc_ctrl_seg_point m[2], g[2], s; /* [0]: tick j - 1, [1]: tick j */
-    stop_joints(c, b->stop_ticks, 1, &s); /* q_s */
+    kc_ctrl_seg_point m[2], g[2]; /* [0]: tick j - 1, [1]: tick j */
     for (int64_t j = t0 > 0 ? t0 : 1; j <= b->stop_ticks; j += stride) {
         for (int k = 0; k < 2; k++) {
             stop_joints(c, j - 1 + k, 1, &m[k]);
@@ -275,7 +274,7 @@ static int admissible_joints(const kc_ctrl *c, int64_t t0, int64_t stride)
         }
         for (int i = 0; i < c->chain->n_joints; i++) {
             const kc_joint_limits *l = &c->chain->joints[i].limits;
-            kc_real q = m[1].q[i] + g[1].q[i] - s.q[i], qd = m[1].qd[i] + g[1].qd[i];
+            kc_real q = m[1].q[i] + g[1].q[i] - b->q_rest[i], qd = m[1].qd[i] + g[1].qd[i];
             kc_real qdd = m[1].qdd[i] + g[1].qdd[i], dqdd = qdd - (m[0].qdd[i] + g[0].qdd[i]);
             kc_real dqd = qd - (m[0].qd[i] + g[0].qd[i]);
             kc_real vb = kc_max(l->qd_max, kc_max(kc_fabs(m[1].qd[i]), kc_fabs(g[1].qd[i])));
@@ -463,7 +462,8 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
          * (a path that is not, Lagrange's, needs a ramp: not superposed). */
         kc_real d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
         stop_joints(c, b->stop_ticks, 1, &rest);
-        st = kc_ctrl_plan_path_from(c, g, rest.q);
+        memcpy(b->q_rest, rest.q, sizeof(kc_real) * (size_t)c->chain->n_joints);
+        st = kc_ctrl_plan_path_from(c, g, b->q_rest);
         kc_path_eval_time(&c->plan.path, KC_R(0.0), rest.q, d1, d2);
         for (int i = 0; i < c->chain->n_joints && st == KC_OK; i++)
             st = d1[i] == KC_R(0.0) ? KC_OK : KC_E_ARG;
@@ -512,11 +512,10 @@ void kc_ctrl_blend_apply(kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o)
     }
     if (c->goal.kind == KC_GOAL_PATH) {
         /* In joint space: q = q_M + q_G - q_s, and so for qd, qdd. */
-        kc_ctrl_seg_point m, s;
+        kc_ctrl_seg_point m;
         stop_joints(c, j, 1, &m);
-        stop_joints(c, b->stop_ticks, 1, &s);
         for (int i = 0; i < c->chain->n_joints; i++) {
-            o->q[i] += m.q[i] - s.q[i];
+            o->q[i] += m.q[i] - b->q_rest[i];
             o->qd[i] += m.qd[i];
             o->qdd[i] += m.qdd[i];
         }

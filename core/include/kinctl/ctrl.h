@@ -541,6 +541,7 @@ typedef struct kc_ctrl_blend {
     int64_t stop_ticks;
     int64_t k0;        /* tick of the stop's start (its tick 0: the last setpoint before the takeover) */
     kc_pose rest;      /* where the stop ends: P_s, where the new segment starts */
+    kc_real q_rest[KC_MAX_JOINTS]; /* its joints there, q_s (a joint path superposed) */
     /* The tracking bound is a stop's (the replaced motion's stop is part of
      * the target) until, after it, the tool's error (err, m, the last
      * tick's) is within cfg.track_tol and falling. */
