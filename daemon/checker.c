@@ -5,6 +5,7 @@
 #include "checker.h"
 
 #include <errno.h>
+#include <inttypes.h>
 #include <poll.h>
 #include <stdio.h>
 #include <string.h>
@@ -38,6 +39,7 @@ int kd_checker_init(kd_checker *k, kc_check *check, int64_t budget_ns, kd_cycle 
     atomic_init(&k->judged, 0);
     atomic_init(&k->over_budget, 0);
     atomic_init(&k->moving, 0);
+    atomic_init(&k->slowed, 0);
     atomic_init(&k->run, 0);
     k->wake_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
     k->done_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
@@ -80,19 +82,16 @@ static void take_snapshot(kd_checker *k)
         if (!kd_cycle_snapshot(k->cycle, slot, until - kd_now_ns(), &taken))
             return;
         take_ticks(k);
-        if (kc_check_snapshot(k->check, slot, taken) == KC_OK && kc_check_snapshot_fresh(k->check)) {
-            atomic_fetch_add_explicit(&k->moving, 1, memory_order_relaxed);
+        if (kc_check_snapshot(k->check, slot, taken) == KC_OK && kc_check_snapshot_fresh(k->check))
             return;
-        }
     } while (kd_now_ns() < until && atomic_load_explicit(&k->run, memory_order_acquire));
 }
 
-/* The dry run of job, in slices, into out. */
-static void judge(kd_checker *k, const kd_job *job, kd_job *out)
+/* One dry run of out->goal, in slices, into out, within the budget from
+ * start. */
+static void judge_once(kd_checker *k, kd_job *out, int64_t start)
 {
-    int64_t start = kd_now_ns();
     kc_status st;
-    memcpy(&out->goal, &job->goal, sizeof out->goal);
     out->end = KD_JOB_JUDGED;
     if (out->goal.replace && out->goal.kind != KC_GOAL_SERVO && k->cycle != NULL)
         take_snapshot(k);
@@ -105,7 +104,6 @@ static void judge(kd_checker *k, const kd_job *job, kd_job *out)
         }
         if (elapsed >= k->budget_ns) {
             out->end = KD_JOB_OVER_BUDGET;
-            atomic_fetch_add_explicit(&k->over_budget, 1, memory_order_relaxed);
             break;
         }
         st = kc_check_run(k->check, KD_CHECK_SLICE, &out->verdict);
@@ -116,7 +114,47 @@ static void judge(kd_checker *k, const kd_job *job, kd_job *out)
     out->elapsed_ns = kd_now_ns() - start;
     out->ticks = k->check->run_tick;
     out->progress = k->check->run_progress;
-    if (out->end == KD_JOB_JUDGED && out->verdict.status == KC_OK)
+}
+
+static int taken(const kd_job *j) { return j->end == KD_JOB_JUDGED && j->verdict.status == KC_OK; }
+
+/* The dry run of job into out. A jerk-limited Cartesian goal taken with
+ * its joints' jerk beyond their limits (kinctl/check.h) is slowed by
+ * kc_check_slowing and judged again, up to KD_SLOW_PASSES times within the
+ * one budget, as long as that brings the jerk down: the goal handed on is
+ * the last one taken (a pass that is refused, runs over the budget or
+ * does no better leaves the one before). */
+static void judge(kd_checker *k, const kd_job *job, kd_job *out)
+{
+    kd_job *trial = &k->trial;
+    int64_t start = kd_now_ns();
+    memcpy(&out->goal, &job->goal, sizeof out->goal);
+    judge_once(k, out, start);
+    if (k->check->run_moving)
+        atomic_fetch_add_explicit(&k->moving, 1, memory_order_relaxed);
+    double jerk = (double)out->verdict.jerk, slowed = 1.0;
+    for (int pass = 0; pass < KD_SLOW_PASSES && taken(out); pass++) {
+        kc_real s = kc_check_slowing(&out->verdict);
+        memcpy(&trial->goal, &out->goal, sizeof trial->goal);
+        if (s >= KC_R(1.0) || kc_goal_slow(&trial->goal, &k->check->cfg, s) != KC_OK)
+            break;
+        judge_once(k, trial, start);
+        if (!taken(trial) || !(trial->verdict.jerk < out->verdict.jerk))
+            break;
+        memcpy(out, trial, sizeof *out);
+        slowed *= (double)s;
+    }
+    out->elapsed_ns = kd_now_ns() - start;
+    if (slowed < 1.0) {
+        atomic_fetch_add_explicit(&k->slowed, 1, memory_order_relaxed);
+        fprintf(stderr,
+                "kinctld: goal %" PRId64 " slowed to %.3g of its speed (its joints' jerk %.3g times their limits, "
+                "now %.3g)\n",
+                out->goal.id, slowed, jerk, (double)out->verdict.jerk);
+    }
+    if (out->end == KD_JOB_OVER_BUDGET)
+        atomic_fetch_add_explicit(&k->over_budget, 1, memory_order_relaxed);
+    if (taken(out))
         kc_check_handed(k->check, &out->goal, &out->verdict);
     atomic_fetch_add_explicit(&k->judged, 1, memory_order_relaxed);
 }

@@ -76,6 +76,7 @@
 #define KD_ORDER_MAX 16384      /* goals waiting for their answer, in order */
 #define KD_ORDER_TEXTS 256      /* of which refused with a text of their own */
 #define KD_SNAP_WAIT_MS 20      /* longest wait for a fresh snapshot of the controller */
+#define KD_SLOW_PASSES 3        /* dry runs of a goal slowed for its joints' jerk (checker.c) */
 
 /* How a job's dry run ended. */
 typedef enum kd_job_end {
@@ -121,6 +122,7 @@ typedef struct kd_checker {
     kd_spsc jobs, verdicts, ticks;
     kd_job job_storage[KD_CHECK_RING], verdict_storage[KD_CHECK_RING];
     kd_check_tick tick_storage[KD_CHECK_TICK_RING];
+    kd_job trial; /* the checker thread's: a goal slowed for its joints' jerk, judged */
     int wake_fd, done_fd; /* eventfds: work for the checker; verdicts for the I/O thread */
 
     /* The I/O thread's: the answers' order, and the tick waiting for room. */
@@ -136,6 +138,7 @@ typedef struct kd_checker {
     /* Counters (the checker's, read anywhere). */
     atomic_llong judged, over_budget;
     atomic_llong moving; /* replacing goals judged from a snapshot (the others from rest) */
+    atomic_llong slowed; /* goals slowed for their joints' jerk (checker.c) */
     int64_t answered_early; /* the I/O thread's: refusals answered out of order */
 
     atomic_int run;

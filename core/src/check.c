@@ -102,6 +102,8 @@ static kc_status run_set(kc_check *k, int64_t max_ticks)
     k->run_tick = 0;
     k->run_max = max_ticks;
     k->run_progress = KC_R(0.0);
+    memcpy(k->run_qdd, k->scratch.qdd, sizeof k->run_qdd);
+    k->run_jerk = KC_R(0.0);
     k->running = 1;
     return KC_MORE;
 }
@@ -167,6 +169,18 @@ static kc_status begin_moving(kc_check *k, const kc_goal *goal)
     return run_set(k, k->max_ticks > INT64_MAX / ratio ? INT64_MAX : k->max_ticks * ratio);
 }
 
+/* The joints' jerk at the tick just stepped, into the run's largest. */
+static void jerk_of(kc_check *k, const kc_ctrl_output *out)
+{
+    const kc_chain *chain = k->chain;
+    for (int j = 0; j < chain->n_joints; j++) {
+        kc_real r = kc_fabs(out->qdd[j] - k->run_qdd[j]) / (chain->joints[j].limits.qddd_max * k->scratch.cfg.dt);
+        if (r > k->run_jerk)
+            k->run_jerk = r;
+        k->run_qdd[j] = out->qdd[j];
+    }
+}
+
 kc_status kc_check_run(kc_check *k, int64_t max_ticks, kc_verdict *v)
 {
     if (k == NULL || v == NULL || !k->running || max_ticks < 1)
@@ -181,19 +195,29 @@ kc_status kc_check_run(kc_check *k, int64_t max_ticks, kc_verdict *v)
         }
         k->run_in.goal = NULL;
         k->run_progress = out.progress;
+        jerk_of(k, &out);
         for (int e = 0; e < out.n_events; e++)
             if (judged(k, &out.events[e], tick, v)) {
                 k->running = 0;
+                v->jerk = k->run_jerk;
                 return v->status;
             }
     }
     if (k->run_tick < k->run_max)
         return KC_MORE;
     k->running = 0;
+    v->jerk = k->run_jerk;
     v->status = KC_E_CAPACITY;
     v->reason = KC_REASON_PLAN;
     v->tick = k->run_max;
     return KC_E_CAPACITY;
+}
+
+kc_real kc_check_slowing(const kc_verdict *v)
+{
+    if (v == NULL || !(v->jerk > KC_R(1.0)) || !kc_isfinite(v->jerk))
+        return KC_R(1.0);
+    return kc_cbrt(KC_CHECK_JERK_MARGIN / v->jerk);
 }
 
 /* A run begun, stepped to its end. */

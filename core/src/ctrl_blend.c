@@ -447,8 +447,8 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
      * G's bound the sum (or what M's stop alone does, where that is more;
      * a servo stream's stop that cannot be planned jerk-limited is no
      * KC_DRIVE_HALT: keep_stop refuses it, the goal waits for it). */
-    kc_interp_limits lg = kc_ctrl_cart_limits(c, g);
-    kc_interp_limits lm = in_joints ? lg : kc_ctrl_cart_limits(c, &c->goal);
+    kc_interp_limits lg = kc_ctrl_cart_limits(&c->cfg, g);
+    kc_interp_limits lm = in_joints ? lg : kc_ctrl_cart_limits(&c->cfg, &c->goal);
     blend_bounds lim = {kc_max(lm.v, lg.v), kc_max(lm.a, lg.a), kc_max(lm.j, lg.j),
                         kc_max(lm.w, lg.w), kc_max(lm.dw, lg.dw), kc_max(lm.dj, lg.dj)};
     kc_real old_length = c->path_length;

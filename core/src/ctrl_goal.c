@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* ctrl_goal.c - the cheap checks of a goal, as a verdict naming the field,
- * knot and joint at fault, and the texts of the reasons (kinctl/ctrl.h). */
+ * knot and joint at fault, the texts of the reasons, and a goal's law
+ * slowed (kinctl/ctrl.h). */
 #include "ctrl_internal.h"
 
 #include <stddef.h>
@@ -168,6 +169,29 @@ kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *g, kc_verdict
             return kc_ctrl_refuse(v, KC_REASON_BAD_GOAL, KC_FIELD_ORIENTATION, -1, -1, (kc_real)NAN);
         }
         break;
+    }
+    return KC_OK;
+}
+
+kc_status kc_goal_slow(kc_goal *g, const kc_ctrl_cfg *cfg, kc_real s)
+{
+    if (g == NULL || cfg == NULL || !(s > KC_R(0.0) && s <= KC_R(1.0)) ||
+        (g->kind != KC_GOAL_LINE && g->kind != KC_GOAL_ARC && g->kind != KC_GOAL_PATH_CART))
+        return KC_E_ARG;
+    kc_interp_limits l = kc_ctrl_cart_limits(cfg, g);
+    if (!kc_isfinite(l.j)) /* the trapezoid */
+        return KC_E_ARG;
+    kc_real s2 = s * s, s3 = s2 * s;
+    g->speed = s * l.v;
+    g->accel = s2 * l.a;
+    g->omega = s * l.w;
+    g->alpha = s2 * l.dw;
+    g->jerk = s3 * l.j;
+    g->angular_jerk = s3 * l.dj;
+    if (g->kind == KC_GOAL_PATH_CART) {
+        for (int i = 0; g->has_times && i < g->n_points && i < KC_PATH_MAX_KNOTS - 1; i++)
+            g->times[i] /= s;
+        g->blend_time /= s;
     }
     return KC_OK;
 }

@@ -130,8 +130,8 @@ void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out);
 /* The joints' velocity and acceleration limits times the goal's scales. */
 void kc_ctrl_scaled_limits(const kc_ctrl *c, const kc_goal *g, kc_real *vmax, kc_real *amax);
 
-/* The Cartesian limits of a goal: its own, or the configured defaults. */
-kc_interp_limits kc_ctrl_cart_limits(const kc_ctrl *c, const kc_goal *g);
+/* The Cartesian limits of a goal: its own, or cfg's defaults. */
+kc_interp_limits kc_ctrl_cart_limits(const kc_ctrl_cfg *cfg, const kc_goal *g);
 
 /* The motion law of joint move g: its own, or cfg.profile; the trapezoid
  * for a chain with a joint without a jerk limit. */

@@ -15,19 +15,19 @@ void kc_ctrl_scaled_limits(const kc_ctrl *c, const kc_goal *g, kc_real *vmax, kc
     }
 }
 
-kc_interp_limits kc_ctrl_cart_limits(const kc_ctrl *c, const kc_goal *g)
+kc_interp_limits kc_ctrl_cart_limits(const kc_ctrl_cfg *cfg, const kc_goal *g)
 {
     kc_interp_limits l = kc_interp_limits_default();
-    l.v = g->speed > KC_R(0.0) ? g->speed : c->cfg.cart_speed;
-    l.a = g->accel > KC_R(0.0) ? g->accel : c->cfg.cart_accel;
-    l.w = g->omega > KC_R(0.0) ? g->omega : c->cfg.cart_omega;
-    l.dw = g->alpha > KC_R(0.0) ? g->alpha : c->cfg.cart_alpha;
+    l.v = g->speed > KC_R(0.0) ? g->speed : cfg->cart_speed;
+    l.a = g->accel > KC_R(0.0) ? g->accel : cfg->cart_accel;
+    l.w = g->omega > KC_R(0.0) ? g->omega : cfg->cart_omega;
+    l.dw = g->alpha > KC_R(0.0) ? g->alpha : cfg->cart_alpha;
     /* The trapezoid: jerk unbounded (kc_interp_limits_default's). */
     int trapezoid = g->profile == KC_GOAL_PROFILE_TRAPEZOID ||
-                    (g->profile == KC_GOAL_PROFILE_CFG && c->cfg.profile == KC_PROFILE_TRAPEZOID);
+                    (g->profile == KC_GOAL_PROFILE_CFG && cfg->profile == KC_PROFILE_TRAPEZOID);
     if (!trapezoid) {
-        l.j = g->jerk > KC_R(0.0) ? g->jerk : c->cfg.cart_jerk;
-        l.dj = g->angular_jerk > KC_R(0.0) ? g->angular_jerk : c->cfg.cart_angular_jerk;
+        l.j = g->jerk > KC_R(0.0) ? g->jerk : cfg->cart_jerk;
+        l.dj = g->angular_jerk > KC_R(0.0) ? g->angular_jerk : cfg->cart_angular_jerk;
     }
     return l;
 }
@@ -81,7 +81,7 @@ static kc_status plan_path(kc_ctrl *c, const kc_goal *g, const kc_pose *from, co
         r[i].y = v[5];
         r[i].z = v[6];
     }
-    kc_interp_limits lim = kc_ctrl_cart_limits(c, g);
+    kc_interp_limits lim = kc_ctrl_cart_limits(&c->cfg, g);
     kc_path_cart_cfg cfg = kc_path_cart_cfg_default();
     PATH_CFG_OF_GOAL(cfg, g, m, times, c->cfg.dt);
     cfg.p = p;
@@ -131,7 +131,7 @@ kc_status kc_ctrl_plan_joint(const kc_ctrl *c, const kc_goal *g, const kc_real *
 
 kc_status kc_ctrl_plan_cart_from(kc_ctrl *c, const kc_goal *g, const kc_pose *from)
 {
-    kc_interp_limits lim = kc_ctrl_cart_limits(c, g);
+    kc_interp_limits lim = kc_ctrl_cart_limits(&c->cfg, g);
     kc_status st = KC_E_ARG;
     c->path_length = KC_R(0.0);
     if (g->kind == KC_GOAL_LINE) {

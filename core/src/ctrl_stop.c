@@ -27,7 +27,7 @@ static kc_real path_ramp_load(const kc_ctrl *c, kc_real tau0, kc_real r0, kc_rea
     int n = c->chain->n_joints;
     kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS], worst = KC_R(0.0);
     kc_ctrl_scaled_limits(c, g, vmax, amax);
-    kc_real a_cart = kc_ctrl_cart_limits(c, g).a;
+    kc_real a_cart = kc_ctrl_cart_limits(&c->cfg, g).a;
     for (int i = 0; i <= STOP_SAMPLES; i++) {
         kc_real t = D * (kc_real)i / (kc_real)STOP_SAMPLES;
         kc_real r = r0 + a * t, at = kc_max(tau0 + r0 * t + KC_R(0.5) * a * t * t, KC_R(0.0));
@@ -70,7 +70,7 @@ static kc_real path_stop_rate(const kc_ctrl *c, kc_real tau, kc_real rate)
         kc_path_cart_eval_time(&c->plan.path_cart, tau, &s);
         kc_real speed = kc_vec3_norm(&s.v);
         if (speed > KC_R(0.0))
-            dec = kc_ctrl_cart_limits(c, g).a / speed;
+            dec = kc_ctrl_cart_limits(&c->cfg, g).a / speed;
     }
     if (!kc_isfinite(dec))
         dec = KC_R(1.0) / c->cfg.dt; /* standing still: stop within a tick */
@@ -99,7 +99,7 @@ kc_real kc_ctrl_path_tau_jerk(const kc_ctrl *c, kc_real tau0, kc_real tau1)
 {
     const kc_goal *g = &c->goal;
     kc_real J = INF;
-    kc_interp_limits lim = kc_ctrl_cart_limits(c, g);
+    kc_interp_limits lim = kc_ctrl_cart_limits(&c->cfg, g);
     if (g->kind == KC_GOAL_PATH ? kc_ctrl_goal_profile(c, g) == KC_PROFILE_TRAPEZOID : !kc_isfinite(lim.j))
         return INF;
     /* A rate between two samples h apart exceeds the nearer one by about

@@ -59,6 +59,21 @@
  * Servo goals stream: they get kc_ctrl_goal_check alone, and end where the
  * arm is.
  *
+ * The joints' jerk. A verdict of a run that stepped the motion says how
+ * near its joints came to their jerk limits: kc_verdict.jerk, the largest
+ * change of a joint's qdd over a tick of the run in units of its qddd_max
+ * times the run's period. A joint move or a joint path is planned within
+ * them; a Cartesian goal's limits are the tool's, and its joints' jerk is
+ * what the arm's Jacobian makes of the tool's motion (kinctl/ctrl.h), which
+ * may exceed them (a fast line, a line near a singularity, where the IK
+ * step's scaling holds a joint at its acceleration limit). Such a goal, if
+ * jerk-limited, can be slowed by kc_goal_slow by the factor
+ * kc_check_slowing gives and judged again: the same path, its law
+ * stretched in time, the joints' jerk about s^3 times what it was
+ * (kinctld does, up to three times, before it hands a goal on). The
+ * verdict's jerk covers every tick stepped: from a snapshot, the replaced
+ * motion's stop too, which slowing the goal does not change.
+ *
  * Not for the cycle: a dry run costs one controller step per tick of motion
  * (from a snapshot, per tick of the controller's period: cfg.dt over the
  * controller's dt times as many as at the check's own period).
@@ -72,6 +87,12 @@
 #include <stdint.h>
 
 #include "kinctl/ctrl.h"
+
+/* What kc_check_slowing aims the joints' jerk at, in units of their
+ * limits: below 1 because the law is not all of it (the IK step's
+ * correction is not slowed with it) and a dry run at a coarser period than
+ * the controller's sees a joint's jerk averaged over its longer tick. */
+#define KC_CHECK_JERK_MARGIN KC_R(0.9)
 
 typedef struct kc_check {
     const kc_chain *chain;
@@ -99,6 +120,8 @@ typedef struct kc_check {
     int64_t run_tick;     /* ticks stepped so far */
     int64_t run_max;      /* the longest motion judged, in ticks of the run's period */
     kc_real run_progress; /* of the goal's motion when last stepped, 0..1 */
+    kc_real run_qdd[KC_MAX_JOINTS]; /* the joints' qdd at the last tick stepped */
+    kc_real run_jerk;               /* the verdict's jerk so far */
     int running;
     /* The run under way (or the goal last judged) started from a snapshot:
      * the controller's moving state, at the controller's period; else at
@@ -140,6 +163,12 @@ kc_status kc_check_begin(kc_check *check, const kc_goal *goal, kc_verdict *verdi
  * kc_check_goal would have returned. KC_E_ARG with no dry run under way
  * (verdict untouched) or max_ticks < 1. */
 kc_status kc_check_run(kc_check *check, int64_t max_ticks, kc_verdict *verdict);
+
+/* The share of a Cartesian goal's speed (kc_goal_slow's s) that brings
+ * its joints' jerk, v->jerk when judged as it is, within
+ * KC_CHECK_JERK_MARGIN of their limits: cbrt(KC_CHECK_JERK_MARGIN /
+ * v->jerk) when v->jerk > 1, else 1 (and 1 for NULL or no number). */
+kc_real kc_check_slowing(const kc_verdict *v);
 
 /* The goal last judged by kc_check_goal (or begin and run), taken (verdict KC_OK), was handed
  * to the controller: the queue now ends where it ends. */

@@ -37,7 +37,8 @@
  * check), but its jerk is what the arm's Jacobian makes of the tool's
  * motion, not bounded by qddd_max (where the Jacobian amplifies, e.g. a
  * line near a singularity, it may exceed it; slower Cartesian limits
- * avoid that).
+ * avoid that: the dry run measures it, and kc_goal_slow slows a goal by
+ * the factor kc_check_slowing gives, kinctl/check.h).
  *
  * Goal ids name one goal while it is in flight: a goal whose id is that of
  * the active goal or of a queued one is refused (KC_REASON_DUPLICATE_ID),
@@ -406,6 +407,11 @@ typedef struct kc_verdict {
     kc_real distance;
     /* Taken: the joints where the goal ends (its start for a servo goal). */
     kc_real q_end[KC_MAX_JOINTS];
+    /* A dry run that stepped the motion: the largest change of a joint's
+     * qdd over one tick of the run, in units of that joint's qddd_max
+     * times the run's period (1: at the jerk limit), over every tick
+     * stepped; 0 when nothing was (kinctl/check.h). */
+    kc_real jerk;
 } kc_verdict;
 
 typedef enum kc_ctrl_event_kind {
@@ -655,6 +661,20 @@ void kc_ctrl_verdict_init(kc_verdict *verdict);
  * knot counts and times. KC_OK or KC_E_ARG; *verdict (if not NULL) says
  * which (no tick, zone or end joints: no motion is judged). Cycle-safe. */
 kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *goal, kc_verdict *verdict);
+
+/* Slows goal g's motion law by s in (0, 1]: the tool's speed and angular
+ * speed s times, its accelerations s^2 times and its jerks s^3 times (each
+ * the goal's, or where 0 cfg's), a Cartesian path's knot times and blend
+ * time 1/s times. The path stays the same, its law is the same law in
+ * time stretched by 1/s, and so the k-th time derivative of every joint
+ * along it is s^k times what it was (the IK step's correction aside).
+ * For a jerk-limited line, arc or Cartesian path (kinctl/check.h: how
+ * kinctld brings a goal whose joints' jerk the dry run finds beyond their
+ * qddd_max within them). KC_E_ARG for NULL, s outside (0, 1], or any
+ * other goal (a joint move or joint path is planned within the joints'
+ * limits; a trapezoid's jerk is unbounded by design); g is then
+ * unchanged. Cycle-safe. */
+kc_status kc_goal_slow(kc_goal *g, const kc_ctrl_cfg *cfg, kc_real s);
 
 /* One tick. Cycle-safe: bounded work (planning a segment when one starts:
  * see kinctl/path.h for the cost of long paths), no allocation. */
