@@ -17,9 +17,20 @@
  * every joint within its acceleration limit. */
 #define STOP_SAMPLES 16
 
-/* Ticks a Cartesian segment may take after its geometry ends for the tool
- * to settle within the IK tolerances. */
-#define SETTLE_TICKS 1000
+/* Time (s) a Cartesian segment may take after its geometry ends for the
+ * tool to settle within the IK tolerances and the joints to come to rest:
+ * seconds, not ticks, so that a dry run at a coarser period judges the
+ * same wait as the controller. */
+#define SETTLE_S KC_R(1.0)
+
+/* Time (s) over which a redundant arm's null-space motion (the IK step's
+ * null_gain) is brought to rest once the geometry has ended: the gain
+ * falls as 1 - 3x^2 + 2x^3 of the time x settled, so the joints' velocity
+ * in the null space falls smoothly (no step of qdd) to none. Without it
+ * that motion, decaying at null_gain (0.5/s), kept joints moving above the
+ * IK step's rest bound, which at a 1 ms period is jerk-limited and tight,
+ * for longer than SETTLE_S. */
+#define SETTLE_NULL_S KC_R(0.25)
 
 /* A tracking error this many times cfg.track_tol during a stop on the path
  * abandons the path for a stop in joint space. */

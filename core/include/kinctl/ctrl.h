@@ -38,7 +38,13 @@
  * motion, not bounded by qddd_max (where the Jacobian amplifies, e.g. a
  * line near a singularity, it may exceed it; slower Cartesian limits
  * avoid that: the dry run measures it, and kc_goal_slow slows a goal by
- * the factor kc_check_slowing gives, kinctl/check.h).
+ * the factor kc_check_slowing gives, kinctl/check.h). A redundant arm's
+ * null-space motion (the IK step's null_gain) is brought to rest smoothly
+ * once the geometry has ended, within 0.25 s, and the tool has 1 s in all
+ * to settle before the segment faults (seconds, whatever the period). That
+ * motion's jerk is not bounded by qddd_max either: when the target stops,
+ * the IK step's braking towards a still target scales the null-space
+ * velocity with the rest (the Panda: up to 2 x qddd_max in a tick).
  *
  * Goal ids name one goal while it is in flight: a goal whose id is that of
  * the active goal or of a queued one is refused (KC_REASON_DUPLICATE_ID),
