@@ -118,6 +118,20 @@ static void judge_once(kd_checker *k, kd_job *out, int64_t start)
 
 static int taken(const kd_job *j) { return j->end == KD_JOB_JUDGED && j->verdict.status == KC_OK; }
 
+/* The joints' jerk of a verdict beyond their limits, rounding apart. */
+static int over_jerk(const kd_job *j) { return taken(j) && j->verdict.jerk > KC_R(1.0) + KD_JERK_SLACK; }
+
+/* Judges k->trial; 1 when taken with less jerk than out, which it then
+ * replaces. */
+static int better(kd_checker *k, kd_job *out, int64_t start)
+{
+    judge_once(k, &k->trial, start);
+    if (!taken(&k->trial) || !(k->trial.verdict.jerk < out->verdict.jerk))
+        return 0;
+    memcpy(out, &k->trial, sizeof *out);
+    return 1;
+}
+
 /* The dry run of job into out. A jerk-limited Cartesian goal taken with
  * its joints' jerk beyond their limits (kinctl/check.h) is slowed by
  * kc_check_slowing and judged again, up to KD_SLOW_PASSES times within the
@@ -126,22 +140,17 @@ static int taken(const kd_job *j) { return j->end == KD_JOB_JUDGED && j->verdict
  * does no better leaves the one before). */
 static void judge(kd_checker *k, const kd_job *job, kd_job *out)
 {
-    kd_job *trial = &k->trial;
     int64_t start = kd_now_ns();
     memcpy(&out->goal, &job->goal, sizeof out->goal);
     judge_once(k, out, start);
     if (k->check->run_moving)
         atomic_fetch_add_explicit(&k->moving, 1, memory_order_relaxed);
     double jerk = (double)out->verdict.jerk, slowed = 1.0;
-    for (int pass = 0; pass < KD_SLOW_PASSES && taken(out); pass++) {
+    for (int pass = 0; pass < KD_SLOW_PASSES && over_jerk(out); pass++) {
         kc_real s = kc_check_slowing(&out->verdict);
-        memcpy(&trial->goal, &out->goal, sizeof trial->goal);
-        if (s >= KC_R(1.0) || kc_goal_slow(&trial->goal, &k->check->cfg, s) != KC_OK)
+        memcpy(&k->trial.goal, &out->goal, sizeof k->trial.goal);
+        if (kc_goal_slow(&k->trial.goal, &k->check->cfg, s) != KC_OK || !better(k, out, start))
             break;
-        judge_once(k, trial, start);
-        if (!taken(trial) || !(trial->verdict.jerk < out->verdict.jerk))
-            break;
-        memcpy(out, trial, sizeof *out);
         slowed *= (double)s;
     }
     out->elapsed_ns = kd_now_ns() - start;
