@@ -132,18 +132,34 @@ static int better(kd_checker *k, kd_job *out, int64_t start)
     return 1;
 }
 
+/* g is a goal kc_goal_slow takes: a jerk-limited line, arc or Cartesian
+ * path. The others are a joint move, within the limits from any start, or
+ * a joint path or a trapezoid, whose own law is not jerk-limited (which
+ * stopping first does not change). Uses k->trial. */
+static int slowable(kd_checker *k, const kc_goal *g)
+{
+    memcpy(&k->trial.goal, g, sizeof *g);
+    return kc_goal_slow(&k->trial.goal, &k->check->cfg, KC_R(1.0)) == KC_OK;
+}
+
 /* The dry run of job into out. A jerk-limited Cartesian goal taken with
  * its joints' jerk beyond their limits (kinctl/check.h) is slowed by
  * kc_check_slowing and judged again, up to KD_SLOW_PASSES times within the
- * one budget, as long as that brings the jerk down: the goal handed on is
- * the last one taken (a pass that is refused, runs over the budget or
- * does no better leaves the one before). */
+ * one budget, as long as that brings the jerk down. Such a replacing goal
+ * judged from the moving state whose transition is still beyond them
+ * (the replaced motion's stop is part of it: a line superposed on a joint
+ * move's stop adds the line's joint jerk to the stop's) is judged again
+ * with the motion it replaces stopped first (kc_goal.stop_first), and so
+ * taken if that does better. The goal handed on is the last one taken: a
+ * pass that is refused, runs over the budget or does no better leaves the
+ * one before. */
 static void judge(kd_checker *k, const kd_job *job, kd_job *out)
 {
     int64_t start = kd_now_ns();
     memcpy(&out->goal, &job->goal, sizeof out->goal);
     judge_once(k, out, start);
-    if (k->check->run_moving)
+    int moving = k->check->run_moving, stop_first = 0;
+    if (moving)
         atomic_fetch_add_explicit(&k->moving, 1, memory_order_relaxed);
     double jerk = (double)out->verdict.jerk, slowed = 1.0;
     for (int pass = 0; pass < KD_SLOW_PASSES && over_jerk(out); pass++) {
@@ -153,14 +169,25 @@ static void judge(kd_checker *k, const kd_job *job, kd_job *out)
             break;
         slowed *= (double)s;
     }
+    if (over_jerk(out) && moving && out->goal.replace && !out->goal.stop_first &&
+        out->verdict.reason != KC_REASON_STOP_FIRST && slowable(k, &out->goal)) {
+        memcpy(&k->trial.goal, &out->goal, sizeof k->trial.goal);
+        k->trial.goal.stop_first = 1;
+        stop_first = better(k, out, start);
+    }
     out->elapsed_ns = kd_now_ns() - start;
-    if (slowed < 1.0) {
+    if (slowed < 1.0 || stop_first)
         atomic_fetch_add_explicit(&k->slowed, 1, memory_order_relaxed);
+    if (slowed < 1.0)
         fprintf(stderr,
                 "kinctld: goal %" PRId64 " slowed to %.3g of its speed (its joints' jerk %.3g times their limits, "
                 "now %.3g)\n",
                 out->goal.id, slowed, jerk, (double)out->verdict.jerk);
-    }
+    if (stop_first)
+        fprintf(stderr,
+                "kinctld: goal %" PRId64 " stops the motion it replaces first (taking over, its joints' jerk %.3g "
+                "times their limits; so, %.3g)\n",
+                out->goal.id, jerk, (double)out->verdict.jerk);
     if (out->end == KD_JOB_OVER_BUDGET)
         atomic_fetch_add_explicit(&k->over_budget, 1, memory_order_relaxed);
     if (taken(out))

@@ -123,7 +123,7 @@ typedef struct kd_checker {
     kd_spsc jobs, verdicts, ticks;
     kd_job job_storage[KD_CHECK_RING], verdict_storage[KD_CHECK_RING];
     kd_check_tick tick_storage[KD_CHECK_TICK_RING];
-    kd_job trial; /* the checker thread's: a goal slowed for its joints' jerk, judged */
+    kd_job trial; /* the checker thread's: a goal slowed (or stopping first) for its joints' jerk */
     int wake_fd, done_fd; /* eventfds: work for the checker; verdicts for the I/O thread */
 
     /* The I/O thread's: the answers' order, and the tick waiting for room. */
@@ -139,7 +139,7 @@ typedef struct kd_checker {
     /* Counters (the checker's, read anywhere). */
     atomic_llong judged, over_budget;
     atomic_llong moving; /* replacing goals judged from a snapshot (the others from rest) */
-    atomic_llong slowed; /* goals slowed for their joints' jerk (checker.c) */
+    atomic_llong slowed; /* goals slowed, or stopping first, for their joints' jerk (checker.c) */
     int64_t answered_early; /* the I/O thread's: refusals answered out of order */
 
     atomic_int run;

@@ -768,8 +768,8 @@ void kd_io_summary(const kd_io *io, char *buf, int size)
                  (long long)io->rejections, (long long)io->msgs_invalid);
     if (o > 0 && o < size)
         o += snprintf(buf + o, (size_t)(size - o),
-                      ", dry runs %lld (over budget %lld, replacing goals from the moving state %lld, goals slowed for "
-                      "their joints' jerk %lld)",
+                      ", dry runs %lld (over budget %lld, replacing goals from the moving state %lld, goals slowed or "
+                      "stopping first for their joints' jerk %lld)",
                       (long long)atomic_load(&io->checker.judged), (long long)atomic_load(&io->checker.over_budget),
                       (long long)atomic_load(&io->checker.moving), (long long)atomic_load(&io->checker.slowed));
     if (o > 0 && o < size && io->checker.answered_early > 0)

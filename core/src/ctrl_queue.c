@@ -178,14 +178,14 @@ void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     }
     if (g->replace) {
         kc_ctrl_queue_clear(c, out);
-        if (g->kind == KC_GOAL_JOINT && c->active &&
+        if (g->kind == KC_GOAL_JOINT && !g->stop_first && c->active &&
             (c->state == KC_CTRL_MOVING || c->state == KC_CTRL_STOPPING) &&
             (kc_ctrl_goal_profile(c, g) == KC_PROFILE_JERK ? retarget_jerk(c, g) : retarget(c, g))) {
             kc_ctrl_emit_takeover(out, g->id, c->goal.id);
             take_retarget(c, g);
             return;
         }
-        if (kc_ctrl_blend_take(c, g, out))
+        if (!g->stop_first && kc_ctrl_blend_take(c, g, out))
             return;
         queue_push(c, g);
         /* Anything still moving stops first, and the answer says so. */

@@ -312,7 +312,18 @@ static void test_taken_as_controller(void **state)
     to.t.v[2] += KC_R(0.1);
     g = kt_line_goal(3, &to);
     g.replace = 1;
-    assert_as_controller(&g, KC_REASON_NONE);
+    int64_t over = assert_as_controller(&g, KC_REASON_NONE);
+    /* ... and the same line with stop_first: the sweep stops on its line
+     * first, and the line starts from rest there, later */
+    sweep_then_snapshot();
+    g.stop_first = 1;
+    assert_true(assert_as_controller(&g, KC_REASON_STOP_FIRST) > over);
+    /* a joint goal with stop_first: no retarget, the sweep stops first */
+    sweep_then_snapshot();
+    g = reach_goal(8, CTRL.q);
+    g.replace = 1;
+    g.stop_first = 1;
+    assert_as_controller(&g, KC_REASON_STOP_FIRST);
 
     /* a line superposed on a servo stream's halt (not stopped first) */
     servo_then_snapshot();

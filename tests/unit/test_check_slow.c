@@ -13,9 +13,17 @@
  * - Random fast lines on the PUMA 560, judged as kinctld judges them (a
  *   dry run at 4 ms for a controller at 1 ms, slowed and judged again up to
  *   three times): most exceed qddd_max as asked (the Jacobian amplifies the
- *   tool's jerk), and slowed, every tick at 1 ms stays within it. Double
- *   only: in float the IK step's rounding alone makes tick-to-tick jerk
- *   noise above qddd_max in any Cartesian motion (kinctl/ctrl.h). */
+ *   tool's jerk), and slowed, every tick at 1 ms stays within it.
+ * - Random lines replacing a moving joint move at a random tick, judged
+ *   from a snapshot as kinctld judges them (slowed up to three times, then
+ *   with stop_first where the superposition is still beyond the limits):
+ *   many superpositions exceed them (the line's joint jerk adds to the
+ *   stop's), and the goal as judged then keeps every joint within them on
+ *   every tick the controller steps, the verdict's jerk being the
+ *   controller's own.
+ * The last two in double only: in float the IK step's rounding alone makes
+ * tick-to-tick jerk noise above qddd_max in any Cartesian motion
+ * (kinctl/ctrl.h). */
 #include <math.h>
 #include <string.h>
 
@@ -26,7 +34,7 @@
 #define CASES 24
 
 static kc_chain CHAIN;
-static kc_ctrl CTRL; /* large: not on the stack */
+static kc_ctrl CTRL, MOVING; /* large: not on the stack */
 static kc_check CHECK;
 
 /* A dry run at period dt from the PUMA 560's start pose. */
@@ -105,6 +113,14 @@ static void test_verdict_jerk_is_the_runs(void **state)
             "the slowing for a jerk 8 times the limits");
 }
 
+/* kc_goal_slow refuses g with cfg and s, and leaves it as it was. */
+static void assert_refused(const kc_goal *g, const kc_ctrl_cfg *cfg, kc_real s)
+{
+    kc_goal b = *g;
+    assert_int_equal(kc_goal_slow(&b, cfg, s), KC_E_ARG);
+    assert_memory_equal(&b, g, sizeof b);
+}
+
 static void test_slow_scales_the_law(void **state)
 {
     (void)state;
@@ -142,29 +158,20 @@ static void test_slow_scales_the_law(void **state)
     /* Refused, and left as they were: a trapezoid line (the goal's or the
      * configuration's), a joint move, a servo goal, s outside (0, 1]. */
     const kc_real bad_s[4] = {KC_R(0.0), KC_R(-0.5), KC_R(1.5), (kc_real)NAN};
-    for (int i = 0; i < 4; i++) {
-        kc_goal b = g;
-        assert_int_equal(kc_goal_slow(&b, &cfg, bad_s[i]), KC_E_ARG);
-        assert_memory_equal(&b, &g, sizeof b);
-    }
+    for (int i = 0; i < 4; i++)
+        assert_refused(&g, &cfg, bad_s[i]);
     kc_goal t = g;
     t.profile = KC_GOAL_PROFILE_TRAPEZOID;
-    kc_goal t0 = t;
-    assert_int_equal(kc_goal_slow(&t, &cfg, s), KC_E_ARG);
-    assert_memory_equal(&t, &t0, sizeof t);
+    assert_refused(&t, &cfg, s);
     kc_ctrl_cfg trap = cfg;
     trap.profile = KC_PROFILE_TRAPEZOID;
-    kc_goal u = kt_line_goal(2, &to), u0 = u;
-    assert_int_equal(kc_goal_slow(&u, &trap, s), KC_E_ARG);
-    assert_memory_equal(&u, &u0, sizeof u);
-    kc_goal j = kt_joint_goal(3, KT_PUMA_Q0, 6), j0 = j;
-    assert_int_equal(kc_goal_slow(&j, &cfg, s), KC_E_ARG);
-    assert_memory_equal(&j, &j0, sizeof j);
+    kc_goal u = kt_line_goal(2, &to);
+    assert_refused(&u, &trap, s);
+    kc_goal j = kt_joint_goal(3, KT_PUMA_Q0, 6);
+    assert_refused(&j, &cfg, s);
     kc_goal sv = g;
     sv.kind = KC_GOAL_SERVO;
-    kc_goal sv0 = sv;
-    assert_int_equal(kc_goal_slow(&sv, &cfg, s), KC_E_ARG);
-    assert_memory_equal(&sv, &sv0, sizeof sv);
+    assert_refused(&sv, &cfg, s);
     assert_int_equal(kc_goal_slow(NULL, &cfg, s), KC_E_ARG);
     assert_int_equal(kc_goal_slow(&g, NULL, s), KC_E_ARG);
 }
@@ -195,12 +202,107 @@ static void test_slowed_lines_keep_joints_within_jerk(void **state)
     assert_true(over >= CASES / 2);
 }
 
+/* g judged as replacing MOVING's motion, from a snapshot of it. */
+static kc_status judge_moving(const kc_goal *g, kc_verdict *v)
+{
+    assert_int_equal(kc_check_snapshot(&CHECK, &MOVING, 0), KC_OK);
+    kc_status st = kc_check_goal(&CHECK, g, v);
+    assert_int_equal(CHECK.run_moving, 1);
+    return st;
+}
+
+static int over(const kc_verdict *v) { return v->jerk > KC_R(1.0) + KC_R(1e-6); }
+
+static void test_replacing_lines_keep_joints_within_jerk(void **state)
+{
+    (void)state;
+#ifdef KC_REAL_FLOAT
+    skip(); /* the file's header: float's rounding noise */
+#endif
+    kc_ctrl_cfg cfg = setup(KC_R(0.001));
+    kt_rng r = kt_rng_make(0x5F1);
+    int judged = 0, superposed_over = 0, stopped_first = 0;
+    for (int c = 0; c < 4 * CASES; c++) {
+        /* A joint move of up to 0.4 rad a joint from the start pose,
+         * replaced after 20 to 600 ticks by a line of 5 to 20 cm at the
+         * default limits from where the tool is. */
+        kc_real q[6];
+        for (int j = 0; j < 6; j++)
+            q[j] = KT_PUMA_Q0[j] + (kc_real)kt_uniform(&r, -0.4, 0.4);
+        kc_goal m = kt_joint_goal(1, q, 6);
+        assert_int_equal(kc_ctrl_init(&MOVING, &CHAIN, &cfg, KT_PUMA_Q0), KC_OK);
+        kc_ctrl_output out;
+        memset(&out, 0, sizeof out);
+        int ticks = (int)kt_uniform(&r, 20.0, 600.0);
+        for (int t = 0; t < ticks; t++) {
+            kc_ctrl_input in = {t == 0 ? &m : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
+            assert_int_equal(kc_ctrl_step(&MOVING, &in, &out), KC_OK);
+        }
+        kc_pose to = MOVING.pose;
+        kc_vec3 dir = kt_rand_unit(&r);
+        kc_real len = (kc_real)kt_uniform(&r, 0.05, 0.2);
+        for (int i = 0; i < 3; i++)
+            to.t.v[i] += len * dir.v[i];
+        kc_goal g = kt_line_goal(2, &to);
+        g.replace = 1;
+        kc_verdict v;
+        if (out.state != KC_CTRL_MOVING || judge_moving(&g, &v) != KC_OK)
+            continue; /* at rest already, or out of reach */
+        judged++;
+        superposed_over += over(&v) && v.reason == KC_REASON_NONE;
+        for (int pass = 0; pass < 3 && over(&v); pass++) {
+            kc_goal h = g;
+            kc_verdict w;
+            if (kc_goal_slow(&h, &cfg, kc_check_slowing(&v)) != KC_OK || judge_moving(&h, &w) != KC_OK ||
+                !(w.jerk < v.jerk))
+                break;
+            g = h;
+            v = w;
+        }
+        if (over(&v) && v.reason != KC_REASON_STOP_FIRST) {
+            kc_goal h = g;
+            kc_verdict w;
+            h.stop_first = 1;
+            if (judge_moving(&h, &w) == KC_OK && w.jerk < v.jerk) {
+                g = h;
+                v = w;
+                stopped_first++;
+                assert_int_equal(v.reason, KC_REASON_STOP_FIRST);
+            }
+        }
+        assert_false(over(&v));
+        /* The controller, given the goal as judged, steps the verdict's
+         * jerk. */
+        double prev[KC_MAX_JOINTS], worst = 0.0;
+        for (int j = 0; j < 6; j++)
+            prev[j] = (double)MOVING.qdd[j];
+        int done = 0;
+        for (int t = 0; t < 100000 && !done; t++) {
+            kc_ctrl_input in = {t == 0 ? &g : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
+            assert_int_equal(kc_ctrl_step(&MOVING, &in, &out), KC_OK);
+            for (int j = 0; j < 6; j++) {
+                double step = fabs((double)out.qdd[j] - prev[j]) / ((double)CHAIN.joints[j].limits.qddd_max * 1e-3);
+                worst = fmax(worst, step);
+                prev[j] = (double)out.qdd[j];
+            }
+            done = kt_has_event(&out, KC_EVENT_COMPLETED, g.id);
+        }
+        assert_true(done);
+        kt_near(worst, (double)v.jerk, 1e-12, "the controller's jerk, as judged");
+    }
+    assert_true(judged >= 2 * CASES);
+    /* Many superpositions need it, and most of those stop first. */
+    assert_true(superposed_over >= judged / 10);
+    assert_true(stopped_first >= superposed_over / 2);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_verdict_jerk_is_the_runs),
         cmocka_unit_test(test_slow_scales_the_law),
         cmocka_unit_test(test_slowed_lines_keep_joints_within_jerk),
+        cmocka_unit_test(test_replacing_lines_keep_joints_within_jerk),
     };
     int rc = cmocka_run_group_tests(tests, NULL, NULL);
     kt_report("check_slow");

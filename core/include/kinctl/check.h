@@ -72,7 +72,10 @@
  * stretched in time, the joints' jerk about s^3 times what it was
  * (kinctld does, up to three times, before it hands a goal on). The
  * verdict's jerk covers every tick stepped: from a snapshot, the replaced
- * motion's stop too, which slowing the goal does not change.
+ * motion's stop too, which slowing the goal does not change; where the
+ * transition stays beyond the limits, kinctld judges the goal again with
+ * stop_first (kinctl/ctrl.h: the motion stops on its path first) and
+ * takes it so if that does better.
  *
  * Not for the cycle: a dry run costs one controller step per tick of motion
  * (from a snapshot, per tick of the controller's period: cfg.dt over the

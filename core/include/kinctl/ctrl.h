@@ -150,8 +150,8 @@
  * velocities jumping); a path that does not start at rest (Lagrange's);
  * a joint path replacing anything but a jerk-limited joint move or a
  * servo stream; a replacing servo stream; a
- * replacement during a superposition or a stop; and a goal that cannot be
- * planned from P_s. Setpoints stay continuous in
+ * replacement during a superposition or a stop; a goal that cannot be
+ * planned from P_s; and a goal with stop_first set. Setpoints stay continuous in
  * position and velocity throughout, and in acceleration through
  * everything jerk-limited.
  *
@@ -314,6 +314,12 @@ typedef struct kc_goal {
     int64_t id;        /* chosen by the client, echoed in events and setpoints */
     kc_goal_kind kind;
     int replace;       /* 0: queue behind the others; 1: preempt */
+    /* With replace: 1 has the motion it replaces stop on its path first,
+     * as where no continuous transition exists (no retarget, no
+     * superposition; ACCEPTED with KC_REASON_STOP_FIRST). kinctld sets it
+     * where the dry run finds the transition beyond a joint's jerk limit
+     * and the stop first within it (kinctl/check.h). */
+    int stop_first;
     kc_goal_profile profile; /* joint move, line, arc, path: its motion law */
     /* Fractions of the joints' velocity and acceleration limits, (0, 1]. */
     kc_real vel_scale, acc_scale;
