@@ -498,17 +498,17 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
             c->servo_target.t.v[i] += c->goal.twist[i] * c->cfg.dt;
     }
     kc_ik_result res;
-    const kc_ik_cfg *ik = &c->cfg.ik;
-    kc_ik_cfg settling;
+    /* Settling: a redundant arm's null-space motion brought to rest
+     * (SETTLE_NULL_S; a task without a null space has none), its gain
+     * scaled for this step only (no copy of the IK configuration on the
+     * stack). */
+    kc_real null_gain = c->cfg.ik.null_gain;
     if (c->settle > 0) {
-        /* Settling: a redundant arm's null-space motion brought to rest
-         * (SETTLE_NULL_S; a task without a null space has none). */
         kc_real x = kc_min((kc_real)c->settle * c->cfg.dt / SETTLE_NULL_S, KC_R(1.0));
-        settling = c->cfg.ik;
-        settling.null_gain *= KC_R(1.0) - x * x * (KC_R(3.0) - KC_R(2.0) * x);
-        ik = &settling;
+        c->cfg.ik.null_gain = null_gain * (KC_R(1.0) - x * x * (KC_R(3.0) - KC_R(2.0) * x));
     }
-    kc_status st = kc_ik_step(c->chain, ik, &before.pose, before.twist, c->cfg.dt, c->q, c->qd, q, qd, &res);
+    kc_status st = kc_ik_step(c->chain, &c->cfg.ik, &before.pose, before.twist, c->cfg.dt, c->q, c->qd, q, qd, &res);
+    c->cfg.ik.null_gain = null_gain;
     for (int i = 0; i < n; i++)
         qdd[i] = (qd[i] - c->qd[i]) / c->cfg.dt;
     /* A servo target may jump: the arm goes there within its limits, and
