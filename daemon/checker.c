@@ -132,16 +132,6 @@ static int better(kd_checker *k, kd_job *out, int64_t start)
     return 1;
 }
 
-/* g is a goal kc_goal_slow takes: a jerk-limited line, arc or Cartesian
- * path. The others are a joint move, within the limits from any start, or
- * a joint path or a trapezoid, whose own law is not jerk-limited (which
- * stopping first does not change). Uses k->trial. */
-static int slowable(kd_checker *k, const kc_goal *g)
-{
-    memcpy(&k->trial.goal, g, sizeof *g);
-    return kc_goal_slow(&k->trial.goal, &k->check->cfg, KC_R(1.0)) == KC_OK;
-}
-
 /* The dry run of job into out. A jerk-limited Cartesian goal taken with
  * its joints' jerk beyond their limits (kinctl/check.h) is slowed by
  * kc_check_slowing and judged again, up to KD_SLOW_PASSES times within the
@@ -158,19 +148,25 @@ static void judge(kd_checker *k, const kd_job *job, kd_job *out)
     int64_t start = kd_now_ns();
     memcpy(&out->goal, &job->goal, sizeof out->goal);
     judge_once(k, out, start);
-    int moving = k->check->run_moving, stop_first = 0;
+    int moving = k->check->run_moving, slowable = 0, stop_first = 0;
     if (moving)
         atomic_fetch_add_explicit(&k->moving, 1, memory_order_relaxed);
     double jerk = (double)out->verdict.jerk, slowed = 1.0;
     for (int pass = 0; pass < KD_SLOW_PASSES && over_jerk(out); pass++) {
         kc_real s = kc_check_slowing(&out->verdict);
         memcpy(&k->trial.goal, &out->goal, sizeof k->trial.goal);
-        if (kc_goal_slow(&k->trial.goal, &k->check->cfg, s) != KC_OK || !better(k, out, start))
+        if (kc_goal_slow(&k->trial.goal, &k->check->cfg, s) != KC_OK)
+            break; /* a joint move (within the limits from any start), joint path or trapezoid */
+        slowable = 1;
+        if (!better(k, out, start))
             break;
         slowed *= (double)s;
     }
-    if (over_jerk(out) && moving && out->goal.replace && !out->goal.stop_first &&
-        out->verdict.reason != KC_REASON_STOP_FIRST && slowable(k, &out->goal)) {
+    /* Only a goal kc_goal_slow takes stops first for its jerk: a joint
+     * path's or a trapezoid's own law is not jerk-limited, which stopping
+     * first does not change. */
+    if (over_jerk(out) && slowable && moving && out->goal.replace && !out->goal.stop_first &&
+        out->verdict.reason != KC_REASON_STOP_FIRST) {
         memcpy(&k->trial.goal, &out->goal, sizeof k->trial.goal);
         k->trial.goal.stop_first = 1;
         stop_first = better(k, out, start);
