@@ -34,12 +34,17 @@ static inline void kc_ik_null_gradient(const kc_ik_problem *p, const kc_real *q,
         kc_real gj = (q[j] - p->rest[j]) / (range * range);
         kc_real margin = p->cfg->limit_margin * range;
         if (margin > KC_R(0.0)) {
-            /* Quadratic barrier inside the margin, 100 times the rest pull. */
+            /* Cubic barrier inside the margin m, d^3 / (6 m^3) at depth d:
+             * its gradient d^2 / (2 m^3) starts from 0 with slope 0, so the
+             * null-space velocity's rate (the gradient's slope times qd)
+             * rises from 0 as a joint enters the margin instead of jumping
+             * to its bound within a few mrad (see kinctl/ik.h). */
             kc_real over_hi = q[j] - (p->hi[j] - margin), over_lo = (p->lo[j] + margin) - q[j];
+            kc_real k = KC_R(0.5) / (margin * margin * margin);
             if (over_hi > KC_R(0.0))
-                gj += KC_R(100.0) * over_hi / (margin * margin);
+                gj += k * over_hi * over_hi;
             if (over_lo > KC_R(0.0))
-                gj -= KC_R(100.0) * over_lo / (margin * margin);
+                gj -= k * over_lo * over_lo;
         }
         g[j] = gj;
     }

@@ -48,6 +48,13 @@
  * inside cfg.limit_margin of each position limit, projected into the null
  * space of J (seed 003's removal of redundancy):
  *     qdot = J^+ U + (I - J^+ J) (-null_gain grad H).
+ * The barrier is cubic in the depth d into the margin m (m = limit_margin
+ * x range), its gradient d^2 / (2 m^3): zero with zero slope where a joint
+ * enters the margin, so the null-space velocity's rate, the gradient's
+ * slope times qd, rises from 0 there. (A gradient linear in d, 100 d / m^2,
+ * took the null-space velocity to its bound within a few mrad of the
+ * margin; the Panda's lines and arcs then stepped qdd by up to
+ * 4 x qddd_max.)
  *
  * Joint limits. Every step is clamped into the position limits; a joint that
  * sits at a limit and would be pushed beyond it is frozen for that step (its
