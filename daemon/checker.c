@@ -119,7 +119,7 @@ static void judge_once(kd_checker *k, kd_job *out, int64_t start)
 static int taken(const kd_job *j) { return j->end == KD_JOB_JUDGED && j->verdict.status == KC_OK; }
 
 /* The joints' jerk of a verdict beyond their limits, rounding apart. */
-static int over_jerk(const kd_job *j) { return taken(j) && j->verdict.jerk > KC_R(1.0) + KD_JERK_SLACK; }
+static int over_jerk(const kd_job *j) { return taken(j) && !kc_check_jerk_within(&j->verdict); }
 
 /* Judges k->trial; 1 when taken with less jerk than out, which it then
  * replaces. */
@@ -133,9 +133,11 @@ static int better(kd_checker *k, kd_job *out, int64_t start)
 }
 
 /* The dry run of job into out. A jerk-limited Cartesian goal taken with
- * its joints' jerk beyond their limits (kinctl/check.h) is slowed by
- * kc_check_slowing and judged again, up to KD_SLOW_PASSES times within the
- * one budget, as long as that brings the jerk down. Such a replacing goal
+ * its joints' jerk beyond their limits (kinctl/check.h) is slowed and
+ * judged again by kc_check_slow's search, up to KC_CHECK_SLOW_PASSES times
+ * within the one budget: the fastest share of its speed judged within the
+ * limits is handed on, or, where none is, the one with the least jerk
+ * (the goal as asked if none has less). Such a replacing goal
  * judged from the moving state whose transition is still beyond them
  * (the replaced motion's stop is part of it: a line superposed on a joint
  * move's stop adds the line's joint jerk to the stop's) is judged again
@@ -152,15 +154,23 @@ static void judge(kd_checker *k, const kd_job *job, kd_job *out)
     if (moving)
         atomic_fetch_add_explicit(&k->moving, 1, memory_order_relaxed);
     double jerk = (double)out->verdict.jerk, slowed = 1.0;
-    for (int pass = 0; pass < KD_SLOW_PASSES && over_jerk(out); pass++) {
-        kc_real s = kc_check_slowing(&out->verdict);
-        memcpy(&k->trial.goal, &out->goal, sizeof k->trial.goal);
-        if (kc_goal_slow(&k->trial.goal, &k->check->cfg, s) != KC_OK)
+    kc_check_slow ss;
+    memset(&ss, 0, sizeof ss);
+    if (over_jerk(out))
+        kc_check_slow_start(&ss, &out->verdict);
+    for (int pass = 0; pass < KC_CHECK_SLOW_PASSES && ss.s > KC_R(0.0); pass++) {
+        memcpy(&k->trial.goal, &job->goal, sizeof k->trial.goal);
+        if (kc_goal_slow(&k->trial.goal, &k->check->cfg, ss.s) != KC_OK)
             break; /* a joint move (within the limits from any start), joint path or trapezoid */
         slowable = 1;
-        if (!better(k, out, start))
+        double s = (double)ss.s;
+        judge_once(k, &k->trial, start);
+        if (!taken(&k->trial))
             break;
-        slowed *= (double)s;
+        if (kc_check_slow_next(&ss, &k->trial.verdict)) {
+            memcpy(out, &k->trial, sizeof *out);
+            slowed = s;
+        }
     }
     /* Only a goal kc_goal_slow takes stops first for its jerk: a joint
      * path's or a trapezoid's own law is not jerk-limited, which stopping

@@ -76,8 +76,6 @@
 #define KD_ORDER_MAX 16384      /* goals waiting for their answer, in order */
 #define KD_ORDER_TEXTS 256      /* of which refused with a text of their own */
 #define KD_SNAP_WAIT_MS 20      /* longest wait for a fresh snapshot of the controller */
-#define KD_SLOW_PASSES 3        /* dry runs of a goal slowed for its joints' jerk (checker.c) */
-#define KD_JERK_SLACK 1e-6      /* a verdict's jerk above 1 by no more is the limit's rounding */
 
 /* How a job's dry run ended. */
 typedef enum kd_job_end {

@@ -220,6 +220,51 @@ kc_real kc_check_slowing(const kc_verdict *v)
     return kc_cbrt(KC_CHECK_JERK_MARGIN / v->jerk);
 }
 
+int kc_check_jerk_within(const kc_verdict *v)
+{
+    return v != NULL && v->jerk <= KC_R(1.0) + KC_CHECK_JERK_SLACK;
+}
+
+int kc_check_slow_start(kc_check_slow *ss, const kc_verdict *v)
+{
+    ss->s_ok = KC_R(0.0);
+    ss->jerk_ok = KC_R(0.0);
+    ss->s_over = KC_R(1.0);
+    ss->jerk_best = v->jerk;
+    ss->s = kc_check_jerk_within(v) ? KC_R(0.0) : kc_check_slowing(v);
+    return ss->s > KC_R(0.0);
+}
+
+int kc_check_slow_next(kc_check_slow *ss, const kc_verdict *v)
+{
+    kc_real s = ss->s;
+    int best;
+    if (kc_check_jerk_within(v)) {
+        best = s > ss->s_ok;
+        if (best) {
+            ss->s_ok = s;
+            ss->jerk_ok = v->jerk;
+        }
+    } else {
+        best = ss->s_ok == KC_R(0.0) && v->jerk < ss->jerk_best;
+        if (best)
+            ss->jerk_best = v->jerk;
+        ss->s_over = kc_min(ss->s_over, s);
+    }
+    if (ss->s_ok == KC_R(0.0)) {
+        ss->s = s * kc_check_slowing(v);
+        return best;
+    }
+    /* Where the verdict within says the law has room: its cube root, kept
+     * inside the bracket. */
+    kc_real est = ss->s_ok * kc_cbrt(KC_CHECK_JERK_MARGIN / kc_max(ss->jerk_ok, KC_REAL_EPS));
+    if (ss->s_over <= ss->s_ok * KC_CHECK_SLOW_CLOSE || est <= ss->s_ok * KC_CHECK_SLOW_CLOSE)
+        ss->s = KC_R(0.0);
+    else
+        ss->s = est < ss->s_over ? est : kc_sqrt(ss->s_ok * ss->s_over);
+    return best;
+}
+
 /* A run begun, stepped to its end. */
 static kc_status run_all(kc_check *k, kc_status st, kc_verdict *v)
 {

@@ -10,12 +10,17 @@
  * - kc_goal_slow scales the law's limits by s, s^2, s^3 (the goal's or the
  *   configured defaults), a Cartesian path's times by 1/s, and refuses the
  *   goals it does not apply to, leaving them unchanged.
+ * - kc_check_slow's search, on verdicts made up for it: the cube root
+ *   while nothing is within the limits, then the bracket narrowed to
+ *   KC_CHECK_SLOW_CLOSE from a share far too slow, and which verdict is
+ *   the best.
  * - Random fast lines on the PUMA 560, judged as kinctld judges them (a
- *   dry run at 4 ms for a controller at 1 ms, slowed and judged again up to
- *   three times): most exceed qddd_max as asked (the Jacobian amplifies the
- *   tool's jerk), and slowed, every tick at 1 ms stays within it.
+ *   dry run at the controller's period, 1 ms, slowed along the search,
+ *   kt_judge_slowed): most exceed qddd_max as asked (the Jacobian
+ *   amplifies the tool's jerk), and slowed, every tick at 1 ms stays
+ *   within it.
  * - Random lines replacing a moving joint move at a random tick, judged
- *   from a snapshot as kinctld judges them (slowed up to three times, then
+ *   from a snapshot as kinctld judges them (slowed along the search, then
  *   with stop_first where the superposition is still beyond the limits):
  *   many superpositions exceed them (the line's joint jerk adds to the
  *   stop's), and the goal as judged then keeps every joint within them on
@@ -113,6 +118,71 @@ static void test_verdict_jerk_is_the_runs(void **state)
             "the slowing for a jerk 8 times the limits");
 }
 
+/* A verdict of a taken goal whose joints' jerk is jerk x their limits. */
+static kc_verdict with_jerk(double jerk)
+{
+    kc_verdict v;
+    memset(&v, 0, sizeof v);
+    v.status = KC_OK;
+    v.jerk = (kc_real)jerk;
+    return v;
+}
+
+static void test_slow_search(void **state)
+{
+    (void)state;
+    const double eps = 8.0 * (double)KC_REAL_EPS, m = (double)KC_CHECK_JERK_MARGIN;
+    kc_check_slow ss;
+    /* Within the limits as asked (rounding apart): nothing to search. */
+    kc_verdict v = with_jerk(1.0 + 0.5e-6);
+    assert_int_equal(kc_check_slow_start(&ss, &v), 0);
+    assert_true(ss.s == KC_R(0.0));
+    /* 112 x the limits as asked (a joint held at its acceleration limit):
+     * the cube root first, far too slow. */
+    v = with_jerk(112.0);
+    assert_int_equal(kc_check_slow_start(&ss, &v), 1);
+    double s1 = cbrt(m / 112.0);
+    kt_near((double)ss.s, s1, eps, "the first share, kc_check_slowing's");
+    v = with_jerk(0.0866);
+    assert_int_equal(kc_check_slow_next(&ss, &v), 1); /* the first within: the best */
+    double s2 = s1 * cbrt(m / 0.0866);                /* its estimate, inside (s1, 1) */
+    kt_near((double)ss.s, s2, eps, "the estimate from the share within");
+    v = with_jerk(3.0);
+    assert_int_equal(kc_check_slow_next(&ss, &v), 0); /* over, after one within: not the best */
+    double s3 = sqrt(s1 * s2);                        /* the estimate is not below s2: the middle */
+    kt_near((double)ss.s, s3, eps, "the bracket's geometric middle");
+    v = with_jerk(0.5);
+    assert_int_equal(kc_check_slow_next(&ss, &v), 1);
+    double s4 = s3 * cbrt(m / 0.5);
+    assert_true(s4 < s2);
+    kt_near((double)ss.s, s4, eps, "the estimate, inside the bracket");
+    v = with_jerk(0.88); /* close to the margin: the estimate gains under 5 % */
+    assert_int_equal(kc_check_slow_next(&ss, &v), 1);
+    assert_true(ss.s == KC_R(0.0));
+    kt_near((double)ss.s_ok, s4, eps, "the share handed on");
+    /* Nothing within: each share from the last, the best the least jerk. */
+    v = with_jerk(8.0);
+    assert_int_equal(kc_check_slow_start(&ss, &v), 1);
+    v = with_jerk(9.0);
+    assert_int_equal(kc_check_slow_next(&ss, &v), 0);
+    kt_near((double)ss.s, cbrt(m / 8.0) * cbrt(m / 9.0), eps, "the cube root from the last verdict");
+    v = with_jerk(2.0);
+    assert_int_equal(kc_check_slow_next(&ss, &v), 1);
+    /* A bracket already within 5 %: done. */
+    v = with_jerk(1.02);
+    assert_int_equal(kc_check_slow_start(&ss, &v), 1);
+    v = with_jerk(0.3);
+    assert_int_equal(kc_check_slow_next(&ss, &v), 1);
+    assert_true(ss.s == KC_R(0.0));
+}
+
+/* g judged from rest at KT_PUMA_Q0 (kt_judge_fn). */
+static kc_status judge_at_rest(const kc_goal *g, kc_verdict *v, void *ctx)
+{
+    (void)ctx;
+    return kc_check_from(&CHECK, KT_PUMA_Q0, g, v);
+}
+
 /* kc_goal_slow refuses g with cfg and s, and leaves it as it was. */
 static void assert_refused(const kc_goal *g, const kc_ctrl_cfg *cfg, kc_real s)
 {
@@ -182,20 +252,16 @@ static void test_slowed_lines_keep_joints_within_jerk(void **state)
 #ifdef KC_REAL_FLOAT
     skip(); /* the file's header: float's rounding noise */
 #endif
-    kc_ctrl_cfg cfg = setup(KC_R(0.004)); /* kinctld's dry run, for its 1 ms cycle */
-    const kc_real dt = KC_R(0.001);
+    kc_ctrl_cfg cfg = setup(KC_R(0.001)); /* kinctld's dry run, at its cycle's period */
+    const kc_real dt = cfg.dt;
     kt_rng r = kt_rng_make(0x5103);
     int over = 0;
     for (int c = 0; c < CASES; c++) {
         kc_goal g = fast_line(&r, 100 + c);
         over += stepped_jerk(&g, dt) > 1.0;
         kc_verdict v;
-        assert_int_equal(kc_check_from(&CHECK, KT_PUMA_Q0, &g, &v), KC_OK);
-        for (int pass = 0; pass < 3 && kc_check_slowing(&v) < KC_R(1.0); pass++) {
-            assert_int_equal(kc_goal_slow(&g, &cfg, kc_check_slowing(&v)), KC_OK);
-            assert_int_equal(kc_check_from(&CHECK, KT_PUMA_Q0, &g, &v), KC_OK);
-        }
-        assert_true(v.jerk <= KC_R(1.0));
+        assert_int_equal(kt_judge_slowed(judge_at_rest, NULL, &cfg, &g, &v), KC_OK);
+        assert_true(kc_check_jerk_within(&v));
         kt_near(stepped_jerk(&g, dt) <= 1.0, 1.0, 0.0, "the slowed line's joints within qddd_max at 1 ms");
     }
     /* Most of these lines need it. */
@@ -203,15 +269,16 @@ static void test_slowed_lines_keep_joints_within_jerk(void **state)
 }
 
 /* g judged as replacing MOVING's motion, from a snapshot of it. */
-static kc_status judge_moving(const kc_goal *g, kc_verdict *v)
+static kc_status judge_moving(const kc_goal *g, kc_verdict *v, void *ctx)
 {
+    (void)ctx;
     assert_int_equal(kc_check_snapshot(&CHECK, &MOVING, 0), KC_OK);
     kc_status st = kc_check_goal(&CHECK, g, v);
     assert_int_equal(CHECK.run_moving, 1);
     return st;
 }
 
-static int over(const kc_verdict *v) { return v->jerk > KC_R(1.0) + KC_R(1e-6); }
+static int over(const kc_verdict *v) { return !kc_check_jerk_within(v); }
 
 static void test_replacing_lines_keep_joints_within_jerk(void **state)
 {
@@ -246,24 +313,16 @@ static void test_replacing_lines_keep_joints_within_jerk(void **state)
         kc_goal g = kt_line_goal(2, &to);
         g.replace = 1;
         kc_verdict v;
-        if (out.state != KC_CTRL_MOVING || judge_moving(&g, &v) != KC_OK)
+        if (out.state != KC_CTRL_MOVING || judge_moving(&g, &v, NULL) != KC_OK)
             continue; /* at rest already, or out of reach */
         judged++;
         superposed_over += over(&v) && v.reason == KC_REASON_NONE;
-        for (int pass = 0; pass < 3 && over(&v); pass++) {
-            kc_goal h = g;
-            kc_verdict w;
-            if (kc_goal_slow(&h, &cfg, kc_check_slowing(&v)) != KC_OK || judge_moving(&h, &w) != KC_OK ||
-                !(w.jerk < v.jerk))
-                break;
-            g = h;
-            v = w;
-        }
+        assert_int_equal(kt_judge_slowed(judge_moving, NULL, &cfg, &g, &v), KC_OK);
         if (over(&v) && v.reason != KC_REASON_STOP_FIRST) {
             kc_goal h = g;
             kc_verdict w;
             h.stop_first = 1;
-            if (judge_moving(&h, &w) == KC_OK && w.jerk < v.jerk) {
+            if (judge_moving(&h, &w, NULL) == KC_OK && w.jerk < v.jerk) {
                 g = h;
                 v = w;
                 stopped_first++;
@@ -301,6 +360,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_verdict_jerk_is_the_runs),
         cmocka_unit_test(test_slow_scales_the_law),
+        cmocka_unit_test(test_slow_search),
         cmocka_unit_test(test_slowed_lines_keep_joints_within_jerk),
         cmocka_unit_test(test_replacing_lines_keep_joints_within_jerk),
     };

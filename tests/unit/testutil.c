@@ -436,6 +436,26 @@ int kt_has_event(const kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id)
 
 const kc_real KT_PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
 
+kc_status kt_judge_slowed(kt_judge_fn judge, void *ctx, const kc_ctrl_cfg *cfg, kc_goal *g, kc_verdict *v)
+{
+    kc_status st = judge(g, v, ctx);
+    kc_check_slow ss;
+    if (st != KC_OK || !kc_check_slow_start(&ss, v))
+        return st;
+    kc_goal asked = *g;
+    for (int pass = 0; pass < KC_CHECK_SLOW_PASSES && ss.s > KC_R(0.0); pass++) {
+        kc_goal h = asked;
+        kc_verdict w;
+        if (kc_goal_slow(&h, cfg, ss.s) != KC_OK || judge(&h, &w, ctx) != KC_OK)
+            break;
+        if (kc_check_slow_next(&ss, &w)) {
+            *g = h;
+            *v = w;
+        }
+    }
+    return st;
+}
+
 static double half_time(double v, double A, double J)
 {
     return v >= A * A / J ? v / A + A / J : 2.0 * sqrt(v / J);

@@ -207,6 +207,18 @@ typedef struct kt_line_draw {
 kc_goal kt_checked_line(kt_rng *r, kc_check *check, const kc_real *q, const kc_pose *home, int64_t id,
                         const kt_line_draw *d);
 
+/* A dry run of goal g into verdict v, as a test sets it up (from rest,
+ * from a snapshot): kc_check_goal's status. */
+typedef kc_status (*kt_judge_fn)(const kc_goal *g, kc_verdict *v, void *ctx);
+
+/* Goal g as kinctld hands it on (daemon/checker.c), before any stop
+ * first: judged by judge, and where taken with its joints' jerk over
+ * their limits, slowed by cfg's defaults (kc_goal_slow) along
+ * kc_check_slow's search, up to KC_CHECK_SLOW_PASSES dry runs; *g and *v
+ * become the best the search found. Returns the status of the goal as
+ * asked. */
+kc_status kt_judge_slowed(kt_judge_fn judge, void *ctx, const kc_ctrl_cfg *cfg, kc_goal *g, kc_verdict *v);
+
 /* An independent rest-to-rest optimum of a jerk-limited move over distance
  * D >= 0 within V, A, J: not kinctl/scurve.h's closed form, but from the
  * physics of one symmetric half. Reaching a speed v from rest and stopping

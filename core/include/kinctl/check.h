@@ -70,7 +70,8 @@
  * jerk-limited, can be slowed by kc_goal_slow by the factor
  * kc_check_slowing gives and judged again: the same path, its law
  * stretched in time, the joints' jerk about s^3 times what it was
- * (kinctld does, up to three times, before it hands a goal on). The
+ * (kinctld searches for the fastest such s, kc_check_slow below, before
+ * it hands a goal on). The
  * verdict's jerk covers every tick stepped: from a snapshot, the replaced
  * motion's stop too, which slowing the goal does not change; where the
  * transition stays beyond the limits, kinctld judges the goal again with
@@ -96,6 +97,18 @@
  * correction is not slowed with it) and a dry run at a coarser period than
  * the controller's sees a joint's jerk averaged over its longer tick. */
 #define KC_CHECK_JERK_MARGIN KC_R(0.9)
+
+/* A verdict's jerk above 1 by no more is the limit's rounding: within. */
+#define KC_CHECK_JERK_SLACK KC_R(1e-6)
+
+/* The slowing search ends once the fastest share found within the limits
+ * and the slowest found over them are this close (a ratio). */
+#define KC_CHECK_SLOW_CLOSE KC_R(1.05)
+
+/* The dry runs of a slowed goal a caller of the search should allow
+ * (kinctld does): enough to bracket a share within 5 % after one far too
+ * slow (a cube root of a hundredfold jerk). */
+#define KC_CHECK_SLOW_PASSES 5
 
 typedef struct kc_check {
     const kc_chain *chain;
@@ -172,6 +185,41 @@ kc_status kc_check_run(kc_check *check, int64_t max_ticks, kc_verdict *verdict);
  * KC_CHECK_JERK_MARGIN of their limits: cbrt(KC_CHECK_JERK_MARGIN /
  * v->jerk) when v->jerk > 1, else 1 (and 1 for NULL or no number). */
 kc_real kc_check_slowing(const kc_verdict *v);
+
+/* The search for the fastest share of a goal's speed (kc_goal_slow's s,
+ * applied to the goal as asked) whose joints stay within their jerk
+ * limits. The joints' jerk goes about as s^3 while the IK step follows the
+ * law; where it holds a joint at its acceleration limit, it steps qdd far
+ * beyond that (a PUMA 560 line: 112 x qddd_max), and kc_check_slowing's
+ * cube root then slows much more than needed (to 0.2 where 0.75 does). So
+ * the search brackets the share: s_ok, the fastest judged within the
+ * limits (0 until one is), and s_over, the slowest judged over them; the
+ * next share is kc_check_slowing's from the last verdict while none is
+ * within, then the estimate from s_ok's verdict, or the bracket's
+ * geometric middle where that estimate is not inside it; done when the
+ * bracket, or the estimate's gain over s_ok, is within
+ * KC_CHECK_SLOW_CLOSE. */
+typedef struct kc_check_slow {
+    kc_real s;      /* the share to judge next (0: done) */
+    kc_real s_ok;   /* fastest share judged within the limits, 0: none yet */
+    kc_real jerk_ok;
+    kc_real s_over; /* slowest share judged over them */
+    kc_real jerk_best; /* lowest jerk judged while none is within */
+} kc_check_slow;
+
+/* 1 when verdict v's jerk is within the joints' limits (rounding apart). */
+int kc_check_jerk_within(const kc_verdict *v);
+
+/* Starts the search from verdict v of the goal as asked; 0 when it is
+ * within the limits (nothing to search: ss->s = 0), else 1 with ss->s the
+ * first share to judge. */
+int kc_check_slow_start(kc_check_slow *ss, const kc_verdict *v);
+
+/* Takes the verdict v of the goal slowed by ss->s (taken: status KC_OK).
+ * Returns 1 when that is the best judged so far (the fastest within the
+ * limits, or, while none is, the lowest jerk), else 0; sets ss->s to the
+ * next share to judge, or 0 when the search is done. */
+int kc_check_slow_next(kc_check_slow *ss, const kc_verdict *v);
 
 /* The goal last judged by kc_check_goal (or begin and run), taken (verdict KC_OK), was handed
  * to the controller: the queue now ends where it ends. */
