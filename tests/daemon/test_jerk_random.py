@@ -6,73 +6,17 @@ acceleration and jerk limits, q and qd continuous (each follows from the
 cycle before within what the jerk limit allows over one cycle), the last
 goal ending exactly on its target; and each goal that ends lasts, from the
 state it took over, Ruckig's time-synchronised duration from that state
-(Python ruckig package), to the tick.
-
-The limits come from the arms' description files (models/*.cfg), which
-hold the built-in models' values. Slack: the daemon's core is double; the
-limits and the jerk get 1e-6 of themselves as test_jerk.py, the continuity
-checks 1e-12 rad (rounding of positions of a few rad) and 1e-9 rad/s."""
+(Python ruckig package), to the tick. The limits, Ruckig's duration and
+the checks with their slack: tests/pylib/kinctl_arms.py."""
 import os
 import random
 import re
 import time
 
 import pytest
-from ruckig import InputParameter, Result, Ruckig, Synchronization, Trajectory
 
-from kinctl_testing import DT, EVENTS, MODELS, close, finished, setpoints_since
-
-SLACK = 1e-6
-# Targets keep this far inside the position limits (rad): a replacing
-# goal's overshoot from full speed (about vmax^2 / (2 amax) plus the jerk
-# phases) stays clear of them, so the dry run accepts every goal.
-MARGIN = 0.9
-LIMITS = re.compile(r"limits\s*=\s*\{\s*q\s*=\s*\[([^,\]]+),([^\]]+)\];\s*qd\s*=\s*([^;]+);\s*qdd\s*=\s*([^;]+);"
-                    r"\s*qddd\s*=\s*([^;]+);")
-
-
-class Arm:
-    """An arm's joint limits, from its description file (models/NAME.cfg, or
-    the file at path)."""
-
-    def __init__(self, name, path=None):
-        with open(path or os.path.join(MODELS, name + ".cfg")) as f:
-            rows = [[float(x) for x in m.groups()] for m in LIMITS.finditer(f.read())]
-        assert rows, name
-        self.name, self.n = name, len(rows)
-        self.q = [(r[0], r[1]) for r in rows]
-        self.qd, self.qdd, self.qddd = [r[2] for r in rows], [r[3] for r in rows], [r[4] for r in rows]
-
-    def random_target(self, rng):
-        # A joint whose range is narrower than two margins goes to its middle.
-        return [rng.uniform(lo + MARGIN, hi - MARGIN) if hi - lo > 2 * MARGIN else 0.5 * (lo + hi)
-                for lo, hi in self.q]
-
-    def ruckig_ticks(self, q, qd, qdd, target):
-        """Ruckig's time-synchronised duration from (q, qd, qdd) to rest at
-        target within the arm's limits, in cycles."""
-        n = self.n
-        inp = InputParameter(n)
-        inp.current_position, inp.current_velocity, inp.current_acceleration = list(q), list(qd), list(qdd)
-        inp.target_position, inp.target_velocity, inp.target_acceleration = list(target), [0.0] * n, [0.0] * n
-        inp.max_velocity, inp.max_acceleration, inp.max_jerk = self.qd, self.qdd, self.qddd
-        inp.synchronization = Synchronization.Time
-        traj = Trajectory(n)
-        assert Ruckig(n).calculate(inp, traj) == Result.Working
-        return traj.duration / DT
-
-    def check_stream(self, stream):
-        for a, b in zip(stream, stream[1:]):
-            assert b.cycle == a.cycle + 1, (a.cycle, b.cycle)
-            for j in range(self.n):
-                where = (b.cycle, b.goal_id, j)
-                J = self.qddd[j]
-                assert abs(b.qd[j]) <= self.qd[j] * (1 + SLACK), where
-                assert abs(b.qdd[j]) <= self.qdd[j] * (1 + SLACK), where
-                assert abs(b.qdd[j] - a.qdd[j]) <= J * DT * (1 + SLACK), where
-                assert abs(b.qd[j] - a.qd[j] - a.qdd[j] * DT) <= J * DT ** 2 / 2 * (1 + SLACK) + 1e-9, where
-                assert abs(b.q[j] - a.q[j] - a.qd[j] * DT - a.qdd[j] * DT ** 2 / 2) <= \
-                    J * DT ** 3 / 6 * (1 + SLACK) + 1e-12, where
+from kinctl_arms import Arm
+from kinctl_testing import EVENTS, MODELS, close, finished, setpoints_since
 
 
 def replace_at_random(d, a, rng, goals):

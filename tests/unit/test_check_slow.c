@@ -55,28 +55,7 @@ static kc_ctrl_cfg setup(kc_real dt)
 /* The largest change of a joint's qdd over a tick, in units of its
  * qddd_max dt, of goal g stepped from rest at KT_PUMA_Q0 at period dt to
  * its end (which must be COMPLETED). */
-static double stepped_jerk(const kc_goal *g, kc_real dt)
-{
-    kc_ctrl_cfg cfg = kc_ctrl_cfg_default();
-    cfg.dt = dt;
-    assert_int_equal(kc_ctrl_init(&CTRL, &CHAIN, &cfg, KT_PUMA_Q0), KC_OK);
-    double qdd[KC_MAX_JOINTS] = {0.0}, worst = 0.0;
-    kc_ctrl_output out;
-    for (int t = 0; t < 200000; t++) {
-        kc_ctrl_input in = {t == 0 ? g : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
-        assert_int_equal(kc_ctrl_step(&CTRL, &in, &out), KC_OK);
-        for (int j = 0; j < CHAIN.n_joints; j++) {
-            double r = fabs((double)out.qdd[j] - qdd[j]) / ((double)CHAIN.joints[j].limits.qddd_max * (double)dt);
-            worst = fmax(worst, r);
-            qdd[j] = (double)out.qdd[j];
-        }
-        assert_false(kt_has_event(&out, KC_EVENT_FAULT, g->id));
-        if (kt_has_event(&out, KC_EVENT_COMPLETED, g->id))
-            return worst;
-    }
-    fail_msg("goal %lld did not end", (long long)g->id);
-    return worst;
-}
+static double stepped_jerk(const kc_goal *g, kc_real dt) { return kt_stepped_jerk(&CTRL, &CHAIN, KT_PUMA_Q0, g, dt); }
 
 /* A line of 5 to 25 cm from the start pose, turning the tool by up to
  * 0.2 rad, at speed, accel and jerk drawn up to fast ones, that the dry run

@@ -23,31 +23,9 @@
 #define CASES 60
 #endif
 
-static const kc_real Q0[7] = {KC_R(0.0), KC_R(-0.3), KC_R(0.0), KC_R(-2.0), KC_R(0.0), KC_R(1.8), KC_R(0.8)};
-
 static kc_chain CHAIN;
 static kc_ctrl CTRL; /* large: not on the stack */
 static kc_check CHECK;
-
-/* A line or (odd c) an arc of 5 to 30 cm from the pose of Q0, at speed,
- * accel and jerk drawn up to fast ones. */
-static kc_goal random_goal(kt_rng *r, int c, const kc_pose *home)
-{
-    kc_goal g = kt_line_goal(10 + c, home);
-    kc_vec3 dir = kt_rand_unit(r);
-    kc_real len = (kc_real)kt_uniform(r, 0.05, 0.3);
-    for (int i = 0; i < 3; i++)
-        g.pose.t.v[i] += len * dir.v[i];
-    if (c % 2) {
-        g.kind = KC_GOAL_ARC;
-        for (int i = 0; i < 3; i++)
-            g.via.v[i] = KC_R(0.5) * (home->t.v[i] + g.pose.t.v[i]) + (kc_real)kt_uniform(r, -0.05, 0.05);
-    }
-    g.speed = (kc_real)kt_uniform(r, 0.05, 0.5);
-    g.accel = g.speed * (kc_real)kt_uniform(r, 2.0, 8.0);
-    g.jerk = g.accel * (kc_real)kt_uniform(r, 5.0, 20.0);
-    return g;
-}
 
 static void test_redundant_arm_settles(void **state)
 {
@@ -55,18 +33,18 @@ static void test_redundant_arm_settles(void **state)
     assert_int_equal(kc_chain_init_model(&CHAIN, KC_MODEL_PANDA, NULL), KC_OK);
     kc_ctrl_cfg check_cfg = kc_ctrl_cfg_default(), cfg = kc_ctrl_cfg_default();
     check_cfg.dt = KC_R(0.004); /* kinctld's dry run */
-    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &check_cfg, 100000, Q0), KC_OK);
+    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &check_cfg, 100000, KT_PANDA_Q0), KC_OK);
     kc_pose home;
-    kc_fk_eval(&CHAIN, Q0, &home);
+    kc_fk_eval(&CHAIN, KT_PANDA_Q0, &home);
     kt_rng r = kt_rng_make(0x5E771E);
     int judged = 0, settled = 0;
     for (int c = 0; c < CASES; c++) {
-        kc_goal g = random_goal(&r, c, &home);
+        kc_goal g = kt_cart_goal(&r, 10 + c, &home, c % 2, 1); /* a line or an arc, fast */
         kc_verdict v;
-        if (kc_check_from(&CHECK, Q0, &g, &v) != KC_OK)
+        if (kc_check_from(&CHECK, KT_PANDA_Q0, &g, &v) != KC_OK)
             continue; /* out of reach, or a degenerate arc */
         judged++;
-        assert_int_equal(kc_ctrl_init(&CTRL, &CHAIN, &cfg, Q0), KC_OK);
+        assert_int_equal(kc_ctrl_init(&CTRL, &CHAIN, &cfg, KT_PANDA_Q0), KC_OK);
         kc_ctrl_output out;
         int done = 0, after = 0;
         for (int t = 0; t < 100000 && !done; t++) {

@@ -435,6 +435,50 @@ int kt_has_event(const kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id)
 }
 
 const kc_real KT_PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
+const kc_real KT_PANDA_Q0[7] = {KC_R(0.0), KC_R(-0.3), KC_R(0.0), KC_R(-2.0), KC_R(0.0), KC_R(1.8), KC_R(0.8)};
+
+kc_goal kt_cart_goal(kt_rng *r, int64_t id, const kc_pose *home, int arc, int fast)
+{
+    kc_goal g = kt_line_goal(id, home);
+    kc_vec3 dir = kt_rand_unit(r);
+    kc_real len = (kc_real)kt_uniform(r, 0.05, 0.3);
+    for (int i = 0; i < 3; i++)
+        g.pose.t.v[i] += len * dir.v[i];
+    if (arc) {
+        g.kind = KC_GOAL_ARC;
+        for (int i = 0; i < 3; i++)
+            g.via.v[i] = KC_R(0.5) * (home->t.v[i] + g.pose.t.v[i]) + (kc_real)kt_uniform(r, -0.05, 0.05);
+    }
+    if (fast) {
+        g.speed = (kc_real)kt_uniform(r, 0.05, 0.5);
+        g.accel = g.speed * (kc_real)kt_uniform(r, 2.0, 8.0);
+        g.jerk = g.accel * (kc_real)kt_uniform(r, 5.0, 20.0);
+    }
+    return g;
+}
+
+double kt_stepped_jerk(kc_ctrl *ctrl, const kc_chain *chain, const kc_real *q0, const kc_goal *g, kc_real dt)
+{
+    kc_ctrl_cfg cfg = kc_ctrl_cfg_default();
+    cfg.dt = dt;
+    assert_int_equal(kc_ctrl_init(ctrl, chain, &cfg, q0), KC_OK);
+    double qdd[KC_MAX_JOINTS] = {0.0}, worst = 0.0;
+    kc_ctrl_output out;
+    for (int t = 0; t < 200000; t++) {
+        kc_ctrl_input in = {t == 0 ? g : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
+        assert_int_equal(kc_ctrl_step(ctrl, &in, &out), KC_OK);
+        for (int j = 0; j < chain->n_joints; j++) {
+            double r = fabs((double)out.qdd[j] - qdd[j]) / ((double)chain->joints[j].limits.qddd_max * (double)dt);
+            worst = fmax(worst, r);
+            qdd[j] = (double)out.qdd[j];
+        }
+        assert_false(kt_has_event(&out, KC_EVENT_FAULT, g->id));
+        if (kt_has_event(&out, KC_EVENT_COMPLETED, g->id))
+            return worst;
+    }
+    fail_msg("goal %lld did not end", (long long)g->id);
+    return worst;
+}
 
 kc_status kt_judge_slowed(kt_judge_fn judge, void *ctx, const kc_ctrl_cfg *cfg, kc_goal *g, kc_verdict *v)
 {

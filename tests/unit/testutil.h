@@ -135,6 +135,9 @@ int kt_has_event(const kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id)
 /* The PUMA 560 pose the controller suites start from: clear of every joint
  * limit and singularity, the tool in front of the arm. */
 extern const kc_real KT_PUMA_Q0[6];
+/* A Panda pose off its rest (mid-range), so that the IK step's null-space
+ * motion pulls the joints while the tool moves. */
+extern const kc_real KT_PANDA_Q0[7];
 
 void kt_report(const char *suite);
 
@@ -206,6 +209,19 @@ typedef struct kt_line_draw {
  * (then the test fails). */
 kc_goal kt_checked_line(kt_rng *r, kc_check *check, const kc_real *q, const kc_pose *home, int64_t id,
                         const kt_line_draw *d);
+
+/* A line or (arc set) an arc, goal id, of 5 to 30 cm from home's position
+ * in its orientation along a random direction, the arc through a point
+ * within 5 cm of the chord's middle; at the default Cartesian limits, or
+ * (fast set) at speed 0.05-0.5 m/s, accel 2-8 times it and jerk 5-20
+ * times that. */
+kc_goal kt_cart_goal(kt_rng *r, int64_t id, const kc_pose *home, int arc, int fast);
+
+/* The largest change of a joint's qdd over a tick, in units of its
+ * qddd_max dt, of goal g stepped on ctrl (initialised here at rest at q0,
+ * the controller's default configuration at period dt) to its end, which
+ * must be COMPLETED without a fault. */
+double kt_stepped_jerk(kc_ctrl *ctrl, const kc_chain *chain, const kc_real *q0, const kc_goal *g, kc_real dt);
 
 /* A dry run of goal g into verdict v, as a test sets it up (from rest,
  * from a snapshot): kc_check_goal's status. */
