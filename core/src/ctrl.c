@@ -138,6 +138,8 @@ void kc_ctrl_restart(kc_ctrl *c, const kc_real *q_at, const kc_real *q)
     memset(&c->servo_target, 0, sizeof c->servo_target);
     c->servo_last = 0;
     c->settle = 0;
+    c->null_x = KC_R(0.0);
+    c->null_cycle = -1;
     c->jstop = 0;
     c->jstop_k0 = 0;
     c->after_stop = KC_CTRL_IDLE;

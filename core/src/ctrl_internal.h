@@ -24,12 +24,15 @@
 #define SETTLE_S KC_R(1.0)
 
 /* Time (s) over which a redundant arm's null-space motion (the IK step's
- * null_gain) is brought to rest once the geometry has ended: the gain
- * falls as 1 - 3x^2 + 2x^3 of the time x settled, so the joints' velocity
- * in the null space falls smoothly (no step of qdd) to none. Without it
- * that motion, decaying at null_gain (0.5/s), kept joints moving above the
- * IK step's rest bound, which at a 1 ms period is jerk-limited and tight,
- * for longer than SETTLE_S. */
+ * null_gain) is set going when a Cartesian motion starts from one without
+ * it (rest, a joint move) and brought to rest once the geometry has
+ * ended: the gain rises as 3x^2 - 2x^3 of the time x, and falls so, so the
+ * joints' velocity in the null space changes smoothly (no step of qdd).
+ * Started at once, it stepped a Panda's qdd by up to qdd_max in the first
+ * tick of a line from rest (twice qddd_max dt). Without the fall, that
+ * motion, decaying at null_gain (0.5/s), kept joints moving above the IK
+ * step's rest bound, which at a 1 ms period is jerk-limited and tight, for
+ * longer than SETTLE_S. */
 #define SETTLE_NULL_S KC_R(0.25)
 
 /* A tracking error this many times cfg.track_tol during a stop on the path

@@ -498,15 +498,19 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
             c->servo_target.t.v[i] += c->goal.twist[i] * c->cfg.dt;
     }
     kc_ik_result res;
-    /* Settling: a redundant arm's null-space motion brought to rest
-     * (SETTLE_NULL_S; a task without a null space has none), its gain
-     * scaled for this step only (no copy of the IK configuration on the
-     * stack). */
-    kc_real null_gain = c->cfg.ik.null_gain;
-    if (c->settle > 0) {
-        kc_real x = kc_min((kc_real)c->settle * c->cfg.dt / SETTLE_NULL_S, KC_R(1.0));
-        c->cfg.ik.null_gain = null_gain * (KC_R(1.0) - x * x * (KC_R(3.0) - KC_R(2.0) * x));
-    }
+    /* A redundant arm's null-space motion (a task without a null space has
+     * none) set going and brought to rest smoothly (SETTLE_NULL_S): its
+     * gain's share is 3x^2 - 2x^3 of null_x, which rises at dt /
+     * SETTLE_NULL_S a tick from 0 at the first IK step after a tick
+     * without one, and falls so while the tool settles. The gain is scaled
+     * for this step only (no copy of the IK configuration on the stack). */
+    kc_real null_gain = c->cfg.ik.null_gain, rate = c->cfg.dt / SETTLE_NULL_S, x = c->null_x;
+    if (c->null_cycle != c->cycle - 1)
+        x = KC_R(0.0);
+    x = c->settle > 0 ? kc_max(x - rate, KC_R(0.0)) : kc_min(x + rate, KC_R(1.0));
+    c->null_x = x;
+    c->null_cycle = c->cycle;
+    c->cfg.ik.null_gain = null_gain * x * x * (KC_R(3.0) - KC_R(2.0) * x);
     kc_status st = kc_ik_step(c->chain, &c->cfg.ik, &before.pose, before.twist, c->cfg.dt, c->q, c->qd, q, qd, &res);
     c->cfg.ik.null_gain = null_gain;
     for (int i = 0; i < n; i++)

@@ -363,6 +363,10 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
          * but for a fault (kinctl/ctrl.h: stopping soonest matters more). */
         jerk = kind == KC_PROFILE_JERK && c->fault_reason == KC_REASON_NONE && c->drive != KC_DRIVE_PROFILE &&
                kc_scurve_plan_stop(&c->drive_scurve, u.p, u.v, u.a, dec, jmax, c->cfg.dt) == KC_OK;
+        /* From a law already braking at these limits the stop ends at the
+         * segment's end, past it by rounding only (1 + 2.2e-16 seen): there. */
+        if (jerk && c->drive_scurve.p1 > KC_R(1.0) && c->drive_scurve.p1 <= KC_R(1.0) + KC_R(16.0) * KC_REAL_EPS)
+            c->drive_scurve.p1 = KC_R(1.0);
     }
     if (!jerk)
         kc_profile_plan_stop(&c->drive_prof, u.p, u.v, dec, c->cfg.dt);

@@ -506,15 +506,19 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
 
     /* Done when within tolerance, the target still, and slow enough to stop
      * in this tick without exceeding an acceleration limit, nor a jerk
-     * limit (the stop takes qdd to -qd/dt and the next tick back to 0)
-     * unless qd moves q by less than a few units of its last place over
-     * the tick (float: about 5e-4 rad/s at 1 ms, above qddd_max dt^2; the
-     * law's rounding keeps qd there). */
+     * limit: the stop takes qdd to -qd/dt and the next tick back to 0, so
+     * |qd| <= qddd_max dt^2 / 2, half, leaves room for the qdd of the tick
+     * before (the settling law's) and for a motion started from here,
+     * whose first tick the law may give that velocity again (with the
+     * whole qddd_max dt^2, Panda lines stopped and started again stepped
+     * qdd by 1.002 x qddd_max dt). Unless qd moves q by less than a few
+     * units of its last place over the tick (float: about 5e-4 rad/s at 1
+     * ms, above qddd_max dt^2; the law's rounding keeps qd there). */
     int at_rest = !moving_target && pos_err <= cfg->tol_pos && rot_err <= cfg->tol_rot;
     for (int j = 0; j < n && at_rest; j++) {
         const kc_joint_limits *l = &chain->joints[j].limits;
         kc_real ulps = KC_R(4.0) * KC_REAL_EPS * kc_max(kc_fabs(q[j]), KC_R(1.0)) / dt;
-        at_rest = kc_fabs(qd[j]) <= kc_min(l->qdd_max * dt, kc_max(l->qddd_max * dt * dt, ulps));
+        at_rest = kc_fabs(qd[j]) <= kc_min(l->qdd_max * dt, kc_max(KC_R(0.5) * l->qddd_max * dt * dt, ulps));
     }
     if (at_rest) {
         for (int j = 0; j < n; j++) {

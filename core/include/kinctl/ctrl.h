@@ -39,8 +39,9 @@
  * line near a singularity, it may exceed it; slower Cartesian limits
  * avoid that: the dry run measures it, and kc_goal_slow slows a goal by
  * the factor kc_check_slowing gives, kinctl/check.h). A redundant arm's
- * null-space motion (the IK step's null_gain) is brought to rest smoothly
- * once the geometry has ended, within 0.25 s, and the tool has 1 s in all
+ * null-space motion (the IK step's null_gain) is set going smoothly, over
+ * 0.25 s, when a Cartesian motion starts from rest or from a joint move,
+ * and brought to rest so once the geometry has ended; the tool has 1 s in all
  * to settle before the segment faults (seconds, whatever the period). That
  * motion's jerk is not bounded by qddd_max by construction either: its
  * velocity, up to half the slowest joint's qd_max, follows the redundancy
@@ -608,6 +609,8 @@ typedef struct kc_ctrl {
     kc_pose servo_target;
     int64_t servo_last;        /* tick of the last servo update */
     int settle;                /* ticks a Cartesian segment has waited for the tool to settle */
+    kc_real null_x;            /* the null-space motion's ramp, 0..1 (ctrl_seg.c) */
+    int64_t null_cycle;        /* tick of the last IK step */
     /* A stop in joint space (e-stop, the servo timeout, a fault off the
      * path): per-joint stop profiles from tick jstop_k0, ending in state
      * after_stop. A servo stream's jerk-limited stop (drive KC_DRIVE_HALT)
