@@ -252,7 +252,9 @@ int kc_check_slow_next(kc_check_slow *ss, const kc_verdict *v)
         ss->s_over = kc_min(ss->s_over, s);
     }
     if (ss->s_ok == KC_R(0.0)) {
-        ss->s = s * kc_check_slowing(v);
+        /* Slowed without lowering the jerk: what exceeds the limits is not
+         * the law's (a replaced trapezoid's stop, a joint path's own law). */
+        ss->s = best ? s * kc_check_slowing(v) : KC_R(0.0);
         return best;
     }
     /* Where the verdict within says the law has room: its cube root, kept

@@ -198,7 +198,9 @@ kc_real kc_check_slowing(const kc_verdict *v);
  * within, then the estimate from s_ok's verdict, or the bracket's
  * geometric middle where that estimate is not inside it; done when the
  * bracket, or the estimate's gain over s_ok, is within
- * KC_CHECK_SLOW_CLOSE. */
+ * KC_CHECK_SLOW_CLOSE, or when, none being within, slowing did not lower
+ * the jerk (what exceeds the limits is not the goal's law: the stop of a
+ * replaced trapezoid, say). */
 typedef struct kc_check_slow {
     kc_real s;      /* the share to judge next (0: done) */
     kc_real s_ok;   /* fastest share judged within the limits, 0: none yet */

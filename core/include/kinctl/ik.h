@@ -157,12 +157,14 @@ kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose
  * clamped into the position limits.
  *   KC_OK            stepped; res holds the error before the step.
  *   KC_DONE          within the tolerances, twist_ff zero or NULL, and
- *                    every |qd| <= min(qdd_max dt, max(qddd_max dt^2,
+ *                    every |qd| <= min(qdd_max dt, max(qddd_max dt^2 / 2,
  *                    4 KC_REAL_EPS max(|q|, 1) / dt)): q_next = q,
  *                    qd_next = 0 (a stop within the limits: qdd goes to
  *                    -qd/dt and back to 0, and from a qdd that is
  *                    decaying, as the law's own near rest, no change of
- *                    qdd over a tick exceeds qddd_max dt; in float the
+ *                    qdd over a tick exceeds qddd_max dt, nor when a
+ *                    motion started from here gets that velocity back in
+ *                    its first tick; in float the
  *                    law's rounding keeps qd at up to a few units of q's
  *                    last place per tick, which that allows).
  *   KC_E_LIMIT       stepped, but a joint was stopped at a position limit.
