@@ -40,6 +40,7 @@ int kd_checker_init(kd_checker *k, kc_check *check, int64_t budget_ns, kd_cycle 
     atomic_init(&k->over_budget, 0);
     atomic_init(&k->moving, 0);
     atomic_init(&k->slowed, 0);
+    atomic_init(&k->late, 0);
     atomic_init(&k->run, 0);
     k->wake_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
     k->done_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
@@ -70,31 +71,35 @@ static void take_ticks(kd_checker *k)
 }
 
 /* The controller as a replacing goal finds it (checker.h): a snapshot from
- * the cycle into the kc_check's slot, asked again while the one taken is
- * not fresh, for at most KD_SNAP_WAIT_MS; else none, and the goal is
- * judged from rest. */
-static void take_snapshot(kd_checker *k)
+ * the cycle into k->keep, taken again while it is not fresh for a goal
+ * k->check->lead ticks after it, for at most KD_SNAP_WAIT_MS. 1 with the
+ * snapshot kept (k->keep_taken, k->keep_ns), else 0: the goal is judged
+ * from rest. */
+static int take_snapshot(kd_checker *k)
 {
-    int64_t until = kd_now_ns() + KD_SNAP_WAIT_MS * 1000000LL;
+    /* A goal handed on before, scheduled, is taken in its cycle: no
+     * snapshot is fresh before that. */
+    int64_t now = kd_now_ns();
+    int64_t until = (k->held_ns > now ? k->held_ns : now) + KD_SNAP_WAIT_MS * 1000000LL;
     do {
-        int64_t taken;
-        kc_ctrl *slot = kc_check_snapshot_slot(k->check);
-        if (!kd_cycle_snapshot(k->cycle, slot, until - kd_now_ns(), &taken))
-            return;
+        if (!kd_cycle_snapshot(k->cycle, &k->keep, until - kd_now_ns(), &k->keep_taken))
+            return 0;
+        k->keep_ns = kd_now_ns();
         take_ticks(k);
-        if (kc_check_snapshot(k->check, slot, taken) == KC_OK && kc_check_snapshot_fresh(k->check))
-            return;
+        if (kc_check_snapshot(k->check, &k->keep, k->keep_taken) == KC_OK && kc_check_snapshot_fresh(k->check))
+            return 1;
     } while (kd_now_ns() < until && atomic_load_explicit(&k->run, memory_order_acquire));
+    return 0;
 }
 
 /* One dry run of out->goal, in slices, into out, within the budget from
- * start. */
-static void judge_once(kd_checker *k, kd_job *out, int64_t start)
+ * start; from the snapshot kept when snap. */
+static void judge_once(kd_checker *k, kd_job *out, int64_t start, int snap)
 {
     kc_status st;
     out->end = KD_JOB_JUDGED;
-    if (out->goal.replace && out->goal.kind != KC_GOAL_SERVO && k->cycle != NULL)
-        take_snapshot(k);
+    if (snap)
+        kc_check_snapshot(k->check, &k->keep, k->keep_taken);
     st = kc_check_begin(k->check, &out->goal, &out->verdict);
     while (st == KC_MORE) {
         int64_t elapsed = kd_now_ns() - start;
@@ -123,81 +128,155 @@ static int over_jerk(const kd_job *j) { return taken(j) && !kc_check_jerk_within
 
 /* Judges k->trial; 1 when taken with less jerk than out, which it then
  * replaces. */
-static int better(kd_checker *k, kd_job *out, int64_t start)
+static int better(kd_checker *k, kd_job *out, int64_t start, int snap)
 {
-    judge_once(k, &k->trial, start);
+    judge_once(k, &k->trial, start, snap);
     if (!taken(&k->trial) || !(k->trial.verdict.jerk < out->verdict.jerk))
         return 0;
     memcpy(out, &k->trial, sizeof *out);
     return 1;
 }
 
-/* The dry run of job into out. A jerk-limited Cartesian goal taken with
- * its joints' jerk beyond their limits (kinctl/check.h) is slowed and
- * judged again by kc_check_slow's search, up to KC_CHECK_SLOW_PASSES times
- * within the one budget: the fastest share of its speed judged within the
- * limits is handed on, or, where none is, the one with the least jerk
- * (the goal as asked if none has less). Such a replacing goal
- * judged from the moving state whose transition is still beyond them
- * (the replaced motion's stop is part of it: a line superposed on a joint
- * move's stop adds the line's joint jerk to the stop's) is judged again
- * with the motion it replaces stopped first (kc_goal.stop_first), and so
- * taken if that does better. The goal handed on is the last one taken: a
- * pass that is refused, runs over the budget or does no better leaves the
- * one before. */
-static void judge(kd_checker *k, const kd_job *job, kd_job *out)
+/* What a search did (judge). */
+typedef struct search_note {
+    double jerk;   /* the goal as asked: its joints' jerk */
+    double slowed; /* the share of its speed taken, 1: as asked */
+    int stop_first, moving;
+} search_note;
+
+/* The dry runs of job into out (judge), from the snapshot kept when
+ * snap. A replacing goal judged from the moving state that the arm cannot
+ * follow there (KC_E_UNREACHABLE: the superposition's tracking, a zone)
+ * is judged again with the motion it replaces stopped first
+ * (kc_goal.stop_first: no admissible transition, so stop and start), and
+ * taken so if it passes; the search below then slows that. A jerk-limited Cartesian goal taken with its joints' jerk beyond
+ * their limits (kinctl/check.h) is slowed and judged again by
+ * kc_check_slow's search, up to KC_CHECK_SLOW_PASSES times within the one
+ * budget: the fastest share of its speed judged within the limits is
+ * handed on, or, where none is, the one with the least jerk (the goal as
+ * asked if none has less). Such a replacing goal judged from the moving
+ * state whose transition is still beyond them (the replaced motion's stop
+ * is part of it: a line superposed on a joint move's stop adds the line's
+ * joint jerk to the stop's) is judged again with the motion it replaces
+ * stopped first (kc_goal.stop_first), and so taken if that does better.
+ * The goal handed on is the last one taken: a pass that is refused, runs
+ * over the budget or does no better leaves the one before. */
+static void search(kd_checker *k, const kd_job *job, kd_job *out, int64_t start, int snap, search_note *note)
 {
-    int64_t start = kd_now_ns();
     memcpy(&out->goal, &job->goal, sizeof out->goal);
-    judge_once(k, out, start);
-    int moving = k->check->run_moving, slowable = 0, stop_first = 0;
-    if (moving)
-        atomic_fetch_add_explicit(&k->moving, 1, memory_order_relaxed);
-    double jerk = (double)out->verdict.jerk, slowed = 1.0;
+    judge_once(k, out, start, snap);
+    int slowable = 0;
+    note->moving = k->check->run_moving;
+    note->jerk = (double)out->verdict.jerk;
+    note->slowed = 1.0;
+    note->stop_first = 0;
+    /* No admissible transition from the moving state (the arm cannot
+     * follow the superposition, or it runs into a zone or a limit): the
+     * motion it replaces stops first, if the goal is taken so. */
+    if (out->end == KD_JOB_JUDGED && out->verdict.status == KC_E_UNREACHABLE && note->moving &&
+        out->goal.replace && !out->goal.stop_first) {
+        memcpy(&k->trial.goal, &out->goal, sizeof k->trial.goal);
+        k->trial.goal.stop_first = 1;
+        judge_once(k, &k->trial, start, snap);
+        if (taken(&k->trial)) {
+            memcpy(out, &k->trial, sizeof *out);
+            note->jerk = (double)out->verdict.jerk;
+            note->stop_first = 1;
+        }
+    }
     kc_check_slow ss;
     memset(&ss, 0, sizeof ss);
     if (over_jerk(out))
         kc_check_slow_start(&ss, &out->verdict);
     for (int pass = 0; pass < KC_CHECK_SLOW_PASSES && ss.s > KC_R(0.0); pass++) {
         memcpy(&k->trial.goal, &job->goal, sizeof k->trial.goal);
+        k->trial.goal.stop_first = out->goal.stop_first;
         if (kc_goal_slow(&k->trial.goal, &k->check->cfg, ss.s) != KC_OK)
             break; /* a joint move (within the limits from any start), joint path or trapezoid */
         slowable = 1;
         double s = (double)ss.s;
-        judge_once(k, &k->trial, start);
+        judge_once(k, &k->trial, start, snap);
         if (!taken(&k->trial))
             break;
         if (kc_check_slow_next(&ss, &k->trial.verdict)) {
             memcpy(out, &k->trial, sizeof *out);
-            slowed = s;
+            note->slowed = s;
         }
     }
     /* Only a goal kc_goal_slow takes stops first for its jerk: a joint
      * path's or a trapezoid's own law is not jerk-limited, which stopping
      * first does not change. */
-    if (over_jerk(out) && slowable && moving && out->goal.replace && !out->goal.stop_first &&
+    if (over_jerk(out) && slowable && note->moving && out->goal.replace && !out->goal.stop_first &&
         out->verdict.reason != KC_REASON_STOP_FIRST) {
         memcpy(&k->trial.goal, &out->goal, sizeof k->trial.goal);
         k->trial.goal.stop_first = 1;
-        stop_first = better(k, out, start);
+        note->stop_first = better(k, out, start, snap);
     }
+}
+
+/* A goal judged from the snapshot kept, taken, can still reach the cycle
+ * before its tick (kc_verdict.take_cycle), with KD_HAND_MARGIN_MS to
+ * spare: that tick runs about (take_cycle - the snapshot's cycle) periods
+ * after the snapshot was seen (no earlier: a stalled cycle runs later). */
+static int on_time(const kd_checker *k, const kd_job *out)
+{
+    int64_t ahead = out->verdict.take_cycle - k->keep.cycle;
+    return out->verdict.take_cycle != 0 && k->check->run_moving &&
+           kd_now_ns() + KD_HAND_MARGIN_MS * 1000000LL < k->keep_ns + ahead * k->cycle->period_ns;
+}
+
+/* The dry run of job into out (search). A replacing goal is judged from a
+ * snapshot of the controller for a tick k->check->lead ticks after it
+ * (kinctl/check.h), first KD_LEAD_MS ahead; a judgement that ends too late
+ * to reach the cycle before that tick (on_time) is made again, from a new
+ * snapshot, with the lead twice the time it took plus the margin, up to
+ * KD_LEAD_TRIES times: the goal handed on is taken in the tick and from
+ * the state it was judged for, or refused by the controller (KC_REASON_LATE).
+ * The lead is at most KD_LEAD_MAX_MS. */
+static void judge(kd_checker *k, const kd_job *job, kd_job *out)
+{
+    int64_t start = kd_now_ns(), lead_ns = KD_LEAD_MS * 1000000LL;
+    int replacing = job->goal.replace && job->goal.kind != KC_GOAL_SERVO && k->cycle != NULL;
+    search_note note;
+    for (int attempt = 0;; attempt++) {
+        int64_t began = kd_now_ns(), period = replacing ? k->cycle->period_ns : 1;
+        if (lead_ns > KD_LEAD_MAX_MS * 1000000LL)
+            lead_ns = KD_LEAD_MAX_MS * 1000000LL;
+        k->check->lead = replacing ? (lead_ns + period - 1) / period - 1 : 0;
+        int snap = replacing && take_snapshot(k);
+        search(k, job, out, start, snap, &note);
+        if (!snap || !taken(out) || on_time(k, out) || attempt + 1 >= KD_LEAD_TRIES ||
+            out->end != KD_JOB_JUDGED)
+            break;
+        atomic_fetch_add_explicit(&k->late, 1, memory_order_relaxed);
+        lead_ns = 2 * (kd_now_ns() - began) + KD_HAND_MARGIN_MS * 1000000LL;
+        fprintf(stderr, "kinctld: goal %" PRId64 " judged again for a later tick (its judgement took %.3g ms)\n",
+                job->goal.id, (double)(kd_now_ns() - began) * 1e-6);
+    }
+    if (note.moving)
+        atomic_fetch_add_explicit(&k->moving, 1, memory_order_relaxed);
+    out->goal.take_cycle = out->verdict.take_cycle;
+    out->goal.take_state = out->verdict.take_state;
     out->elapsed_ns = kd_now_ns() - start;
-    if (slowed < 1.0 || stop_first)
+    if (note.slowed < 1.0 || note.stop_first)
         atomic_fetch_add_explicit(&k->slowed, 1, memory_order_relaxed);
-    if (slowed < 1.0)
+    if (note.slowed < 1.0)
         fprintf(stderr,
                 "kinctld: goal %" PRId64 " slowed to %.3g of its speed (its joints' jerk %.3g times their limits, "
                 "now %.3g)\n",
-                out->goal.id, slowed, jerk, (double)out->verdict.jerk);
-    if (stop_first)
+                out->goal.id, note.slowed, note.jerk, (double)out->verdict.jerk);
+    if (note.stop_first)
         fprintf(stderr,
                 "kinctld: goal %" PRId64 " stops the motion it replaces first (taking over, its joints' jerk %.3g "
                 "times their limits; so, %.3g)\n",
-                out->goal.id, jerk, (double)out->verdict.jerk);
+                out->goal.id, note.jerk, (double)out->verdict.jerk);
     if (out->end == KD_JOB_OVER_BUDGET)
         atomic_fetch_add_explicit(&k->over_budget, 1, memory_order_relaxed);
-    if (taken(out))
+    if (taken(out)) {
         kc_check_handed(k->check, &out->goal, &out->verdict);
+        if (out->goal.take_cycle != 0)
+            k->held_ns = k->keep_ns + (out->goal.take_cycle - k->keep.cycle) * k->cycle->period_ns;
+    }
     atomic_fetch_add_explicit(&k->judged, 1, memory_order_relaxed);
 }
 

@@ -20,15 +20,20 @@
  * the end of the queue, and hands the kc_check each goal it accepts
  * (kc_check_handed) before the next. A goal that replaces is judged from
  * the controller's moving state: the checker asks the cycle for a snapshot
- * (kd_cycle_snapshot: the cycle copies its kc_ctrl into the kc_check's
- * slot after its next step, cycle.h), asks again while the copy is not
- * fresh (a tick newer than it already taken, a goal accepted before it
- * still on its way to the controller), and after KD_SNAP_WAIT_MS without
- * one judges the goal from rest at the latest setpoint (kinctl/check.h).
- * The controller takes the goal a few ticks after the snapshot (the
- * verdict's way back through the I/O thread): the dry run covers the
- * transition from the snapshot's tick, on the same motion a few ticks
- * earlier.
+ * (kd_cycle_snapshot: the cycle copies its kc_ctrl into the checker's
+ * keep after its next step, cycle.h), asks again while the copy is not
+ * fresh (a goal accepted before it still on its way to the controller),
+ * and after KD_SNAP_WAIT_MS (past the cycle a goal handed on before is
+ * scheduled for) without one judges the goal from rest at the
+ * latest setpoint (kinctl/check.h). Scheduled takeover: the goal is
+ * judged for a tick some way after the snapshot (the kc_check's lead:
+ * KD_LEAD_MS, then twice what a judgement that ended too late took), and
+ * handed on scheduled for that tick and state (kc_goal.take_cycle,
+ * take_state); the cycle holds it until that tick (cycle.h), and the
+ * controller takes it there, along the transition the dry run stepped to
+ * the bit, or refuses it (KC_REASON_LATE) when it came too late or the
+ * state changed (a command between). Every pass of the slowing search
+ * starts from a copy of the one snapshot (kc_check_snapshot from keep).
  * A dry run goes in slices of KD_CHECK_SLICE ticks with CLOCK_MONOTONIC
  * read between them: one that takes longer than the budget
  * (controller.check_budget_ms) is stopped and its job marked over budget.
@@ -75,7 +80,11 @@
 #define KD_CHECK_IDLE_MS 20     /* longest sleep of an idle checker */
 #define KD_ORDER_MAX 16384      /* goals waiting for their answer, in order */
 #define KD_ORDER_TEXTS 256      /* of which refused with a text of their own */
-#define KD_SNAP_WAIT_MS 20      /* longest wait for a fresh snapshot of the controller */
+#define KD_SNAP_WAIT_MS 20      /* longest wait for a fresh snapshot (after the cycle of a goal held) */
+#define KD_LEAD_MS 10           /* a replacing goal's tick, first: this long after the snapshot */
+#define KD_LEAD_MAX_MS 2000     /* ... and at most this long */
+#define KD_LEAD_TRIES 4         /* judgements of a replacing goal that end too late to hand on */
+#define KD_HAND_MARGIN_MS 5     /* time kept for the verdict's way to the cycle */
 
 /* How a job's dry run ended. */
 typedef enum kd_job_end {
@@ -122,6 +131,12 @@ typedef struct kd_checker {
     kd_job job_storage[KD_CHECK_RING], verdict_storage[KD_CHECK_RING];
     kd_check_tick tick_storage[KD_CHECK_TICK_RING];
     kd_job trial; /* the checker thread's: a goal slowed (or stopping first) for its joints' jerk */
+    /* The checker thread's: the snapshot a replacing goal's dry runs start
+     * from (each a copy of it), the goals it had taken, and when it was
+     * seen (CLOCK_MONOTONIC ns). */
+    kc_ctrl keep;
+    int64_t keep_taken, keep_ns;
+    int64_t held_ns; /* about when the last goal handed on, scheduled, is taken */
     int wake_fd, done_fd; /* eventfds: work for the checker; verdicts for the I/O thread */
 
     /* The I/O thread's: the answers' order, and the tick waiting for room. */
@@ -138,6 +153,7 @@ typedef struct kd_checker {
     atomic_llong judged, over_budget;
     atomic_llong moving; /* replacing goals judged from a snapshot (the others from rest) */
     atomic_llong slowed; /* goals slowed, or stopping first, for their joints' jerk (checker.c) */
+    atomic_llong late;   /* replacing goals judged again: the judgement ended too late for its tick */
     int64_t answered_early; /* the I/O thread's: refusals answered out of order */
 
     atomic_int run;

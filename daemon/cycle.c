@@ -80,6 +80,11 @@ static void tick(kd_cycle *c, int64_t deadline_ns, int64_t consecutive_missed, i
     kd_tick *t = kd_spsc_slot_write(&c->ticks);
     int to_ring = t != NULL;
     const kc_goal *goal = kd_spsc_slot_read(&c->goals);
+    /* A scheduled goal waits for its tick (cycle.h), every goal behind it
+     * too; commands do not wait. */
+    if (goal != NULL && goal->take_cycle > c->ctrl->cycle + 1 &&
+        goal->take_cycle - c->ctrl->cycle <= KD_HOLD_MAX_CYCLES)
+        goal = NULL;
     kc_ctrl_input in;
     kd_cmd cmd;
     int64_t servo_deadline;

@@ -22,12 +22,18 @@
  *
  * Snapshots. The checker (checker.h) judges a replacing goal from the
  * controller's moving state: it asks for a copy of the kc_ctrl (snap_dst,
- * its kc_check's slot; snap_state KD_SNAP_ASKED), and the next tick, after
+ * the checker's copy; snap_state KD_SNAP_ASKED), and the next tick, after
  * its step, copies the controller there once (KD_SNAP_COPYING while it
  * does, then KD_SNAP_DONE with the goals it had taken). A memcpy of
  * sizeof(kc_ctrl) in that one tick, no lock: the checker may withdraw an
  * ask (ASKED -> IDLE by compare-and-swap) but never touches snap_dst while
  * a copy is under way.
+ *
+ * Scheduled goals. A goal the checker judged for a later tick
+ * (kc_goal.take_cycle) waits at the head of the goal ring until the tick
+ * with that output cycle, and every goal behind it with it; commands pass.
+ * One scheduled further than KD_HOLD_MAX_CYCLES ahead (not made by
+ * kinctld's checker) is given at once, and refused by the controller.
  *
  * Timing. Wake-up latency (wake-up minus deadline) and compute time (the
  * tick's work) go into a pair of histograms: the cycle writes one while the
@@ -92,6 +98,7 @@ typedef struct kd_cmd {
  * queued before it fell behind and from motions ending: a few a goal. */
 #define KD_TICK_RESERVE 512
 #define KD_CMD_RING 64
+#define KD_HOLD_MAX_CYCLES 100000 /* a scheduled goal held at most this many cycles */
 
 typedef struct kd_cycle {
     /* Configuration and the controller (caller-owned, large). */

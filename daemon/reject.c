@@ -23,6 +23,7 @@ const char *kd_reason_token(kc_ctrl_reason reason)
     case KC_REASON_DUPLICATE_ID: return "duplicate_id";
     case KC_REASON_ZONE: return "zone";
     case KC_REASON_STOP_FIRST: return "stop_first";
+    case KC_REASON_LATE: return "late";
     case (int)KD_REASON_OVERRUN: return "overrun";
     case (int)KD_REASON_SHUTDOWN: return "shutdown";
     case KC_REASON_EXTERNAL: return "external";
@@ -49,6 +50,7 @@ kc_status kd_reason_code(kc_ctrl_reason reason)
     case KC_REASON_UNREACHABLE:
     case KC_REASON_TRACKING: return KC_E_UNREACHABLE;
     case KC_REASON_STATE:
+    case KC_REASON_LATE:
     case KC_REASON_SERVO_TIMEOUT:
     case (int)KD_REASON_OVERRUN:
     case (int)KD_REASON_SHUTDOWN:

@@ -44,6 +44,7 @@ kc_status kc_check_init(kc_check *k, const kc_chain *chain, const kc_ctrl_cfg *c
     k->running = 0;
     k->run_moving = 0;
     k->run_stop_first = 0;
+    k->lead = 0;
     return KC_OK;
 }
 
@@ -146,15 +147,20 @@ static kc_status begin_from(kc_check *k, const kc_real *q_start, const kc_goal *
     }
     kc_ctrl_goal_copy(&k->run_goal, goal);
     k->run_goal.replace = 0;
+    k->run_goal.take_cycle = 0;
     return run_set(k, k->max_ticks);
 }
 
+/* The lead, 0 where negative. */
+static int64_t lead_of(const kc_check *k) { return k->lead > 0 ? k->lead : 0; }
+
 /* The dry run of replacing goal g from the snapshot in the scratch: the
- * goal given to the copy of the controller as the cycle gives it in its
- * next tick, with nothing else, and stepped until the goal ends. The
- * longest motion judged is as long in seconds as at the check's period.
- * The goal is checked. */
-static kc_status begin_moving(kc_check *k, const kc_goal *goal)
+ * copy of the controller stepped k->lead ticks with no input, then given
+ * the goal as the cycle gives it, scheduled for that tick and that state
+ * (v->take_cycle, take_state), with nothing else, and stepped until the
+ * goal ends. The longest motion judged is as long in seconds as at the
+ * check's period. The goal is checked. */
+static kc_status begin_moving(kc_check *k, const kc_goal *goal, kc_verdict *v)
 {
     /* Ticks of the controller's period per tick of the check's, rounded
      * up, in integers (a float to int64 conversion needs double helpers
@@ -164,8 +170,23 @@ static kc_status begin_moving(kc_check *k, const kc_goal *goal)
     k->have_snapshot = 0; /* stepped from now on: used up */
     k->run_moving = 1;
     k->run_stop_first = 0;
+    k->run_goal.id = goal->id;
+    k->run_in.goal = NULL;
+    k->run_in.command = KC_CMD_NONE;
+    k->run_in.servo_stale = 0;
+    k->run_in.fault = KC_REASON_NONE;
+    for (int64_t t = 0; t < lead_of(k); t++) {
+        kc_ctrl_output out;
+        if (kc_ctrl_step(&k->scratch, &k->run_in, &out) != KC_OK) /* not reached: the snapshot is initialised */
+            return kc_ctrl_bad_goal(v);
+        for (int e = 0; e < out.n_events; e++)
+            if (judged(k, &out.events[e], 0, v)) /* the motion it replaces faulted before the goal's tick */
+                return v->status;
+    }
     memcpy(k->q_from, k->scratch.q, sizeof k->q_from);
     kc_ctrl_goal_copy(&k->run_goal, goal);
+    k->run_goal.take_cycle = v->take_cycle = k->scratch.cycle + 1;
+    k->run_goal.take_state = v->take_state = kc_ctrl_stamp(&k->scratch);
     return run_set(k, k->max_ticks > INT64_MAX / ratio ? INT64_MAX : k->max_ticks * ratio);
 }
 
@@ -300,11 +321,13 @@ kc_status kc_check_goal(kc_check *k, const kc_goal *goal, kc_verdict *v)
     return st == KC_MORE ? run_all(k, st, v) : st;
 }
 
-/* The snapshot held is the controller as the next goal finds it: no tick
- * fed since is newer, and every goal handed on had reached it. */
+/* The snapshot held is the controller as the next goal finds it: the
+ * controller can still take the goal in its tick (no tick fed since is as
+ * new: the snapshot's cycle plus the lead), and every goal handed on had
+ * reached it. */
 int kc_check_snapshot_fresh(const kc_check *k)
 {
-    return k != NULL && k->have_snapshot && (!k->have_tick || k->snap_cycle >= k->tick_cycle) &&
+    return k != NULL && k->have_snapshot && (!k->have_tick || k->tick_cycle <= k->snap_cycle + lead_of(k)) &&
            k->snap_taken == k->handed;
 }
 
@@ -331,7 +354,7 @@ kc_status kc_check_begin(kc_check *k, const kc_goal *goal, kc_verdict *v)
     if (goal->kind == KC_GOAL_SERVO) /* it streams: the cheap checks only, and it ends where the arm is */
         return taken(v, k->q_now, n);
     if (goal->replace && kc_check_snapshot_fresh(k))
-        return begin_moving(k, goal);
+        return begin_moving(k, goal, v);
     return begin_from(k, k->q_from, goal, v);
 }
 

@@ -25,6 +25,7 @@ const char *kc_ctrl_reason_str(kc_ctrl_reason reason)
     case KC_REASON_EXTERNAL: return "an external device (a drive, the field bus) reported a fault";
     case KC_REASON_ZONE: return "a link volume would enter the margin of a forbidden zone";
     case KC_REASON_STOP_FIRST: return "no continuous transition from the motion it replaces: that motion stops first";
+    case KC_REASON_LATE: return "not taken in the cycle or from the state its dry run judged it for: send it again";
     case KC_REASON_COUNT: break;
     }
     return "unknown reason";

@@ -136,6 +136,46 @@ static void take_retarget(kc_ctrl *c, const kc_goal *g)
     c->state = KC_CTRL_MOVING;
 }
 
+/* FNV-1a, 32 bits, over n bytes, from h. */
+static uint32_t fnv(uint32_t h, const void *bytes, size_t n)
+{
+    const unsigned char *b = bytes;
+    for (size_t i = 0; i < n; i++)
+        h = (h ^ b[i]) * 16777619u;
+    return h;
+}
+
+/* ... over the four bytes of x, least significant first. */
+static uint32_t fnv_word(uint32_t h, uint32_t x)
+{
+    for (int i = 0; i < 4; i++, x >>= 8)
+        h = (h ^ (x & 0xFFu)) * 16777619u;
+    return h;
+}
+
+uint32_t kc_ctrl_stamp(const kc_ctrl *c)
+{
+    if (c == NULL || c->chain == NULL)
+        return 0;
+    size_t row = sizeof(kc_real) * (size_t)c->chain->n_joints;
+    uint64_t active_id = c->active ? (uint64_t)c->goal.id : 0u;
+    uint32_t h = fnv(2166136261u, c->q, row);
+    h = fnv(h, c->qd, row);
+    h = fnv(h, c->qdd, row);
+    h = fnv_word(h, (uint32_t)c->state);
+    h = fnv_word(h, (uint32_t)c->active);
+    h = fnv_word(h, (uint32_t)c->queue_len);
+    h = fnv_word(h, (uint32_t)active_id);
+    return fnv_word(h, (uint32_t)(active_id >> 32));
+}
+
+/* A scheduled goal (kc_goal.take_cycle) in its tick and from the state it
+ * was judged from. */
+static int on_schedule(const kc_ctrl *c, const kc_goal *g)
+{
+    return g->take_cycle == 0 || (g->take_cycle == c->cycle && g->take_state == kc_ctrl_stamp(c));
+}
+
 void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
 {
     kc_verdict v;
@@ -174,6 +214,10 @@ void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     }
     if (st != KC_OK) {
         kc_ctrl_emit(out, KC_EVENT_REJECTED, g->id, v.reason, 0);
+        return;
+    }
+    if (!on_schedule(c, g)) {
+        kc_ctrl_emit(out, KC_EVENT_REJECTED, g->id, KC_REASON_LATE, 0);
         return;
     }
     if (g->replace) {

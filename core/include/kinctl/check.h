@@ -19,21 +19,26 @@
  * (kc_check_snapshot: a copy of the whole kc_ctrl after a tick, made by
  * whoever owns the controller, into the check's scratch controller: no
  * second one) that is fresh: no tick fed since is newer, and every goal
- * handed on had been taken by it. The copy is given the goal as the cycle
- * gives it in the next tick, and stepped until the goal ends, at the
- * controller's own period: the verdict covers the transition the
- * controller makes (kinctl/ctrl.h: a joint goal's retarget from (q, qd,
+ * handed on had been taken by it, and no tick fed is as new as the tick
+ * the goal is judged for. The copy is stepped check->lead ticks of the
+ * motion it holds, given the goal as the cycle gives it in the tick after
+ * those, and stepped until the goal ends, at the controller's own period:
+ * the verdict covers the transition the controller makes (kinctl/ctrl.h: a joint goal's retarget from (q, qd,
  * qdd), a Cartesian goal or a joint path superposed on the old motion's
  * stop, or the stop
  * first and then the goal from rest where it ends); a fault on the way
  * (a zone, a joint the IK step cannot bring along: the old motion's stop
  * included) refuses the goal; and a goal taken with the motion stopped
- * first is taken with reason KC_REASON_STOP_FIRST. Its ticks are the
- * controller's and q_end where that controller comes to rest, to the bit
- * when the controller takes the goal in the tick after the snapshot (a
- * caller that hands it on later, as kinctld does, gets the transition of
- * the snapshot's tick: the arm a few ticks further along the same
- * motion). run_moving says which start the goal last judged had. Without
+ * first is taken with reason KC_REASON_STOP_FIRST. The verdict schedules
+ * the goal (kc_verdict.take_cycle, take_state: the tick and the state it
+ * was given in; the caller copies them into the goal it hands on), and
+ * the controller takes a scheduled goal in that tick from that state or
+ * not at all (KC_REASON_LATE, kinctl/ctrl.h): so the verdict's ticks are
+ * the controller's, and q_end where it comes to rest, to the bit. A lead
+ * covers the time the caller needs to judge the goal and hand it on
+ * (kinctld measures it: checker.h); a goal that reaches the controller
+ * after its tick is refused, never taken from a state it was not judged
+ * from. run_moving says which start the goal last judged had. Without
  * a fresh snapshot a replacing goal is judged as before the snapshot
  * existed: at rest at the latest setpoint (kc_check_tick's q), at the
  * check's period. A snapshot serves one goal: any run uses the scratch.
@@ -144,6 +149,10 @@ typedef struct kc_check {
      * rest, at cfg.dt. */
     int run_moving;
     int run_stop_first; /* ... and the controller stops the motion first */
+    /* Set by the caller: the ticks of the controller's period between a
+     * snapshot and the tick a replacing goal judged from it is scheduled
+     * for, less one (0: the tick after the snapshot; see above). */
+    int64_t lead;
 } kc_check;
 
 /* Starts a dry run for chain and cfg (the controller's configuration; its

@@ -329,6 +329,15 @@ typedef struct kc_goal {
      * where the dry run finds the transition beyond a joint's jerk limit
      * and the stop first within it (kinctl/check.h). */
     int stop_first;
+    /* A replacing goal judged from the controller's moving state
+     * (kinctl/check.h) is taken only as judged: in the tick whose output
+     * cycle is take_cycle, from the state whose kc_ctrl_stamp is
+     * take_state; in any other tick, or from any other state (a command,
+     * a servo message or a stalled cycle between), it is refused
+     * (KC_REASON_LATE), the motion it would replace going on. 0: taken
+     * whenever it arrives. kinctld holds such a goal until its cycle. */
+    int64_t take_cycle;
+    uint32_t take_state;
     kc_goal_profile profile; /* joint move, line, arc, path: its motion law */
     /* Fractions of the joints' velocity and acceleration limits, (0, 1]. */
     kc_real vel_scale, acc_scale;
@@ -388,11 +397,15 @@ typedef enum kc_ctrl_reason {
     /* Accepted, replacing a motion with no continuous transition into it:
      * the motion stops on its path first (the ACCEPTED event's reason). */
     KC_REASON_STOP_FIRST,
+    /* Refused: a scheduled goal (kc_goal.take_cycle) given in another
+     * tick, or with the controller in another state than judged from. */
+    KC_REASON_LATE,
     KC_REASON_COUNT
 } kc_ctrl_reason;
 
 /* A readable text for a reason (never NULL). */
 const char *kc_ctrl_reason_str(kc_ctrl_reason reason);
+
 
 /* The part of a goal a verdict names. */
 typedef enum kc_goal_field {
@@ -433,6 +446,11 @@ typedef struct kc_verdict {
      * times the run's period (1: at the jerk limit), over every tick
      * stepped; 0 when nothing was (kinctl/check.h). */
     kc_real jerk;
+    /* Judged from a snapshot (kinctl/check.h): the cycle and the state
+     * the controller takes the goal in (kc_goal.take_cycle, take_state);
+     * 0 when judged from rest, for whenever it arrives. */
+    int64_t take_cycle;
+    uint32_t take_state;
 } kc_verdict;
 
 typedef enum kc_ctrl_event_kind {
@@ -702,5 +720,14 @@ kc_status kc_goal_slow(kc_goal *g, const kc_ctrl_cfg *cfg, kc_real s);
 /* One tick. Cycle-safe: bounded work (planning a segment when one starts:
  * see kinctl/path.h for the cost of long paths), no allocation. */
 kc_status kc_ctrl_step(kc_ctrl *ctrl, const kc_ctrl_input *in, kc_ctrl_output *out);
+
+/* The controller's state as a scheduled goal finds it (kc_goal.take_state):
+ * a 32-bit FNV-1a hash of the last setpoint's bytes (q, qd, qdd of every
+ * joint), the state, and the active goal's id and the queue's length.
+ * Stepping is deterministic, so a copy of the controller stepped with the
+ * same inputs has the same stamp at the same cycle; any other input
+ * between (a command, a goal, a servo message, a fault) changes it, but
+ * for the rare hash collision (2^-32). 0 for NULL. */
+uint32_t kc_ctrl_stamp(const kc_ctrl *c);
 
 #endif /* KINCTL_CTRL_H */
