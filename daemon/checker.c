@@ -66,22 +66,24 @@ static void take_ticks(kd_checker *k)
     const kd_check_tick *t;
     while ((t = kd_spsc_slot_read(&k->ticks)) != NULL) {
         kc_check_tick(k->check, &t->out, t->goals_taken);
+        k->ctrl_moving = t->out.state == KC_CTRL_MOVING || t->out.state == KC_CTRL_STOPPING;
         kd_spsc_release(&k->ticks);
     }
 }
 
 /* The controller as a replacing goal finds it (checker.h): a snapshot from
  * the cycle into k->keep, taken again while it is not fresh for a goal
- * k->check->lead ticks after it, for at most KD_SNAP_WAIT_MS. 1 with the
- * snapshot kept (k->keep_taken, k->keep_ns), else 0: the goal is judged
- * from rest. */
+ * k->check->lead ticks after it, for at most KD_SNAP_WAIT_MS, or while
+ * the controller moves the dry runs' budget. 1 with the snapshot kept
+ * (k->keep_taken, k->keep_ns), else 0. */
 static int take_snapshot(kd_checker *k)
 {
     /* A goal handed on before, scheduled, is taken in its cycle: no
      * snapshot is fresh before that. */
     int64_t now = kd_now_ns();
-    int64_t until = (k->held_ns > now ? k->held_ns : now) + KD_SNAP_WAIT_MS * 1000000LL;
+    int64_t from = k->held_ns > now ? k->held_ns : now, until;
     do {
+        until = from + (k->ctrl_moving ? k->budget_ns : KD_SNAP_WAIT_MS * 1000000LL);
         if (!kd_cycle_snapshot(k->cycle, &k->keep, until - kd_now_ns(), &k->keep_taken))
             return 0;
         k->keep_ns = kd_now_ns();
@@ -244,6 +246,17 @@ static void judge(kd_checker *k, const kd_job *job, kd_job *out)
             lead_ns = KD_LEAD_MAX_MS * 1000000LL;
         k->check->lead = replacing ? (lead_ns + period - 1) / period - 1 : 0;
         int snap = replacing && take_snapshot(k);
+        if (replacing && !snap && k->ctrl_moving) {
+            /* Judged from rest, it would be taken unjudged from the moving
+             * state: refused. */
+            memcpy(&out->goal, &job->goal, sizeof out->goal);
+            kc_ctrl_verdict_init(&out->verdict);
+            out->verdict.status = KC_E_STATE;
+            out->verdict.reason = KC_REASON_LATE;
+            out->end = atomic_load_explicit(&k->run, memory_order_acquire) ? KD_JOB_JUDGED : KD_JOB_STOPPED;
+            memset(&note, 0, sizeof note);
+            break;
+        }
         search(k, job, out, start, snap, &note);
         if (!snap || !taken(out) || on_time(k, out) || attempt + 1 >= KD_LEAD_TRIES ||
             out->end != KD_JOB_JUDGED)

@@ -25,7 +25,9 @@
  * fresh (a goal accepted before it still on its way to the controller),
  * and after KD_SNAP_WAIT_MS (past the cycle a goal handed on before is
  * scheduled for) without one judges the goal from rest at the
- * latest setpoint (kinctl/check.h). Scheduled takeover: the goal is
+ * latest setpoint (kinctl/check.h); with the controller moving, it asks
+ * for as long as the dry runs' budget, and then refuses the goal (late:
+ * taken unjudged from the moving state otherwise). Scheduled takeover: the goal is
  * judged for a tick some way after the snapshot (the kc_check's lead:
  * KD_LEAD_MS, then twice what a judgement that ended too late took), and
  * handed on scheduled for that tick and state (kc_goal.take_cycle,
@@ -137,6 +139,7 @@ typedef struct kd_checker {
     kc_ctrl keep;
     int64_t keep_taken, keep_ns;
     int64_t held_ns; /* about when the last goal handed on, scheduled, is taken */
+    int ctrl_moving; /* the controller moved (or stopped) at the latest tick taken */
     int wake_fd, done_fd; /* eventfds: work for the checker; verdicts for the I/O thread */
 
     /* The I/O thread's: the answers' order, and the tick waiting for room. */

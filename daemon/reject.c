@@ -125,6 +125,8 @@ void kd_reject_verdict(kd_reject *rej, const kd_config *cfg, const kc_goal *g, c
     else if (reason == KC_REASON_BAD_GOAL && v->field == KC_FIELD_N_POINTS)
         kd_reject_set(rej, reason, "%s.n_points = %d, expected 1 .. %d", wire_name(g->kind), (int)v->value,
                       KC_PATH_MAX_KNOTS - 1);
+    else if (reason == KC_REASON_LATE)
+        kd_reject_set(rej, reason, "no fresh snapshot of the moving controller came to judge it from: send it again");
     else if (reason == KC_REASON_QUEUE_FULL)
         kd_reject_set(rej, reason, "the controller's goal queue (%d goals) is full", (int)v->value);
     else if (reason == KC_REASON_ZONE) {
