@@ -41,6 +41,7 @@ int kd_checker_init(kd_checker *k, kc_check *check, int64_t budget_ns, kd_cycle 
     atomic_init(&k->moving, 0);
     atomic_init(&k->slowed, 0);
     atomic_init(&k->late, 0);
+    atomic_init(&k->jerk_refused, 0);
     atomic_init(&k->run, 0);
     k->wake_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
     k->done_fd = eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC);
@@ -162,7 +163,8 @@ typedef struct search_note {
  * joint jerk to the stop's) is judged again with the motion it replaces
  * stopped first (kc_goal.stop_first), and so taken if that does better.
  * The goal handed on is the last one taken: a pass that is refused, runs
- * over the budget or does no better leaves the one before. */
+ * over the budget or does no better leaves the one before (judge then
+ * refuses one still beyond the limits: jerk_refused). */
 static void search(kd_checker *k, const kd_job *job, kd_job *out, int64_t start, int snap, search_note *note)
 {
     memcpy(&out->goal, &job->goal, sizeof out->goal);
@@ -227,6 +229,18 @@ static int on_time(const kd_checker *k, const kd_job *out)
            kd_now_ns() + KD_HAND_MARGIN_MS * 1000000LL < k->keep_ns + ahead * k->cycle->period_ns;
 }
 
+/* A goal taken over its joints' jerk limits after the search is refused
+ * when its law is jerk-limited and so is the motion it replaces (if judged
+ * from the moving state with one active): the excess is then no motion
+ * law's own (a trapezoid's, a joint path's), and taking it would drive
+ * the joints beyond their limits. */
+static int jerk_refused(const kd_checker *k, const kd_job *out, int moving)
+{
+    const kc_ctrl *c = &k->check->scratch;
+    return kc_ctrl_jerk_limited(c, &out->goal) && out->goal.kind != KC_GOAL_JOINT &&
+           (!moving || !k->keep.active || kc_ctrl_jerk_limited(&k->keep, &k->keep.goal));
+}
+
 /* The dry run of job into out (search). A replacing goal is judged from a
  * snapshot of the controller for a tick k->check->lead ticks after it
  * (kinctl/check.h), first KD_LEAD_MS ahead; a judgement that ends too late
@@ -283,6 +297,16 @@ static void judge(kd_checker *k, const kd_job *job, kd_job *out)
                 "kinctld: goal %" PRId64 " stops the motion it replaces first (taking over, its joints' jerk %.3g "
                 "times their limits; so, %.3g)\n",
                 out->goal.id, note.jerk, (double)out->verdict.jerk);
+    if (over_jerk(out) && jerk_refused(k, out, note.moving)) {
+        out->verdict.status = KC_E_LIMIT;
+        out->verdict.reason = KD_REASON_JERK;
+        atomic_fetch_add_explicit(&k->jerk_refused, 1, memory_order_relaxed);
+    } else if (over_jerk(out)) {
+        fprintf(stderr,
+                "kinctld: goal %" PRId64 " taken with its joints' jerk %.3g times their limits (the law of it or of "
+                "the motion it replaces is not jerk-limited)\n",
+                out->goal.id, (double)out->verdict.jerk);
+    }
     if (out->end == KD_JOB_OVER_BUDGET)
         atomic_fetch_add_explicit(&k->over_budget, 1, memory_order_relaxed);
     if (taken(out)) {

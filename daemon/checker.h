@@ -157,6 +157,7 @@ typedef struct kd_checker {
     atomic_llong moving; /* replacing goals judged from a snapshot (the others from rest) */
     atomic_llong slowed; /* goals slowed, or stopping first, for their joints' jerk (checker.c) */
     atomic_llong late;   /* replacing goals judged again: the judgement ended too late for its tick */
+    atomic_llong jerk_refused; /* goals refused for their joints' jerk (checker.c jerk_refused) */
     int64_t answered_early; /* the I/O thread's: refusals answered out of order */
 
     atomic_int run;

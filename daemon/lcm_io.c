@@ -764,6 +764,9 @@ void kd_io_summary(const kd_io *io, char *buf, int size)
                       "stopping first for their joints' jerk %lld)",
                       (long long)atomic_load(&io->checker.judged), (long long)atomic_load(&io->checker.over_budget),
                       (long long)atomic_load(&io->checker.moving), (long long)atomic_load(&io->checker.slowed));
+    if (o > 0 && o < size && atomic_load(&io->checker.jerk_refused) > 0)
+        o += snprintf(buf + o, (size_t)(size - o), ", goals refused for their joints' jerk %lld",
+                      (long long)atomic_load(&io->checker.jerk_refused));
     if (o > 0 && o < size && atomic_load(&io->checker.late) > 0)
         o += snprintf(buf + o, (size_t)(size - o), ", replacing goals judged again for a later cycle %lld",
                       (long long)atomic_load(&io->checker.late));

@@ -30,6 +30,7 @@ const char *kd_reason_token(kc_ctrl_reason reason)
     case (int)KD_REASON_DRIVE: return "drive";
     case (int)KD_REASON_CAN: return "can";
     case (int)KD_REASON_CHECK_BUDGET: return "check_budget";
+    case (int)KD_REASON_JERK: return "jerk";
     default: return "unknown";
     }
 }
@@ -44,7 +45,8 @@ kc_status kd_reason_code(kc_ctrl_reason reason)
     case KC_REASON_PLAN: return KC_E_ARG;
     case KC_REASON_JOINT_LIMIT:
     case KC_REASON_ZONE:
-    case KC_REASON_LIMIT_GUARD: return KC_E_LIMIT;
+    case KC_REASON_LIMIT_GUARD:
+    case (int)KD_REASON_JERK: return KC_E_LIMIT;
     case KC_REASON_QUEUE_FULL:
     case (int)KD_REASON_CHECK_BUDGET: return KC_E_CAPACITY;
     case KC_REASON_UNREACHABLE:
@@ -125,6 +127,10 @@ void kd_reject_verdict(kd_reject *rej, const kd_config *cfg, const kc_goal *g, c
     else if (reason == KC_REASON_BAD_GOAL && v->field == KC_FIELD_N_POINTS)
         kd_reject_set(rej, reason, "%s.n_points = %d, expected 1 .. %d", wire_name(g->kind), (int)v->value,
                       KC_PATH_MAX_KNOTS - 1);
+    else if (reason == KD_REASON_JERK)
+        kd_reject_set(rej, reason,
+                      "its joints' jerk would reach %.3g times their limits (qddd), slowed or stopping first included",
+                      (double)v->jerk);
     else if (reason == KC_REASON_LATE)
         kd_reject_set(rej, reason, "no fresh snapshot of the moving controller came to judge it from: send it again");
     else if (reason == KC_REASON_QUEUE_FULL)

@@ -29,6 +29,9 @@
 #define KD_REASON_DRIVE ((kc_ctrl_reason)(KC_REASON_COUNT + 3))   /* a drive on CAN: fault, silent, lagging */
 #define KD_REASON_CAN ((kc_ctrl_reason)(KC_REASON_COUNT + 4))     /* the CAN bus: bus-off, interface down */
 #define KD_REASON_CHECK_BUDGET ((kc_ctrl_reason)(KC_REASON_COUNT + 5)) /* a dry run longer than its budget */
+/* a jerk-limited Cartesian goal whose joints' jerk the dry run finds beyond
+ * their limits at every share of its speed tried, stopping first too */
+#define KD_REASON_JERK ((kc_ctrl_reason)(KC_REASON_COUNT + 6))
 
 typedef struct kd_reject {
     kc_ctrl_reason reason;

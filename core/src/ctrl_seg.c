@@ -108,6 +108,13 @@ kc_profile_kind kc_ctrl_goal_profile(const kc_ctrl *c, const kc_goal *g)
     return k;
 }
 
+int kc_ctrl_jerk_limited(const kc_ctrl *c, const kc_goal *g)
+{
+    if (c == NULL || g == NULL || c->chain == NULL || g->kind == KC_GOAL_PATH || g->kind == KC_GOAL_SERVO)
+        return 0;
+    return kc_ctrl_goal_profile(c, g) == KC_PROFILE_JERK;
+}
+
 kc_status kc_ctrl_plan_joint(const kc_ctrl *c, const kc_goal *g, const kc_real *q0, const kc_real *qd0,
                              const kc_real *qdd0, kc_interp_joint *out)
 {
