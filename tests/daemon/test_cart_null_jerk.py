@@ -8,12 +8,11 @@ cycle's period and slows a goal whose joints would exceed their jerk
 limits (kinctl/check.h). Every cycle of every goal taken stays within
 qd_max and qdd_max and changes qdd by at most qddd_max dt, and the goal
 ends on its target."""
-import math
 import random
 
 from kinctl import client as kc
 from kinctl_arms import Arm
-from kinctl_testing import END, EVENTS, close, finished, setpoints_since
+from kinctl_testing import END, EVENTS, close, fast_cart_limits, finished, random_offset, setpoints_since
 
 Q0 = [0.0, -0.3, 0.0, -2.0, 0.0, 1.8, 0.8]
 CASES = 16
@@ -23,18 +22,8 @@ def random_goal(rng, c, home, goal_id):
     """A line or (odd c) an arc of 5 to 30 cm from home's position in its
     orientation: at the default limits for c % 4 < 2, else at speed, accel
     and jerk drawn up to fast ones."""
-    while True:
-        u = [rng.uniform(-1.0, 1.0) for _ in range(3)]
-        n = math.sqrt(sum(x * x for x in u))
-        if 0.1 < n <= 1.0:
-            break
-    length = rng.uniform(0.05, 0.3)
-    to = [p + length * x / n for p, x in zip(home.position, u)] + list(home.orientation)
-    limits = {}
-    if c % 4 >= 2:
-        speed = rng.uniform(0.05, 0.5)
-        accel = speed * rng.uniform(2.0, 8.0)
-        limits = {"speed": speed, "accel": accel, "jerk": accel * rng.uniform(5.0, 20.0)}
+    to = random_offset(rng, home.position, 0.05, 0.3) + list(home.orientation)
+    limits = fast_cart_limits(rng) if c % 4 >= 2 else {}
     if c % 2:
         via = [0.5 * (p + t) + rng.uniform(-0.05, 0.05) for p, t in zip(home.position, to)]
         return to, kc.make_goal_arc(via, to, goal_id=goal_id, **limits)

@@ -24,7 +24,7 @@ import pytest
 
 from kinctl import client as kc
 from kinctl_arms import Arm
-from kinctl_testing import DT, END, EVENT_NAMES, EVENTS, finished, setpoints_since
+from kinctl_testing import DT, END, EVENT_NAMES, EVENTS, fast_cart_limits, finished, random_offset, setpoints_since
 
 GOALS = 20
 FIRST = 100
@@ -56,18 +56,9 @@ def random_goal(rng, a, here, goal_id):
         else:
             q = [h + rng.uniform(-SPREAD, SPREAD) for h in HOMES[a.name]]
         return kind, q, kc.make_goal_joint(q, goal_id=goal_id, replace=True)
-    while True:
-        u = [rng.uniform(-1.0, 1.0) for _ in range(3)]
-        n = math.sqrt(sum(x * x for x in u))
-        if 0.1 < n <= 1.0:
-            break
-    length = rng.uniform(0.03, 0.2)
-    to = [p + length * x / n for p, x in zip(here.position, u)] + list(here.orientation)
-    limits = {}
-    if rng.random() < 0.25:
-        speed = rng.uniform(0.05, 0.5)
-        accel = speed * rng.uniform(2.0, 8.0)
-        limits = {"speed": speed, "accel": accel, "jerk": accel * rng.uniform(5.0, 20.0)}
+    to = random_offset(rng, here.position, 0.03, 0.2) + list(here.orientation)
+    length = math.dist(here.position, to[:3])
+    limits = fast_cart_limits(rng) if rng.random() < 0.25 else {}
     if kind == "arc":
         via = [0.5 * (p + t) + rng.uniform(-0.3, 0.3) * length for p, t in zip(here.position, to)]
         return kind, to, kc.make_goal_arc(via, to, goal_id=goal_id, replace=True, **limits)

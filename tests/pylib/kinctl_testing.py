@@ -424,6 +424,26 @@ def max_jerk_ratio(sps):
     return rj, ra
 
 
+def random_offset(rng, position, lo, hi):
+    """position moved by lo to hi (m) in a random direction (uniform on the
+    sphere: drawn in the unit ball, away from its centre)."""
+    while True:
+        u = [rng.uniform(-1.0, 1.0) for _ in range(3)]
+        n = math.sqrt(sum(x * x for x in u))
+        if 0.1 < n <= 1.0:
+            break
+    length = rng.uniform(lo, hi)
+    return [p + length * x / n for p, x in zip(position, u)]
+
+
+def fast_cart_limits(rng):
+    """A Cartesian goal's speed, accel and jerk drawn up to fast ones (as
+    keyword arguments of kinctl.client's make_goal_line and _arc)."""
+    speed = rng.uniform(0.05, 0.5)
+    accel = speed * rng.uniform(2.0, 8.0)
+    return {"speed": speed, "accel": accel, "jerk": accel * rng.uniform(5.0, 20.0)}
+
+
 def close(a, b, tol):
     return all(abs(x - y) <= tol for x, y in zip(a, b))
 

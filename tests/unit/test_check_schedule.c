@@ -68,6 +68,25 @@ static void sweep_then_snapshot(void)
     assert_int_equal(move_then_snapshot(qa, qb, 700), 1);
 }
 
+/* The replacing line: 10 cm up from the tool at the snapshot. */
+static kc_goal lift_goal(int64_t id)
+{
+    kc_pose to = CTRL.pose;
+    to.t.v[2] += KC_R(0.1);
+    kc_goal g = kt_line_goal(id, &to);
+    g.replace = 1;
+    return g;
+}
+
+/* Judged from rest (no fresh snapshot): not scheduled. */
+static void assert_judged_from_rest(const kc_goal *g)
+{
+    kc_verdict v;
+    assert_int_equal(kc_check_goal(&CHECK, g, &v), KC_OK);
+    assert_int_equal(CHECK.run_moving, 0);
+    assert_int_equal(v.take_cycle, 0);
+}
+
 /* The first event of kind for goal id in out, or NULL. */
 static const kc_ctrl_event *event(const kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id)
 {
@@ -140,10 +159,7 @@ static void test_taken_in_its_tick(void **state)
     setup();
     sweep_then_snapshot();
     CHECK.lead = 37;
-    kc_pose to = CTRL.pose;
-    to.t.v[2] += KC_R(0.1);
-    kc_goal g = kt_line_goal(2, &to);
-    g.replace = 1;
+    kc_goal g = lift_goal(2);
     kc_verdict v;
     assert_int_equal(kc_check_goal(&CHECK, &g, &v), KC_OK);
     assert_int_equal(CHECK.run_moving, 1);
@@ -177,10 +193,8 @@ static void test_taken_in_its_tick(void **state)
     g.take_state = v.take_state;
     assert_taken_as_judged(&g, &v, 0);
 
-    /* judged from rest (no snapshot): not scheduled */
-    assert_int_equal(kc_check_goal(&CHECK, &unscheduled, &v), KC_OK);
-    assert_int_equal(CHECK.run_moving, 0);
-    assert_int_equal(v.take_cycle, 0);
+    /* the snapshot used up: judged from rest, not scheduled */
+    assert_judged_from_rest(&unscheduled);
 }
 
 /* The snapshot serves a goal judged for lead ticks after it until a tick
@@ -201,14 +215,8 @@ static void test_fresh_until_its_tick(void **state)
     step(&PROBE, NULL, KC_CMD_NONE, &out);
     kc_check_tick(&CHECK, &out, 1);
     assert_int_equal(kc_check_snapshot_fresh(&CHECK), 0);
-    kc_pose to = CTRL.pose;
-    to.t.v[2] += KC_R(0.1);
-    kc_goal g = kt_line_goal(2, &to);
-    g.replace = 1;
-    kc_verdict v;
-    assert_int_equal(kc_check_goal(&CHECK, &g, &v), KC_OK);
-    assert_int_equal(CHECK.run_moving, 0);
-    assert_int_equal(v.take_cycle, 0);
+    kc_goal g = lift_goal(2);
+    assert_judged_from_rest(&g);
 }
 
 /* Random lines and arcs (kt_cart_goal, at the default and at fast
