@@ -206,7 +206,13 @@ def test_flood_of_foreign_frames(can_daemon, drives, recorder):
     them in the kernel, the goal completes, every bus cycle still matches
     its setpoint, no fault. (cangen runs niced, with a drive timeout of
     5 s: inside UML the flood otherwise takes the one CPU from the drives
-    and the daemon's readers.)"""
+    and the daemon's readers.) Under the flood a bus cycle may be recorded
+    cut short after its SYNC: the recorder's socket queue overflowing (it
+    counts what the kernel dropped there, FrameRecorder.lost), or the
+    interface's queue refusing a write (kinctld drops the rest of that bus
+    cycle and counts it). Such cycles are allowed as many times as frames
+    were counted lost that way; never a bus cycle out of order, in part
+    out of order, or late."""
     drives()
     d, _ = enabled_daemon(can_daemon, master_timeout_ms=0, drive_timeout_ms=5000.0)
     flood = subprocess.Popen(["nice", "-n", "19", "cangen", IFACE, "-g", "0.1", "-I", "7E5", "-L", "8", "-D", "r",
@@ -221,7 +227,17 @@ def test_flood_of_foreign_frames(can_daemon, drives, recorder):
     frames = recorder.snapshot()
     foreign = [f for f in frames if f[1] == 0x7E5]
     assert len(foreign) > 1000, "the flood reached the bus"
-    assert align(bus_cycles(frames), setpoints_of(d))
+    cut = []
+    cycles = bus_cycles(frames, cut=cut)
+    m = re.search(r"CAN vcan0: frames (\d+), dropped (\d+)", d.stderr)
+    assert m, d.stderr
+    assert len(cut) <= int(m.group(2)) + recorder.lost, \
+        f"{len(cut)} bus cycles cut short; kinctld dropped {m.group(2)} frames, the recorder lost {recorder.lost}"
+    # Between two cut cycles, every bus cycle is the next setpoint's.
+    bounds = [-1] + cut + [float("inf")]
+    for lo, hi in zip(bounds, bounds[1:]):
+        run = [c for c in cycles if lo < c[2] < hi]
+        assert not run or align(run, setpoints_of(d))
     assert not [s for s in statuses(d) if s.event == EVENTS["FAULT"]]
     assert_setpoints_unbroken(setpoints_of(d))
 
