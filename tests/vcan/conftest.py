@@ -276,14 +276,16 @@ def stopped_with(d, what):
     return AssertionError(f"{what}; kinctld's stderr:\n{d.stderr}")
 
 
-def wait_drives(d, value, timeout=30.0, since=0):
+def wait_drives(d, value, timeout=30.0, since=0, with_reason=False):
     """The first status from index since on whose drives is value (DRIVES
-    name); on a timeout the daemon is stopped and its stderr shown."""
+    name), and with with_reason one that says why (a periodic status may
+    show the drives' new state before the one that reports it); on a
+    timeout the daemon is stopped and its stderr shown."""
     want = DRIVES[value]
 
     def find():
         for s in d.bus.statuses[since:]:
-            if s.drives == want:
+            if s.drives == want and (s.reason or not with_reason):
                 return s
         return None
     try:

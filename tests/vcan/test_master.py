@@ -404,7 +404,7 @@ def test_refused_sdo(can_daemon, drives, recorder, write, abort):
     the drive and the object; no drive enabled, goals refused."""
     sim = drives()
     d = can_daemon(writes={3: [write]})
-    st = wait_drives(d, "DISABLED")
+    st = wait_drives(d, "DISABLED", with_reason=True)
     index, sub = write[:2]
     text = lower(st.reason)
     for part in ("joint 3 (node 3)", f"0x{index:04x}:{sub:02x}", f"0x{abort:08x}"):
@@ -433,7 +433,7 @@ def test_identity_checked(can_daemon, drives, recorder):
     identity = {n: IDENTITY for n in NODES}
     identity[2] = IDENTITY[:1] + [0x403] + IDENTITY[2:]
     d = can_daemon(identity=identity)
-    st = wait_drives(d, "DISABLED")
+    st = wait_drives(d, "DISABLED", with_reason=True)
     text = lower(st.reason)
     for part in ("joint 2 (node 2)", "0x1018:02", "0x00000402", "0x00000403"):
         assert part in text, f"{part!r} not in {st.reason!r}"
