@@ -60,12 +60,14 @@ def test_line_replaced_by_line_without_stopping(kinctld):
 
 
 def replace_joint_move_by_line(d, profile):
-    """A joint move (2) of the given profile from QN, replaced 200 cycles in
-    by a line (3) 5 cm up from QN's tool point; its ACCEPTED status, the
-    line's target and the first cycle's setpoint."""
+    """A joint move (2) of the given profile from QN, at a fifth of the
+    joints' speed (still moving when a replacing goal's judgement in a slow
+    build takes over some hundred ms later: scheduled takeover), replaced
+    200 cycles in by a line (3) 5 cm up from QN's tool point; its ACCEPTED
+    status, the line's target and the first cycle's setpoint."""
     s0 = go_nominal(d)
     p, o = list(s0.position), list(s0.orientation)
-    d.bus.send_goal_joint(2, [q + 0.3 for q in QN], profile=profile)
+    d.bus.send_goal_joint(2, [q + 0.3 for q in QN], profile=profile, vel_scale=0.2)
     d.bus.wait(lambda: any(s.goal_id == 2 for s in d.bus.setpoints[-3:]), 5.0, "motion")
     d.bus.wait_setpoints(200)
     target = [p[0], p[1] + 0.05, p[2]]
