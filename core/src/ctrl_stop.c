@@ -305,6 +305,34 @@ static int path_scurve_stop(kc_ctrl *c, const kc_profile_state *u, kc_real dec, 
     return 1;
 }
 
+/* Whether a joint path's stop, planned into the drive from the last
+ * setpoint on, keeps qdd within qdd_max and passes the final check's
+ * continuity on every tick (ctrl.c, setpoint_ok: qd changing by at most
+ * qdd_max dt a tick, here without its slack). Its rate keeps the limits on sampled instants of
+ * the constant-rate stop (path_ramp_load); the jerk-limited stop lingers
+ * longer near the speed it starts from and goes further, and a stop of a
+ * few ticks is far from its continuous law: a Panda quintic stopped in
+ * its first ticks stepped qd by up to 1.0047 qdd_max dt (a limit_guard
+ * fault), its qdd as far over. */
+#define PATH_STOP_TRIES 4
+static int path_stop_fits(const kc_ctrl *c)
+{
+    kc_ctrl_seg_point o;
+    kc_real qd[KC_MAX_JOINTS];
+    int64_t ticks = c->drive == KC_DRIVE_SCURVE ? c->drive_scurve.ticks : c->drive_prof.ticks;
+    memcpy(qd, c->qd, sizeof(kc_real) * (size_t)c->chain->n_joints);
+    for (int64_t j = 1; j <= ticks; j++) {
+        kc_ctrl_seg_eval(c, j, &o);
+        for (int i = 0; i < c->chain->n_joints; i++) {
+            kc_real A = c->chain->joints[i].limits.qdd_max;
+            if (kc_fabs(o.qd[i] - qd[i]) > A * c->cfg.dt || kc_fabs(o.qdd[i]) > A)
+                return 0;
+            qd[i] = o.qd[i];
+        }
+    }
+    return 1;
+}
+
 void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
 {
     c->stop_intent = intent;
@@ -351,11 +379,28 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
             c->drive = c->drive == KC_DRIVE_PROFILE || c->drive == KC_DRIVE_SCURVE ? c->drive : KC_DRIVE_STOPPING_WAIT;
             return;
         }
-        /* Jerk-limited from (tau, tau', tau''), but for a fault. */
+        /* Jerk-limited from (tau, tau', tau''), but for a fault. A joint
+         * path's stop that fails the final check on some tick is planned
+         * again at half the rate, up to PATH_STOP_TRIES times (then the
+         * slowest is kept). A first stop that would pass the end leaves
+         * the drive under way, which stops at the end first; a slower one
+         * that would gives way to the one before it. */
         kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
-        jerk = c->fault_reason == KC_REASON_NONE ? path_scurve_stop(c, &u, dec, T) : 0;
-        if (jerk < 0)
-            return; /* the drive under way stops at the end first */
+        for (int tries = 0;; tries++) {
+            jerk = c->fault_reason == KC_REASON_NONE ? path_scurve_stop(c, &u, dec, T) : 0;
+            if (jerk < 0 && tries == 0)
+                return;
+            if (jerk < 0) {
+                dec *= KC_R(2.0), tries = PATH_STOP_TRIES - 1;
+                continue;
+            }
+            if (!jerk)
+                kc_profile_plan_stop(&c->drive_prof, u.p, u.v, dec, c->cfg.dt);
+            drive_from_here(c, jerk ? KC_DRIVE_SCURVE : KC_DRIVE_PROFILE);
+            if (c->goal.kind != KC_GOAL_PATH || tries == PATH_STOP_TRIES || path_stop_fits(c))
+                return;
+            dec *= KC_R(0.5);
+        }
     } else {
         kc_real vmax;
         kc_profile_kind kind = seg_u_bounds(c, &vmax, &dec, &jmax);

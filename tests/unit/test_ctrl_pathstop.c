@@ -1,0 +1,134 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* test_ctrl_pathstop.c - a joint path stopped on its path keeps the
+ * final check (kinctl/ctrl.h): random joint paths through two knots near
+ * a pose of the PUMA 560 and of the Panda (blends, cubic splines and
+ * quintics, timed from the joints' limits), each stopped by STOP at a
+ * random tick, in its first twenty ticks or anywhere. Every tick from the
+ * STOP to rest: no FAULT (a stop that steps qd by more than qdd_max dt
+ * fails the final check: limit_guard), |qdd| <= qdd_max, qd changing by
+ * at most qdd_max dt, qd within qd_max, each with the relative slack of
+ * the controller's final check (cfg.limit_slack); the stop ends at rest,
+ * idle. Its rate keeps the limits on sampled instants of the constant-rate
+ * stop; a jerk-limited stop lingers near the speed it starts from, and a
+ * stop of a few ticks is far from its continuous law: before the stop was
+ * checked on every tick, Panda quintics stopped in their first ticks
+ * stepped qd by up to 1.0047 qdd_max dt (2 of 3,000 cases stopped
+ * anywhere). */
+#include <math.h>
+#include <string.h>
+
+#include "testutil.h"
+
+#ifdef KC_REAL_FLOAT
+#define CASES 1000
+#else
+#define CASES 3000
+#endif
+
+static kc_chain CHAIN;
+static kc_ctrl CTRL;
+static kc_ctrl_output OUT;
+
+static const kc_real PUMA_HOME[6] = {KC_R(0.0), KC_R(0.7854), KC_R(-3.1416), KC_R(0.0), KC_R(0.7854), KC_R(0.0)};
+static const kc_real PANDA_HOME[7] = {KC_R(0.0), KC_R(-0.3), KC_R(0.0), KC_R(-2.0),
+                                      KC_R(0.0), KC_R(1.8),  KC_R(0.8)};
+
+/* One tick; returns whether it raised a FAULT. */
+static int tick(const kc_goal *g, kc_ctrl_command cmd)
+{
+    kc_ctrl_input in = {g, cmd, 0, KC_REASON_NONE};
+    assert_int_equal(kc_ctrl_step(&CTRL, &in, &OUT), KC_OK);
+    for (int e = 0; e < OUT.n_events; e++)
+        if (OUT.events[e].kind == KC_EVENT_FAULT)
+            return 1;
+    return 0;
+}
+
+static void random_stops(kc_model model, const kc_real *home, uint64_t seed)
+{
+    kt_rng r = kt_rng_make(seed);
+    assert_int_equal(kc_chain_init_model(&CHAIN, model, NULL), KC_OK);
+    kc_ctrl_cfg cfg = kc_ctrl_cfg_default();
+    int n = CHAIN.n_joints;
+    double slack = (double)cfg.limit_slack, dt = (double)cfg.dt;
+    int early = 0, stopped = 0;
+    double worst = 0.0;
+    for (int c = 0; c < CASES; c++) {
+        kc_real q0[KC_MAX_JOINTS];
+        for (int j = 0; j < n; j++)
+            q0[j] = home[j] + (kc_real)kt_uniform(&r, -0.5, 0.5);
+        assert_int_equal(kc_ctrl_init(&CTRL, &CHAIN, &cfg, q0), KC_OK);
+        kc_goal g;
+        memset(&g, 0, sizeof g);
+        g.id = 1;
+        g.kind = KC_GOAL_PATH;
+        g.vel_scale = g.acc_scale = KC_R(1.0);
+        g.method = (kc_path_method)(c % 3); /* blend, spline, quintic */
+        g.n_points = 2;
+        g.dim = n;
+        for (int k = 0; k < 2; k++)
+            for (int j = 0; j < n; j++)
+                g.points[k][j] = home[j] + (kc_real)kt_uniform(&r, -0.5, 0.5);
+        assert_int_equal(tick(&g, KC_CMD_NONE), 0);
+        assert_int_equal(OUT.state, KC_CTRL_MOVING);
+        int64_t ticks = CTRL.plan.path.ticks;
+        int64_t at = c % 2 ? 1 + (int64_t)kt_uniform(&r, 0.0, 20.0) : 1 + (int64_t)kt_uniform(&r, 0.0, (double)ticks);
+        for (int64_t k = 1; k < at && OUT.state == KC_CTRL_MOVING; k++)
+            assert_int_equal(tick(NULL, KC_CMD_NONE), 0);
+        if (OUT.state != KC_CTRL_MOVING)
+            continue; /* a path shorter than the tick drawn */
+        stopped++;
+        early += at <= 20;
+        double qd[KC_MAX_JOINTS];
+        for (int j = 0; j < n; j++)
+            qd[j] = (double)OUT.qd[j];
+        kc_ctrl_command cmd = KC_CMD_STOP;
+        int k = 0;
+        for (; k < 20000 && (k == 0 || OUT.state != KC_CTRL_IDLE); k++, cmd = KC_CMD_NONE) {
+            if (tick(NULL, cmd))
+                fail_msg("case %d (method %d), stopped at tick %ld of %ld: FAULT %d on the stop's tick %d", c,
+                         (int)g.method, (long)at, (long)ticks, (int)OUT.events[0].reason, k);
+            for (int j = 0; j < n; j++) {
+                const kc_joint_limits *l = &CHAIN.joints[j].limits;
+                double A = (double)l->qdd_max, v = (double)OUT.qd[j];
+                double ra = fmax(fabs((double)OUT.qdd[j]) / A, fabs(v - qd[j]) / (A * dt));
+                worst = fmax(worst, ra);
+                if (!(ra <= 1.0 + slack) || !(fabs(v) <= (double)l->qd_max * (1.0 + slack)))
+                    fail_msg("case %d (method %d), stopped at tick %ld of %ld, its tick %d, joint %d: qdd %.9g, "
+                             "qd %.9g -> %.9g (qdd_max %g)",
+                             c, (int)g.method, (long)at, (long)ticks, k, j, (double)OUT.qdd[j], qd[j], v, A);
+                qd[j] = v;
+            }
+        }
+        assert_int_equal(OUT.state, KC_CTRL_IDLE);
+        for (int j = 0; j < n; j++)
+            assert_true(OUT.qd[j] == KC_R(0.0));
+    }
+    print_message("%d-joint arm: %d paths stopped (%d in their first 20 ticks), worst |qdd| or qd step %.9f of "
+                  "qdd_max\n",
+                  n, stopped, early, worst);
+    assert_true(stopped > CASES / 2 && early > CASES / 4);
+}
+
+static void test_puma_path_stops(void **state)
+{
+    (void)state;
+    random_stops(KC_MODEL_PUMA560, PUMA_HOME, 4021);
+}
+
+static void test_panda_path_stops(void **state)
+{
+    (void)state;
+    random_stops(KC_MODEL_PANDA, PANDA_HOME, 4022);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_puma_path_stops),
+        cmocka_unit_test(test_panda_path_stops),
+    };
+    int rc = cmocka_run_group_tests(tests, NULL, NULL);
+    kt_report("ctrl_pathstop");
+    return rc;
+}
