@@ -500,25 +500,34 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     return 1;
 }
 
+void kc_ctrl_blend_joints(const kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o)
+{
+    const kc_ctrl_blend *b = &c->blend;
+    int64_t j = k - b->k0;
+    path_at_rest(k - c->k0, c->chain->n_joints, o);
+    if (!b->on || j >= b->stop_ticks)
+        return;
+    /* q = q_M + q_G - q_s, and so for qd, qdd. */
+    kc_ctrl_seg_point m;
+    stop_joints(c, j, 1, &m);
+    for (int i = 0; i < c->chain->n_joints; i++) {
+        o->q[i] += m.q[i] - b->q_rest[i];
+        o->qd[i] += m.qd[i];
+        o->qdd[i] += m.qdd[i];
+    }
+}
+
 void kc_ctrl_blend_apply(kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o)
 {
     kc_ctrl_blend *b = &c->blend;
     int64_t j = k - b->k0;
-    if (c->goal.kind == KC_GOAL_PATH)
-        path_at_rest(k - c->k0, c->chain->n_joints, o);
-    if (j >= b->stop_ticks) {
-        b->on = 0; /* M rests at P_s: the sum is G alone from here */
+    if (c->goal.kind == KC_GOAL_PATH) {
+        kc_ctrl_blend_joints(c, k, o);
+        b->on = j < b->stop_ticks; /* M rests at q_s: the sum is G alone from here */
         return;
     }
-    if (c->goal.kind == KC_GOAL_PATH) {
-        /* In joint space: q = q_M + q_G - q_s, and so for qd, qdd. */
-        kc_ctrl_seg_point m;
-        stop_joints(c, j, 1, &m);
-        for (int i = 0; i < c->chain->n_joints; i++) {
-            o->q[i] += m.q[i] - b->q_rest[i];
-            o->qd[i] += m.qd[i];
-            o->qdd[i] += m.qdd[i];
-        }
+    if (j >= b->stop_ticks) {
+        b->on = 0; /* M rests at P_s: the sum is G alone from here */
         return;
     }
     kc_ctrl_seg_point m;

@@ -210,6 +210,11 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out);
  * segment's stop at k while that stop lasts; the transition ends with it. */
 void kc_ctrl_blend_apply(kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o);
 
+/* A joint path's point o at absolute tick k with the replaced motion's
+ * stop in joint space added while the superposition lasts (what
+ * kc_ctrl_blend_apply does for a joint path, c unchanged). */
+void kc_ctrl_blend_joints(const kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o);
+
 /* ---- ctrl_stop.c: stops, resume, faults ---- */
 
 /* The rate C of a tau' ramp from rest at tau0 up to 1 that, with the same

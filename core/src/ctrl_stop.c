@@ -313,16 +313,21 @@ static int path_scurve_stop(kc_ctrl *c, const kc_profile_state *u, kc_real dec, 
  * longer near the speed it starts from and goes further, and a stop of a
  * few ticks is far from its continuous law: a Panda quintic stopped in
  * its first ticks stepped qd by up to 1.0047 qdd_max dt (a limit_guard
- * fault), its qdd as far over. */
+ * fault), its qdd as far over. A path superposed on the stop of the
+ * motion it replaced (ctrl_blend.c) is checked with that stop added,
+ * which its rate does not see: stopped there, a Panda path faulted. */
 #define PATH_STOP_TRIES 4
 static int path_stop_fits(const kc_ctrl *c)
 {
     kc_ctrl_seg_point o;
     kc_real qd[KC_MAX_JOINTS];
     int64_t ticks = c->drive == KC_DRIVE_SCURVE ? c->drive_scurve.ticks : c->drive_prof.ticks;
+    if (c->blend.on && c->blend.k0 + c->blend.stop_ticks - c->k0 > ticks)
+        ticks = c->blend.k0 + c->blend.stop_ticks - c->k0; /* to the end of the superposed stop */
     memcpy(qd, c->qd, sizeof(kc_real) * (size_t)c->chain->n_joints);
     for (int64_t j = 1; j <= ticks; j++) {
         kc_ctrl_seg_eval(c, j, &o);
+        kc_ctrl_blend_joints(c, c->k0 + j, &o);
         for (int i = 0; i < c->chain->n_joints; i++) {
             kc_real A = c->chain->joints[i].limits.qdd_max;
             if (kc_fabs(o.qd[i] - qd[i]) > A * c->cfg.dt || kc_fabs(o.qdd[i]) > A)
@@ -373,6 +378,14 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
     kc_ctrl_drive_state(c, j, &u);
     kc_real dec, jmax;
     int jerk;
+    if (c->goal.kind == KC_GOAL_PATH && j < 0) {
+        /* A joint path superposed on the stop of the motion it replaced
+         * that has not started (ctrl_blend.c): it stays at rest where it
+         * starts, that stop going on alone. */
+        kc_profile_plan_stop(&c->drive_prof, KC_R(0.0), KC_R(0.0), KC_R(1.0), c->cfg.dt);
+        drive_from_here(c, KC_DRIVE_PROFILE);
+        return;
+    }
     if (kc_ctrl_is_path(c->goal.kind)) {
         dec = path_stop_rate(c, u.p, u.v);
         if (!(dec > KC_R(0.0))) {
@@ -386,6 +399,8 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
          * the drive under way, which stops at the end first; a slower one
          * that would gives way to the one before it. */
         kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
+        kc_ctrl_drive drive = c->drive;
+        int64_t k0 = c->k0;
         for (int tries = 0;; tries++) {
             jerk = c->fault_reason == KC_REASON_NONE ? path_scurve_stop(c, &u, dec, T) : 0;
             if (jerk < 0 && tries == 0)
@@ -399,6 +414,14 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
             drive_from_here(c, jerk ? KC_DRIVE_SCURVE : KC_DRIVE_PROFILE);
             if (c->goal.kind != KC_GOAL_PATH || tries == PATH_STOP_TRIES || path_stop_fits(c))
                 return;
+            if (c->blend.on && drive == KC_DRIVE_NOMINAL) {
+                /* Superposed on a stop braking at a joint's limit, where
+                 * any stop of the path adds to it: the path goes on as
+                 * judged, and stops from a later tick (at the latest once
+                 * the stop under it has ended). */
+                c->drive = KC_DRIVE_STOPPING_WAIT, c->k0 = k0;
+                return;
+            }
             dec *= KC_R(0.5);
         }
     } else {
