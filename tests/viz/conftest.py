@@ -77,7 +77,7 @@ def live_view_while_moving(url, *view_args):
 @pytest.fixture(scope="session")
 def daemon(multicast):
     """A kinctld (puma560, 1 kHz, --no-rt) for the session, at QN."""
-    d = start_kinctld(url=unique_url(subnet=79, port_base=40000))
+    d = start_kinctld(url=unique_url(subnet=79, port_base=28000))
     try:
         r = run_kinctl(d.url, "goal", "joint", "--q", csv_of(QN), "--wait")
         assert r.returncode == 0, r.stdout + r.stderr

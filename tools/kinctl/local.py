@@ -20,15 +20,18 @@ from kinctl import programs
 _counter = itertools.count()
 
 
-def unique_url(subnet=78, port_base=30000):
+def unique_url(subnet=78, port_base=24000):
     """A multicast group and port of this process's own (239.255.<subnet>.x,
     ttl=0). Suites that may run at the same time use different subnets and
-    port ranges. The receive buffer is sized for the bursts of statuses a
-    flood of goals brings (the kernel caps it at net.core.rmem_max)."""
+    port ranges (port_base to port_base + 3,999), all below the kernel's
+    ephemeral ports (32768 up by default), which another socket of the
+    machine may hold: LCM's bind then fails ("Address already in use").
+    The receive buffer is sized for the bursts of statuses a flood of
+    goals brings (the kernel caps it at net.core.rmem_max)."""
     n = next(_counter)
     pid = os.getpid()
     group = 1 + (pid + n) % 250
-    port = port_base + (pid % 500) * 40 + n % 40
+    port = port_base + (pid % 100) * 40 + n % 40
     return f"udpm://239.255.{subnet}.{group}:{port}?ttl=0&recv_buf_size=4194304"
 
 
