@@ -27,7 +27,12 @@
  *                   points, or kc_path_cart through the current pose and the
  *                   goal's poses (lab 7);
  *   servo           a target pose (or a twist that moves it) followed by the
- *                   online IK law until the stream goes quiet.
+ *                   online IK law until the stream goes quiet: no law of
+ *                   its own to bound the jerk, a target that moves at once
+ *                   steps the joints' qdd up to qdd_max in a tick (random
+ *                   twist streams of up to 0.1 m/s through kinctld: up to
+ *                   200 times the PUMA 560's qddd_max, 3.6 times the
+ *                   Panda's).
  * Cartesian segments give a pose and twist each tick; one kc_ik_step with
  * the twist fed forward turns them into the joint setpoint. If the tool
  * falls more than cfg.track_tol behind (a joint limit, a singularity) the
