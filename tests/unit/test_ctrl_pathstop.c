@@ -16,6 +16,7 @@
  * anywhere). The same for a joint path superposed on the stop of the
  * joint move it replaced (superposed_stops). */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "testutil.h"
@@ -45,31 +46,76 @@ static int tick(const kc_goal *g, kc_ctrl_command cmd)
     return 0;
 }
 
+/* Joints home plus -0.5 to 0.5 rad each, drawn in turn. */
+static void near(kt_rng *r, const kc_real *home, int n, kc_real *q)
+{
+    for (int j = 0; j < n; j++)
+        q[j] = home[j] + (kc_real)kt_uniform(r, -0.5, 0.5);
+}
+
+/* A joint path (method: 0 blend, 1 spline, 2 quintic) through two knots
+ * near home, timed from the joints' limits. */
+static kc_goal path_goal(kt_rng *r, int64_t id, const kc_real *home, int method, int replace)
+{
+    kc_goal g;
+    memset(&g, 0, sizeof g);
+    g.id = id;
+    g.kind = KC_GOAL_PATH;
+    g.replace = replace;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    g.method = (kc_path_method)method;
+    g.n_points = 2;
+    g.dim = CHAIN.n_joints;
+    for (int k = 0; k < 2; k++)
+        near(r, home, CHAIN.n_joints, g.points[k]);
+    return g;
+}
+
+/* STOP, then every tick to rest checked (above); name names the case in
+ * a failure. Returns the largest |qdd| or step of qd over its limit, or
+ * worst if larger. */
+static double stop_to_rest(const char *name, double worst)
+{
+    kc_ctrl_cfg cfg = CTRL.cfg;
+    int n = CHAIN.n_joints;
+    double slack = (double)cfg.limit_slack, dt = (double)cfg.dt, qd[KC_MAX_JOINTS];
+    for (int j = 0; j < n; j++)
+        qd[j] = (double)OUT.qd[j];
+    kc_ctrl_command cmd = KC_CMD_STOP;
+    for (int k = 0; k < 20000 && (k == 0 || OUT.state != KC_CTRL_IDLE); k++, cmd = KC_CMD_NONE) {
+        if (tick(NULL, cmd))
+            fail_msg("%s: FAULT %d on the stop's tick %d", name, (int)OUT.events[0].reason, k);
+        for (int j = 0; j < n; j++) {
+            const kc_joint_limits *l = &CHAIN.joints[j].limits;
+            double A = (double)l->qdd_max, v = (double)OUT.qd[j];
+            double ra = fmax(fabs((double)OUT.qdd[j]) / A, fabs(v - qd[j]) / (A * dt));
+            worst = fmax(worst, ra);
+            if (!(ra <= 1.0 + slack) || !(fabs(v) <= (double)l->qd_max * (1.0 + slack)))
+                fail_msg("%s, the stop's tick %d, joint %d: qdd %.9g, qd %.9g -> %.9g (qdd_max %g)", name, k, j,
+                         (double)OUT.qdd[j], qd[j], v, A);
+            qd[j] = v;
+        }
+    }
+    assert_int_equal(OUT.state, KC_CTRL_IDLE);
+    for (int j = 0; j < n; j++)
+        assert_true(OUT.qd[j] == KC_R(0.0));
+    return worst;
+}
+
 static void random_stops(kc_model model, const kc_real *home, uint64_t seed)
 {
     kt_rng r = kt_rng_make(seed);
     assert_int_equal(kc_chain_init_model(&CHAIN, model, NULL), KC_OK);
     kc_ctrl_cfg cfg = kc_ctrl_cfg_default();
     int n = CHAIN.n_joints;
-    double slack = (double)cfg.limit_slack, dt = (double)cfg.dt;
     int early = 0, stopped = 0;
     double worst = 0.0;
+    char name[96];
     for (int c = 0; c < CASES; c++) {
         kc_real q0[KC_MAX_JOINTS];
-        for (int j = 0; j < n; j++)
-            q0[j] = home[j] + (kc_real)kt_uniform(&r, -0.5, 0.5);
+        near(&r, home, n, q0);
         assert_int_equal(kc_ctrl_init(&CTRL, &CHAIN, &cfg, q0), KC_OK);
-        kc_goal g;
-        memset(&g, 0, sizeof g);
-        g.id = 1;
-        g.kind = KC_GOAL_PATH;
-        g.vel_scale = g.acc_scale = KC_R(1.0);
-        g.method = (kc_path_method)(c % 3); /* blend, spline, quintic */
-        g.n_points = 2;
-        g.dim = n;
-        for (int k = 0; k < 2; k++)
-            for (int j = 0; j < n; j++)
-                g.points[k][j] = home[j] + (kc_real)kt_uniform(&r, -0.5, 0.5);
+        kc_goal g = path_goal(&r, 1, home, c % 3, 0);
         assert_int_equal(tick(&g, KC_CMD_NONE), 0);
         assert_int_equal(OUT.state, KC_CTRL_MOVING);
         int64_t ticks = CTRL.plan.path.ticks;
@@ -80,30 +126,9 @@ static void random_stops(kc_model model, const kc_real *home, uint64_t seed)
             continue; /* a path shorter than the tick drawn */
         stopped++;
         early += at <= 20;
-        double qd[KC_MAX_JOINTS];
-        for (int j = 0; j < n; j++)
-            qd[j] = (double)OUT.qd[j];
-        kc_ctrl_command cmd = KC_CMD_STOP;
-        int k = 0;
-        for (; k < 20000 && (k == 0 || OUT.state != KC_CTRL_IDLE); k++, cmd = KC_CMD_NONE) {
-            if (tick(NULL, cmd))
-                fail_msg("case %d (method %d), stopped at tick %ld of %ld: FAULT %d on the stop's tick %d", c,
-                         (int)g.method, (long)at, (long)ticks, (int)OUT.events[0].reason, k);
-            for (int j = 0; j < n; j++) {
-                const kc_joint_limits *l = &CHAIN.joints[j].limits;
-                double A = (double)l->qdd_max, v = (double)OUT.qd[j];
-                double ra = fmax(fabs((double)OUT.qdd[j]) / A, fabs(v - qd[j]) / (A * dt));
-                worst = fmax(worst, ra);
-                if (!(ra <= 1.0 + slack) || !(fabs(v) <= (double)l->qd_max * (1.0 + slack)))
-                    fail_msg("case %d (method %d), stopped at tick %ld of %ld, its tick %d, joint %d: qdd %.9g, "
-                             "qd %.9g -> %.9g (qdd_max %g)",
-                             c, (int)g.method, (long)at, (long)ticks, k, j, (double)OUT.qdd[j], qd[j], v, A);
-                qd[j] = v;
-            }
-        }
-        assert_int_equal(OUT.state, KC_CTRL_IDLE);
-        for (int j = 0; j < n; j++)
-            assert_true(OUT.qd[j] == KC_R(0.0));
+        snprintf(name, sizeof name, "case %d (method %d), stopped at tick %ld of %ld", c, c % 3, (long)at,
+                 (long)ticks);
+        worst = stop_to_rest(name, worst);
     }
     print_message("%d-joint arm: %d paths stopped (%d in their first 20 ticks), worst |qdd| or qd step %.9f of "
                   "qdd_max\n",
@@ -112,8 +137,9 @@ static void random_stops(kc_model model, const kc_real *home, uint64_t seed)
 }
 
 /* A jerk-limited joint move replaced at a random tick by a joint path
- * superposed on its stop (ctrl_blend.c), then STOP 0 to 30 ticks later:
- * while the superposition lasts, the path not yet started or moving.
+ * superposed on its stop (ctrl_blend.c), then STOP 0 to 30 ticks later
+ * or (half the cases) in the path's first 20 ticks, while the
+ * superposition lasts: the path not yet started or moving.
  * Every tick from the STOP to rest as above. Before the path's stop
  * looked at the stop under it, 30 % (PUMA 560) and 42 % (Panda) of such
  * STOPs faulted limit_guard. */
@@ -123,9 +149,9 @@ static void superposed_stops(kc_model model, const kc_real *home, uint64_t seed)
     assert_int_equal(kc_chain_init_model(&CHAIN, model, NULL), KC_OK);
     kc_ctrl_cfg cfg = kc_ctrl_cfg_default();
     int n = CHAIN.n_joints;
-    double slack = (double)cfg.limit_slack, dt = (double)cfg.dt;
     int superposed = 0, started = 0;
     double worst = 0.0;
+    char name[96];
     for (int c = 0; c < CASES; c++) {
         kc_real q0[KC_MAX_JOINTS], to[KC_MAX_JOINTS];
         for (int j = 0; j < n; j++) {
@@ -140,18 +166,7 @@ static void superposed_stops(kc_model model, const kc_real *home, uint64_t seed)
             assert_int_equal(tick(NULL, KC_CMD_NONE), 0);
         if (OUT.state != KC_CTRL_MOVING)
             continue;
-        kc_goal g;
-        memset(&g, 0, sizeof g);
-        g.id = 2;
-        g.kind = KC_GOAL_PATH;
-        g.replace = 1;
-        g.vel_scale = g.acc_scale = KC_R(1.0);
-        g.method = (kc_path_method)(c % 3);
-        g.n_points = 2;
-        g.dim = n;
-        for (int k = 0; k < 2; k++)
-            for (int j = 0; j < n; j++)
-                g.points[k][j] = home[j] + (kc_real)kt_uniform(&r, -0.5, 0.5);
+        kc_goal g = path_goal(&r, 2, home, c % 3, 1);
         assert_int_equal(tick(&g, KC_CMD_NONE), 0);
         if (!CTRL.blend.on)
             continue; /* taken otherwise: not this test's */
@@ -165,25 +180,9 @@ static void superposed_stops(kc_model model, const kc_real *home, uint64_t seed)
             continue;
         superposed++;
         started += CTRL.cycle - 1 >= CTRL.k0;
-        double qd[KC_MAX_JOINTS];
-        for (int j = 0; j < n; j++)
-            qd[j] = (double)OUT.qd[j];
-        kc_ctrl_command cmd = KC_CMD_STOP;
-        for (int k = 0; k < 20000 && (k == 0 || OUT.state != KC_CTRL_IDLE); k++, cmd = KC_CMD_NONE) {
-            if (tick(NULL, cmd))
-                fail_msg("case %d (method %d), replaced at tick %ld, STOP %d ticks later: FAULT %d on its tick %d", c,
-                         (int)g.method, (long)at, wait, (int)OUT.events[0].reason, k);
-            for (int j = 0; j < n; j++) {
-                double A = (double)CHAIN.joints[j].limits.qdd_max, v = (double)OUT.qd[j];
-                double ra = fmax(fabs((double)OUT.qdd[j]) / A, fabs(v - qd[j]) / (A * dt));
-                worst = fmax(worst, ra);
-                if (!(ra <= 1.0 + slack))
-                    fail_msg("case %d: STOP's tick %d, joint %d: qdd %.9g, qd %.9g -> %.9g (qdd_max %g)", c, k, j,
-                             (double)OUT.qdd[j], qd[j], v, A);
-                qd[j] = v;
-            }
-        }
-        assert_int_equal(OUT.state, KC_CTRL_IDLE);
+        snprintf(name, sizeof name, "case %d (method %d), replaced at tick %ld, STOP %d ticks later", c, c % 3,
+                 (long)at, wait);
+        worst = stop_to_rest(name, worst);
     }
     print_message("%d-joint arm: %d superposed paths stopped (%d of them started), worst |qdd| or qd step %.9f "
                   "of qdd_max\n",
