@@ -18,7 +18,7 @@
 #include "clock.h"
 #include "cycle.h"
 
-enum { KD_ORDER_CHECKED = 0, KD_ORDER_REFUSED = 1, KD_ORDER_BUSY = 2 };
+enum { KD_ORDER_CHECKED = 0, KD_ORDER_REFUSED = 1, KD_ORDER_BUSY = 2, KD_ORDER_SERVO = 3 };
 enum { KD_FROM_ORDER = 0, KD_FROM_VERDICTS = 1, KD_FROM_JOBS = 2 };
 
 /* Nice value of the checker: still SCHED_OTHER, but a dry run that keeps
@@ -441,6 +441,23 @@ int kd_checker_refuse(kd_checker *k, int64_t goal_id, const kd_reject *rej, int 
     return 0;
 }
 
+int kd_checker_servo(kd_checker *k, const kc_goal *goal)
+{
+    if (k->order_tail == k->order_head)
+        return 0;
+    const kd_order *last = &k->order[(k->order_tail - 1) % KD_ORDER_MAX];
+    if (last->kind == KD_ORDER_SERVO && last->goal_id == goal->id) {
+        k->servos[last->text] = *goal;
+        return 1;
+    }
+    if (order_full(k) || k->servos_tail - k->servos_head >= KD_ORDER_SERVOS)
+        return -1;
+    k->servos[k->servos_tail % KD_ORDER_SERVOS] = *goal;
+    order_push(k, goal->id, KD_ORDER_SERVO, (int)(k->servos_tail % KD_ORDER_SERVOS));
+    k->servos_tail++;
+    return 1;
+}
+
 void kd_checker_tick(kd_checker *k, const kc_ctrl_output *out, int64_t goals_taken)
 {
     kd_check_tick *p = &k->pending;
@@ -475,6 +492,12 @@ int kd_checker_answer(kd_checker *k, kd_answer *a)
     o = &k->order[k->order_head % KD_ORDER_MAX];
     a->goal_id = o->goal_id;
     a->job = NULL;
+    a->servo = NULL;
+    if (o->kind == KD_ORDER_SERVO) {
+        a->servo = &k->servos[o->text];
+        k->answer_from = KD_FROM_ORDER;
+        return 1;
+    }
     if (o->kind == KD_ORDER_REFUSED) {
         a->rej = k->texts[o->text];
         k->answer_from = KD_FROM_ORDER;
@@ -504,6 +527,8 @@ void kd_checker_answered(kd_checker *k)
     o = &k->order[k->order_head % KD_ORDER_MAX];
     if (o->kind == KD_ORDER_REFUSED)
         k->texts_head++;
+    if (o->kind == KD_ORDER_SERVO)
+        k->servos_head++;
     if (k->answer_from == KD_FROM_VERDICTS && o->kind == KD_ORDER_CHECKED) {
         /* A checker waiting for room for its verdict goes on at once. */
         int was_full = kd_spsc_count(&k->verdicts) == KD_CHECK_RING;

@@ -50,7 +50,8 @@
  * that order is itself full (KD_ORDER_MAX goals waiting) is a refusal
  * answered at once, out of order, and counted (answered_early). Servo
  * messages stream past the dry runs (the cheap checks only, on the I/O
- * thread): they are answered by the controller when it takes them.
+ * thread), in their turn (kd_checker_servo): they are answered by the
+ * controller when it takes them.
  *
  * Every ring is kd_spsc (spsc.h): one producer, one consumer, no locks.
  * The checker sleeps on an eventfd (wake_fd) when it has nothing to do,
@@ -82,6 +83,7 @@
 #define KD_CHECK_IDLE_MS 20     /* longest sleep of an idle checker */
 #define KD_ORDER_MAX 16384      /* goals waiting for their answer, in order */
 #define KD_ORDER_TEXTS 256      /* of which refused with a text of their own */
+#define KD_ORDER_SERVOS 8       /* of which servo messages (each a stream's latest) */
 #define KD_SNAP_WAIT_MS 20      /* longest wait for a fresh snapshot (after the cycle of a goal held) */
 #define KD_LEAD_MS 10           /* a replacing goal's tick, first: this long after the snapshot */
 #define KD_LEAD_MAX_MS 2000     /* ... and at most this long */
@@ -115,14 +117,15 @@ typedef struct kd_check_tick {
 typedef struct kd_order {
     int64_t goal_id;
     int kind;  /* KD_ORDER_* (checker.c) */
-    int text;  /* KD_ORDER_REFUSED: index into texts */
+    int text;  /* KD_ORDER_REFUSED: index into texts; KD_ORDER_SERVO: into servos */
 } kd_order;
 
 /* The next answer in order (kd_checker_answer). */
 typedef struct kd_answer {
     int64_t goal_id;
-    const kd_job *job; /* the checker's job (valid until kd_checker_answered), or NULL: */
-    kd_reject rej;     /* ... a refusal */
+    const kd_job *job;    /* the checker's job (valid until kd_checker_answered), or NULL: */
+    const kc_goal *servo; /* ... a servo message for the cycle (valid as long), or NULL: */
+    kd_reject rej;        /* ... a refusal */
 } kd_answer;
 
 typedef struct kd_checker {
@@ -147,6 +150,8 @@ typedef struct kd_checker {
     int64_t order_head, order_tail;
     kd_reject texts[KD_ORDER_TEXTS];
     int64_t texts_head, texts_tail;
+    kc_goal servos[KD_ORDER_SERVOS];
+    int64_t servos_head, servos_tail;
     kd_check_tick pending;
     int have_pending;
     int stopped;     /* the thread has been joined */
@@ -190,6 +195,16 @@ int kd_checker_submit(kd_checker *k, const kc_goal *goal);
  * (nothing waits before it, or the order is full: counted), 0 when it is
  * kept and comes back from kd_checker_answer in its turn. */
 int kd_checker_refuse(kd_checker *k, int64_t goal_id, const kd_reject *rej, int behind);
+
+/* I/O thread: a servo message (its cheap checks passed) in its turn.
+ * Behind goals still waiting for their answers it waits in the order, a
+ * message for the servo goal last there taking that one's place (the
+ * stream's latest), and comes back from kd_checker_answer (servo set) for
+ * the cycle: a stream sent after a goal does not overtake that goal's dry
+ * run. Returns 0 when nothing waits before it (the caller hands it to
+ * the cycle now), 1 when kept, -1 when the order has no room (the caller
+ * refuses it). */
+int kd_checker_servo(kd_checker *k, const kc_goal *goal);
 
 /* The refusal of a goal for a full job ring ("queue_full: ..."). */
 void kd_checker_busy(kd_reject *rej);

@@ -271,10 +271,18 @@ static void answer_goals(kd_io *io, int final)
     while (kd_checker_answer(&io->checker, &a)) {
         const kd_job *j = a.job;
         kd_reject rej;
-        int taken = j != NULL && j->end == KD_JOB_JUDGED && j->verdict.status == KC_OK && !final;
+        int taken = (a.servo != NULL || (j != NULL && j->end == KD_JOB_JUDGED && j->verdict.status == KC_OK)) && !final;
         if (!taken && !final && goals_in_flight(io))
             return; /* a refusal waits for the goals before it to be answered */
-        if (j == NULL) {
+        if (a.servo != NULL && taken) {
+            if (kd_spsc_push(&io->cycle->goals, a.servo) != 0)
+                return;
+            io->goals_pushed++;
+            io->servo_id = a.servo->id;
+        } else if (a.servo != NULL) {
+            kd_reject_set(&rej, KD_REASON_SHUTDOWN, "kinctld exiting before the goal reached the controller");
+            reject(io, a.goal_id, &rej);
+        } else if (j == NULL) {
             reject(io, a.goal_id, &a.rej);
         } else if (taken) {
             if (kd_spsc_push(&io->cycle->goals, &j->goal) != 0)
@@ -294,7 +302,10 @@ static void answer_goals(kd_io *io, int final)
 }
 
 /* A servo message streams past the dry runs: the cheap checks (the core's
- * kc_ctrl_goal_check) and straight to the cycle. */
+ * kc_ctrl_goal_check) and on to the cycle, in its turn. A stream already
+ * handed on goes straight (its messages update it: it must not go stale
+ * behind a long dry run); a new one waits for the goals sent before it
+ * that are in their dry runs (kd_checker_servo), or goes straight. */
 static void handle_servo(kd_io *io, const kc_goal *g, int64_t received_ns, int64_t servo_timeout_ns)
 {
     kc_verdict v;
@@ -306,13 +317,17 @@ static void handle_servo(kd_io *io, const kc_goal *g, int64_t received_ns, int64
     }
     /* The staleness clock starts at receipt, before the cycle sees it. */
     atomic_store_explicit(&io->cycle->servo_deadline_ns, received_ns + servo_timeout_ns, memory_order_release);
-    if (kd_spsc_push(&io->cycle->goals, g) != 0) {
+    int waits = g->id == io->servo_id ? 0 : kd_checker_servo(&io->checker, g);
+    if (waits > 0)
+        return;
+    if (waits < 0 || kd_spsc_push(&io->cycle->goals, g) != 0) {
         io->msgs_dropped++;
         kd_reject_set(&rej, KC_REASON_QUEUE_FULL, "the daemon's goal queue (%d goals) is full", io->cfg->queue_size);
         reject(io, g->id, &rej);
         return;
     }
     io->goals_pushed++;
+    io->servo_id = g->id;
 }
 
 /* With drives on CAN, goals wait for every drive to be enabled: 1 with

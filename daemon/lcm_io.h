@@ -87,6 +87,7 @@ struct kd_io {
     kd_msg_any msg;
     kc_goal goal;
     int64_t goals_pushed, cmds_pushed;
+    int64_t servo_id; /* the servo goal last handed to the cycle (0: none): its messages pass straight */
     kc_ctrl_cfg check_cfg; /* the controller's configuration at the dry run's coarser period */
 
     /* The latest tick seen. */

@@ -10,8 +10,8 @@ import time
 
 import pytest
 
-from kinctl_testing import (END, EVENTS, N, QN, QN_ORIENTATION, QN_POSITION, STATES, assert_smooth, close, finished,
-                            go_nominal, goal_arc_t, goal_path_t, servo_twist, setpoints_since)
+from kinctl_testing import (END, EVENT_NAMES, EVENTS, N, QN, QN_ORIENTATION, QN_POSITION, STATES, assert_smooth, close,
+                            finished, go_nominal, goal_arc_t, goal_path_t, servo_twist, setpoints_since)
 
 
 def same_rotation(qa, qb, tol):
@@ -105,6 +105,30 @@ def test_servo_stream_goes_stale_and_stops(kinctld):
     assert s.position[1] > s0.position[1] + 0.005  # it did move along +y
     assert all(v == 0.0 for v in s.qd[:N])
     assert_smooth(setpoints_since(d, s0.cycle))
+    assert d.stop() == 0
+
+
+def test_servo_stream_waits_for_the_goal_sent_before_it(kinctld):
+    """A servo stream sent right after a replacing goal does not overtake
+    that goal's dry run (a replacing goal is judged for a cycle 10 ms or
+    more ahead): the goal is taken first, then the stream replaces it; the
+    stream's goal is answered once and runs. Before, its first message
+    reached the controller first, the goal then took its place (PREEMPTED)
+    and a later message made it a new goal (ACCEPTED again)."""
+    d = kinctld()
+    go_nominal(d)
+    d.bus.send_goal_joint(20, [0.5, 0.5, -2.5, 0.5, 0.5, 0.5], vel_scale=0.3)
+    d.bus.wait(lambda: any(s.goal_id == 20 for s in d.bus.setpoints[-3:]), 5.0, "motion")
+    d.bus.send_goal_joint(21, QN, replace=True, vel_scale=0.3)
+    g = servo_twist(22, [0.0, 0.02, 0.0, 0.0, 0.0, 0.0], 100000)
+    for _ in range(40):
+        d.bus.send("GOAL_SERVO", g)
+        time.sleep(0.005)
+    d.bus.wait(lambda: any(s.goal_id == 22 for s in d.bus.setpoints[-3:]), 5.0, "the stream running")
+    names = [EVENT_NAMES[s.event] for s in d.bus.events(22)]
+    assert names[:1] == ["ACCEPTED"] and names.count("ACCEPTED") == 1 and "PREEMPTED" not in names, names
+    assert EVENT_NAMES[d.bus.events(21)[0].event] == "ACCEPTED"
+    assert d.bus.wait_event(21, END + ("PREEMPTED",)).event == EVENTS["PREEMPTED"]
     assert d.stop() == 0
 
 
