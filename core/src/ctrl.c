@@ -137,6 +137,8 @@ void kc_ctrl_restart(kc_ctrl *c, const kc_real *q_at, const kc_real *q)
     c->path_length = KC_R(0.0);
     memset(&c->servo_target, 0, sizeof c->servo_target);
     c->servo_last = 0;
+    memset(c->servo_v, 0, sizeof c->servo_v);
+    memset(c->servo_a, 0, sizeof c->servo_a);
     c->settle = 0;
     c->null_x = KC_R(0.0);
     c->null_cycle = -1;

@@ -192,6 +192,11 @@ void kc_ctrl_drive_state(const kc_ctrl *c, int64_t j, kc_profile_state *u);
  * 1 when the segment has finished (at rest, at its end). */
 int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_output *out);
 
+/* A servo stream's target set at rest (its start, RESUME, a pose
+ * message): a twist stream's where the arm is (the last setpoint), its
+ * shaped twist and the twist's rate zero. */
+void kc_ctrl_servo_rest(kc_ctrl *c);
+
 /* ---- ctrl_blend.c: a replacing Cartesian goal superposed on the stop of
  * the motion it replaces (kinctl/ctrl.h) ---- */
 

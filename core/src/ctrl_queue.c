@@ -196,8 +196,10 @@ void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
             if (w != &c->goal) {
                 w->pose = g->pose;
             } else {
-                if (!g->servo_twist)
+                if (!g->servo_twist) {
                     c->servo_target = g->pose;
+                    kc_ctrl_servo_rest(c);
+                }
                 c->servo_last = c->cycle;
             }
             return;

@@ -345,10 +345,11 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
     int64_t j = (c->cycle - 1) - c->k0; /* the last setpoint's tick */
     kc_profile_state u;
     if (c->goal.kind == KC_GOAL_SERVO) {
-        /* Jerk-limited for STOP, PAUSE and a replacement; the servo
-         * timeout (a safety stop) and a fault brake at the acceleration
-         * limits, as does a jerk-limited stop that cannot be planned. */
-        if (intent != KC_CMD_NONE && c->fault_reason == KC_REASON_NONE && servo_jerk_stop(c)) {
+        /* Jerk-limited for STOP, PAUSE, a replacement and the servo
+         * timeout (a stream's usual end); a fault brakes at the
+         * acceleration limits, as does a stop that cannot be planned
+         * jerk-limited. */
+        if (c->fault_reason == KC_REASON_NONE && servo_jerk_stop(c)) {
             c->drive = KC_DRIVE_HALT;
             c->jstop_k0 = c->cycle - 1;
             return;
@@ -449,6 +450,7 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
     c->stop_intent = KC_CMD_NONE;
     if (c->goal.kind == KC_GOAL_SERVO) {
         c->servo_last = c->cycle;
+        kc_ctrl_servo_rest(c); /* a twist stream goes on from where the arm stopped */
         c->drive = KC_DRIVE_NOMINAL; /* plan.halt held its stop */
         return;
     }

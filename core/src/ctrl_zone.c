@@ -57,9 +57,29 @@ void kc_ctrl_zone_servo_limit(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
         qdd[j] = (qd[j] - c->qd[j]) / dt;
     }
     /* A twist stream's target stays with the restrained arm instead of
-     * running on into the zone, so a reversed twist moves it away at once. */
-    if (c->goal.servo_twist)
+     * running on into the zone, and its shaped twist is the arm's over the
+     * tick (the rate zero), so a reversed twist moves it away at once. */
+    if (c->goal.servo_twist) {
         kc_fk_eval(c->chain, q, &c->servo_target);
+        kc_quat r0, r1, r0c, d;
+        kc_vec3 w;
+        kc_quat_from_mat3(&c->pose.R, &r0);
+        kc_quat_from_mat3(&c->servo_target.R, &r1);
+        kc_quat_conj(&r0, &r0c);
+        kc_quat_mul(&r1, &r0c, &d);
+        if (d.w < KC_R(0.0)) { /* the short way round */
+            d.w = -d.w;
+            d.x = -d.x;
+            d.y = -d.y;
+            d.z = -d.z;
+        }
+        kc_quat_log(&d, &w);
+        for (int i = 0; i < 3; i++) {
+            c->servo_v[i] = (c->servo_target.t.v[i] - c->pose.t.v[i]) / dt;
+            c->servo_v[3 + i] = w.v[i] / dt;
+        }
+        memset(c->servo_a, 0, sizeof c->servo_a);
+    }
 }
 
 static void emit_zone(kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id, kc_real where, const kc_zone_hit *hit)

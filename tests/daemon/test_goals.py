@@ -11,7 +11,8 @@ import time
 import pytest
 
 from kinctl_testing import (END, EVENT_NAMES, EVENTS, N, QN, QN_ORIENTATION, QN_POSITION, STATES, assert_smooth, close,
-                            finished, go_nominal, goal_arc_t, goal_path_t, servo_twist, setpoints_since)
+                            finished, go_nominal, goal_arc_t, goal_path_t, max_jerk_ratio, servo_twist,
+                            setpoints_since)
 
 
 def same_rotation(qa, qb, tol):
@@ -104,7 +105,13 @@ def test_servo_stream_goes_stale_and_stops(kinctld):
     s = d.bus.wait_idle()
     assert s.position[1] > s0.position[1] + 0.005  # it did move along +y
     assert all(v == 0.0 for v in s.qd[:N])
-    assert_smooth(setpoints_since(d, s0.cycle))
+    sps = setpoints_since(d, s0.cycle)
+    assert_smooth(sps)
+    # The stream's twist shaped and the timeout's stop jerk-limited: every
+    # joint's qdd changes by at most qddd_max dt a cycle (slack as
+    # test_servo_stop.py's).
+    rj, ra = max_jerk_ratio(sps)
+    assert rj <= 1.0 + 1e-6 and ra <= 1.0 + 1e-6, (rj, ra)
     assert d.stop() == 0
 
 

@@ -1,12 +1,12 @@
 # SPDX-License-Identifier: BSD-3-Clause
-"""kinctld: a servo stream's STOP and PAUSE are jerk-limited, through LCM.
+"""kinctld: a servo stream is jerk-limited, through LCM.
 
-A twist stream moves puma560's tool from its nominal pose; STOP (or PAUSE)
-brings every joint to rest from its (q, qd, qdd) with the published qdd
-changing by at most qddd_max dt per cycle (the jerk measured as in
-test_jerk.py), from the stream's last setpoint on; the servo timeout,
-a safety stop, still brakes at the acceleration limit
-(test_goals.py, test_servo_stream_goes_stale_and_stops)."""
+A twist stream moves puma560's tool from its nominal pose, its twist
+shaped within the Cartesian bounds; STOP (or PAUSE) brings every joint to
+rest from its (q, qd, qdd), as does the servo timeout
+(test_goals.py, test_servo_stream_goes_stale_and_stops). The published qdd
+changes by at most qddd_max dt per cycle (the jerk measured as in
+test_jerk.py) from the stream's first setpoint to rest."""
 import time
 
 from kinctl_testing import (END, EVENTS, N, STATES, assert_smooth, go_nominal, max_jerk_ratio, servo_twist,
@@ -49,6 +49,8 @@ def test_servo_stop_is_jerk_limited(kinctld):
     rj, ra = max_jerk_ratio(stop)
     assert rj <= 1.0 + SLACK and ra <= 1.0 + SLACK, (rj, ra)
     assert rj > 0.5, rj  # the stop does use the jerk it is allowed
+    rj, ra = max_jerk_ratio(sps)  # the stream too, from its start
+    assert rj <= 1.0 + SLACK and ra <= 1.0 + SLACK, (rj, ra)
     assert d.stop() == 0
 
 
@@ -67,5 +69,8 @@ def test_servo_pause_is_jerk_limited_and_resumes(kinctld):
     st = d.bus.wait_event(31, END)
     assert st.event == EVENTS["ABORTED"] and st.reason.startswith("servo_timeout: "), st.reason
     d.bus.wait_idle()
-    assert_smooth(setpoints_since(d, sps[0].cycle), SLACK)
+    sps = setpoints_since(d, sps[0].cycle)
+    assert_smooth(sps, SLACK)
+    rj, ra = max_jerk_ratio(sps)  # the resumed stream and the timeout's stop too
+    assert rj <= 1.0 + SLACK and ra <= 1.0 + SLACK, (rj, ra)
     assert d.stop() == 0

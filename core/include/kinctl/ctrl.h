@@ -27,12 +27,27 @@
  *                   points, or kc_path_cart through the current pose and the
  *                   goal's poses (lab 7);
  *   servo           a target pose (or a twist that moves it) followed by the
- *                   online IK law until the stream goes quiet: no law of
- *                   its own to bound the jerk, a target that moves at once
- *                   steps the joints' qdd up to qdd_max in a tick (random
- *                   twist streams of up to 0.1 m/s through kinctld: up to
- *                   200 times the PUMA 560's qddd_max, 3.6 times the
- *                   Panda's).
+ *                   online IK law until the stream goes quiet. A twist
+ *                   stream's twist is shaped: each of its six axes moves
+ *                   towards the commanded twist within the goal's
+ *                   Cartesian acceleration and jerk bounds over sqrt(3)
+ *                   (the linear and angular vectors' norms within the
+ *                   bounds: accel, alpha, jerk, angular_jerk or the cfg
+ *                   defaults), by the deadbeat step of ctrl_seg.c (the
+ *                   commanded twist reached exactly, its rate back at
+ *                   0, in about the time-optimal ramp's ticks; a change
+ *                   mid-ramp approached at the bounds), from rest where
+ *                   the stream starts or RESUMEs, from the arm's own
+ *                   twist where a zone restrains it. Its speed is the
+ *                   client's (the joints' qd_max bounds it). The joints'
+ *                   jerk is what the Jacobian makes of it, as a line's
+ *                   (random streams of up to 0.1 m/s and 0.3 rad/s, at
+ *                   the default bounds, double: at most 0.77 of the PUMA
+ *                   560's qddd_max, 0.009 of the Panda's; in float the
+ *                   rounding of q alone moves qdd by more,
+ *                   test_ctrl_servotwist.c). A pose stream's target is
+ *                   not shaped: a target that moves at once steps the
+ *                   joints' qdd up to qdd_max in a tick.
  * Cartesian segments give a pose and twist each tick; one kc_ik_step with
  * the twist fed forward turns them into the joint setpoint. If the tool
  * falls more than cfg.track_tol behind (a joint limit, a singularity) the
@@ -177,10 +192,10 @@
  * zone, a Cartesian motion that cannot be followed) are
  * acceleration-limited, not jerk-limited: the acceleration jumps to the
  * limit in one tick, because stopping soonest matters more there than
- * smoothness. So is the stop of a servo stream that goes quiet (the
- * servo timeout: a safety stop). STOP, PAUSE and RESUME of a jerk-limited
- * joint move, line or arc are jerk-limited (below), and so are STOP, PAUSE
- * and a stop-first replacement of a servo stream: every joint from its
+ * smoothness. STOP, PAUSE and RESUME of a jerk-limited
+ * joint move, line or arc are jerk-limited (below), and so are STOP, PAUSE,
+ * a stop-first replacement and the servo timeout of a servo stream (a
+ * stream that goes quiet is its usual end): every joint from its
  * (q, qd, qdd) to rest by kc_scurve_plan_stop within its qdd_max and
  * qddd_max, synchronised by phase (each joint's acceleration and jerk
  * bounds scaled with its speed: from qdd = 0 the joints end on the same
@@ -631,6 +646,10 @@ typedef struct kc_ctrl {
     /* Servo. */
     kc_pose servo_target;
     int64_t servo_last;        /* tick of the last servo update */
+    /* A twist stream's shaped twist (vx vy vz wx wy wz) and its rate of
+     * change, which move towards the commanded twist within the goal's
+     * Cartesian acceleration and jerk bounds (ctrl_seg.c). */
+    kc_real servo_v[6], servo_a[6];
     int settle;                /* ticks a Cartesian segment has waited for the tool to settle */
     kc_real null_x;            /* the null-space motion's ramp, 0..1 (ctrl_seg.c) */
     int64_t null_cycle;        /* tick of the last IK step */

@@ -1,0 +1,257 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* test_ctrl_servotwist.c - a twist stream is shaped (kinctl/ctrl.h): its
+ * target moves by a twist that follows the commanded one within the
+ * goal's Cartesian acceleration and jerk bounds per axis, reaching it
+ * exactly; the joints that follow it stay within their own limits, jerk
+ * included; and the stream's end (it goes quiet: the servo timeout) is a
+ * jerk-limited stop.
+ *
+ * Random streams on the PUMA 560 and the Panda: from the arm's start, a
+ * twist of random direction and size (up to 0.1 m/s and 0.3 rad/s)
+ * changed at random ticks (20-300 apart: mid-ramp changes and reversals),
+ * then the stream goes quiet. Checked on every tick:
+ * - the shaped twist (kc_ctrl.servo_v) against an independent step of the
+ *   same bounds: its rate within the axis' acceleration bound (linear or
+ *   angular), the rate's change within its jerk bound times dt, both with
+ *   a relative slack of SLACK, and equal to the commanded twist within
+ *   rounding once a ramp has had time to end (a velocity change of size e
+ *   at most 2 sqrt(e / J) + e / A + A / J + 2 ticks);
+ * - the target moving by the shaped twist (its position by v dt);
+ * - every joint: |qd| <= qd_max, |qdd| <= qdd_max, the jerk (the change
+ *   of qdd over a tick over dt) <= qddd_max, with a relative slack of
+ *   SLACK (SLACK_JERK for the jerk), q moving by qd dt;
+ * - the tool's twist, once the shaped twist has held still for 200 ticks,
+ *   the commanded one within 1 % of its size (the arm follows it);
+ * - the timeout's stop: jerk-limited joint by joint (plan.halt), ending at
+ *   rest, ABORTED with KC_REASON_SERVO_TIMEOUT. */
+#include <math.h>
+#include <string.h>
+
+#include "testutil.h"
+
+#ifdef KC_REAL_FLOAT
+#define SLACK 1e-4
+#define SLACK_JERK 5e-4
+#define CASES 20
+#define TRACK_JERK_JUDGED 0
+#else
+#define SLACK 1e-6
+#define SLACK_JERK 1e-6
+#define CASES 60
+#define TRACK_JERK_JUDGED 1
+#endif
+
+/* Ids of the joint moves back to the start, above the streams'. */
+#define HOME_ID 5000
+
+typedef struct harness {
+    kc_chain chain;
+    kc_ctrl_cfg cfg;
+    kc_ctrl ctrl;
+    kc_ctrl_output out;
+    kc_real q_prev[KC_MAX_JOINTS], qd_prev[KC_MAX_JOINTS], qdd_prev[KC_MAX_JOINTS];
+    double worst_j, worst_track_j, worst_a, worst_cart_j, worst_cart_a, worst_follow;
+    long ticks;
+} harness;
+
+static harness H; /* large: not on the stack */
+
+static void setup(kc_model model)
+{
+    memset(&H, 0, sizeof H);
+    assert_int_equal(kc_chain_init_model(&H.chain, model, NULL), KC_OK);
+    H.cfg = kc_ctrl_cfg_default();
+    kc_real q0[KC_MAX_JOINTS];
+    for (int j = 0; j < H.chain.n_joints; j++) {
+        const kc_joint_limits *l = &H.chain.joints[j].limits;
+        q0[j] = model == KC_MODEL_PUMA560 ? KT_PUMA_Q0[j] : (l->q_min + l->q_max) / KC_R(2.0);
+    }
+    assert_int_equal(kc_ctrl_init(&H.ctrl, &H.chain, &H.cfg, q0), KC_OK);
+    memcpy(H.q_prev, q0, sizeof q0);
+}
+
+/* One tick, every joint checked against its limits and continuity. */
+static void tick(const kc_goal *g)
+{
+    kc_ctrl_input in = {g, KC_CMD_NONE, 0, KC_REASON_NONE};
+    assert_int_equal(kc_ctrl_step(&H.ctrl, &in, &H.out), KC_OK);
+    assert_true(H.out.state == KC_CTRL_MOVING || H.out.state == KC_CTRL_STOPPING || H.out.state == KC_CTRL_IDLE);
+    double dt = (double)H.cfg.dt, eps = (double)KC_REAL_EPS;
+    for (int j = 0; j < H.chain.n_joints; j++) {
+        const kc_joint_limits *l = &H.chain.joints[j].limits;
+        double q = (double)H.out.q[j], qd = (double)H.out.qd[j], qdd = (double)H.out.qdd[j];
+        double rv = fabs(qd) / (double)l->qd_max, ra = fabs(qdd) / (double)l->qdd_max;
+        double rj = fabs(qdd - (double)H.qdd_prev[j]) / dt / (double)l->qddd_max;
+        if (H.out.state == KC_CTRL_MOVING && H.out.goal_id < HOME_ID) {
+            H.worst_track_j = fmax(H.worst_track_j, rj);
+            if (!TRACK_JERK_JUDGED)
+                rj = 0.0;
+        }
+        /* q moves by the tick's qd dt (the IK step's integration) or, in
+         * a stop, by the exact cubic's step over a tick of jerk at most J
+         * from (qd, qdd), with the rounding of q. */
+        double qdp = (double)H.qd_prev[j], qddp = (double)H.qdd_prev[j];
+        double dq = fabs(q - (double)H.q_prev[j]),
+               dq_max = fmax(fabs(qd) * dt, fabs(qdp) * dt + fabs(qddp) * dt * dt / 2.0 +
+                                                (double)l->qddd_max * dt * dt * dt / 6.0);
+        if (!(rv <= 1.0 + SLACK && ra <= 1.0 + SLACK && rj <= 1.0 + SLACK_JERK &&
+              dq <= dq_max * (1.0 + SLACK) + 4.0 * eps * (fabs(q) + 1.0)))
+            fail_msg("cycle %ld joint %d (state %d): |qd| %.7g, |qdd| %.7g, jerk %.7g of the limits, q step %.4g "
+                     "of %.4g",
+                     (long)H.out.cycle, j, H.out.state, rv, ra, rj, dq, dq_max);
+        H.worst_j = fmax(H.worst_j, rj);
+        H.worst_a = fmax(H.worst_a, ra);
+        H.q_prev[j] = H.out.q[j];
+        H.qd_prev[j] = H.out.qd[j];
+        H.qdd_prev[j] = H.out.qdd[j];
+    }
+    H.ticks++;
+}
+
+/* The ticks a velocity change of e (per axis) takes at most within a
+ * and j: its two jerk ramps and the acceleration held between, and two
+ * ticks of rounding to the grid. */
+static long ramp_ticks(double e, double a, double j, double dt)
+{
+    return (long)ceil((2.0 * sqrt(e / j) + e / a + a / j) / dt) + 2;
+}
+
+static void test_random_twist_streams(void **state)
+{
+    (void)state;
+    kc_model models[2] = {KC_MODEL_PUMA560, KC_MODEL_PANDA};
+    for (int m = 0; m < 2; m++) {
+        setup(models[m]);
+        kt_rng r = kt_rng_make(2101 + (uint64_t)m);
+        double dt = (double)H.cfg.dt;
+        int held = 0, timeouts = 0;
+        for (int c = 0; c < CASES; c++) {
+            int64_t id = 400 + c;
+            kc_goal g;
+            memset(&g, 0, sizeof g);
+            g.id = id;
+            g.kind = KC_GOAL_SERVO;
+            g.vel_scale = g.acc_scale = KC_R(1.0);
+            g.servo_twist = 1;
+            double bound_a[6], bound_j[6];
+            for (int i = 0; i < 6; i++) {
+                bound_a[i] = (double)(i < 3 ? H.cfg.cart_accel : H.cfg.cart_alpha) / sqrt(3.0);
+                bound_j[i] = (double)(i < 3 ? H.cfg.cart_jerk : H.cfg.cart_angular_jerk) / sqrt(3.0);
+            }
+            double v_prev[6] = {0}, a_prev[6] = {0};
+            long since = 0, settle = 0;
+            double change[6] = {0};
+            int changes = 1 + (int)kt_uniform(&r, 0.0, 5.0);
+            for (int s = 0; s < changes; s++) {
+                kc_vec3 u = kt_rand_unit(&r), w = kt_rand_unit(&r);
+                double sv = kt_uniform(&r, 0.0, 0.1), sw = kt_uniform(&r, 0.0, 0.3);
+                for (int i = 0; i < 3; i++) {
+                    g.twist[i] = (kc_real)(sv * (double)u.v[i]);
+                    g.twist[3 + i] = (kc_real)(sw * (double)w.v[i]);
+                }
+                settle = 0;
+                for (int i = 0; i < 6; i++) {
+                    change[i] = fabs((double)g.twist[i] - v_prev[i]) + fabs(a_prev[i]) * fabs(a_prev[i]) / bound_j[i];
+                    long t = ramp_ticks(change[i], bound_a[i], bound_j[i], dt) +
+                             (long)ceil(fabs(a_prev[i]) / bound_j[i] / dt);
+                    settle = t > settle ? t : settle;
+                }
+                since = 0;
+                int n = 20 + (int)kt_uniform(&r, 0.0, 280.0);
+                if (s == changes - 1)
+                    n = (int)settle + 200; /* the last twist held long enough to follow it */
+                for (int k = 0; k < n; k++) {
+                    kc_pose target_before = H.ctrl.servo_target;
+                    double v_before[6];
+                    for (int i = 0; i < 6; i++)
+                        v_before[i] = (double)H.ctrl.servo_v[i];
+                    tick(&g);
+                    assert_int_equal(H.out.goal_id, id);
+                    assert_int_equal(H.out.state, KC_CTRL_MOVING);
+                    since++;
+                    /* The target moved by the shaped twist of the tick before. */
+                    for (int i = 0; i < 3 && k > 0; i++)
+                        kt_near((double)H.ctrl.servo_target.t.v[i],
+                                (double)target_before.t.v[i] + v_before[i] * dt, 8.0 * (double)KC_REAL_EPS,
+                                "the target moves by the shaped twist");
+                    for (int i = 0; i < 6; i++) {
+                        /* The shaped twist moved by its rate over the tick,
+                         * the rate within its bound and changed by at most
+                         * the jerk bound's dt. */
+                        double v = (double)H.ctrl.servo_v[i], a = (double)H.ctrl.servo_a[i];
+                        double ra = fabs(a) / bound_a[i], rj = fabs(a - a_prev[i]) / dt / bound_j[i];
+                        if (!(ra <= 1.0 + SLACK && rj <= 1.0 + SLACK &&
+                              fabs(v - v_prev[i] - a * dt) <= 4.0 * (double)KC_REAL_EPS * (fabs(v) + fabs(a) * dt)))
+                            fail_msg("%s case %d tick %d axis %d: shaped twist's rate %.7g, its change %.7g of "
+                                     "the bounds, its step %.4g by %.4g",
+                                     kc_model_name(models[m]), c, k, i, ra, rj, v - v_prev[i], a * dt);
+                        H.worst_cart_a = fmax(H.worst_cart_a, ra);
+                        H.worst_cart_j = fmax(H.worst_cart_j, rj);
+                        if (since > settle)
+                            kt_near(v, (double)g.twist[i], 64.0 * (double)KC_REAL_EPS * (1.0 + fabs(v)),
+                                    "the shaped twist reaches the commanded one");
+                        v_prev[i] = v;
+                        a_prev[i] = a;
+                    }
+                }
+            }
+            /* Held for 200 ticks: the tool follows the twist. */
+            kc_jacobian J;
+            assert_int_equal(kc_fk_jacobian(&H.chain, H.out.q, &J, NULL), KC_OK);
+            double size = 0.0, off = 0.0;
+            for (int i = 0; i < 6; i++) {
+                double t = 0.0;
+                for (int j = 0; j < H.chain.n_joints; j++)
+                    t += (double)J.m[i][j] * (double)H.out.qd[j];
+                off = fmax(off, fabs(t - (double)g.twist[i]));
+                size = fmax(size, fabs((double)g.twist[i]));
+            }
+            H.worst_follow = fmax(H.worst_follow, off / size);
+            assert_true(off <= 0.01 * size);
+            held++;
+            /* The stream goes quiet: after the timeout, a jerk-limited stop. */
+            int k = 0;
+            for (; k <= H.cfg.servo_timeout_ticks + 1 && H.out.state == KC_CTRL_MOVING; k++)
+                tick(NULL);
+            assert_int_equal(H.out.state, KC_CTRL_STOPPING);
+            assert_int_equal(H.ctrl.drive, KC_DRIVE_HALT);
+            assert_int_equal(H.ctrl.jstop, 0);
+            for (k = 0; k < 10000 && H.out.state != KC_CTRL_IDLE; k++)
+                tick(NULL);
+            assert_int_equal(H.out.state, KC_CTRL_IDLE);
+            assert_true(kt_has_event(&H.out, KC_EVENT_ABORTED, id));
+            assert_int_equal(H.out.events[0].reason, KC_REASON_SERVO_TIMEOUT);
+            for (int j = 0; j < H.chain.n_joints; j++)
+                assert_true(H.out.qd[j] == KC_R(0.0) && H.out.qdd[j] == KC_R(0.0));
+            timeouts++;
+            /* Back to the start for the next case (a jerk-limited joint move). */
+            kc_real q0[KC_MAX_JOINTS];
+            for (int j = 0; j < H.chain.n_joints; j++) {
+                const kc_joint_limits *l = &H.chain.joints[j].limits;
+                q0[j] = models[m] == KC_MODEL_PUMA560 ? KT_PUMA_Q0[j] : (l->q_min + l->q_max) / KC_R(2.0);
+            }
+            kc_goal home = kt_joint_goal(HOME_ID + c, q0, H.chain.n_joints);
+            tick(&home);
+            for (k = 0; k < 20000 && !kt_has_event(&H.out, KC_EVENT_COMPLETED, home.id); k++)
+                tick(NULL);
+            assert_int_equal(H.out.state, KC_CTRL_IDLE);
+        }
+        print_message("%s: %d twist streams, %ld ticks: the shaped twist's rate at most %.6f and its change %.6f "
+                      "of the Cartesian bounds; the joints' qdd at most %.4f and jerk %.4f of their limits (while "
+                      "tracking %.7f); the tool's twist off the commanded by at most %.2e of its size; %d timeouts, each a "
+                      "jerk-limited stop (%s)\n",
+                      kc_model_name(models[m]), held, H.ticks, H.worst_cart_a, H.worst_cart_j, H.worst_a, H.worst_j,
+                      H.worst_track_j, H.worst_follow, timeouts, KC_REAL_NAME);
+        assert_true(H.worst_cart_j > 0.5); /* the shaping does use the jerk it is allowed */
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_random_twist_streams),
+    };
+    int rc = cmocka_run_group_tests(tests, NULL, NULL);
+    kt_report("ctrl_servotwist");
+    return rc;
+}
