@@ -19,7 +19,12 @@
  * - the target moving by the shaped twist (its position by v dt);
  * - every joint: |qd| <= qd_max, |qdd| <= qdd_max, the jerk (the change
  *   of qdd over a tick over dt) <= qddd_max, with a relative slack of
- *   SLACK (SLACK_JERK for the jerk), q moving by qd dt;
+ *   SLACK (SLACK_JERK for the jerk), q moving by qd dt (the IK step's) or
+ *   by a cubic's step (a stop's). In float the jerk while the stream is
+ *   followed is measured, not judged: q's rounding (an ulp of 2.4 is
+ *   2.4e-7 rad) alone moves qd by 2.4e-4 rad/s and qdd by 0.24 rad/s^2 in
+ *   a tick at 1 kHz, more than the PUMA 560's 50 rad/s^3 allow (seen: 16
+ *   times its limit; in double 0.77);
  * - the tool's twist, once the shaped twist has held still for 200 ticks,
  *   the commanded one within 1 % of its size (the arm follows it);
  * - the timeout's stop: jerk-limited joint by joint (plan.halt), ending at
