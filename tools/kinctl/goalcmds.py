@@ -73,9 +73,11 @@ def register(sub, parents):
                         parents)
     what = servo.add_mutually_exclusive_group(required=True)
     what.add_argument("--pose", type=vector(7, "x,y,z,qw,qx,qy,qz"), metavar="X,Y,Z,QW,QX,QY,QZ",
-                      help="target pose to track, base frame")
+                      help="target pose to track, base frame (followed at once, within the joints' "
+                           "velocity and acceleration limits)")
     what.add_argument("--twist", type=vector(6, "vx,vy,vz,wx,wy,wz"), metavar="VX,VY,VZ,WX,WY,WZ",
-                      help="tool twist to follow, base frame: m/s and rad/s (deg/s with --deg)")
+                      help="tool twist to follow, base frame: m/s and rad/s (deg/s with --deg), reached "
+                           "within the daemon's Cartesian acceleration and jerk limits")
     servo.add_argument("--rate", type=positive, default=100.0, metavar="HZ", help="messages per second (100)")
     servo.add_argument("--duration", type=positive, default=1.0, metavar="S", help="stream length (1 s)")
     servo.add_argument("--stale-ms", type=positive, default=None, metavar="MS",
