@@ -58,10 +58,7 @@ static void setup(kc_model model, int no_jerk)
             H.chain.joints[j].limits.qddd_max = (kc_real)INFINITY;
     H.cfg = kc_ctrl_cfg_default();
     kc_real q0[KC_MAX_JOINTS];
-    for (int j = 0; j < H.chain.n_joints; j++) {
-        const kc_joint_limits *l = &H.chain.joints[j].limits;
-        q0[j] = model == KC_MODEL_PUMA560 ? KT_PUMA_Q0[j] : (l->q_min + l->q_max) / KC_R(2.0);
-    }
+    kt_start_q(&H.chain, model, q0);
     assert_int_equal(kc_ctrl_init(&H.ctrl, &H.chain, &H.cfg, q0), KC_OK);
     kc_fk_eval(&H.chain, q0, &H.start);
 }
@@ -252,12 +249,8 @@ static void test_stops_jerk_limited(void **state)
             longest = k > longest ? k : longest;
             /* Back to the start for the next stream. */
             kc_real q0[KC_MAX_JOINTS];
-            kc_goal home;
-            for (int j = 0; j < n; j++) {
-                const kc_joint_limits *l = &H.chain.joints[j].limits;
-                q0[j] = m == 0 ? KT_PUMA_Q0[j] : (l->q_min + l->q_max) / KC_R(2.0);
-            }
-            home = kt_joint_goal(5000 + c, q0, n);
+            kt_start_q(&H.chain, models[m], q0);
+            kc_goal home = kt_joint_goal(5000 + c, q0, n);
             tick(&home, KC_CMD_NONE);
             for (int i = 0; i < 20000 && !kt_has_event(&H.out, KC_EVENT_COMPLETED, home.id); i++)
                 tick(NULL, KC_CMD_NONE);

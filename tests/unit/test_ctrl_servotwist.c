@@ -67,10 +67,7 @@ static void setup(kc_model model)
     assert_int_equal(kc_chain_init_model(&H.chain, model, NULL), KC_OK);
     H.cfg = kc_ctrl_cfg_default();
     kc_real q0[KC_MAX_JOINTS];
-    for (int j = 0; j < H.chain.n_joints; j++) {
-        const kc_joint_limits *l = &H.chain.joints[j].limits;
-        q0[j] = model == KC_MODEL_PUMA560 ? KT_PUMA_Q0[j] : (l->q_min + l->q_max) / KC_R(2.0);
-    }
+    kt_start_q(&H.chain, model, q0);
     assert_int_equal(kc_ctrl_init(&H.ctrl, &H.chain, &H.cfg, q0), KC_OK);
     memcpy(H.q_prev, q0, sizeof q0);
 }
@@ -231,10 +228,7 @@ static void test_random_twist_streams(void **state)
             timeouts++;
             /* Back to the start for the next case (a jerk-limited joint move). */
             kc_real q0[KC_MAX_JOINTS];
-            for (int j = 0; j < H.chain.n_joints; j++) {
-                const kc_joint_limits *l = &H.chain.joints[j].limits;
-                q0[j] = models[m] == KC_MODEL_PUMA560 ? KT_PUMA_Q0[j] : (l->q_min + l->q_max) / KC_R(2.0);
-            }
+            kt_start_q(&H.chain, models[m], q0);
             kc_goal home = kt_joint_goal(HOME_ID + c, q0, H.chain.n_joints);
             tick(&home);
             for (k = 0; k < 20000 && !kt_has_event(&H.out, KC_EVENT_COMPLETED, home.id); k++)

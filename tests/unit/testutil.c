@@ -437,6 +437,14 @@ int kt_has_event(const kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id)
 const kc_real KT_PUMA_Q0[6] = {KC_R(0.1), KC_R(0.8), KC_R(-2.4), KC_R(0.1), KC_R(0.6), KC_R(0.2)};
 const kc_real KT_PANDA_Q0[7] = {KC_R(0.0), KC_R(-0.3), KC_R(0.0), KC_R(-2.0), KC_R(0.0), KC_R(1.8), KC_R(0.8)};
 
+void kt_start_q(const kc_chain *chain, kc_model model, kc_real *q)
+{
+    for (int j = 0; j < chain->n_joints; j++) {
+        const kc_joint_limits *l = &chain->joints[j].limits;
+        q[j] = model == KC_MODEL_PUMA560 ? KT_PUMA_Q0[j] : (l->q_min + l->q_max) / KC_R(2.0);
+    }
+}
+
 kc_goal kt_cart_goal(kt_rng *r, int64_t id, const kc_pose *home, int arc, int fast)
 {
     kc_goal g = kt_line_goal(id, home);

@@ -138,6 +138,9 @@ extern const kc_real KT_PUMA_Q0[6];
 /* A Panda pose off its rest (mid-range), so that the IK step's null-space
  * motion pulls the joints while the tool moves. */
 extern const kc_real KT_PANDA_Q0[7];
+/* Where the servo suites start an arm: KT_PUMA_Q0 for the PUMA 560, every
+ * joint at the middle of its limits for another. */
+void kt_start_q(const kc_chain *chain, kc_model model, kc_real *q);
 
 void kt_report(const char *suite);
 
