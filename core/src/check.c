@@ -44,6 +44,7 @@ kc_status kc_check_init(kc_check *k, const kc_chain *chain, const kc_ctrl_cfg *c
     k->running = 0;
     k->run_moving = 0;
     k->run_stop_first = 0;
+    k->run_stop_free = 0;
     k->lead = 0;
     return KC_OK;
 }
@@ -66,9 +67,7 @@ static int judged(kc_check *k, const kc_ctrl_event *ev, int64_t tick, kc_verdict
     int n = k->chain->n_joints;
     if (ev->goal_id != k->run_goal.id && ev->kind != KC_EVENT_FAULT)
         return 0;
-    if (ev->kind == KC_EVENT_ACCEPTED && ev->reason == KC_REASON_STOP_FIRST)
-        k->run_stop_first = 1;
-    if (ev->kind == KC_EVENT_COMPLETED) {
+    if (ev->kind == KC_EVENT_COMPLETED) { /* run_stop_first: jerk_of, stepped first */
         taken(v, k->scratch.q, n);
         if (k->run_stop_first)
             v->reason = KC_REASON_STOP_FIRST;
@@ -184,15 +183,27 @@ static kc_status begin_moving(kc_check *k, const kc_goal *goal, kc_verdict *v)
                 return v->status;
     }
     memcpy(k->q_from, k->scratch.q, sizeof k->q_from);
+    k->run_stop_free = k->scratch.active && !kc_ctrl_jerk_limited(&k->scratch, &k->scratch.goal);
     kc_ctrl_goal_copy(&k->run_goal, goal);
     k->run_goal.take_cycle = v->take_cycle = k->scratch.cycle + 1;
     k->run_goal.take_state = v->take_state = kc_ctrl_stamp(&k->scratch);
     return run_set(k, k->max_ticks > INT64_MAX / ratio ? INT64_MAX : k->max_ticks * ratio);
 }
 
-/* The joints' jerk at the tick just stepped, into the run's largest. */
+/* The joints' jerk at the tick just stepped, into the run's largest; a
+ * goal that stops first a motion without a jerk-limited law is measured
+ * from the tick it starts (kinctl/check.h). */
 static void jerk_of(kc_check *k, const kc_ctrl_output *out)
 {
+    for (int e = 0; e < out->n_events; e++) {
+        const kc_ctrl_event *ev = &out->events[e];
+        if (ev->goal_id != k->run_goal.id)
+            continue;
+        if (ev->kind == KC_EVENT_ACCEPTED && ev->reason == KC_REASON_STOP_FIRST)
+            k->run_stop_first = 1;
+        if (ev->kind == KC_EVENT_STARTED && k->run_stop_first && k->run_stop_free)
+            k->run_jerk = KC_R(0.0);
+    }
     const kc_chain *chain = k->chain;
     for (int j = 0; j < chain->n_joints; j++) {
         kc_real r = kc_fabs(out->qdd[j] - k->run_qdd[j]) / (chain->joints[j].limits.qddd_max * k->scratch.cfg.dt);
@@ -306,6 +317,7 @@ static kc_status opening(kc_check *k, const kc_goal *goal, kc_verdict *v)
     k->running = 0;
     k->run_moving = 0;
     k->run_stop_first = 0;
+    k->run_stop_free = 0;
     return KC_OK;
 }
 

@@ -110,7 +110,8 @@ kc_profile_kind kc_ctrl_goal_profile(const kc_ctrl *c, const kc_goal *g)
 
 int kc_ctrl_jerk_limited(const kc_ctrl *c, const kc_goal *g)
 {
-    if (c == NULL || g == NULL || c->chain == NULL || g->kind == KC_GOAL_PATH || g->kind == KC_GOAL_SERVO)
+    if (c == NULL || g == NULL || c->chain == NULL || g->kind == KC_GOAL_PATH ||
+        (g->kind == KC_GOAL_SERVO && !g->servo_twist))
         return 0;
     return kc_ctrl_goal_profile(c, g) == KC_PROFILE_JERK;
 }

@@ -261,6 +261,74 @@ static kc_status judge_moving(const kc_goal *g, kc_verdict *v, void *ctx)
 
 static int over(const kc_verdict *v) { return !kc_check_jerk_within(v); }
 
+/* MOVING set going on a joint move of up to 0.4 rad a joint from the
+ * start pose (profile: its law), stepped 20 to 600 ticks; out gets the
+ * last tick's output. */
+static void moving_joint_move(kt_rng *r, kc_goal_profile profile, const kc_ctrl_cfg *cfg, kc_ctrl_output *out)
+{
+    kc_real q[6];
+    for (int j = 0; j < 6; j++)
+        q[j] = KT_PUMA_Q0[j] + (kc_real)kt_uniform(r, -0.4, 0.4);
+    kc_goal m = kt_joint_goal(1, q, 6);
+    m.profile = profile;
+    assert_int_equal(kc_ctrl_init(&MOVING, &CHAIN, cfg, KT_PUMA_Q0), KC_OK);
+    memset(out, 0, sizeof *out);
+    int ticks = (int)kt_uniform(r, 20.0, 600.0);
+    for (int t = 0; t < ticks; t++) {
+        kc_ctrl_input in = {t == 0 ? &m : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
+        assert_int_equal(kc_ctrl_step(&MOVING, &in, out), KC_OK);
+    }
+}
+
+/* A line of 5 to 20 cm from where MOVING's tool is, replacing its motion
+ * (fast: at kt_cart_goal's fast limits, else the defaults). */
+static kc_goal replacing_line(kt_rng *r, int fast)
+{
+    kc_pose to = MOVING.pose;
+    kc_vec3 dir = kt_rand_unit(r);
+    kc_real len = (kc_real)kt_uniform(r, 0.05, 0.2);
+    for (int i = 0; i < 3; i++)
+        to.t.v[i] += len * dir.v[i];
+    kc_goal g = kt_line_goal(2, &to);
+    if (fast) {
+        g.speed = (kc_real)kt_uniform(r, 0.1, 0.5);
+        g.accel = g.speed * (kc_real)kt_uniform(r, 2.0, 8.0);
+        g.jerk = g.accel * (kc_real)kt_uniform(r, 5.0, 20.0);
+    }
+    g.replace = 1;
+    return g;
+}
+
+/* MOVING given goal g as judged (verdict v), stepped until g completes:
+ * the joints' jerk (in units of qddd_max at 1 ms) over every tick from
+ * the takeover into *worst, or, where a motion without a jerk-limited law
+ * (own) stops first, from the tick g starts, and over the stop before it
+ * into *worst_stop. */
+static void step_as_judged(const kc_goal *g, const kc_verdict *v, int own, double *worst, double *worst_stop)
+{
+    kc_ctrl_output out;
+    double prev[KC_MAX_JOINTS];
+    for (int j = 0; j < 6; j++)
+        prev[j] = (double)MOVING.qdd[j];
+    *worst = *worst_stop = 0.0;
+    int done = 0;
+    for (int t = 0; t < 100000 && !done; t++) {
+        kc_ctrl_input in = {t == 0 ? g : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
+        assert_int_equal(kc_ctrl_step(&MOVING, &in, &out), KC_OK);
+        if (own && v->reason == KC_REASON_STOP_FIRST && kt_has_event(&out, KC_EVENT_STARTED, g->id)) {
+            *worst_stop = *worst;
+            *worst = 0.0;
+        }
+        for (int j = 0; j < 6; j++) {
+            double step = fabs((double)out.qdd[j] - prev[j]) / ((double)CHAIN.joints[j].limits.qddd_max * 1e-3);
+            *worst = fmax(*worst, step);
+            prev[j] = (double)out.qdd[j];
+        }
+        done = kt_has_event(&out, KC_EVENT_COMPLETED, g->id);
+    }
+    assert_true(done);
+}
+
 static void test_replacing_lines_keep_joints_within_jerk(void **state)
 {
     (void)state;
@@ -271,28 +339,11 @@ static void test_replacing_lines_keep_joints_within_jerk(void **state)
     kt_rng r = kt_rng_make(0x5F1);
     int judged = 0, superposed_over = 0, stopped_first = 0;
     for (int c = 0; c < 4 * CASES; c++) {
-        /* A joint move of up to 0.4 rad a joint from the start pose,
-         * replaced after 20 to 600 ticks by a line of 5 to 20 cm at the
-         * default limits from where the tool is. */
-        kc_real q[6];
-        for (int j = 0; j < 6; j++)
-            q[j] = KT_PUMA_Q0[j] + (kc_real)kt_uniform(&r, -0.4, 0.4);
-        kc_goal m = kt_joint_goal(1, q, 6);
-        assert_int_equal(kc_ctrl_init(&MOVING, &CHAIN, &cfg, KT_PUMA_Q0), KC_OK);
+        /* A joint move replaced after 20 to 600 ticks by a line at the
+         * default limits. */
         kc_ctrl_output out;
-        memset(&out, 0, sizeof out);
-        int ticks = (int)kt_uniform(&r, 20.0, 600.0);
-        for (int t = 0; t < ticks; t++) {
-            kc_ctrl_input in = {t == 0 ? &m : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
-            assert_int_equal(kc_ctrl_step(&MOVING, &in, &out), KC_OK);
-        }
-        kc_pose to = MOVING.pose;
-        kc_vec3 dir = kt_rand_unit(&r);
-        kc_real len = (kc_real)kt_uniform(&r, 0.05, 0.2);
-        for (int i = 0; i < 3; i++)
-            to.t.v[i] += len * dir.v[i];
-        kc_goal g = kt_line_goal(2, &to);
-        g.replace = 1;
+        moving_joint_move(&r, KC_GOAL_PROFILE_CFG, &cfg, &out);
+        kc_goal g = replacing_line(&r, 0);
         kc_verdict v;
         if (out.state != KC_CTRL_MOVING || judge_moving(&g, &v, NULL) != KC_OK)
             continue; /* at rest already, or out of reach */
@@ -312,28 +363,56 @@ static void test_replacing_lines_keep_joints_within_jerk(void **state)
         }
         assert_false(over(&v));
         /* The controller, given the goal as judged, steps the verdict's
-         * jerk. */
-        double prev[KC_MAX_JOINTS], worst = 0.0;
-        for (int j = 0; j < 6; j++)
-            prev[j] = (double)MOVING.qdd[j];
-        int done = 0;
-        for (int t = 0; t < 100000 && !done; t++) {
-            kc_ctrl_input in = {t == 0 ? &g : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
-            assert_int_equal(kc_ctrl_step(&MOVING, &in, &out), KC_OK);
-            for (int j = 0; j < 6; j++) {
-                double step = fabs((double)out.qdd[j] - prev[j]) / ((double)CHAIN.joints[j].limits.qddd_max * 1e-3);
-                worst = fmax(worst, step);
-                prev[j] = (double)out.qdd[j];
-            }
-            done = kt_has_event(&out, KC_EVENT_COMPLETED, g.id);
-        }
-        assert_true(done);
+         * jerk (the jerk-limited joint move's stop included). */
+        double worst, worst_stop;
+        step_as_judged(&g, &v, 0, &worst, &worst_stop);
         kt_near(worst, (double)v.jerk, 1e-12, "the controller's jerk, as judged");
     }
     assert_true(judged >= 2 * CASES);
     /* Many superpositions need it, and most of those stop first. */
     assert_true(superposed_over >= judged / 10);
     assert_true(stopped_first >= superposed_over / 2);
+}
+
+/* A line replacing a trapezoid joint move stops it first (kinctl/ctrl.h),
+ * and the trapezoid's stop steps qdd far beyond the joints' jerk limits:
+ * the line is judged on its own ticks, from its start at rest, so that
+ * slowing brings a fast line's joints within their limits (judged over
+ * the stop too, its jerk would stay the stop's whatever the slowing). */
+static void test_stop_first_judged_from_its_start(void **state)
+{
+    (void)state;
+#ifdef KC_REAL_FLOAT
+    skip(); /* the file's header: float's rounding noise */
+#endif
+    kc_ctrl_cfg cfg = setup(KC_R(0.001));
+    kt_rng r = kt_rng_make(0x5F2);
+    int judged = 0, own_over = 0;
+    double stop_least = INFINITY;
+    for (int c = 0; c < 2 * CASES; c++) {
+        kc_ctrl_output out;
+        moving_joint_move(&r, KC_GOAL_PROFILE_TRAPEZOID, &cfg, &out);
+        kc_goal g = replacing_line(&r, 1);
+        kc_verdict v;
+        if (out.state != KC_CTRL_MOVING || judge_moving(&g, &v, NULL) != KC_OK)
+            continue; /* at rest already, or out of reach */
+        assert_int_equal(v.reason, KC_REASON_STOP_FIRST);
+        judged++;
+        own_over += over(&v);
+        assert_int_equal(kt_judge_slowed(judge_moving, NULL, &cfg, &g, &v), KC_OK);
+        assert_false(over(&v));
+        double worst, worst_stop;
+        step_as_judged(&g, &v, 1, &worst, &worst_stop);
+        kt_near(worst, (double)v.jerk, 1e-12, "the line's jerk from its start, as judged");
+        stop_least = fmin(stop_least, worst_stop);
+    }
+    print_message("%d fast lines replacing a trapezoid joint move, %d of them over their joints' jerk limits as "
+                  "asked, all within once slowed; the trapezoid's stop before them at least %.3g times the "
+                  "limits\n",
+                  judged, own_over, stop_least);
+    assert_true(judged >= CASES / 2); /* most lines are out of reach or the move ended */
+    assert_true(own_over >= judged / 4); /* the slowing did something */
+    assert_true(stop_least > 2.0);       /* over the stop, no slowing would have been within */
 }
 
 int main(void)
@@ -344,6 +423,7 @@ int main(void)
         cmocka_unit_test(test_slow_search),
         cmocka_unit_test(test_slowed_lines_keep_joints_within_jerk),
         cmocka_unit_test(test_replacing_lines_keep_joints_within_jerk),
+        cmocka_unit_test(test_stop_first_judged_from_its_start),
     };
     int rc = cmocka_run_group_tests(tests, NULL, NULL);
     kt_report("check_slow");

@@ -81,7 +81,16 @@
  * motion's stop too, which slowing the goal does not change; where the
  * transition stays beyond the limits, kinctld judges the goal again with
  * stop_first (kinctl/ctrl.h: the motion stops on its path first) and
- * takes it so if that does better.
+ * takes it so if that does better. A goal that stops first (ACCEPTED
+ * with KC_REASON_STOP_FIRST) a motion whose law is not jerk-limited
+ * (kc_ctrl_jerk_limited: a joint path, a trapezoid, a servo pose stream)
+ * is judged on its own ticks: its jerk is measured from the tick it
+ * starts, at rest (its first step from rest included), that motion's stop
+ * being its own law's whatever the goal (judged over it, a goal beyond
+ * the limits would hide behind the stop's excess, which no slowing
+ * lowers). The stop of a jerk-limited motion stays in the verdict: what
+ * it does beyond the limits (a Cartesian path's joints stopping on its
+ * path) the goal that stops it causes.
  *
  * Not for the cycle: a dry run costs one controller step per tick of motion
  * (from a snapshot, per tick of the controller's period: cfg.dt over the
@@ -143,6 +152,7 @@ typedef struct kc_check {
     kc_real run_progress; /* of the goal's motion when last stepped, 0..1 */
     kc_real run_qdd[KC_MAX_JOINTS]; /* the joints' qdd at the last tick stepped */
     kc_real run_jerk;               /* the verdict's jerk so far */
+    int run_stop_free;              /* the motion replaced follows no jerk-limited law (above) */
     int running;
     /* The run under way (or the goal last judged) started from a snapshot:
      * the controller's moving state, at the controller's period; else at

@@ -742,10 +742,10 @@ kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *goal, kc_verd
 kc_status kc_goal_slow(kc_goal *g, const kc_ctrl_cfg *cfg, kc_real s);
 
 /* 1 when goal g's motion, given to controller c, follows a jerk-limited
- * law (kinctl/scurve.h): a joint move, line, arc or Cartesian path whose
- * profile (or cfg.profile) is KC_PROFILE_JERK, on a chain with a jerk
- * limit on every joint; 0 for a trapezoid, a joint path, a servo stream,
- * or NULL. Cycle-safe. */
+ * law (kinctl/scurve.h): a joint move, line, arc, Cartesian path or servo
+ * twist stream whose profile (or cfg.profile) is KC_PROFILE_JERK, on a
+ * chain with a jerk limit on every joint; 0 for a trapezoid, a joint path,
+ * a servo pose stream, or NULL. Cycle-safe. */
 int kc_ctrl_jerk_limited(const kc_ctrl *c, const kc_goal *g);
 
 /* One tick. Cycle-safe: bounded work (planning a segment when one starts:
