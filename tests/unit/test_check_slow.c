@@ -388,7 +388,7 @@ static void test_stop_first_judged_from_its_start(void **state)
     kc_ctrl_cfg cfg = setup(KC_R(0.001));
     kt_rng r = kt_rng_make(0x5F2);
     int judged = 0, own_over = 0;
-    double stop_least = INFINITY;
+    double stop_least = HUGE_VAL;
     for (int c = 0; c < 2 * CASES; c++) {
         kc_ctrl_output out;
         moving_joint_move(&r, KC_GOAL_PROFILE_TRAPEZOID, &cfg, &out);
