@@ -126,7 +126,6 @@ static void test_random_twist_streams(void **state)
         setup(models[m]);
         kt_rng r = kt_rng_make(2101 + (uint64_t)m);
         double dt = (double)H.cfg.dt;
-        int held = 0, timeouts = 0;
         for (int c = 0; c < CASES; c++) {
             int64_t id = 400 + c;
             kc_goal g;
@@ -141,8 +140,7 @@ static void test_random_twist_streams(void **state)
                 bound_j[i] = (double)(i < 3 ? H.cfg.cart_jerk : H.cfg.cart_angular_jerk) / sqrt(3.0);
             }
             double v_prev[6] = {0}, a_prev[6] = {0};
-            long since = 0, settle = 0;
-            double change[6] = {0};
+            long settle = 0;
             int changes = 1 + (int)kt_uniform(&r, 0.0, 5.0);
             for (int s = 0; s < changes; s++) {
                 kc_vec3 u = kt_rand_unit(&r), w = kt_rand_unit(&r);
@@ -153,12 +151,11 @@ static void test_random_twist_streams(void **state)
                 }
                 settle = 0;
                 for (int i = 0; i < 6; i++) {
-                    change[i] = fabs((double)g.twist[i] - v_prev[i]) + fabs(a_prev[i]) * fabs(a_prev[i]) / bound_j[i];
-                    long t = ramp_ticks(change[i], bound_a[i], bound_j[i], dt) +
+                    double change = fabs((double)g.twist[i] - v_prev[i]) + fabs(a_prev[i]) * fabs(a_prev[i]) / bound_j[i];
+                    long t = ramp_ticks(change, bound_a[i], bound_j[i], dt) +
                              (long)ceil(fabs(a_prev[i]) / bound_j[i] / dt);
                     settle = t > settle ? t : settle;
                 }
-                since = 0;
                 int n = 20 + (int)kt_uniform(&r, 0.0, 280.0);
                 if (s == changes - 1)
                     n = (int)settle + 200; /* the last twist held long enough to follow it */
@@ -170,7 +167,6 @@ static void test_random_twist_streams(void **state)
                     tick(&g);
                     assert_int_equal(H.out.goal_id, id);
                     assert_int_equal(H.out.state, KC_CTRL_MOVING);
-                    since++;
                     /* The target moved by the shaped twist of the tick before. */
                     for (int i = 0; i < 3 && k > 0; i++)
                         kt_near((double)H.ctrl.servo_target.t.v[i],
@@ -189,7 +185,7 @@ static void test_random_twist_streams(void **state)
                                      kc_model_name(models[m]), c, k, i, ra, rj, v - v_prev[i], a * dt);
                         H.worst_cart_a = fmax(H.worst_cart_a, ra);
                         H.worst_cart_j = fmax(H.worst_cart_j, rj);
-                        if (since > settle)
+                        if (k >= settle) /* k + 1 ticks of this twist */
                             kt_near(v, (double)g.twist[i], 64.0 * (double)KC_REAL_EPS * (1.0 + fabs(v)),
                                     "the shaped twist reaches the commanded one");
                         v_prev[i] = v;
@@ -210,7 +206,6 @@ static void test_random_twist_streams(void **state)
             }
             H.worst_follow = fmax(H.worst_follow, off / size);
             assert_true(off <= 0.01 * size);
-            held++;
             /* The stream goes quiet: after the timeout, a jerk-limited stop. */
             int k = 0;
             for (; k <= H.cfg.servo_timeout_ticks + 1 && H.out.state == KC_CTRL_MOVING; k++)
@@ -225,7 +220,6 @@ static void test_random_twist_streams(void **state)
             assert_int_equal(H.out.events[0].reason, KC_REASON_SERVO_TIMEOUT);
             for (int j = 0; j < H.chain.n_joints; j++)
                 assert_true(H.out.qd[j] == KC_R(0.0) && H.out.qdd[j] == KC_R(0.0));
-            timeouts++;
             /* Back to the start for the next case (a jerk-limited joint move). */
             kc_real q0[KC_MAX_JOINTS];
             kt_start_q(&H.chain, models[m], q0);
@@ -237,10 +231,10 @@ static void test_random_twist_streams(void **state)
         }
         print_message("%s: %d twist streams, %ld ticks: the shaped twist's rate at most %.6f and its change %.6f "
                       "of the Cartesian bounds; the joints' qdd at most %.4f and jerk %.4f of their limits (while "
-                      "tracking %.7f); the tool's twist off the commanded by at most %.2e of its size; %d timeouts, each a "
-                      "jerk-limited stop (%s)\n",
-                      kc_model_name(models[m]), held, H.ticks, H.worst_cart_a, H.worst_cart_j, H.worst_a, H.worst_j,
-                      H.worst_track_j, H.worst_follow, timeouts, KC_REAL_NAME);
+                      "tracking %.7f); the tool's twist off the commanded by at most %.2e of its size; each stream "
+                      "ended by its timeout's jerk-limited stop (%s)\n",
+                      kc_model_name(models[m]), CASES, H.ticks, H.worst_cart_a, H.worst_cart_j, H.worst_a, H.worst_j,
+                      H.worst_track_j, H.worst_follow, KC_REAL_NAME);
         assert_true(H.worst_cart_j > 0.5); /* the shaping does use the jerk it is allowed */
     }
 }
