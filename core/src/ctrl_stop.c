@@ -256,6 +256,76 @@ static void jerk_stop(kc_ctrl *c)
     drive_from_here(c, KC_DRIVE_HALT);
 }
 
+/* The shares of qdd_max and qddd_max a Cartesian stop's joints are held
+ * to, its least share of the tool's bounds, and the share of qddd_max
+ * its resume's first jerk is held to (joint_bounded_stop). */
+#define STOP_ACC_SHARE KC_R(0.8)
+#define STOP_JERK_SHARE KC_R(0.6)
+#define STOP_SHARE_MIN KC_R(0.0625)
+#define STOP_RESUME_SHARE KC_R(0.25)
+#define STOP_HALVINGS 4 /* 1 / 2^4 = STOP_SHARE_MIN */
+
+/* Whether joint_bounded_stop's estimate at share k keeps every joint
+ * within the shares. */
+static int stop_fits(const kc_ctrl *c, kc_real v, kc_real a, kc_real dec, kc_real jm, kc_real k)
+{
+    kc_real D = kc_max(k * dec, kc_fabs(a));
+    kc_real r = a > KC_R(0.0) ? KC_R(1.0) + a * a / (KC_R(2.0) * k * jm * v) : KC_R(1.0);
+    for (int i = 0; i < c->chain->n_joints; i++) {
+        const kc_joint_limits *l = &c->chain->joints[i].limits;
+        kc_real qu = kc_fabs(c->qd[i] / v), cc = kc_fabs(c->qdd[i] - c->qd[i] / v * a);
+        if (qu * D + cc * r * r > STOP_ACC_SHARE * l->qdd_max ||
+            qu * k * jm + KC_R(3.0) * cc * r * D / v > STOP_JERK_SHARE * l->qddd_max)
+            return 0;
+    }
+    return 1;
+}
+
+/* A Cartesian stop's bounds on its parameter u (a line's or an arc's u, a
+ * Cartesian path's tau), from u' = v > 0 and u'' = a at the last
+ * setpoint: *dec and *jm scaled by the largest k of 1, 1/2, ...,
+ * STOP_SHARE_MIN whose stop keeps every joint's estimated acceleration and
+ * jerk within STOP_ACC_SHARE of qdd_max and STOP_JERK_SHARE of qddd_max
+ * (else the least k), *dec not below -a (a stop already braking harder
+ * goes on from there) and k not below a^2 / (v jm) (a braking u'' comes
+ * back to zero within half of v: with less jerk the stop would overshoot
+ * rest and turn back). The joints' rate per unit of u is q_u = qd / v,
+ * and c = qdd - q_u a is their acceleration from the path's curve,
+ * q_uu v^2. While the stop lasts u' <= w = v + a^2 / (2 k jm) (v but for
+ * a rising u'', which the stop first brings to zero) and
+ * |u''| <= D = max(k dec, |a|), so with r = w / v
+ *     |qdd|  <= |q_u| D + |c| r^2,
+ *     |qddd| <= |q_u| k jm + 3 |q_uu| u' |u''| <= |q_u| k jm + 3 |c| r D / v,
+ * the path's own third derivative q_uuu u'^3, and how q_u and q_uu change
+ * over the stop, left to the shares. At the tool's limits alone, where the
+ * Jacobian amplifies them, the PUMA 560's joints went up to 185 times
+ * beyond their jerk limits in a stop (test_ctrl_cartstop.c).
+ * A resume from where it comes to rest (kc_ctrl_resume) takes the same k
+ * at most, and at most (not below STOP_SHARE_MIN) the k whose |q_u| k jm
+ * is within STOP_RESUME_SHARE of qddd_max: from rest the IK step's first
+ * ticks stepped the joints' jerk up to three times that (a PUMA 560 line
+ * at 0.54 went 1.05 times over, a Cartesian path at 0.33 1.006). */
+static void joint_bounded_stop(kc_ctrl *c, kc_real v, kc_real a, kc_real *dec, kc_real *jm)
+{
+    if (!(v > KC_R(0.0)))
+        return;
+    kc_real k = KC_R(1.0), least = STOP_SHARE_MIN;
+    if (a < KC_R(0.0))
+        least = kc_min(kc_max(least, a * a / (v * *jm)), KC_R(1.0));
+    for (int h = 0; k > least && !stop_fits(c, v, a, *dec, *jm, k) && h < STOP_HALVINGS; h++)
+        k *= KC_R(0.5);
+    k = kc_max(k, least);
+    kc_real resume = k;
+    for (int i = 0; i < c->chain->n_joints; i++) {
+        kc_real qu = kc_fabs(c->qd[i] / v) * *jm;
+        if (qu > KC_R(0.0))
+            resume = kc_min(resume, STOP_RESUME_SHARE * c->chain->joints[i].limits.qddd_max / qu);
+    }
+    c->resume_share = kc_max(resume, STOP_SHARE_MIN);
+    *jm *= k;
+    *dec = kc_max(k * *dec, a < KC_R(0.0) ? -a : KC_R(0.0));
+}
+
 /* The bounds of u's first three derivatives of the active joint move,
  * line or arc, and its speed law; a zero motion (infinite bounds: nothing
  * to stop or resume) gets bounds of 1. */
@@ -279,6 +349,41 @@ static kc_profile_kind seg_u_bounds(const kc_ctrl *c, kc_real *v, kc_real *a, kc
     return kind;
 }
 
+/* A jerk-limited line's or arc's stop from u's state into drive_scurve,
+ * within the plan's bounds dec on u'' and jm on u''' scaled for the joints
+ * (joint_bounded_stop). Where that stop would pass u = 1, the gentlest
+ * between it and the plan's own bounds that does not (a bisection of
+ * SEG_STOP_STEPS steps), the plan's own at worst: that one is the stop of
+ * least distance, which never passes the end but by rounding (1 + 2.2e-16
+ * seen from a law braking at those bounds; then it ends there). 0 when no
+ * stop can be planned. */
+#define SEG_STOP_STEPS 8
+static int seg_jerk_stop(kc_ctrl *c, const kc_profile_state *u, kc_real dec, kc_real jm)
+{
+    kc_scurve s, t;
+    kc_real D = dec, J = jm, lo = KC_R(0.0), hi = KC_R(1.0);
+    joint_bounded_stop(c, u->v, u->a, &D, &J);
+    if (kc_scurve_plan_stop(&s, u->p, u->v, u->a, D, J, c->cfg.dt) != KC_OK)
+        return 0;
+    if (s.p1 > KC_R(1.0) && (D < dec || J < jm)) {
+        if (kc_scurve_plan_stop(&s, u->p, u->v, u->a, dec, jm, c->cfg.dt) != KC_OK)
+            return 0;
+        for (int i = 0; i < SEG_STOP_STEPS; i++) {
+            kc_real m = KC_R(0.5) * (lo + hi);
+            if (kc_scurve_plan_stop(&t, u->p, u->v, u->a, D + m * (dec - D), J + m * (jm - J), c->cfg.dt) == KC_OK &&
+                t.p1 <= KC_R(1.0)) {
+                s = t, hi = m;
+            } else {
+                lo = m;
+            }
+        }
+    }
+    if (s.p1 > KC_R(1.0) && s.p1 <= KC_R(1.0) + KC_R(16.0) * KC_REAL_EPS)
+        s.p1 = KC_R(1.0);
+    c->drive_scurve = s;
+    return 1;
+}
+
 /* A jerk-limited stop of a path's tau from the state u at deceleration
  * dec, its bound on tau''' from the path's rates where it goes
  * (kc_ctrl_path_tau_jerk): over twice the distance of the constant-rate
@@ -293,7 +398,10 @@ static int path_scurve_stop(kc_ctrl *c, const kc_profile_state *u, kc_real dec, 
     kc_real end = u->p + u->v * u->v / dec;
     for (int i = 0; i < 4; i++) {
         kc_real Jt = kc_ctrl_path_tau_jerk(c, u->p, kc_min(end, T));
-        if (!kc_isfinite(Jt) || kc_scurve_plan_stop(&s, u->p, u->v, u->a, dec, Jt, c->cfg.dt) != KC_OK)
+        kc_real D = dec;
+        if (c->goal.kind == KC_GOAL_PATH_CART && kc_isfinite(Jt))
+            joint_bounded_stop(c, u->v, u->a, &D, &Jt);
+        if (!kc_isfinite(Jt) || kc_scurve_plan_stop(&s, u->p, u->v, u->a, D, Jt, c->cfg.dt) != KC_OK)
             return 0;
         if (s.p1 <= end)
             break;
@@ -342,6 +450,7 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
 {
     c->stop_intent = intent;
     c->state = KC_CTRL_STOPPING;
+    c->resume_share = KC_R(1.0);
     int64_t j = (c->cycle - 1) - c->k0; /* the last setpoint's tick */
     kc_profile_state u;
     if (c->goal.kind == KC_GOAL_SERVO) {
@@ -429,13 +538,10 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
         kc_real vmax;
         kc_profile_kind kind = seg_u_bounds(c, &vmax, &dec, &jmax);
         /* A jerk-limited line or arc stops jerk-limited, from (u, u', u''),
-         * but for a fault (kinctl/ctrl.h: stopping soonest matters more). */
+         * within its joints' limits (joint_bounded_stop), but for a fault
+         * (kinctl/ctrl.h: stopping soonest matters more). */
         jerk = kind == KC_PROFILE_JERK && c->fault_reason == KC_REASON_NONE && c->drive != KC_DRIVE_PROFILE &&
-               kc_scurve_plan_stop(&c->drive_scurve, u.p, u.v, u.a, dec, jmax, c->cfg.dt) == KC_OK;
-        /* From a law already braking at these limits the stop ends at the
-         * segment's end, past it by rounding only (1 + 2.2e-16 seen): there. */
-        if (jerk && c->drive_scurve.p1 > KC_R(1.0) && c->drive_scurve.p1 <= KC_R(1.0) + KC_R(16.0) * KC_REAL_EPS)
-            c->drive_scurve.p1 = KC_R(1.0);
+               seg_jerk_stop(c, &u, dec, jmax);
     }
     if (!jerk)
         kc_profile_plan_stop(&c->drive_prof, u.p, u.v, dec, c->cfg.dt);
@@ -483,6 +589,10 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
         /* A jerk-limited line or arc resumes jerk-limited. */
         jerk = seg_u_bounds(c, &vmax, &amax, &jmax) == KC_PROFILE_JERK;
     }
+    /* A Cartesian goal's ramp from where its stop came to rest, at the
+     * share of the bounds its stop chose (joint_bounded_stop). */
+    if (c->goal.kind != KC_GOAL_PATH)
+        amax *= c->resume_share, jmax *= c->resume_share;
     jerk = jerk && kc_scurve_plan(&c->drive_scurve, u.p, KC_R(0.0), KC_R(0.0), end, vmax, amax, jmax, c->cfg.dt) ==
                        KC_OK;
     if (!jerk)

@@ -244,7 +244,19 @@
  * under way, which comes to rest there sooner (every path's law in the
  * controller ends at rest at its end). Between those, tau' = 1: the path's own law, which its knot
  * times fix (blends, splines, quintics with given or computed times; the
- * path's own jerk there is the method's, kinctl/path.h). The trapezoid
+ * path's own jerk there is the method's, kinctl/path.h).
+ * A Cartesian goal's jerk-limited stop (a line, an arc, a Cartesian path;
+ * for STOP, PAUSE and a replacement alike) has those bounds on u'' and
+ * u''' (tau'', tau'''), which are the tool's, scaled down for its joints:
+ * by the largest share, in halvings, that keeps each joint's acceleration
+ * and jerk within a share of its limits, as estimated from the last
+ * setpoint (ctrl_stop.c, joint_bounded_stop, gives the estimate and the
+ * shares). Its resume ramps at that share or less. It is an estimate at
+ * the stop's start: where the joints' rates change fast along the path
+ * (near a singularity) the limits may still be exceeded. A line's or an
+ * arc's scaled stop that would pass u = 1 gives way to the gentlest
+ * between it and the plan's own bounds that does not (the plan's own never
+ * does); a path's leaves the law under way, as above. The trapezoid
  * (cfg.profile, the goal's profile, or a chain without jerk limits) keeps
  * constant-rate ramps and stops, and a fault's stop on the path is the
  * constant-rate one.
@@ -641,6 +653,7 @@ typedef struct kc_ctrl {
     kc_profile drive_prof;
     kc_scurve drive_scurve;
     int stop_intent;           /* KC_CMD_STOP/PAUSE or 1 for a preemption: what the stop is for */
+    kc_real resume_share;      /* a paused Cartesian goal's share of its plan's bounds when it resumes (ctrl_stop.c) */
     kc_ctrl_reason fault_reason;
     kc_real path_length;       /* Cartesian segments: length (m) */
     /* Servo. */

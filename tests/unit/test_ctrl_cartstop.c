@@ -1,0 +1,277 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* test_ctrl_cartstop.c - a Cartesian goal (a line, an arc, a Cartesian
+ * path) stopped on its path, by a STOP or because a joint path or a
+ * servo stream replaces it (it stops first), keeps its joints within
+ * their acceleration and jerk limits (kinctl/ctrl.h: the stop's bounds
+ * on its path parameter are scaled for the joints, ctrl_stop.c). At the
+ * tool's limits alone the PUMA 560's joints went up to 185 times beyond
+ * their jerk limits in these cases, one held at its acceleration limit.
+ *
+ * Random cases on the PUMA 560: a line or an arc of 5 to 20 cm from the
+ * start pose, or a Cartesian path through two points 3 to 15 cm apart,
+ * one in four at fast Cartesian limits,
+ * judged from rest and slowed as kinctld hands it on (kt_judge_slowed:
+ * its own motion within the joints' jerk limits), stepped 30 to 1,500
+ * ticks, then stopped. Checked on every tick from the STOP or the
+ * replacement to the tick the goal is ABORTED or PREEMPTED:
+ * - every joint's |qdd| <= qdd_max and its jerk, the change of qdd over a
+ *   tick over dt, <= qddd_max, with a relative slack of SLACK;
+ * - no fault; the goal ends at rest (qd = 0 exactly), where a STOP on a
+ *   copy of the controller comes to rest (the same stop);
+ * - the replacing goal STARTS after that tick, not before.
+ * In double only: in float the IK step's rounding alone makes
+ * tick-to-tick jerk noise above qddd_max in any Cartesian motion
+ * (kinctl/ctrl.h). */
+#include <math.h>
+#include <string.h>
+
+#include "kinctl/check.h"
+#include "kinctl/fk.h"
+#include "testutil.h"
+
+#define CASES 100
+#define SLACK 1e-6
+
+static kc_chain CHAIN;
+static kc_ctrl CTRL, COPY; /* large: not on the stack */
+static kc_check CHECK;
+static kc_ctrl_cfg CFG;
+/* Path methods that start and end at rest (Lagrange's does not). */
+static const kc_path_method METHODS[3] = {KC_PATH_BLEND, KC_PATH_SPLINE, KC_PATH_QUINTIC};
+
+static kc_status judge_at_rest(const kc_goal *g, kc_verdict *v, void *ctx)
+{
+    (void)ctx;
+    return kc_check_from(&CHECK, KT_PUMA_Q0, g, v);
+}
+
+static kc_vec3 offset(kt_rng *r, double lo, double hi)
+{
+    kc_vec3 d = kt_rand_unit(r), o;
+    kc_vec3_scale(&d, (kc_real)kt_uniform(r, lo, hi), &o);
+    return o;
+}
+
+/* A line, an arc or a Cartesian path (kind) from home, 5 to 20 cm, in
+ * home's orientation; one in four at speed, accel and jerk drawn up to
+ * fast ones, else at the defaults. */
+static kc_goal cart_goal(kt_rng *r, kc_goal_kind kind, const kc_pose *home)
+{
+    kc_goal g;
+    if (kind == KC_GOAL_PATH_CART) {
+        kc_quat q;
+        kc_quat_from_mat3(&home->R, &q);
+        memset(&g, 0, sizeof g);
+        g.id = 1;
+        g.kind = KC_GOAL_PATH_CART;
+        g.vel_scale = g.acc_scale = KC_R(1.0);
+        g.method = METHODS[(int)kt_uniform(r, 0.0, 3.0)];
+        g.n_points = 2;
+        kc_vec3 at = home->t;
+        for (int i = 0; i < 2; i++) {
+            kc_vec3 d = offset(r, 0.03, 0.15);
+            kc_vec3_add(&at, &d, &at);
+            g.points[i][0] = at.v[0], g.points[i][1] = at.v[1], g.points[i][2] = at.v[2];
+            g.points[i][3] = q.w, g.points[i][4] = q.x, g.points[i][5] = q.y, g.points[i][6] = q.z;
+        }
+    } else {
+        kc_pose to = *home;
+        kc_vec3 d = offset(r, 0.05, 0.2);
+        kc_vec3_add(&home->t, &d, &to.t);
+        g = kt_line_goal(1, &to);
+        if (kind == KC_GOAL_ARC) {
+            g.kind = KC_GOAL_ARC;
+            kc_vec3 b = offset(r, 0.0, 0.3 * (double)kc_vec3_norm(&d));
+            for (int k = 0; k < 3; k++)
+                g.via.v[k] = home->t.v[k] + KC_R(0.5) * d.v[k] + b.v[k];
+        }
+    }
+    if (kt_uniform(r, 0.0, 1.0) < 0.25) {
+        g.speed = (kc_real)kt_uniform(r, 0.1, 0.5);
+        g.accel = g.speed * (kc_real)kt_uniform(r, 2.0, 8.0);
+        g.jerk = g.accel * (kc_real)kt_uniform(r, 5.0, 20.0);
+    }
+    return g;
+}
+
+/* A joint path through two knots within 0.3 rad of q on every joint
+ * (blend, spline or quintic), or a servo twist stream of up to 0.1 m/s. */
+static kc_goal replacing(kt_rng *r, int servo, const kc_real *q)
+{
+    kc_goal g;
+    memset(&g, 0, sizeof g);
+    g.id = 2;
+    g.replace = 1;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    if (servo) {
+        kc_vec3 v = offset(r, 0.0, 0.1);
+        g.kind = KC_GOAL_SERVO;
+        g.servo_twist = 1;
+        g.pose = CTRL.pose;
+        g.twist[0] = v.v[0], g.twist[1] = v.v[1], g.twist[2] = v.v[2];
+        return g;
+    }
+    g.kind = KC_GOAL_PATH;
+    g.method = METHODS[(int)kt_uniform(r, 0.0, 3.0)];
+    g.n_points = 2;
+    for (int i = 0; i < 2; i++)
+        for (int j = 0; j < 6; j++)
+            g.points[i][j] = q[j] + (kc_real)kt_uniform(r, -0.3, 0.3);
+    return g;
+}
+
+/* Where the tool comes to rest if CTRL's motion stops on its path now
+ * (a STOP, on a copy). */
+static kc_pose rest_on_path(void)
+{
+    kc_ctrl_output out;
+    kc_ctrl_input in = {NULL, KC_CMD_STOP, 0, KC_REASON_NONE};
+    COPY = CTRL;
+    for (int k = 0; k < 20000; k++) {
+        assert_int_equal(kc_ctrl_step(&COPY, &in, &out), KC_OK);
+        in.command = KC_CMD_NONE;
+        if (out.state == KC_CTRL_IDLE)
+            return out.pose;
+    }
+    fail_msg("the stop did not end");
+    return out.pose;
+}
+
+static int moving(const kc_ctrl_output *out)
+{
+    for (int j = 0; j < 6; j++)
+        if (out->qd[j] != KC_R(0.0))
+            return 1;
+    return 0;
+}
+
+/* How the Cartesian goal is stopped: replaced by a joint path or a servo
+ * stream, by a STOP, or by a PAUSE and then a RESUME. */
+typedef enum ending { BY_PATH, BY_SERVO, BY_STOP, BY_PAUSE } ending;
+
+static void stop_at_random(ending how, uint64_t seed)
+{
+    CFG = kc_ctrl_cfg_default();
+    assert_int_equal(kc_chain_init_model(&CHAIN, KC_MODEL_PUMA560, NULL), KC_OK);
+    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, KT_PUMA_Q0), KC_OK);
+    kc_pose home;
+    kc_fk_eval(&CHAIN, KT_PUMA_Q0, &home);
+    kt_rng r = kt_rng_make(seed);
+    static const kc_goal_kind KINDS[3] = {KC_GOAL_LINE, KC_GOAL_ARC, KC_GOAL_PATH_CART};
+    int cases = 0, stop_ticks = 0;
+    double worst = 0.0, worst_qdd = 0.0;
+    for (int c = 0; cases < CASES && c < 20 * CASES; c++) {
+        kc_goal m = cart_goal(&r, KINDS[c % 3], &home);
+        kc_verdict v;
+        if (kt_judge_slowed(judge_at_rest, NULL, &CFG, &m, &v) != KC_OK || !kc_check_jerk_within(&v))
+            continue; /* out of reach, or not slowed within the limits */
+        kc_ctrl_output out;
+        memset(&out, 0, sizeof out);
+        assert_int_equal(kc_ctrl_init(&CTRL, &CHAIN, &CFG, KT_PUMA_Q0), KC_OK);
+        int ticks = (int)kt_uniform(&r, 30.0, 1500.0);
+        for (int t = 0; t < ticks; t++) {
+            kc_ctrl_input in = {t == 0 ? &m : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
+            assert_int_equal(kc_ctrl_step(&CTRL, &in, &out), KC_OK);
+        }
+        if (out.state != KC_CTRL_MOVING || !moving(&out))
+            continue; /* at rest already */
+        kc_pose on_path = rest_on_path();
+        kc_goal g = replacing(&r, how == BY_SERVO, CTRL.q);
+        double prev[KC_MAX_JOINTS];
+        for (int j = 0; j < 6; j++)
+            prev[j] = (double)CTRL.qdd[j];
+        int ended = 0, started = 0, paused = 0, t = 0;
+        kc_pose rest = on_path;
+        for (; t < 100000 && !ended; t++) {
+            int send = how < BY_STOP && (t == 0 || (how == BY_SERVO && t % 10 == 0));
+            kc_ctrl_command cmd = t > 0 ? KC_CMD_NONE : how == BY_STOP ? KC_CMD_STOP : KC_CMD_PAUSE;
+            if (how == BY_PAUSE && !paused && out.state == KC_CTRL_PAUSED) {
+                cmd = KC_CMD_RESUME, paused = 1;
+                rest = out.pose;
+            }
+            if (how < BY_STOP)
+                cmd = KC_CMD_NONE;
+            kc_ctrl_input in = {send ? &g : NULL, cmd, 0, KC_REASON_NONE};
+            assert_int_equal(kc_ctrl_step(&CTRL, &in, &out), KC_OK);
+            if (kt_has_event(&out, KC_EVENT_REJECTED, 2))
+                break; /* a knot beyond a joint's limits */
+            assert_false(kt_has_event(&out, KC_EVENT_FAULT, 0) || kt_has_event(&out, KC_EVENT_FAULT, 1));
+            assert_false(started);
+            ended = kt_has_event(&out, how == BY_STOP    ? KC_EVENT_ABORTED
+                                       : how == BY_PAUSE ? KC_EVENT_COMPLETED
+                                                         : KC_EVENT_PREEMPTED,
+                                 1);
+            started = kt_has_event(&out, KC_EVENT_STARTED, 2);
+            for (int j = 0; j < 6; j++) {
+                const kc_joint_limits *l = &CHAIN.joints[j].limits;
+                double jerk = fabs((double)out.qdd[j] - prev[j]) / ((double)l->qddd_max * (double)CFG.dt);
+                worst = fmax(worst, jerk);
+                worst_qdd = fmax(worst_qdd, fabs((double)out.qdd[j]) / (double)l->qdd_max);
+                prev[j] = (double)out.qdd[j];
+            }
+        }
+        if (t == 0)
+            continue;
+        assert_true(ended);
+        for (int j = 0; j < 6; j++)
+            kt_near((double)out.qd[j], 0.0, 0.0, "at rest when it ends");
+        assert_int_equal(paused, how == BY_PAUSE);
+        kt_near_pose(how == BY_PAUSE ? &rest : &out.pose, &on_path, 0.0, "at rest where a STOP comes to rest");
+        stop_ticks += t;
+        cases++;
+    }
+    print_message("%d stopped, %d ticks of stops: joints' jerk <= %.4f, qdd <= %.4f of their limits\n", cases,
+                  stop_ticks, worst, worst_qdd);
+    assert_int_equal(cases, CASES);
+    assert_true(worst <= 1.0 + SLACK);
+    assert_true(worst_qdd <= 1.0 + SLACK);
+}
+
+static void test_replaced_by_joint_path(void **state)
+{
+    (void)state;
+#ifdef KC_REAL_FLOAT
+    skip(); /* the file's header: float's rounding noise */
+#endif
+    stop_at_random(BY_PATH, 0xCA57);
+}
+
+static void test_replaced_by_servo(void **state)
+{
+    (void)state;
+#ifdef KC_REAL_FLOAT
+    skip();
+#endif
+    stop_at_random(BY_SERVO, 0xCA58);
+}
+
+static void test_stop(void **state)
+{
+    (void)state;
+#ifdef KC_REAL_FLOAT
+    skip();
+#endif
+    stop_at_random(BY_STOP, 0xCA59);
+}
+
+static void test_pause_resume(void **state)
+{
+    (void)state;
+#ifdef KC_REAL_FLOAT
+    skip();
+#endif
+    stop_at_random(BY_PAUSE, 0xCA5A);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_replaced_by_joint_path),
+        cmocka_unit_test(test_replaced_by_servo),
+        cmocka_unit_test(test_stop),
+        cmocka_unit_test(test_pause_resume),
+    };
+    int rc = cmocka_run_group_tests(tests, NULL, NULL);
+    kt_report("ctrl_cartstop");
+    return rc;
+}
