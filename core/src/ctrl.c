@@ -134,6 +134,8 @@ void kc_ctrl_restart(kc_ctrl *c, const kc_real *q_at, const kc_real *q)
     c->drive = KC_DRIVE_NOMINAL;
     c->stop_intent = KC_CMD_NONE;
     c->resume_share = KC_R(1.0);
+    c->stop_v0 = KC_R(0.0);
+    c->stop_qu = KC_R(0.0);
     c->fault_reason = KC_REASON_NONE;
     c->path_length = KC_R(0.0);
     memset(&c->servo_target, 0, sizeof c->servo_target);

@@ -256,6 +256,12 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent);
 /* Resumes a paused segment from where it rests. */
 void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out);
 
+/* While a Cartesian goal stops jerk-limited, the joints' rates per unit of
+ * its parameter at its tick j (the last setpoint's instant; qd the new
+ * setpoint's), taken into stop_qu while u' is at least STOP_TRACK_LEAST of
+ * the speed the stop started from: its resume starts where it rests. */
+void kc_ctrl_stop_track(kc_ctrl *c, int64_t j, const kc_real *qd);
+
 /* Ends the active segment after its stop on the path came to rest. */
 void kc_ctrl_stop_finished(kc_ctrl *c, kc_ctrl_output *out);
 

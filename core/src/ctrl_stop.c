@@ -263,6 +263,7 @@ static void jerk_stop(kc_ctrl *c)
 #define STOP_JERK_SHARE KC_R(0.6)
 #define STOP_SHARE_MIN KC_R(0.0625)
 #define STOP_RESUME_SHARE KC_R(0.25)
+#define STOP_TRACK_LEAST KC_R(0.1)
 #define STOP_HALVINGS 4 /* 1 / 2^4 = STOP_SHARE_MIN */
 
 /* Whether joint_bounded_stop's estimate at share k keeps every joint
@@ -302,9 +303,11 @@ static int stop_fits(const kc_ctrl *c, kc_real v, kc_real a, kc_real dec, kc_rea
  * beyond their jerk limits in a stop (test_ctrl_cartstop.c).
  * A resume from where it comes to rest (kc_ctrl_resume) takes the same k
  * at most, and at most (not below STOP_SHARE_MIN) the k whose |q_u| k jm
- * is within STOP_RESUME_SHARE of qddd_max: from rest the IK step's first
- * ticks stepped the joints' jerk up to three times that (a PUMA 560 line
- * at 0.54 went 1.05 times over, a Cartesian path at 0.33 1.006). */
+ * is within STOP_RESUME_SHARE of qddd_max, q_u the largest seen while the
+ * stop ran (kc_ctrl_stop_track; at the stop's start alone it was half of
+ * that at rest on a PUMA 560 line): from rest, the IK step's first tick
+ * corrects what error the tool had left, and stepped the joints' jerk up
+ * to twice |q_u| k jm. */
 static void joint_bounded_stop(kc_ctrl *c, kc_real v, kc_real a, kc_real *dec, kc_real *jm)
 {
     if (!(v > KC_R(0.0)))
@@ -315,13 +318,10 @@ static void joint_bounded_stop(kc_ctrl *c, kc_real v, kc_real a, kc_real *dec, k
     for (int h = 0; k > least && !stop_fits(c, v, a, *dec, *jm, k) && h < STOP_HALVINGS; h++)
         k *= KC_R(0.5);
     k = kc_max(k, least);
-    kc_real resume = k;
-    for (int i = 0; i < c->chain->n_joints; i++) {
-        kc_real qu = kc_fabs(c->qd[i] / v) * *jm;
-        if (qu > KC_R(0.0))
-            resume = kc_min(resume, STOP_RESUME_SHARE * c->chain->joints[i].limits.qddd_max / qu);
-    }
-    c->resume_share = kc_max(resume, STOP_SHARE_MIN);
+    c->resume_share = k;
+    c->stop_v0 = v;
+    for (int i = 0; i < c->chain->n_joints; i++)
+        c->stop_qu = kc_max(c->stop_qu, kc_fabs(c->qd[i] / v) / c->chain->joints[i].limits.qddd_max);
     *jm *= k;
     *dec = kc_max(k * *dec, a < KC_R(0.0) ? -a : KC_R(0.0));
 }
@@ -451,6 +451,8 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
     c->stop_intent = intent;
     c->state = KC_CTRL_STOPPING;
     c->resume_share = KC_R(1.0);
+    c->stop_v0 = INF;
+    c->stop_qu = KC_R(0.0);
     int64_t j = (c->cycle - 1) - c->k0; /* the last setpoint's tick */
     kc_profile_state u;
     if (c->goal.kind == KC_GOAL_SERVO) {
@@ -485,13 +487,25 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
         drive_from_here(c, c->drive);
         return;
     }
+    if (c->blend.on && c->goal.kind != KC_GOAL_PATH && c->drive == KC_DRIVE_NOMINAL && j >= 0 &&
+        c->fault_reason == KC_REASON_NONE) {
+        /* A Cartesian goal superposed on the stop of the motion it
+         * replaced (ctrl_blend.c), under way: its stop would add to that
+         * one, which may brake at a joint's limits (a joint move's does;
+         * a PUMA 560's joints went 46 times beyond their jerk limits). It
+         * goes on as judged, and stops once that stop has ended. */
+        c->drive = KC_DRIVE_STOPPING_WAIT;
+        return;
+    }
     kc_ctrl_drive_state(c, j, &u);
     kc_real dec, jmax;
     int jerk;
-    if (c->goal.kind == KC_GOAL_PATH && j < 0) {
-        /* A joint path superposed on the stop of the motion it replaced
-         * that has not started (ctrl_blend.c): it stays at rest where it
-         * starts, that stop going on alone. */
+    if (kc_ctrl_is_path(c->goal.kind) && j < 0) {
+        /* A path superposed on the stop of the motion it replaced that has
+         * not started (ctrl_blend.c): it stays at rest where it starts,
+         * that stop going on alone. (Its law would give tau' = 1 there: a
+         * Cartesian path stopped so set off from rest and braked at once,
+         * its PUMA 560 joints up to 46 times beyond their jerk limits.) */
         kc_profile_plan_stop(&c->drive_prof, KC_R(0.0), KC_R(0.0), KC_R(1.0), c->cfg.dt);
         drive_from_here(c, KC_DRIVE_PROFILE);
         return;
@@ -548,6 +562,18 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
     drive_from_here(c, jerk ? KC_DRIVE_SCURVE : KC_DRIVE_PROFILE);
 }
 
+void kc_ctrl_stop_track(kc_ctrl *c, int64_t j, const kc_real *qd)
+{
+    kc_profile_state u;
+    if (c->state != KC_CTRL_STOPPING || c->drive != KC_DRIVE_SCURVE)
+        return;
+    kc_ctrl_drive_state(c, j, &u);
+    if (!(u.v >= STOP_TRACK_LEAST * c->stop_v0))
+        return;
+    for (int i = 0; i < c->chain->n_joints; i++)
+        c->stop_qu = kc_max(c->stop_qu, kc_fabs(qd[i] / u.v) / c->chain->joints[i].limits.qddd_max);
+}
+
 void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
 {
     int64_t j = (c->cycle - 1) - c->k0;
@@ -591,8 +617,12 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
     }
     /* A Cartesian goal's ramp from where its stop came to rest, at the
      * share of the bounds its stop chose (joint_bounded_stop). */
-    if (c->goal.kind != KC_GOAL_PATH)
-        amax *= c->resume_share, jmax *= c->resume_share;
+    if (c->goal.kind != KC_GOAL_PATH) {
+        kc_real k = c->resume_share;
+        if (c->stop_qu * k * jmax > STOP_RESUME_SHARE)
+            k = kc_max(STOP_RESUME_SHARE / (c->stop_qu * jmax), STOP_SHARE_MIN);
+        amax *= k, jmax *= k;
+    }
     jerk = jerk && kc_scurve_plan(&c->drive_scurve, u.p, KC_R(0.0), KC_R(0.0), end, vmax, amax, jmax, c->cfg.dt) ==
                        KC_OK;
     if (!jerk)

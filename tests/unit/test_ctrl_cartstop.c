@@ -7,13 +7,16 @@
  * tool's limits alone the PUMA 560's joints went up to 185 times beyond
  * their jerk limits in these cases, one held at its acceleration limit.
  *
- * Random cases on the PUMA 560: a line or an arc of 5 to 20 cm from the
- * start pose, or a Cartesian path through two points 3 to 15 cm apart,
- * one in four at fast Cartesian limits,
- * judged from rest and slowed as kinctld hands it on (kt_judge_slowed:
- * its own motion within the joints' jerk limits), stepped 30 to 1,500
- * ticks, then stopped. Checked on every tick from the STOP or the
- * replacement to the tick the goal is ABORTED or PREEMPTED:
+ * Random cases on the PUMA 560: a line or an arc of 5 to 20 cm, or a
+ * Cartesian path through two points 3 to 15 cm apart, one in four at fast
+ * Cartesian limits, from the start pose at rest or (every other case)
+ * replacing a joint move 50 to 600 ticks in (superposed on its stop, or
+ * stopping it first); judged and slowed as kinctld hands it on
+ * (kt_judge_slowed, from rest or from a snapshot, with stop_first where
+ * still beyond the joints' jerk limits; refused ones are drawn again),
+ * stepped 30 to 1,500 ticks, then stopped. Checked on every tick from the
+ * STOP, PAUSE or replacement to the tick the goal is ABORTED, COMPLETED
+ * (resumed) or PREEMPTED:
  * - every joint's |qdd| <= qdd_max and its jerk, the change of qdd over a
  *   tick over dt, <= qddd_max, with a relative slack of SLACK;
  * - no fault; the goal ends at rest (qd = 0 exactly), where a STOP on a
@@ -43,6 +46,14 @@ static kc_status judge_at_rest(const kc_goal *g, kc_verdict *v, void *ctx)
 {
     (void)ctx;
     return kc_check_from(&CHECK, KT_PUMA_Q0, g, v);
+}
+
+/* g judged as replacing CTRL's motion, from a snapshot of it. */
+static kc_status judge_moving(const kc_goal *g, kc_verdict *v, void *ctx)
+{
+    (void)ctx;
+    assert_int_equal(kc_check_snapshot(&CHECK, &CTRL, 0), KC_OK);
+    return kc_check_goal(&CHECK, g, v);
 }
 
 static kc_vec3 offset(kt_rng *r, double lo, double hi)
@@ -161,18 +172,44 @@ static void stop_at_random(ending how, uint64_t seed)
     int cases = 0, stop_ticks = 0;
     double worst = 0.0, worst_qdd = 0.0;
     for (int c = 0; cases < CASES && c < 20 * CASES; c++) {
-        kc_goal m = cart_goal(&r, KINDS[c % 3], &home);
-        kc_verdict v;
-        if (kt_judge_slowed(judge_at_rest, NULL, &CFG, &m, &v) != KC_OK || !kc_check_jerk_within(&v))
-            continue; /* out of reach, or not slowed within the limits */
         kc_ctrl_output out;
         memset(&out, 0, sizeof out);
         assert_int_equal(kc_ctrl_init(&CTRL, &CHAIN, &CFG, KT_PUMA_Q0), KC_OK);
+        int from_move = c % 2;
+        kc_pose from = home;
+        if (from_move) {
+            kc_real q[6];
+            for (int j = 0; j < 6; j++)
+                q[j] = KT_PUMA_Q0[j] + (kc_real)kt_uniform(&r, -0.3, 0.3);
+            kc_goal jm = kt_joint_goal(5, q, 6);
+            int n = (int)kt_uniform(&r, 50.0, 600.0);
+            for (int t = 0; t < n; t++) {
+                kc_ctrl_input in = {t == 0 ? &jm : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
+                assert_int_equal(kc_ctrl_step(&CTRL, &in, &out), KC_OK);
+            }
+            from = CTRL.pose;
+        }
+        kc_goal m = cart_goal(&r, KINDS[c % 3], &from);
+        m.replace = from_move;
+        kc_verdict v;
+        if (kt_judge_slowed(from_move ? judge_moving : judge_at_rest, NULL, &CFG, &m, &v) != KC_OK)
+            continue; /* out of reach */
+        if (!kc_check_jerk_within(&v) && from_move) {
+            kc_goal h = m;
+            kc_verdict w;
+            h.stop_first = 1;
+            if (judge_moving(&h, &w, NULL) == KC_OK && kc_check_jerk_within(&w))
+                m = h, v = w;
+        }
+        if (!kc_check_jerk_within(&v))
+            continue; /* not slowed within the limits: kinctld refuses it */
         int ticks = (int)kt_uniform(&r, 30.0, 1500.0);
         for (int t = 0; t < ticks; t++) {
             kc_ctrl_input in = {t == 0 ? &m : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
             assert_int_equal(kc_ctrl_step(&CTRL, &in, &out), KC_OK);
         }
+        if (from_move && CTRL.goal.id != m.id)
+            continue; /* still waiting for the joint move's stop */
         if (out.state != KC_CTRL_MOVING || !moving(&out))
             continue; /* at rest already */
         kc_pose on_path = rest_on_path();

@@ -150,9 +150,10 @@
  * snapshot of the controller, steps this very takeover and refuses a G
  * whose overlap faults, kinctl/check.h), and a replacement that arrives while a
  * superposition lasts stops first. A STOP or PAUSE (or that replacement)
- * during the overlap stops the new segment on its path while the old one's
- * stop goes on: for that time the two stops add, and the tool's
- * deceleration may reach the sum of the two goals' limits.
+ * during the overlap lets the new segment go on as judged until the old
+ * one's stop has ended, and then stops it on its path: the two stops never
+ * add (the old one may brake at a joint's limits, as a joint move's does).
+ * One that has not started yet stays at rest where it starts.
  *
  * A joint path replacing a moving jerk-limited joint move or servo stream
  * takes over in the tick it arrives the same way, in joint space: M's
@@ -653,7 +654,11 @@ typedef struct kc_ctrl {
     kc_profile drive_prof;
     kc_scurve drive_scurve;
     int stop_intent;           /* KC_CMD_STOP/PAUSE or 1 for a preemption: what the stop is for */
-    kc_real resume_share;      /* a paused Cartesian goal's share of its plan's bounds when it resumes (ctrl_stop.c) */
+    /* A Cartesian goal's stop (ctrl_stop.c): the share of its plan's
+     * bounds it took, the speed of its parameter it started from, and the
+     * largest |qd_i / u'| / qddd_max_i seen while it ran: what its resume
+     * is held to. */
+    kc_real resume_share, stop_v0, stop_qu;
     kc_ctrl_reason fault_reason;
     kc_real path_length;       /* Cartesian segments: length (m) */
     /* Servo. */
