@@ -17,9 +17,11 @@ names the goal, the goal it took over from, the cycle, the joint, its
 values and the limits; each run prints a summary (with -s). Limits and
 slack: tests/pylib/kinctl_arms.py. The same with every goal kind in the
 mix (joint and Cartesian paths: blends, splines, quintics; servo twist
-streams), on the Panda: a STOP of a joint path superposed on a joint
-move's stop faulted there before (unit.ctrl_pathstop), and a servo
-stream sent right after a goal overtook it (answered twice)."""
+streams), on the Panda and the PUMA 560: a STOP of a joint path
+superposed on a joint move's stop faulted (unit.ctrl_pathstop), a servo
+stream sent right after a goal overtook it (answered twice), and the
+PUMA's Cartesian goals stopped on their path went beyond their joints'
+jerk limits (unit.ctrl_cartstop)."""
 import math
 import random
 import time
@@ -324,18 +326,18 @@ def test_random_mix_replaced_at_random_moments(kinctld, arm, seed):
     assert d.stop() == 0
 
 
-@pytest.mark.parametrize("seed", [20, 34])
-def test_every_kind_in_the_mix_on_the_panda(kinctld, seed):
+@pytest.mark.parametrize("arm,seed", [("panda", 20), ("panda", 34), ("puma560", 22), ("puma560", 25)])
+def test_every_kind_in_the_mix(kinctld, arm, seed):
     """The mix with joint and Cartesian paths and servo twist streams
     besides (a joint path's own law not held to the jerk limits:
-    unheld_cycles), on the Panda (in probes: seeds 20-29 all passed). On
-    the PUMA 560 some Cartesian paths go over their joints' jerk limits
-    while they run or stop (in probes: 4 to 6 of seeds 20-29, mostly by up
-    to 2.3 times, once 48 times; no FAULT): not yet held, not run here."""
-    a = Arm("panda")
-    d = kinctld("--model", "panda")
-    d.bus.send_goal_joint(FIRST - 1, HOMES["panda"])
+    unheld_cycles). In probes: Panda seeds 20-29, PUMA 560 seeds 20-39
+    all passed. PUMA seeds 22 and 25 are two that went 2.0 and 1.7 times
+    beyond qddd_max while a Cartesian path stopped (superposed on a joint
+    move's stop, then replaced by a goal that stops it first)."""
+    a = Arm(arm)
+    d = kinctld("--model", arm)
+    d.bus.send_goal_joint(FIRST - 1, HOMES[arm])
     finished(d, FIRST - 1)
-    problems = replace_at_random(d, a, random.Random(seed), f"panda seed {seed}, every kind", EVERY)
+    problems = replace_at_random(d, a, random.Random(seed), f"{arm} seed {seed}, every kind", EVERY)
     assert not problems, "\n".join(problems)
     assert d.stop() == 0
