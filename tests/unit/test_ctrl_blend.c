@@ -473,20 +473,7 @@ static const kc_goal_kind KINDS[4] = {KC_GOAL_JOINT, KC_GOAL_LINE, KC_GOAL_ARC, 
  * a replacing Cartesian goal starts, superposed or not (the same stop),
  * found by running a copy of the controller through a STOP. */
 static kc_ctrl SIM;
-static kc_pose rest_ahead(void)
-{
-    kc_ctrl_output out;
-    kc_ctrl_input in = {NULL, KC_CMD_STOP, 0, KC_REASON_NONE};
-    SIM = H.ctrl;
-    for (int k = 0; k < 20000; k++) {
-        assert_int_equal(kc_ctrl_step(&SIM, &in, &out), KC_OK);
-        in.command = KC_CMD_NONE;
-        if (out.state == KC_CTRL_IDLE)
-            return out.pose;
-    }
-    fail_msg("the stop did not end");
-    return out.pose;
-}
+static kc_pose rest_ahead(void) { return kt_rest_on_stop(&SIM, &H.ctrl); }
 
 /* A random goal of that kind near the tool pose home (within reach of
  * KT_PUMA_Q0's: a joint move is near KT_PUMA_Q0). */

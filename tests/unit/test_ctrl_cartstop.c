@@ -131,22 +131,6 @@ static kc_goal replacing(kt_rng *r, int servo, const kc_real *q)
     return g;
 }
 
-/* Where the tool comes to rest if CTRL's motion stops on its path now
- * (a STOP, on a copy). */
-static kc_pose rest_on_path(void)
-{
-    kc_ctrl_output out;
-    kc_ctrl_input in = {NULL, KC_CMD_STOP, 0, KC_REASON_NONE};
-    COPY = CTRL;
-    for (int k = 0; k < 20000; k++) {
-        assert_int_equal(kc_ctrl_step(&COPY, &in, &out), KC_OK);
-        in.command = KC_CMD_NONE;
-        if (out.state == KC_CTRL_IDLE)
-            return out.pose;
-    }
-    fail_msg("the stop did not end");
-    return out.pose;
-}
 
 static int moving(const kc_ctrl_output *out)
 {
@@ -212,7 +196,7 @@ static void stop_at_random(ending how, uint64_t seed)
             continue; /* still waiting for the joint move's stop */
         if (out.state != KC_CTRL_MOVING || !moving(&out))
             continue; /* at rest already */
-        kc_pose on_path = rest_on_path();
+        kc_pose on_path = kt_rest_on_stop(&COPY, &CTRL);
         kc_goal g = replacing(&r, how == BY_SERVO, CTRL.q);
         double prev[KC_MAX_JOINTS];
         for (int j = 0; j < 6; j++)

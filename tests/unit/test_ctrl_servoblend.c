@@ -158,20 +158,7 @@ static void stream(int64_t id, int n)
 /* Where the tool comes to rest if the stream stops now (the same halt the
  * replacement superposes), from a copy of the controller through a STOP. */
 static kc_ctrl SIM;
-static kc_pose rest_ahead(void)
-{
-    kc_ctrl_output out;
-    kc_ctrl_input in = {NULL, KC_CMD_STOP, 0, KC_REASON_NONE};
-    SIM = H.ctrl;
-    for (int k = 0; k < 20000; k++) {
-        assert_int_equal(kc_ctrl_step(&SIM, &in, &out), KC_OK);
-        in.command = KC_CMD_NONE;
-        if (out.state == KC_CTRL_IDLE)
-            return out.pose;
-    }
-    fail_msg("the stop did not end");
-    return out.pose;
-}
+static kc_pose rest_ahead(void) { return kt_rest_on_stop(&SIM, &H.ctrl); }
 
 /* The largest jerk over its limit (the change of qdd over a tick) that
  * goal g asks of each joint on its own, into H.alone: run from rest where

@@ -445,6 +445,21 @@ void kt_start_q(const kc_chain *chain, kc_model model, kc_real *q)
     }
 }
 
+kc_pose kt_rest_on_stop(kc_ctrl *sim, const kc_ctrl *ctrl)
+{
+    kc_ctrl_output out;
+    kc_ctrl_input in = {NULL, KC_CMD_STOP, 0, KC_REASON_NONE};
+    *sim = *ctrl;
+    for (int k = 0; k < 20000; k++) {
+        assert_int_equal(kc_ctrl_step(sim, &in, &out), KC_OK);
+        in.command = KC_CMD_NONE;
+        if (out.state == KC_CTRL_IDLE)
+            return out.pose;
+    }
+    fail_msg("the stop did not end");
+    return out.pose;
+}
+
 kc_goal kt_cart_goal(kt_rng *r, int64_t id, const kc_pose *home, int arc, int fast)
 {
     kc_goal g = kt_line_goal(id, home);

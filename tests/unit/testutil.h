@@ -142,6 +142,11 @@ extern const kc_real KT_PANDA_Q0[7];
  * joint at the middle of its limits for another. */
 void kt_start_q(const kc_chain *chain, kc_model model, kc_real *q);
 
+/* Where the tool comes to rest if ctrl's motion stops on its path now: a
+ * STOP stepped on *sim, a copy of ctrl, to IDLE (failing the test after
+ * 20,000 ticks); *sim is left at that rest. */
+kc_pose kt_rest_on_stop(kc_ctrl *sim, const kc_ctrl *ctrl);
+
 void kt_report(const char *suite);
 
 /* Fills a buffer with a recognisable byte, to prove an output untouched. */
