@@ -314,30 +314,20 @@ def replace_at_random(d, a, rng, label, kinds=MIX):
     return problems
 
 
-@pytest.mark.parametrize("arm,seed", [("puma560", 6), ("panda", 7)])
-def test_random_mix_replaced_at_random_moments(kinctld, arm, seed):
+# The three kinds of the first test (MIX) on each arm, and every kind
+# (EVERY): the Panda's seeds 20-29 and the PUMA 560's seeds 20-39 all
+# passed in probes; PUMA seeds 22 and 25 are two that went 2.0 and 1.7
+# times beyond qddd_max while a Cartesian path stopped (superposed on a
+# joint move's stop, then replaced by a goal that stops it first).
+@pytest.mark.parametrize("arm,seed,kinds", [("puma560", 6, MIX), ("panda", 7, MIX), ("panda", 20, EVERY),
+                                            ("panda", 34, EVERY), ("puma560", 22, EVERY), ("puma560", 25, EVERY)])
+def test_random_mix_replaced_at_random_moments(kinctld, arm, seed, kinds):
     a = Arm(arm)
     d = kinctld("--model", arm)
     # kinctld starts with every joint at 0: the puma560 stretched out.
     d.bus.send_goal_joint(FIRST - 1, HOMES[arm])
     finished(d, FIRST - 1)
-    problems = replace_at_random(d, a, random.Random(seed), f"{arm} seed {seed}")
-    assert not problems, "\n".join(problems)
-    assert d.stop() == 0
-
-
-@pytest.mark.parametrize("arm,seed", [("panda", 20), ("panda", 34), ("puma560", 22), ("puma560", 25)])
-def test_every_kind_in_the_mix(kinctld, arm, seed):
-    """The mix with joint and Cartesian paths and servo twist streams
-    besides (a joint path's own law not held to the jerk limits:
-    unheld_cycles). In probes: Panda seeds 20-29, PUMA 560 seeds 20-39
-    all passed. PUMA seeds 22 and 25 are two that went 2.0 and 1.7 times
-    beyond qddd_max while a Cartesian path stopped (superposed on a joint
-    move's stop, then replaced by a goal that stops it first)."""
-    a = Arm(arm)
-    d = kinctld("--model", arm)
-    d.bus.send_goal_joint(FIRST - 1, HOMES[arm])
-    finished(d, FIRST - 1)
-    problems = replace_at_random(d, a, random.Random(seed), f"{arm} seed {seed}, every kind", EVERY)
+    label = f"{arm} seed {seed}" + (", every kind" if kinds == EVERY else "")
+    problems = replace_at_random(d, a, random.Random(seed), label, kinds)
     assert not problems, "\n".join(problems)
     assert d.stop() == 0

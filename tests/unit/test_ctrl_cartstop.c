@@ -131,7 +131,6 @@ static kc_goal replacing(kt_rng *r, int servo, const kc_real *q)
     return g;
 }
 
-
 static int moving(const kc_ctrl_output *out)
 {
     for (int j = 0; j < 6; j++)
