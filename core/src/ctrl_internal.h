@@ -192,10 +192,25 @@ void kc_ctrl_drive_state(const kc_ctrl *c, int64_t j, kc_profile_state *u);
  * 1 when the segment has finished (at rest, at its end). */
 int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_output *out);
 
-/* A servo stream's target set at rest (its start, RESUME, a pose
- * message): a twist stream's where the arm is (the last setpoint), its
- * shaped twist and the twist's rate zero. */
+/* ---- ctrl_servo.c: a servo stream's shaped target ---- */
+
+/* The active goal is a pose stream whose pose is shaped (jerk-limited). */
+int kc_ctrl_servo_shaped(const kc_ctrl *c);
+
+/* A servo stream's target set at rest where it starts or RESUMEs: a twist
+ * stream's and a shaped pose stream's where the arm is (the last
+ * setpoint), an unshaped pose stream's the commanded pose; the shaped
+ * twist and its rate zero; a shaped pose planned from there. */
 void kc_ctrl_servo_rest(kc_ctrl *c);
+
+/* A shaped pose stream's plan from its target, twist and rate as they
+ * are (servo_target, servo_v, servo_a: the state at tick k0) to rest at
+ * the commanded pose (goal.pose). */
+void kc_ctrl_servo_aim(kc_ctrl *c, int64_t k0);
+
+/* A following servo stream's tick: the shaped target, twist and rate
+ * moved on to this tick (a pose stream without shaping has none). */
+void kc_ctrl_servo_tick(kc_ctrl *c);
 
 /* ---- ctrl_blend.c: a replacing Cartesian goal superposed on the stop of
  * the motion it replaces (kinctl/ctrl.h) ---- */

@@ -176,6 +176,19 @@ static int on_schedule(const kc_ctrl *c, const kc_goal *g)
     return g->take_cycle == 0 || (g->take_cycle == c->cycle && g->take_state == kc_ctrl_stamp(c));
 }
 
+/* The same pose, entry by entry (a servo message that repeats it). */
+static int pose_same(const kc_pose *a, const kc_pose *b)
+{
+    for (int i = 0; i < 3; i++) {
+        if (a->t.v[i] != b->t.v[i])
+            return 0;
+        for (int k = 0; k < 3; k++)
+            if (a->R.m[i][k] != b->R.m[i][k])
+                return 0;
+    }
+    return 1;
+}
+
 void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
 {
     kc_verdict v;
@@ -191,13 +204,22 @@ void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
             w = q->kind == KC_GOAL_SERVO && q->id == g->id ? q : NULL;
         }
         if (w != NULL) {
+            /* The active twist stream keeps its pose: the shaped target
+             * a switch to poses goes on from. */
+            int same = !w->servo_twist && pose_same(&w->pose, &g->pose);
             w->servo_twist = g->servo_twist;
             memcpy(w->twist, g->twist, sizeof g->twist);
-            if (w != &c->goal) {
+            if (w != &c->goal || !g->servo_twist)
                 w->pose = g->pose;
-            } else {
-                if (!g->servo_twist) {
-                    c->servo_target = g->pose;
+            if (w == &c->goal) {
+                /* A shaped pose goes on from its state to a new pose
+                 * (unless stopping or paused: it starts again from rest
+                 * when it follows again); an unshaped one jumps to it. */
+                if (kc_ctrl_servo_shaped(c)) {
+                    int following = c->state == KC_CTRL_MOVING && !c->jstop && c->drive != KC_DRIVE_HALT;
+                    if (following && !same)
+                        kc_ctrl_servo_aim(c, c->cycle - 1);
+                } else if (!g->servo_twist) {
                     kc_ctrl_servo_rest(c);
                 }
                 c->servo_last = c->cycle;

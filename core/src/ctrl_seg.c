@@ -110,8 +110,7 @@ kc_profile_kind kc_ctrl_goal_profile(const kc_ctrl *c, const kc_goal *g)
 
 int kc_ctrl_jerk_limited(const kc_ctrl *c, const kc_goal *g)
 {
-    if (c == NULL || g == NULL || c->chain == NULL || g->kind == KC_GOAL_PATH ||
-        (g->kind == KC_GOAL_SERVO && !g->servo_twist))
+    if (c == NULL || g == NULL || c->chain == NULL || g->kind == KC_GOAL_PATH)
         return 0;
     return kc_ctrl_goal_profile(c, g) == KC_PROFILE_JERK;
 }
@@ -177,7 +176,6 @@ kc_status kc_ctrl_plan_goal(kc_ctrl *c)
     case KC_GOAL_PATH:
         return plan_path(c, g, from, c->q);
     case KC_GOAL_SERVO:
-        c->servo_target = g->pose;
         c->servo_last = c->cycle;
         kc_ctrl_servo_rest(c);
         return KC_OK;
@@ -428,7 +426,7 @@ void kc_ctrl_seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
         kc_quat r;
         kc_quat_from_mat3(&c->servo_target.R, &r);
         cart_point(o, &c->servo_target.t, &r, &zero, &zero, KC_R(0.0));
-        if (g->servo_twist)
+        if (g->servo_twist || kc_ctrl_servo_shaped(c))
             for (int i = 0; i < 6; i++)
                 o->twist[i] = c->servo_v[i];
         o->progress = KC_R(0.0);
@@ -459,73 +457,6 @@ static void cart_timing(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
         kc_real T = c->plan.path_cart.pos.duration;
         o->progress = T > KC_R(0.0) ? kc_min(u.p / T, KC_R(1.0)) : KC_R(1.0);
         o->done = path_drive_done(c, j, kc_max(u.p, KC_R(0.0)) >= T);
-    }
-}
-
-void kc_ctrl_servo_rest(kc_ctrl *c)
-{
-    if (c->goal.servo_twist)
-        c->servo_target = c->pose;
-    memset(c->servo_v, 0, sizeof c->servo_v);
-    memset(c->servo_a, 0, sizeof c->servo_a);
-}
-
-/* One tick of a shaped velocity v (its rate a) towards the commanded w
- * within |a| <= amax and |change of a| <= h = jmax dt a tick: the rate a'
- * for the coming tick. From a', lowering the rate to 0 by h a tick adds
- *     S(a') = dt sgn(a') sum_{i=1..m} (|a'| - i h) = dt sgn(a') (m |a'| - h m (m + 1) / 2)
- * to v, m = floor(|a'| / h), so v + dt a' + S(a') is continuous, odd and
- * increasing in a' and linear between multiples of h. a' is its root,
- * reaching w with the rate at 0 (with e = w - v and x = |e| / dt):
- *     |a'| = (x + h m (m + 1) / 2) / (m + 1),  sgn(a') = sgn(e),
- * m the integer with h m (m + 1) / 2 <= x < h (m + 1) (m + 2) / 2, clamped
- * to [a - h, a + h] and [-amax, amax]. Deadbeat: on the next tick the
- * root is a' - h (S(a') = dt (a' - h) + S(a' - h)), within reach, until
- * v = w, a = 0 exactly as far as rounding goes; so too after a tick
- * clamped at amax (the root then lies at or above amax - h). A new w
- * whose root is out of reach is approached at the clamp, overshooting w
- * where the rate already points past it, and then reached the same way.
- * A trapezoid's (jmax infinite): h infinite, m = 0, a' = e / dt clamped
- * to amax. */
-static kc_real shaped_rate(kc_real v, kc_real a, kc_real w, kc_real amax, kc_real jmax, kc_real dt)
-{
-    kc_real h = jmax * dt, e = w - v, x = kc_fabs(e) / dt;
-    kc_real m = kc_floor(KC_R(0.5) * (kc_sqrt(KC_R(1.0) + KC_R(8.0) * x / h) - KC_R(1.0)));
-    if (m > KC_R(0.0) && KC_R(0.5) * h * m * (m + KC_R(1.0)) > x)
-        m -= KC_R(1.0);
-    else if (KC_R(0.5) * h * (m + KC_R(1.0)) * (m + KC_R(2.0)) <= x)
-        m += KC_R(1.0);
-    kc_real r = (x + KC_R(0.5) * h * m * (m + KC_R(1.0))) / (m + KC_R(1.0));
-    if (!kc_isfinite(r)) /* h infinite: no ramp */
-        r = x;
-    r = e < KC_R(0.0) ? -r : r;
-    return kc_clamp(kc_clamp(r, a - h, a + h), -amax, amax);
-}
-
-/* A twist stream's tick: its target moves by the shaped twist over the
- * tick, which then moves towards the commanded twist axis by axis, each
- * linear axis within the goal's Cartesian acceleration and jerk (l.a,
- * l.j) over sqrt(3), each angular axis within l.dw and l.dj over sqrt(3),
- * so that the linear and angular acceleration and jerk vectors stay within
- * the bounds (kinctl/ctrl.h). */
-static void servo_twist_tick(kc_ctrl *c)
-{
-    kc_real dt = c->cfg.dt;
-    kc_vec3 w = kc_vec3_make(c->servo_v[3] * dt, c->servo_v[4] * dt, c->servo_v[5] * dt);
-    kc_quat dr, r, r2;
-    kc_quat_exp(&w, &dr);
-    kc_quat_from_mat3(&c->servo_target.R, &r);
-    kc_quat_mul(&dr, &r, &r2);
-    kc_quat_to_mat3(&r2, &c->servo_target.R);
-    for (int i = 0; i < 3; i++)
-        c->servo_target.t.v[i] += c->servo_v[i] * dt;
-    kc_interp_limits l = kc_ctrl_cart_limits(&c->cfg, &c->goal);
-    kc_real third = KC_R(0.57735026918962576); /* 1 / sqrt(3): the vectors' norms within the bounds */
-    for (int i = 0; i < 6; i++) {
-        kc_real a = shaped_rate(c->servo_v[i], c->servo_a[i], c->goal.twist[i], third * (i < 3 ? l.a : l.dw),
-                                third * (i < 3 ? l.j : l.dj), dt);
-        c->servo_a[i] = a;
-        c->servo_v[i] += a * dt;
     }
 }
 
@@ -562,8 +493,8 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
     kc_ctrl_seg_eval(c, j - 1, &before);
     if (c->blend.on)
         kc_ctrl_blend_apply(c, c->cycle - 1, &before);
-    if (c->goal.kind == KC_GOAL_SERVO && c->goal.servo_twist)
-        servo_twist_tick(c);
+    if (c->goal.kind == KC_GOAL_SERVO)
+        kc_ctrl_servo_tick(c);
     kc_ik_result res;
     /* A redundant arm's null-space motion (a task without a null space has
      * none) set going and brought to rest smoothly (SETTLE_NULL_S): its

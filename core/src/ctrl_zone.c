@@ -56,10 +56,12 @@ void kc_ctrl_zone_servo_limit(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
         q[j] = c->q[j] + qd[j] * dt;
         qdd[j] = (qd[j] - c->qd[j]) / dt;
     }
-    /* A twist stream's target stays with the restrained arm instead of
-     * running on into the zone, and its shaped twist is the arm's over the
-     * tick (the rate zero), so a reversed twist moves it away at once. */
-    if (c->goal.servo_twist) {
+    /* A twist stream's or a shaped pose stream's target stays with the
+     * restrained arm instead of running on into the zone, and its shaped
+     * twist is the arm's over the tick (the rate zero), so a reversed twist
+     * or a pose away from the zone moves it away at once. */
+    int shaped = kc_ctrl_servo_shaped(c);
+    if (c->goal.servo_twist || shaped) {
         kc_fk_eval(c->chain, q, &c->servo_target);
         kc_quat r0, r1, r0c, d;
         kc_vec3 w;
@@ -79,6 +81,8 @@ void kc_ctrl_zone_servo_limit(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
             c->servo_v[3 + i] = w.v[i] / dt;
         }
         memset(c->servo_a, 0, sizeof c->servo_a);
+        if (shaped)
+            kc_ctrl_servo_aim(c, c->cycle);
     }
 }
 

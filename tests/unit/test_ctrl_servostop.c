@@ -2,7 +2,7 @@
 /* test_ctrl_servostop.c - how a servo stream stops (kinctl/ctrl.h): STOP,
  * PAUSE (and RESUME) and a replacement that stops first (a line on the
  * redundant Panda, a Lagrange joint path) bring every joint to rest jerk-limited from its (q, qd, qdd),
- * as does the servo timeout (test_ctrl_servotwist.c), while ESTOP still
+ * as does the servo timeout (test_ctrl_servoshape.c), while ESTOP still
  * brakes at the acceleration limits from its first tick, as STOP does on a
  * chain without jerk limits. Streams of random speeds and
  * accelerations (a target pose moving by sums of sines) on the PUMA 560

@@ -45,7 +45,7 @@
  *                   the default bounds, double: at most 0.77 of the PUMA
  *                   560's qddd_max, 0.009 of the Panda's; in float the
  *                   rounding of q alone moves qdd by more,
- *                   test_ctrl_servotwist.c). A pose stream's target is
+ *                   test_ctrl_servoshape.c). A pose stream's target is
  *                   not shaped: a target that moves at once steps the
  *                   joints' qdd up to qdd_max in a tick.
  * Cartesian segments give a pose and twist each tick; one kc_ik_step with
@@ -569,6 +569,13 @@ typedef union kc_ctrl_plan {
     kc_path_cart path_cart;
     kc_profile retarget[KC_MAX_JOINTS]; /* one profile a joint, from (q, qd) to the target */
     kc_scurve halt[KC_MAX_JOINTS];      /* one jerk-limited stop a joint */
+    /* A pose stream's shaped pose (ctrl_servo.c): from tick k0, x, y, z
+     * and the rotation vector phi of R = exp(phi) ref, one profile each. */
+    struct kc_ctrl_servo_plan {
+        kc_scurve axis[6];
+        kc_quat ref;
+        int64_t k0;
+    } servo;
 } kc_ctrl_plan;
 
 /* How the active segment is driven. */
@@ -664,9 +671,10 @@ typedef struct kc_ctrl {
     /* Servo. */
     kc_pose servo_target;
     int64_t servo_last;        /* tick of the last servo update */
-    /* A twist stream's shaped twist (vx vy vz wx wy wz) and its rate of
-     * change, which move towards the commanded twist within the goal's
-     * Cartesian acceleration and jerk bounds (ctrl_seg.c). */
+    /* A shaped stream's target (above), its twist (vx vy vz wx wy wz)
+     * and the twist's rate of change, at the last setpoint's tick: a
+     * twist stream's twist moving towards the commanded twist, a pose
+     * stream's pose towards the commanded pose (ctrl_servo.c). */
     kc_real servo_v[6], servo_a[6];
     int settle;                /* ticks a Cartesian segment has waited for the tool to settle */
     kc_real null_x;            /* the null-space motion's ramp, 0..1 (ctrl_seg.c) */

@@ -18,6 +18,7 @@
 #define KINCTL_REAL_H
 
 #include <math.h>
+#include <stdint.h>
 
 #ifdef KC_REAL_FLOAT
 typedef float kc_real;
@@ -72,7 +73,6 @@ static inline kc_real kc_fabs(kc_real x) { return fabsf(x); }
 static inline kc_real kc_hypot(kc_real x, kc_real y) { return hypotf(x, y); }
 static inline kc_real kc_fmod(kc_real x, kc_real y) { return fmodf(x, y); }
 static inline kc_real kc_floor(kc_real x) { return floorf(x); }
-static inline kc_real kc_cbrt(kc_real x) { return cbrtf(x); }
 #else
 static inline kc_real kc_sqrt(kc_real x) { return sqrt(x); }
 static inline kc_real kc_sin(kc_real x) { return sin(x); }
@@ -82,8 +82,53 @@ static inline kc_real kc_fabs(kc_real x) { return fabs(x); }
 static inline kc_real kc_hypot(kc_real x, kc_real y) { return hypot(x, y); }
 static inline kc_real kc_fmod(kc_real x, kc_real y) { return fmod(x, y); }
 static inline kc_real kc_floor(kc_real x) { return floor(x); }
-static inline kc_real kc_cbrt(kc_real x) { return cbrt(x); }
 #endif
+
+/*
+ * The real cube root, not libm's: C libraries' cbrt differ in the last bit
+ * (glibc's and newlib's cbrtf do), and a plan computed from it would then
+ * differ between this host and a board. The same IEEE operations on every
+ * machine instead: the exponent divided by 3 on the bits of |x| (fdlibm's
+ * first guess, within 3.4 %: its constants are (B - B/3 - 0.0330624) 2^M,
+ * B the exponent bias, M the mantissa bits of the word), then Newton steps
+ * y <- y - (y^3 - a) / (3 y^2), each squaring the relative error: 3 in
+ * float (3.4e-2 -> 1.2e-3 -> 1.4e-6 -> 2e-12), 4 in double (-> 4e-24),
+ * within an ulp or two. |x| below 2^-96 (subnormal in float) is scaled by
+ * 2^96 first and the root by 2^-32 after (exact). 0, infinities and NaN
+ * are returned as they are.
+ */
+static inline kc_real kc_cbrt(kc_real x)
+{
+    kc_real a = kc_fabs(x), scale = KC_R(1.0);
+    if (!(a > KC_R(0.0)) || !(a < (kc_real)HUGE_VAL))
+        return x;
+    if (a < KC_R(1.2621774483536189e-29)) { /* 2^-96 */
+        a *= KC_R(79228162514264337593543950336.0); /* 2^96 */
+        scale = KC_R(2.3283064365386963e-10);       /* 2^-32 */
+    }
+#ifdef KC_REAL_FLOAT
+    union {
+        float f;
+        uint32_t u;
+    } b;
+    b.f = a;
+    b.u = b.u / 3u + 709958130u;
+    const int steps = 3;
+#else
+    union {
+        double f;
+        uint64_t u;
+    } b;
+    b.f = a;
+    b.u = ((b.u >> 32) / 3u + 715094163u) << 32;
+    const int steps = 4;
+#endif
+    kc_real y = b.f;
+    for (int i = 0; i < steps; i++)
+        y -= (y * y * y - a) / (KC_R(3.0) * y * y);
+    y *= scale;
+    return x < KC_R(0.0) ? -y : y;
+}
 
 /*
  * Sine and cosine of one angle at once, the call every joint of every FK

@@ -1,15 +1,17 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* test_ctrl_servotwist.c - a twist stream is shaped (kinctl/ctrl.h): its
- * target moves by a twist that follows the commanded one within the
- * goal's Cartesian acceleration and jerk bounds per axis, reaching it
- * exactly; the joints that follow it stay within their own limits, jerk
- * included; and the stream's end (it goes quiet: the servo timeout) is a
- * jerk-limited stop.
+/* test_ctrl_servoshape.c - servo streams are shaped (kinctl/ctrl.h): a
+ * twist stream's target moves by a twist that follows the commanded one
+ * within the goal's Cartesian acceleration and jerk bounds per axis,
+ * reaching it exactly; a pose stream's target moves towards each pose it
+ * is sent by a jerk-limited profile per axis, continuing from its state
+ * at every message; the joints that follow either stay within their own
+ * limits, jerk included; and the stream's end (it goes quiet: the servo
+ * timeout) is a jerk-limited stop.
  *
- * Random streams on the PUMA 560 and the Panda: from the arm's start, a
- * twist of random direction and size (up to 0.1 m/s and 0.3 rad/s)
- * changed at random ticks (20-300 apart: mid-ramp changes and reversals),
- * then the stream goes quiet. Checked on every tick:
+ * Random twist streams on the PUMA 560 and the Panda: from the arm's
+ * start, a twist of random direction and size (up to 0.1 m/s and 0.3
+ * rad/s) changed at random ticks (20-300 apart: mid-ramp changes and
+ * reversals), then the stream goes quiet. Checked on every tick:
  * - the shaped twist (kc_ctrl.servo_v) against an independent step of the
  *   same bounds: its rate within the axis' acceleration bound (linear or
  *   angular), the rate's change within its jerk bound times dt, both with
@@ -28,7 +30,19 @@
  * - the tool's twist, once the shaped twist has held still for 200 ticks,
  *   the commanded one within 1 % of its size (the arm follows it);
  * - the timeout's stop: jerk-limited joint by joint (plan.halt), ending at
- *   rest, ABORTED with KC_REASON_SERVO_TIMEOUT. */
+ *   rest, ABORTED with KC_REASON_SERVO_TIMEOUT.
+ *
+ * Random pose streams on both arms: 1-5 parts, each a jump (up to 3 cm
+ * and 0.2 rad) held, or a target moved on every tick (up to 0.08 m/s and
+ * 0.2 rad/s), for 20-300 ticks; then every other stream holds its last
+ * pose until the shaped pose rests on it and the others go quiet at once.
+ * Checked on every tick, besides the joints as above: the shaped
+ * position's axes within their speed, acceleration and jerk bounds over
+ * sqrt(3) (SLACK) and its velocity changed by at most the acceleration
+ * bound's dt (continuous through every new pose); the angular velocity,
+ * acceleration and jerk vectors within ANG_BOUND of theirs; the tool at
+ * rest on the last pose within TOL_END (position and angle); the
+ * timeout's stop as above. */
 #include <math.h>
 #include <string.h>
 
@@ -39,15 +53,24 @@
 #define SLACK_JERK 5e-4
 #define CASES 20
 #define TRACK_JERK_JUDGED 0
+#define TOL_END 1e-4
 #else
 #define SLACK 1e-6
 #define SLACK_JERK 1e-6
 #define CASES 60
 #define TRACK_JERK_JUDGED 1
+#define TOL_END 1e-6
 #endif
 
 /* Ids of the joint moves back to the start, above the streams'. */
 #define HOME_ID 5000
+
+/* The angular velocity, acceleration and jerk vectors of a pose stream
+ * against the bounds: the rotation vector's axes are within theirs over
+ * sqrt(3), and w = J(phi) dphi never exceeds |dphi|, but dw and its rate
+ * add terms of dJ/dt (ctrl_servo.c), second order in phi and dphi
+ * (measured at most 1.0000 and 1.015 of the bounds in double). */
+#define ANG_BOUND 1.05
 
 typedef struct harness {
     kc_chain chain;
@@ -239,12 +262,186 @@ static void test_random_twist_streams(void **state)
     }
 }
 
+/* The rotation vector of b a^T (a to b in the base frame), the short way. */
+static kc_vec3 turn(const kc_mat3 *a, const kc_mat3 *b)
+{
+    kc_quat qa, qb, qc, d;
+    kc_vec3 w;
+    kc_quat_from_mat3(a, &qa);
+    kc_quat_from_mat3(b, &qb);
+    kc_quat_conj(&qa, &qc);
+    kc_quat_mul(&qb, &qc, &d);
+    if (d.w < KC_R(0.0)) {
+        d.w = -d.w;
+        d.x = -d.x;
+        d.y = -d.y;
+        d.z = -d.z;
+    }
+    kc_quat_log(&d, &w);
+    return w;
+}
+
+/* pose turned by the rotation vector w (base frame) and moved by dp. */
+static kc_pose moved(const kc_pose *pose, const double dp[3], kc_vec3 w)
+{
+    kc_pose out = *pose;
+    kc_quat r, dr, r2;
+    kc_quat_exp(&w, &dr);
+    kc_quat_from_mat3(&pose->R, &r);
+    kc_quat_mul(&dr, &r, &r2);
+    kc_quat_to_mat3(&r2, &out.R);
+    for (int i = 0; i < 3; i++)
+        out.t.v[i] += (kc_real)dp[i];
+    return out;
+}
+
+static double norm3(const kc_real *v)
+{
+    return sqrt((double)v[0] * (double)v[0] + (double)v[1] * (double)v[1] + (double)v[2] * (double)v[2]);
+}
+
+static void test_random_pose_streams(void **state)
+{
+    (void)state;
+    kc_model models[2] = {KC_MODEL_PUMA560, KC_MODEL_PANDA};
+    for (int m = 0; m < 2; m++) {
+        setup(models[m]);
+        kt_rng r = kt_rng_make(2201 + (uint64_t)m);
+        double dt = (double)H.cfg.dt, share = 1.0 / sqrt(3.0);
+        double bv[6], ba[6], bj[6]; /* each axis' bounds */
+        for (int i = 0; i < 6; i++) {
+            bv[i] = share * (double)(i < 3 ? H.cfg.cart_speed : H.cfg.cart_omega);
+            ba[i] = share * (double)(i < 3 ? H.cfg.cart_accel : H.cfg.cart_alpha);
+            bj[i] = share * (double)(i < 3 ? H.cfg.cart_jerk : H.cfg.cart_angular_jerk);
+        }
+        double worst_ang[3] = {0}, worst_lin_j = 0, worst_end = 0, worst_turn = 0;
+        long replans = 0;
+        for (int c = 0; c < CASES; c++) {
+            int64_t id = 600 + c;
+            kc_goal g;
+            memset(&g, 0, sizeof g);
+            g.id = id;
+            g.kind = KC_GOAL_SERVO;
+            g.vel_scale = g.acc_scale = KC_R(1.0);
+            g.pose = H.ctrl.pose;
+            double v_prev[6] = {0}, a_prev[6] = {0};
+            int changes = 1 + (int)kt_uniform(&r, 0.0, 5.0);
+            for (int s = 0; s < changes; s++) {
+                /* A jump (up to 3 cm and 0.2 rad) held, or a target
+                 * moving every tick (up to 0.08 m/s and 0.2 rad/s). */
+                int moving = kt_uniform(&r, 0.0, 1.0) < 0.5;
+                kc_vec3 u = kt_rand_unit(&r), w = kt_rand_unit(&r);
+                double sp = kt_uniform(&r, 0.0, moving ? 0.08 * dt : 0.03);
+                double sw = kt_uniform(&r, 0.0, moving ? 0.2 * dt : 0.2);
+                double dp[3];
+                for (int i = 0; i < 3; i++)
+                    dp[i] = sp * (double)u.v[i];
+                kc_vec3 dw = kc_vec3_make((kc_real)(sw * (double)w.v[0]), (kc_real)(sw * (double)w.v[1]),
+                                          (kc_real)(sw * (double)w.v[2]));
+                int n = 20 + (int)kt_uniform(&r, 0.0, 280.0);
+                for (int k = 0; k < n; k++) {
+                    if (moving || k == 0) {
+                        g.pose = moved(&g.pose, dp, dw);
+                        replans++;
+                    }
+                    tick(&g);
+                    assert_int_equal(H.out.goal_id, id);
+                    assert_int_equal(H.out.state, KC_CTRL_MOVING);
+                    /* Every axis of the shaped pose within its bounds and
+                     * continuous in its twist and the twist's rate. */
+                    for (int i = 0; i < 3; i++) {
+                        double v = (double)H.ctrl.servo_v[i], a = (double)H.ctrl.servo_a[i];
+                        double rj = fabs(a - a_prev[i]) / dt / bj[i];
+                        if (!(fabs(v) <= bv[i] * (1.0 + SLACK) && fabs(a) <= ba[i] * (1.0 + SLACK) &&
+                              rj <= 1.0 + SLACK && fabs(v - v_prev[i]) <= ba[i] * dt * (1.0 + SLACK)))
+                            fail_msg("%s case %d tick %d axis %d: shaped v %.7g, a %.7g, jerk %.7g of the bounds, "
+                                     "v's step %.4g",
+                                     kc_model_name(models[m]), c, k, i, fabs(v) / bv[i], fabs(a) / ba[i], rj,
+                                     fabs(v - v_prev[i]) / (ba[i] * dt));
+                        worst_lin_j = fmax(worst_lin_j, rj);
+                    }
+                    /* The angular velocity, acceleration and jerk vectors
+                     * against the bounds (measured: the rotation vector's
+                     * axes are bounded, w and dw are J of them). */
+                    double dj[3];
+                    for (int i = 0; i < 3; i++)
+                        dj[i] = ((double)H.ctrl.servo_a[3 + i] - a_prev[3 + i]) / dt;
+                    double ang[3] = {norm3(&H.ctrl.servo_v[3]) / (double)H.cfg.cart_omega,
+                                     norm3(&H.ctrl.servo_a[3]) / (double)H.cfg.cart_alpha,
+                                     sqrt(dj[0] * dj[0] + dj[1] * dj[1] + dj[2] * dj[2]) /
+                                         (double)H.cfg.cart_angular_jerk};
+                    for (int i = 0; i < 3; i++) {
+                        worst_ang[i] = fmax(worst_ang[i], ang[i]);
+                        if (!(ang[i] <= ANG_BOUND))
+                            fail_msg("%s case %d tick %d: angular %s %.7g of its bound", kc_model_name(models[m]), c,
+                                     k, i == 0 ? "velocity" : i == 1 ? "acceleration" : "jerk", ang[i]);
+                    }
+                    for (int i = 0; i < 6; i++) {
+                        v_prev[i] = (double)H.ctrl.servo_v[i];
+                        a_prev[i] = (double)H.ctrl.servo_a[i];
+                    }
+                }
+            }
+            /* Every other stream goes quiet at once (the timeout stops the
+             * arm moving); the others hold the last pose: the shaped pose
+             * comes to rest on it, the tool with it. */
+            int k = 0, held = c % 2 == 0;
+            for (; held && k < 20000; k++) {
+                tick(&g);
+                int rest = 1;
+                for (int i = 0; i < 6; i++)
+                    rest = rest && H.ctrl.servo_v[i] == KC_R(0.0) && H.ctrl.servo_a[i] == KC_R(0.0);
+                if (rest)
+                    break;
+            }
+            for (int i = 0; held && i < 200; i++) /* the IK step closing in */
+                tick(&g);
+            if (held) {
+                kc_vec3 d;
+                kc_vec3_sub(&H.out.pose.t, &g.pose.t, &d);
+                worst_end = fmax(worst_end, (double)kc_vec3_norm(&d));
+                kc_vec3 e = turn(&H.out.pose.R, &g.pose.R);
+                worst_turn = fmax(worst_turn, (double)kc_vec3_norm(&e));
+                kt_near((double)kc_vec3_norm(&d), 0.0, TOL_END, "the tool at the last pose");
+                kt_near((double)kc_vec3_norm(&e), 0.0, TOL_END, "the tool turned to the last pose");
+            }
+            /* The stream goes quiet: after the timeout, a jerk-limited stop
+             * (at once, at rest). */
+            for (k = 0; k <= H.cfg.servo_timeout_ticks + 1 && H.out.state == KC_CTRL_MOVING; k++)
+                tick(NULL);
+            if (held)
+                assert_int_equal(H.out.state, KC_CTRL_IDLE);
+            else
+                assert_int_equal(H.ctrl.drive, KC_DRIVE_HALT);
+            for (k = 0; k < 10000 && H.out.state != KC_CTRL_IDLE; k++)
+                tick(NULL);
+            assert_int_equal(H.out.state, KC_CTRL_IDLE);
+            assert_true(kt_has_event(&H.out, KC_EVENT_ABORTED, id));
+            kc_real q0[KC_MAX_JOINTS];
+            kt_start_q(&H.chain, models[m], q0);
+            kc_goal home = kt_joint_goal(HOME_ID + 100 + c, q0, H.chain.n_joints);
+            tick(&home);
+            for (k = 0; k < 20000 && !kt_has_event(&H.out, KC_EVENT_COMPLETED, home.id); k++)
+                tick(NULL);
+            assert_int_equal(H.out.state, KC_CTRL_IDLE);
+        }
+        print_message("%s: %d pose streams, %ld poses, %ld ticks: the shaped position's jerk at most %.6f of its "
+                      "axis bound; the angular velocity, acceleration and jerk at most %.6f, %.6f, %.6f of the "
+                      "bounds; the joints' qdd at most %.4f and jerk %.4f of their limits (while tracking %.7f); "
+                      "at rest on the last pose within %.2e m and %.2e rad (%s)\n",
+                      kc_model_name(models[m]), CASES, replans, H.ticks, worst_lin_j, worst_ang[0], worst_ang[1],
+                      worst_ang[2], H.worst_a, H.worst_j, H.worst_track_j, worst_end, worst_turn, KC_REAL_NAME);
+        assert_true(worst_lin_j > 0.5); /* the shaping does use the jerk it is allowed */
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_random_twist_streams),
+        cmocka_unit_test(test_random_pose_streams),
     };
     int rc = cmocka_run_group_tests(tests, NULL, NULL);
-    kt_report("ctrl_servotwist");
+    kt_report("ctrl_servoshape");
     return rc;
 }

@@ -1,0 +1,189 @@
+/* SPDX-License-Identifier: BSD-3-Clause */
+/* ctrl_servo.c - a servo stream's shaped target (kinctl/ctrl.h): a twist
+ * stream's twist moving towards the commanded twist, a pose stream's pose
+ * towards the commanded pose, each within the goal's Cartesian bounds
+ * axis by axis, and where the shaping starts again (the stream's start,
+ * RESUME, a pose message, a zone restraining the arm). */
+#include "ctrl_internal.h"
+#include "vec3_internal.h"
+
+#include <string.h>
+
+/* 1 / sqrt(3): each axis within its bound over sqrt(3) keeps the linear
+ * and angular vectors' norms within the bounds. */
+#define AXIS_SHARE KC_R(0.57735026918962576)
+
+/* Below this |phi| the left Jacobian's coefficients are their series. */
+#define PHI_SERIES KC_R(0.1)
+
+int kc_ctrl_servo_shaped(const kc_ctrl *c)
+{
+    return c->goal.kind == KC_GOAL_SERVO && !c->goal.servo_twist &&
+           kc_ctrl_goal_profile(c, &c->goal) == KC_PROFILE_JERK;
+}
+
+/* One tick of a shaped velocity v (its rate a) towards the commanded w
+ * within |a| <= amax and |change of a| <= h = jmax dt a tick: the rate a'
+ * for the coming tick. From a', lowering the rate to 0 by h a tick adds
+ *     S(a') = dt sgn(a') sum_{i=1..m} (|a'| - i h) = dt sgn(a') (m |a'| - h m (m + 1) / 2)
+ * to v, m = floor(|a'| / h), so v + dt a' + S(a') is continuous, odd and
+ * increasing in a' and linear between multiples of h. a' is its root,
+ * reaching w with the rate at 0 (with e = w - v and x = |e| / dt):
+ *     |a'| = (x + h m (m + 1) / 2) / (m + 1),  sgn(a') = sgn(e),
+ * m the integer with h m (m + 1) / 2 <= x < h (m + 1) (m + 2) / 2, clamped
+ * to [a - h, a + h] and [-amax, amax]. Deadbeat: on the next tick the
+ * root is a' - h (S(a') = dt (a' - h) + S(a' - h)), within reach, until
+ * v = w, a = 0 exactly as far as rounding goes; so too after a tick
+ * clamped at amax (the root then lies at or above amax - h). A new w
+ * whose root is out of reach is approached at the clamp, overshooting w
+ * where the rate already points past it, and then reached the same way.
+ * A trapezoid's (jmax infinite): h infinite, m = 0, a' = e / dt clamped
+ * to amax. */
+static kc_real shaped_rate(kc_real v, kc_real a, kc_real w, kc_real amax, kc_real jmax, kc_real dt)
+{
+    kc_real h = jmax * dt, e = w - v, x = kc_fabs(e) / dt;
+    kc_real m = kc_floor(KC_R(0.5) * (kc_sqrt(KC_R(1.0) + KC_R(8.0) * x / h) - KC_R(1.0)));
+    if (m > KC_R(0.0) && KC_R(0.5) * h * m * (m + KC_R(1.0)) > x)
+        m -= KC_R(1.0);
+    else if (KC_R(0.5) * h * (m + KC_R(1.0)) * (m + KC_R(2.0)) <= x)
+        m += KC_R(1.0);
+    kc_real r = (x + KC_R(0.5) * h * m * (m + KC_R(1.0))) / (m + KC_R(1.0));
+    if (!kc_isfinite(r)) /* h infinite: no ramp */
+        r = x;
+    r = e < KC_R(0.0) ? -r : r;
+    return kc_clamp(kc_clamp(r, a - h, a + h), -amax, amax);
+}
+
+/* A twist stream's tick: its target moves by the shaped twist over the
+ * tick, which then moves towards the commanded twist axis by axis, each
+ * linear axis within the goal's Cartesian acceleration and jerk (l.a,
+ * l.j) over sqrt(3), each angular axis within l.dw and l.dj over sqrt(3),
+ * so that the linear and angular acceleration and jerk vectors stay within
+ * the bounds (kinctl/ctrl.h). */
+static void servo_twist_tick(kc_ctrl *c)
+{
+    kc_real dt = c->cfg.dt;
+    kc_vec3 w = kc_vec3_make(c->servo_v[3] * dt, c->servo_v[4] * dt, c->servo_v[5] * dt);
+    kc_quat dr, r, r2;
+    kc_quat_exp(&w, &dr);
+    kc_quat_from_mat3(&c->servo_target.R, &r);
+    kc_quat_mul(&dr, &r, &r2);
+    kc_quat_to_mat3(&r2, &c->servo_target.R);
+    for (int i = 0; i < 3; i++)
+        c->servo_target.t.v[i] += c->servo_v[i] * dt;
+    kc_interp_limits l = kc_ctrl_cart_limits(&c->cfg, &c->goal);
+        for (int i = 0; i < 6; i++) {
+        kc_real a = shaped_rate(c->servo_v[i], c->servo_a[i], c->goal.twist[i], AXIS_SHARE * (i < 3 ? l.a : l.dw),
+                                AXIS_SHARE * (i < 3 ? l.j : l.dj), dt);
+        c->servo_a[i] = a;
+        c->servo_v[i] += a * dt;
+    }
+}
+
+
+/* A pose stream's shaped pose at tick k: the three coordinates of its
+ * position and the rotation vector phi of R = exp(phi) ref, each a
+ * jerk-limited profile from tick k0 (kinctl/scurve.h), give the pose, the
+ * twist and its rate. R's angular velocity and acceleration in the base
+ * frame are
+ *     w = J dphi,  dw = J ddphi + (dJ/dt) dphi,
+ * J = I + b [phi]x + c [phi]x^2 the left Jacobian of SO(3) (R' R^T =
+ * [J dphi]x), th = |phi|, b = (1 - cos th) / th^2, c = (th - sin th) /
+ * th^3, and since [dphi]x dphi = 0 and [phi]x [dphi]x dphi = 0,
+ *     (dJ/dt) dphi = B s (phi x dphi) + C s phi x (phi x dphi)
+ *                    + c dphi x (phi x dphi),
+ * s = phi . dphi, B = (db/dth) / th = (th sin th - 2 (1 - cos th)) / th^4,
+ * C = (dc/dth) / th = (th (1 - cos th) - 3 (th - sin th)) / th^5. Below
+ * th = PHI_SERIES, where these differences cancel, their series to th^4:
+ *     b = 1/2 - th^2/24 + th^4/720,   c = 1/6 - th^2/120 + th^4/5040,
+ *     B = -1/12 + th^2/180 - th^4/6720,  C = -1/60 + th^2/1260 - th^4/60480
+ * (the next terms under 3e-11 of each there). At phi = 0, where every
+ * plan starts, w = dphi and dw = ddphi: a new plan continues the pose,
+ * the twist and its rate. */
+static void pose_at(kc_ctrl *c, int64_t k)
+{
+    const struct kc_ctrl_servo_plan *s = &c->plan.servo;
+    kc_scurve_state x[6];
+    for (int i = 0; i < 6; i++)
+        kc_scurve_eval(&s->axis[i], k > s->k0 ? k - s->k0 : 0, &x[i]);
+    kc_vec3 phi = kc_vec3_make(x[3].p, x[4].p, x[5].p), dphi = kc_vec3_make(x[3].v, x[4].v, x[5].v);
+    kc_vec3 ddphi = kc_vec3_make(x[3].a, x[4].a, x[5].a);
+    kc_real t2 = kc_v3_dot(phi, phi), b, cc, B, C;
+    if (t2 < PHI_SERIES * PHI_SERIES) {
+        b = KC_R(0.5) - t2 * (KC_R(1.0) / KC_R(24.0) - t2 / KC_R(720.0));
+        cc = KC_R(1.0) / KC_R(6.0) - t2 * (KC_R(1.0) / KC_R(120.0) - t2 / KC_R(5040.0));
+        B = -KC_R(1.0) / KC_R(12.0) + t2 * (KC_R(1.0) / KC_R(180.0) - t2 / KC_R(6720.0));
+        C = -KC_R(1.0) / KC_R(60.0) + t2 * (KC_R(1.0) / KC_R(1260.0) - t2 / KC_R(60480.0));
+    } else {
+        kc_real th = kc_sqrt(t2), sn, cs;
+        kc_sincos(th, &sn, &cs);
+        b = (KC_R(1.0) - cs) / t2;
+        cc = (th - sn) / (t2 * th);
+        B = (th * sn - KC_R(2.0) * (KC_R(1.0) - cs)) / (t2 * t2);
+        C = (th * (KC_R(1.0) - cs) - KC_R(3.0) * (th - sn)) / (t2 * t2 * th);
+    }
+    kc_vec3 pd = kc_v3_cross(phi, dphi), ppd = kc_v3_cross(phi, pd), pdd = kc_v3_cross(phi, ddphi);
+    kc_vec3 w = kc_v3_add(dphi, kc_v3_add(kc_v3_scale(pd, b), kc_v3_scale(ppd, cc)));
+    kc_real sd = kc_v3_dot(phi, dphi);
+    kc_vec3 dw = kc_v3_add(ddphi, kc_v3_add(kc_v3_scale(pdd, b), kc_v3_scale(kc_v3_cross(phi, pdd), cc)));
+    dw = kc_v3_add(dw, kc_v3_add(kc_v3_scale(pd, B * sd), kc_v3_scale(ppd, C * sd)));
+    dw = kc_v3_add_scaled(dw, kc_v3_cross(dphi, pd), cc);
+    kc_quat e, r;
+    kc_quat_exp(&phi, &e);
+    kc_quat_mul(&e, &s->ref, &r);
+    kc_quat_to_mat3(&r, &c->servo_target.R);
+    for (int i = 0; i < 3; i++) {
+        c->servo_target.t.v[i] = x[i].p;
+        c->servo_v[i] = x[i].v;
+        c->servo_a[i] = x[i].a;
+        c->servo_v[3 + i] = w.v[i];
+        c->servo_a[3 + i] = dw.v[i];
+    }
+}
+
+void kc_ctrl_servo_aim(kc_ctrl *c, int64_t k0)
+{
+    struct kc_ctrl_servo_plan *s = &c->plan.servo;
+    kc_quat r1, rc, d;
+    kc_vec3 phi1;
+    kc_quat_from_mat3(&c->servo_target.R, &s->ref);
+    kc_quat_from_mat3(&c->goal.pose.R, &r1);
+    kc_quat_conj(&s->ref, &rc);
+    kc_quat_mul(&r1, &rc, &d);
+    if (d.w < KC_R(0.0)) { /* the short way round */
+        d.w = -d.w;
+        d.x = -d.x;
+        d.y = -d.y;
+        d.z = -d.z;
+    }
+    kc_quat_log(&d, &phi1);
+    kc_interp_limits l = kc_ctrl_cart_limits(&c->cfg, &c->goal);
+    for (int i = 0; i < 6; i++) {
+        int lin = i < 3;
+        kc_real p0 = lin ? c->servo_target.t.v[i] : KC_R(0.0), p1 = lin ? c->goal.pose.t.v[i] : phi1.v[i - 3];
+        kc_real v = AXIS_SHARE * (lin ? l.v : l.w), a = AXIS_SHARE * (lin ? l.a : l.dw);
+        kc_real jm = AXIS_SHARE * (lin ? l.j : l.dj);
+        /* A target too far for a plan's ticks (KC_PROFILE_MAX_TICKS): the
+         * axis stops where it is instead, until the next message. */
+        if (kc_scurve_plan(&s->axis[i], p0, c->servo_v[i], c->servo_a[i], p1, v, a, jm, c->cfg.dt) != KC_OK)
+            kc_scurve_plan(&s->axis[i], p0, c->servo_v[i], c->servo_a[i], p0, v, a, jm, c->cfg.dt);
+    }
+    s->k0 = k0;
+}
+
+void kc_ctrl_servo_rest(kc_ctrl *c)
+{
+    memset(c->servo_v, 0, sizeof c->servo_v);
+    memset(c->servo_a, 0, sizeof c->servo_a);
+    c->servo_target = c->goal.servo_twist || kc_ctrl_servo_shaped(c) ? c->pose : c->goal.pose;
+    if (kc_ctrl_servo_shaped(c))
+        kc_ctrl_servo_aim(c, c->cycle - 1);
+}
+
+void kc_ctrl_servo_tick(kc_ctrl *c)
+{
+    if (c->goal.servo_twist)
+        servo_twist_tick(c);
+    else if (kc_ctrl_servo_shaped(c))
+        pose_at(c, c->cycle);
+}
