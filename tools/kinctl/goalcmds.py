@@ -73,8 +73,9 @@ def register(sub, parents):
                         parents)
     what = servo.add_mutually_exclusive_group(required=True)
     what.add_argument("--pose", type=vector(7, "x,y,z,qw,qx,qy,qz"), metavar="X,Y,Z,QW,QX,QY,QZ",
-                      help="target pose to track, base frame (followed at once, within the joints' "
-                           "velocity and acceleration limits)")
+                      help="target pose to track, base frame: approached jerk-limited within the daemon's "
+                           "Cartesian limits (with the trapezoid profile followed at once); the arm stops "
+                           "where it is when the stream ends, so stream long enough (--duration) to arrive")
     what.add_argument("--twist", type=vector(6, "vx,vy,vz,wx,wy,wz"), metavar="VX,VY,VZ,WX,WY,WZ",
                       help="tool twist to follow, base frame: m/s and rad/s (deg/s with --deg), reached "
                            "within the daemon's Cartesian acceleration and jerk limits")

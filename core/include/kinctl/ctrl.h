@@ -33,7 +33,7 @@
  *                   Cartesian acceleration and jerk bounds over sqrt(3)
  *                   (the linear and angular vectors' norms within the
  *                   bounds: accel, alpha, jerk, angular_jerk or the cfg
- *                   defaults), by the deadbeat step of ctrl_seg.c (the
+ *                   defaults), by the deadbeat step of ctrl_servo.c (the
  *                   commanded twist reached exactly, its rate back at
  *                   0, in about the time-optimal ramp's ticks; a change
  *                   mid-ramp approached at the bounds), from rest where
@@ -46,8 +46,27 @@
  *                   560's qddd_max, 0.009 of the Panda's; in float the
  *                   rounding of q alone moves qdd by more,
  *                   test_ctrl_servoshape.c). A pose stream's target is
- *                   not shaped: a target that moves at once steps the
- *                   joints' qdd up to qdd_max in a tick.
+ *                   shaped too: on each new pose, x, y, z and the
+ *                   rotation vector phi of R = exp(phi) ref (ref the
+ *                   shaped orientation then) are planned to rest at it,
+ *                   one time-optimal kc_scurve each from the shaped
+ *                   state, within the goal's speed, omega, accel, alpha,
+ *                   jerk and angular_jerk over sqrt(3); the pose, twist
+ *                   and the twist's rate go on continuously through
+ *                   every message (w and dw through SO(3)'s left
+ *                   Jacobian; dw and its rate exceed the angular bounds
+ *                   by terms of second order in phi, measured at most
+ *                   1.5 %). A pose repeated is no new plan. From rest
+ *                   where the stream starts or RESUMEs, from the arm's
+ *                   own motion where a zone restrains it. The arm so
+ *                   lags a moving pose, and a pose stream that goes
+ *                   quiet is stopped where its shaped pose is, short of
+ *                   a pose not yet reached (random streams: joints'
+ *                   jerk while following at most 0.97 of the PUMA 560's
+ *                   qddd_max, 0.026 of the Panda's, in double). With
+ *                   the trapezoid profile a pose stream is not shaped:
+ *                   its target jumps to each pose, and the IK step
+ *                   brings the joints there within qd_max and qdd_max.
  * Cartesian segments give a pose and twist each tick; one kc_ik_step with
  * the twist fed forward turns them into the joint setpoint. If the tool
  * falls more than cfg.track_tol behind (a joint limit, a singularity) the
