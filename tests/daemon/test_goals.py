@@ -11,7 +11,7 @@ import time
 import pytest
 
 from kinctl_testing import (END, EVENT_NAMES, EVENTS, N, QN, QN_ORIENTATION, QN_POSITION, STATES, assert_smooth, close,
-                            finished, go_nominal, goal_arc_t, goal_path_t, max_jerk_ratio, servo_twist,
+                            finished, go_nominal, goal_arc_t, goal_path_t, goal_servo_t, max_jerk_ratio, servo_twist,
                             setpoints_since)
 
 
@@ -110,6 +110,35 @@ def test_servo_stream_goes_stale_and_stops(kinctld):
     # The stream's twist shaped and the timeout's stop jerk-limited: every
     # joint's qdd changes by at most qddd_max dt a cycle (slack as
     # test_servo_stop.py's).
+    rj, ra = max_jerk_ratio(sps)
+    assert rj <= 1.0 + 1e-6 and ra <= 1.0 + 1e-6, (rj, ra)
+    assert d.stop() == 0
+
+
+def test_pose_stream_is_shaped(kinctld):
+    """A pose stream whose pose jumps by 2.2 cm and turns by 0.1 rad: the
+    shaped pose reaches it within the joints' jerk limits, the tool at rest
+    on it before the stream goes quiet, then the timeout's stop."""
+    d = kinctld()
+    s0 = go_nominal(d)
+    g = servo_twist(7, [0.0] * 6, 50000)
+    g.kind = goal_servo_t.POSE
+    g.position = [QN_POSITION[0], QN_POSITION[1] + 0.02, QN_POSITION[2] + 0.01]
+    w, x, y, z = QN_ORIENTATION
+    c, s = math.cos(0.05), math.sin(0.05)  # 0.1 rad about the base's z
+    g.orientation = [c * w - s * z, c * x - s * y, c * y + s * x, c * z + s * w]
+    for _ in range(150):  # 1.5 s: the shaped approach takes about 0.7 s
+        d.bus.send("GOAL_SERVO", g)
+        time.sleep(0.01)
+    arrived = d.bus.last_setpoint()
+    assert close(arrived.position, g.position, 1e-6), arrived.position
+    assert same_rotation(arrived.orientation, g.orientation, 1e-10), arrived.orientation
+    st = d.bus.wait_event(7, END)
+    assert st.event == EVENTS["ABORTED"] and st.reason.startswith("servo_timeout: "), st.reason
+    s = d.bus.wait_idle()
+    assert close(s.position, g.position, 1e-6)
+    sps = setpoints_since(d, s0.cycle)
+    assert_smooth(sps)
     rj, ra = max_jerk_ratio(sps)
     assert rj <= 1.0 + 1e-6 and ra <= 1.0 + 1e-6, (rj, ra)
     assert d.stop() == 0
