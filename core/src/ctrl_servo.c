@@ -59,7 +59,9 @@ static kc_real shaped_rate(kc_real v, kc_real a, kc_real w, kc_real amax, kc_rea
  * linear axis within the goal's Cartesian acceleration and jerk (l.a,
  * l.j) over sqrt(3), each angular axis within l.dw and l.dj over sqrt(3),
  * so that the linear and angular acceleration and jerk vectors stay within
- * the bounds (kinctl/ctrl.h). */
+ * the bounds (kinctl/ctrl.h). The commanded linear and angular velocity
+ * vectors are first scaled down to the goal's speed and omega (l.v, l.w)
+ * where they exceed them, their directions kept. */
 static void servo_twist_tick(kc_ctrl *c)
 {
     kc_real dt = c->cfg.dt;
@@ -72,9 +74,15 @@ static void servo_twist_tick(kc_ctrl *c)
     for (int i = 0; i < 3; i++)
         c->servo_target.t.v[i] += c->servo_v[i] * dt;
     kc_interp_limits l = kc_ctrl_cart_limits(&c->cfg, &c->goal);
-        for (int i = 0; i < 6; i++) {
-        kc_real a = shaped_rate(c->servo_v[i], c->servo_a[i], c->goal.twist[i], AXIS_SHARE * (i < 3 ? l.a : l.dw),
-                                AXIS_SHARE * (i < 3 ? l.j : l.dj), dt);
+    kc_real cap[2];
+    for (int h = 0; h < 2; h++) {
+        const kc_real *t = &c->goal.twist[3 * h];
+        kc_real size = kc_sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]), top = h == 0 ? l.v : l.w;
+        cap[h] = size > top ? top / size : KC_R(1.0);
+    }
+    for (int i = 0; i < 6; i++) {
+        kc_real a = shaped_rate(c->servo_v[i], c->servo_a[i], c->goal.twist[i] * cap[i / 3],
+                                AXIS_SHARE * (i < 3 ? l.a : l.dw), AXIS_SHARE * (i < 3 ? l.j : l.dj), dt);
         c->servo_a[i] = a;
         c->servo_v[i] += a * dt;
     }

@@ -42,7 +42,9 @@
  * bound's dt (continuous through every new pose); the angular velocity,
  * acceleration and jerk vectors within ANG_BOUND of theirs; the tool at
  * rest on the last pose within TOL_END (position and angle); the
- * timeout's stop as above. */
+ * timeout's stop as above.
+ *
+ * And a twist above the goal's speed and omega, followed at them. */
 #include <math.h>
 #include <string.h>
 
@@ -435,11 +437,52 @@ static void test_random_pose_streams(void **state)
     }
 }
 
+/* A twist above the goal's speed and omega is followed at them, in its
+ * direction: the shaped linear and angular velocity vectors never exceed
+ * them and settle on the commanded vectors scaled to them. */
+static void test_twist_capped_to_speed(void **state)
+{
+    (void)state;
+    setup(KC_MODEL_PUMA560);
+    kc_goal g;
+    memset(&g, 0, sizeof g);
+    g.id = 700;
+    g.kind = KC_GOAL_SERVO;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    g.servo_twist = 1;
+    g.speed = KC_R(0.02);
+    g.omega = KC_R(0.1);
+    const double lin[3] = {0.06, -0.08, 0.0}, ang[3] = {0.0, 0.3, -0.4}; /* 0.1 m/s, 0.5 rad/s */
+    for (int i = 0; i < 3; i++) {
+        g.twist[i] = (kc_real)lin[i];
+        g.twist[3 + i] = (kc_real)ang[i];
+    }
+    double worst[2] = {0.0, 0.0}, top[2] = {0.02, 0.1};
+    for (int k = 0; k < 1500; k++) {
+        tick(&g);
+        assert_int_equal(H.out.state, KC_CTRL_MOVING);
+        for (int h = 0; h < 2; h++) {
+            double size = norm3(&H.ctrl.servo_v[3 * h]) / top[h];
+            worst[h] = fmax(worst[h], size);
+            if (!(size <= 1.0 + 8.0 * (double)KC_REAL_EPS))
+                fail_msg("tick %d: the shaped %s velocity %.9g of its bound", k, h == 0 ? "linear" : "angular", size);
+        }
+    }
+    for (int i = 0; i < 3; i++) {
+        kt_near((double)H.ctrl.servo_v[i], lin[i] * 0.2, 64.0 * (double)KC_REAL_EPS, "linear: at the speed");
+        kt_near((double)H.ctrl.servo_v[3 + i], ang[i] * 0.2, 64.0 * (double)KC_REAL_EPS, "angular: at omega");
+    }
+    print_message("a twist of 0.1 m/s and 0.5 rad/s, speed 0.02 and omega 0.1: the shaped twist at most %.9f and "
+                  "%.9f of them (%s)\n",
+                  worst[0], worst[1], KC_REAL_NAME);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_random_twist_streams),
         cmocka_unit_test(test_random_pose_streams),
+        cmocka_unit_test(test_twist_capped_to_speed),
     };
     int rc = cmocka_run_group_tests(tests, NULL, NULL);
     kt_report("ctrl_servoshape");

@@ -77,8 +77,9 @@ def register(sub, parents):
                            "Cartesian limits (with the trapezoid profile followed at once); the arm stops "
                            "where it is when the stream ends, so stream long enough (--duration) to arrive")
     what.add_argument("--twist", type=vector(6, "vx,vy,vz,wx,wy,wz"), metavar="VX,VY,VZ,WX,WY,WZ",
-                      help="tool twist to follow, base frame: m/s and rad/s (deg/s with --deg), reached "
-                           "within the daemon's Cartesian acceleration and jerk limits")
+                      help="tool twist to follow, base frame: m/s and rad/s (deg/s with --deg), capped at "
+                           "the daemon's Cartesian speed and omega and reached within its Cartesian "
+                           "acceleration and jerk limits")
     servo.add_argument("--rate", type=positive, default=100.0, metavar="HZ", help="messages per second (100)")
     servo.add_argument("--duration", type=positive, default=1.0, metavar="S", help="stream length (1 s)")
     servo.add_argument("--stale-ms", type=positive, default=None, metavar="MS",

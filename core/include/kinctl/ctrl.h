@@ -38,8 +38,10 @@
  *                   0, in about the time-optimal ramp's ticks; a change
  *                   mid-ramp approached at the bounds), from rest where
  *                   the stream starts or RESUMEs, from the arm's own
- *                   twist where a zone restrains it. Its speed is the
- *                   client's (the joints' qd_max bounds it). The joints'
+ *                   twist where a zone restrains it. The commanded
+ *                   linear and angular velocities are capped at the
+ *                   goal's speed and omega (cfg defaults), their
+ *                   directions kept. The joints'
  *                   jerk is what the Jacobian makes of it, as a line's
  *                   (random streams of up to 0.1 m/s and 0.3 rad/s, at
  *                   the default bounds, double: at most 0.77 of the PUMA
