@@ -67,6 +67,11 @@ static kc_status plan_path(kc_ctrl *c, const kc_goal *g, const kc_pose *from, co
         cfg.dim = n;
         cfg.q = knots;
         kc_ctrl_scaled_limits(c, g, cfg.vmax, cfg.amax);
+        /* Computed times keep the joints' jerk within qddd_max too where
+         * the motion is jerk-limited (kinctl/path.h: the stretch). */
+        if (kc_ctrl_goal_profile(c, g) == KC_PROFILE_JERK)
+            for (int j = 0; j < n; j++)
+                cfg.jmax[j] = c->chain->joints[j].limits.qddd_max;
         return kc_path_plan(&c->plan.path, &cfg);
     }
     kc_vec3 p[KC_PATH_MAX_KNOTS];

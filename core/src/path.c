@@ -357,18 +357,21 @@ static kc_real poly_bound(const kc_real *b, int n, kc_real L)
     return best;
 }
 
-/* Bounds of |qd_j| and |qdd_j| over piece c of length L. */
-static void piece_bounds(const kc_path_knots *K, piece_coeffs c, kc_real L, kc_real *vb, kc_real *ab)
+/* Bounds of |qd_j|, |qdd_j| and |qddd_j| over piece c of length L. */
+static void piece_bounds(const kc_path_knots *K, piece_coeffs c, kc_real L, kc_real *vb, kc_real *ab, kc_real *jb)
 {
     int nc = n_coeffs(K);
     for (int j = 0; j < K->dim; j++) {
-        kc_real d1[KC_PATH_MAX_COEFFS], d2[KC_PATH_MAX_COEFFS];
+        kc_real d1[KC_PATH_MAX_COEFFS], d2[KC_PATH_MAX_COEFFS], d3[KC_PATH_MAX_COEFFS];
         for (int i = 0; i < nc - 1; i++)
             d1[i] = (kc_real)(i + 1) * c[i + 1][j];
         for (int i = 0; i < nc - 2; i++)
-            d2[i] = (kc_real)((i + 1) * (i + 2)) * c[i + 2][j];
+            d2[i] = (kc_real)(i + 1) * d1[i + 1];
+        for (int i = 0; i < nc - 3; i++)
+            d3[i] = (kc_real)(i + 1) * d2[i + 1];
         vb[j] = poly_bound(d1, nc - 1, L);
         ab[j] = poly_bound(d2, nc - 2, L);
+        jb[j] = poly_bound(d3, nc - 3, L);
     }
 }
 
@@ -411,7 +414,7 @@ static kc_status check_blends(const kc_path_knots *K, const kc_path_limits *L)
 static kc_status dry_run(const kc_path_knots *K, const kc_path_limits *L, int bounds, kc_real *lambda)
 {
     piece_coeffs c;
-    kc_real vb[KC_MAX_JOINTS], ab[KC_MAX_JOINTS];
+    kc_real vb[KC_MAX_JOINTS], ab[KC_MAX_JOINTS], jb[KC_MAX_JOINTS];
     kc_real lam = KC_R(1.0);
     int want = bounds && L->computed && stretchable(K);
     for (int p = 0; p < kc_path_n_pieces(K); p++) {
@@ -420,7 +423,7 @@ static kc_status dry_run(const kc_path_knots *K, const kc_path_limits *L, int bo
             return KC_E_ARG;
         if (!want)
             continue;
-        piece_bounds(K, c, piece_len(K, p), vb, ab);
+        piece_bounds(K, c, piece_len(K, p), vb, ab, jb);
         if (L->norm) {
             kc_real v2 = KC_R(0.0), a2 = KC_R(0.0);
             for (int j = 0; j < K->dim; j++) {
@@ -433,6 +436,7 @@ static kc_status dry_run(const kc_path_knots *K, const kc_path_limits *L, int bo
             for (int j = 0; j < K->dim; j++) {
                 lam = kc_max(lam, vb[j] / L->vmax[j]);
                 lam = kc_max(lam, kc_sqrt(ab[j] / L->amax[j]));
+                lam = kc_max(lam, kc_cbrt(jb[j] / L->jmax[j]));
             }
         }
     }
@@ -656,8 +660,10 @@ kc_path_cfg kc_path_cfg_default(void)
     KC_PATH_KNOT_DEFAULTS(c);
     c.dim = 0;
     c.q = c.qd = c.qdd = NULL;
-    for (int j = 0; j < KC_MAX_JOINTS; j++)
+    for (int j = 0; j < KC_MAX_JOINTS; j++) {
         c.vmax[j] = c.amax[j] = KC_R(1.0);
+        c.jmax[j] = (kc_real)HUGE_VAL;
+    }
     return c;
 }
 
@@ -692,10 +698,12 @@ kc_status kc_path_plan(kc_path *path, const kc_path_cfg *cfg)
         kc_path_given_times(&K, cfg->t);
     } else {
         for (int j = 0; j < dim; j++) {
-            if (!kc_path_finite_positive(cfg->vmax[j]) || !kc_path_finite_positive(cfg->amax[j]))
+            if (!kc_path_finite_positive(cfg->vmax[j]) || !kc_path_finite_positive(cfg->amax[j]) ||
+                !(cfg->jmax[j] > KC_R(0.0)))
                 return KC_E_ARG;
             L.vmax[j] = cfg->vmax[j];
             L.amax[j] = cfg->amax[j];
+            L.jmax[j] = cfg->jmax[j];
             ratio = kc_max(ratio, cfg->vmax[j] / cfg->amax[j]);
         }
         for (int i = 0; i + 1 < n; i++) {

@@ -34,6 +34,7 @@ typedef struct kc_path_limits {
     int norm;                    /* Cartesian: limits on |p'|, |p''| */
     kc_real vmax[KC_MAX_JOINTS]; /* per coordinate, or [0] for the norm */
     kc_real amax[KC_MAX_JOINTS];
+    kc_real jmax[KC_MAX_JOINTS]; /* per coordinate, > 0, +infinity: none (not with norm) */
 } kc_path_limits;
 
 static inline int kc_path_finite_positive(kc_real x) { return kc_isfinite(x) && x > KC_R(0.0); }

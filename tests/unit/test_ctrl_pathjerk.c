@@ -23,6 +23,13 @@
 
 #define LIMIT_SLACK (16.0 * (double)KC_REAL_EPS)
 
+/* The controller's per-tick limit check's slack (kinctl/ctrl.h). */
+#ifdef KC_REAL_FLOAT
+#define JERK_SLACK 1e-4
+#else
+#define JERK_SLACK 1e-6
+#endif
+
 typedef struct harness {
     kc_chain chain;
     kc_ctrl_cfg cfg;
@@ -274,6 +281,58 @@ static void test_trapezoid_ramp(void **state)
     assert_int_equal(H.scurve_ticks, 0);
 }
 
+/* The largest change of a joint's qdd over a tick, over dt, against its
+ * qddd_max, from the setpoint before to this one, while a path runs. */
+static double tick_jerk(const kc_real *qdd_before)
+{
+    double worst = 0.0;
+    for (int j = 0; j < H.chain.n_joints; j++)
+        worst = fmax(worst, fabs((double)H.out.qdd[j] - (double)qdd_before[j]) / (double)H.cfg.dt /
+                                (double)H.chain.joints[j].limits.qddd_max);
+    return worst;
+}
+
+/* A quintic joint path through random knots (its knot times computed from
+ * the limits, its knot derivatives from the times): jerk-limited by
+ * default, its times stretched until its pieces keep every joint's jerk
+ * within qddd_max (kinctl/path.h), so every tick of it is, from rest to
+ * rest; with the trapezoid profile the same paths go over. */
+static void test_quintic_times_keep_the_jerk(void **state)
+{
+    (void)state;
+    double worst[2] = {0.0, 0.0};
+    long dur[2] = {0, 0};
+    for (int pass = 0; pass < 2; pass++) {
+        kt_rng r = kt_rng_make(0x9517);
+        for (int c = 0; c < 20; c++) {
+            setup(pass == 0 ? KC_PROFILE_JERK : KC_PROFILE_TRAPEZOID);
+            int n = 2 + (int)kt_uniform(&r, 0.0, 3.0);
+            kc_goal p = path_goal(40 + c, KC_PATH_QUINTIC, n, (const kc_real[4]){0, 0, 0, 0});
+            for (int i = 0; i < n; i++)
+                for (int j = 0; j < 6; j++)
+                    p.points[i][j] = KT_PUMA_Q0[j] + (kc_real)kt_uniform(&r, -0.4, 0.4);
+            kc_real before[KC_MAX_JOINTS] = {0};
+            tick(&p, KC_CMD_NONE);
+            assert_true(kt_has_event(&H.out, KC_EVENT_STARTED, p.id));
+            for (int k = 0; k < 40000 && H.out.state != KC_CTRL_IDLE; k++) {
+                worst[pass] = fmax(worst[pass], tick_jerk(before));
+                memcpy(before, H.out.qdd, sizeof before);
+                tick(NULL, KC_CMD_NONE);
+                dur[pass]++;
+                assert_true(H.out.state != KC_CTRL_FAULT);
+            }
+            assert_int_equal(H.out.state, KC_CTRL_IDLE);
+            for (int j = 0; j < 6; j++)
+                kt_near((double)H.out.q[j], (double)p.points[n - 1][j], 1e-9, "quintic path end");
+        }
+    }
+    print_message("20 quintic joint paths: joints' jerk at most %.7f of qddd_max in %ld ticks (jerk-limited), %.3f "
+                  "in %ld ticks (trapezoid) (%s)\n",
+                  worst[0], dur[0], worst[1], dur[1], KC_REAL_NAME);
+    assert_true(worst[0] <= 1.0 + JERK_SLACK);
+    assert_true(worst[1] > 1.0); /* the stretch is what keeps it */
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -281,6 +340,7 @@ int main(void)
         cmocka_unit_test(test_blend_stop_pause),
         cmocka_unit_test(test_cartesian_path),
         cmocka_unit_test(test_trapezoid_ramp),
+        cmocka_unit_test(test_quintic_times_keep_the_jerk),
     };
     int failed = cmocka_run_group_tests_name("ctrl_pathjerk (" KC_REAL_NAME ")", tests, NULL, NULL);
     kt_report("ctrl_pathjerk");

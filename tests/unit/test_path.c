@@ -578,6 +578,71 @@ static void test_joint_properties(void **state)
            n_joint_cases, n_joint_ticks, n_stretched, tightest_stretch);
 }
 
+/* The largest |qddd| of path P's pieces, sampled (SAMPLES points a piece,
+ * both ends included) from their coefficients: independent of the
+ * Bernstein bound the planner stretches by. */
+static double sampled_jerk(void)
+{
+    enum { SAMPLES = 200 };
+    double worst = 0.0;
+    for (int p = 0; p < P.n_pieces; p++)
+        for (int s = 0; s <= SAMPLES; s++) {
+            double tau = (double)P.len[p] * s / SAMPLES;
+            for (int j = 0; j < P.dim; j++) {
+                double jerk = 0.0, pw = 1.0;
+                for (int i = 3; i < P.n_coeffs; i++) {
+                    jerk += (double)(i * (i - 1) * (i - 2)) * (double)P.c[p][i][j] * pw;
+                    pw *= tau;
+                }
+                worst = fmax(worst, fabs(jerk) / (double)JC.cfg.jmax[j]);
+            }
+        }
+    return worst;
+}
+
+/* Computed times with a jerk limit (kinctl/path.h): Lagrange paths, cubic
+ * splines and quintics whose derivatives are all computed are stretched
+ * so that their pieces keep |qddd| <= jmax, the bound tight to within
+ * the Bernstein bound's slack; without jmax (+infinity) nothing changes,
+ * and with one the knot times are the plain plan's scaled by the ratio
+ * of the stretches. */
+static void test_jerk_stretch(void **state)
+{
+    (void)state;
+    kt_rng rng = kt_rng_make(0x6a65726b); /* "jerk" */
+    const int variants[4] = {V_LAGRANGE, V_CLAMPED, V_NATURAL, V_QUINTIC};
+    double tightest = 1e9;
+    int bound = 0;
+    for (int k = 0; k < 200; k++) {
+        int v = variants[k % 4];
+        make_case(&rng, v, 0);
+        assert_int_equal(kc_path_plan(&P, &JC.cfg), KC_OK);
+        double plain = (double)P.stretch, d_plain = (double)P.duration;
+        for (int j = 0; j < JC.cfg.dim; j++)
+            JC.cfg.jmax[j] = (kc_real)kt_uniform(&rng, 0.5, 20.0);
+        double loose = sampled_jerk();
+        assert_int_equal(kc_path_plan(&P, &JC.cfg), KC_OK);
+        double worst = sampled_jerk();
+        if (!(worst <= 1.0 + KT_PATH_REL)) /* the coefficients rounded after the stretch */
+            fail_msg("%s case %d: jerk %.9g of the limit (stretch %g, %g without jmax)", variant_name[v], k, worst,
+                     (double)P.stretch, plain);
+        assert_true((double)P.stretch >= plain);
+        kt_near((double)P.duration, d_plain * (double)P.stretch / plain, 16.0 * (double)KC_REAL_EPS * d_plain,
+                "the plain plan's times, scaled");
+        if ((double)P.stretch > plain * (1.0 + 1e-6)) {
+            /* The jerk set the stretch: it was over the limit before. */
+            assert_true(loose > 1.0);
+            tightest = fmin(tightest, worst);
+            bound++;
+        }
+    }
+    printf("jerk-limited joint paths: 200 random cases, %d stretched for jerk, every piece within jmax, the "
+           "loosest reaching %.3f of it\n",
+           bound, tightest);
+    assert_true(bound >= 20); /* the jerk does set the stretch, in a fair share */
+    assert_true(tightest >= 0.5);
+}
+
 /* ---- properties of random Cartesian paths ---- */
 
 typedef struct ccase {
@@ -1277,6 +1342,7 @@ int main(void)
         cmocka_unit_test(test_lagrange_vectors),
         cmocka_unit_test(test_spline_vectors),
         cmocka_unit_test(test_joint_properties),
+        cmocka_unit_test(test_jerk_stretch),
         cmocka_unit_test(test_cartesian_properties),
         cmocka_unit_test(test_ticks),
         cmocka_unit_test(test_computed_times),

@@ -81,9 +81,12 @@
  * velocity change 2 vmax_j keeps |qdd| <= amax_j, and T_i >= 2 t_acc; a
  * given t_acc that would need more than amax_j in a blend is KC_E_LIMIT. Lagrange, and splines and quintics whose knot
  * derivatives are all computed: the whole timing is then stretched by the
- * factor lambda = max(1, Vb / vmax, sqrt(Ab / amax)) (per joint), where Vb
- * and Ab bound |qd| and |qdd| rigorously (Bernstein coefficients on eight
- * sub-intervals of each piece): the stretched path keeps both limits. With
+ * factor lambda = max(1, Vb / vmax, sqrt(Ab / amax), cbrt(Jb / jmax)) (per
+ * joint), where Vb, Ab and Jb bound |qd|, |qdd| and |qddd| rigorously
+ * (Bernstein coefficients on eight sub-intervals of each piece): the
+ * stretched path keeps the three limits within its pieces (a cubic
+ * spline's acceleration still jumps at its ends unless they are natural:
+ * there no stretch helps). With
  * given knot velocities the times follow the rule alone and the limits are
  * not checked. A segment with no motion gets T_i = 0 and is KC_E_ARG (except
  * for blends, where T_i >= 2 t_acc).
@@ -179,9 +182,11 @@ typedef struct kc_path_cfg {
     /* Blend half-length (s): required with given times; 0 with computed
      * times means the rule above (1.5 max_j vmax_j / amax_j for quartic). */
     kc_real t_acc;
-    /* Limits per coordinate (> 0) for computed times; unused with times. */
+    /* Limits per coordinate (> 0) for computed times; unused with times.
+     * jmax may be +infinity (kc_path_cfg_default's): jerk unbounded. */
     kc_real vmax[KC_MAX_JOINTS];
     kc_real amax[KC_MAX_JOINTS];
+    kc_real jmax[KC_MAX_JOINTS];
     /* Tick period (s), > 0. */
     kc_real dt;
 } kc_path_cfg;
