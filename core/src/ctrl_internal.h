@@ -212,6 +212,12 @@ void kc_ctrl_servo_aim(kc_ctrl *c, int64_t k0);
  * moved on to this tick (a pose stream without shaping has none). */
 void kc_ctrl_servo_tick(kc_ctrl *c);
 
+/* A replacing servo goal g taking over the moving arm in this tick
+ * (kinctl/ctrl.h): its shaped target starts from the tool's pose, twist
+ * and the twist's rate at the last setpoint. Returns 1 when taken (the
+ * takeover's events emitted), 0 when it stops first. */
+int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out);
+
 /* ---- ctrl_blend.c: a replacing Cartesian goal superposed on the stop of
  * the motion it replaces (kinctl/ctrl.h) ---- */
 

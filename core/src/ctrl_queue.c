@@ -253,7 +253,7 @@ void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
             take_retarget(c, g);
             return;
         }
-        if (!g->stop_first && kc_ctrl_blend_take(c, g, out))
+        if (!g->stop_first && (kc_ctrl_servo_take(c, g, out) || kc_ctrl_blend_take(c, g, out)))
             return;
         queue_push(c, g);
         /* Anything still moving stops first, and the answer says so. */

@@ -3,7 +3,8 @@
  * stream's twist moving towards the commanded twist, a pose stream's pose
  * towards the commanded pose, each within the goal's Cartesian bounds
  * axis by axis, and where the shaping starts again (the stream's start,
- * RESUME, a pose message, a zone restraining the arm). */
+ * RESUME, a pose message, a zone restraining the arm, a stream taking
+ * over a moving arm from the tool's own motion). */
 #include "ctrl_internal.h"
 #include "vec3_internal.h"
 
@@ -194,4 +195,75 @@ void kc_ctrl_servo_tick(kc_ctrl *c)
         servo_twist_tick(c);
     else if (kc_ctrl_servo_shaped(c))
         pose_at(c, c->cycle);
+}
+
+int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
+{
+    if (g->kind != KC_GOAL_SERVO || g->stop_first || !c->active || c->state != KC_CTRL_MOVING || c->blend.on ||
+        c->jstop || c->drive == KC_DRIVE_HALT || c->drive == KC_DRIVE_STOPPING_WAIT)
+        return 0;
+    /* The stream's target goes on from the motion's own target as it is
+     * sampled tick by tick, which the IK step tracks with an error of its
+     * own that so goes on unchanged: a shaped pose stream's profiles are
+     * sampled as a line's, an arc's, a Cartesian path's or another shaped
+     * pose stream's law is; a twist stream's target moves by its twist
+     * over each tick, as another twist stream's does. Across the two
+     * (and from a motion in joint space, the tool's pose) the positions
+     * differ by a dt^2 / 2 in a tick, a step of the joints' acceleration
+     * through the IK step's feedback: those stop first. */
+    int pose_law = c->goal.kind == KC_GOAL_LINE || c->goal.kind == KC_GOAL_ARC ||
+                   c->goal.kind == KC_GOAL_PATH_CART || kc_ctrl_servo_shaped(c);
+    if (g->servo_twist ? !(c->goal.kind == KC_GOAL_SERVO && c->goal.servo_twist)
+                       : !pose_law || kc_ctrl_goal_profile(c, g) != KC_PROFILE_JERK)
+        return 0;
+    kc_real v[6], a[6];
+    kc_pose from = c->servo_target;
+    if (c->goal.kind == KC_GOAL_SERVO) {
+        memcpy(v, c->servo_v, sizeof v);
+        memcpy(a, c->servo_a, sizeof a);
+    } else {
+        /* The segment's target at j, the last setpoint's tick, its twist,
+         * and the twist's rate by the central difference of its twist at
+         * j + 1 and j - 1. */
+        int64_t j = c->cycle - 1 - c->k0;
+        kc_ctrl_seg_point o;
+        kc_ctrl_seg_eval(c, j + 1, &o);
+        memcpy(a, o.twist, sizeof a);
+        kc_ctrl_seg_eval(c, j - 1, &o);
+        for (int i = 0; i < 6; i++)
+            a[i] = (a[i] - o.twist[i]) / (KC_R(2.0) * c->cfg.dt);
+        kc_ctrl_seg_eval(c, j, &o);
+        from = o.pose;
+        memcpy(v, o.twist, sizeof v);
+    }
+    /* Within the goal's Cartesian bounds: the vectors (a pose stream's
+     * profiles bring an axis beyond its own share back within it,
+     * jerk-limited), and for a twist stream each axis' rate within its
+     * share (its step would clamp a rate beyond it at once). */
+    kc_interp_limits l = kc_ctrl_cart_limits(&c->cfg, g);
+    for (int h = 0; h < 2; h++) {
+        const kc_real *vh = &v[3 * h], *ah = &a[3 * h];
+        kc_real vmax = h == 0 ? l.v : l.w, amax = h == 0 ? l.a : l.dw;
+        if (vh[0] * vh[0] + vh[1] * vh[1] + vh[2] * vh[2] > vmax * vmax ||
+            ah[0] * ah[0] + ah[1] * ah[1] + ah[2] * ah[2] > amax * amax)
+            return 0;
+        for (int i = 0; i < 3 && g->servo_twist; i++)
+            if (kc_fabs(ah[i]) > AXIS_SHARE * amax)
+                return 0;
+    }
+    kc_ctrl_emit_takeover(out, g->id, c->goal.id);
+    kc_ctrl_goal_copy(&c->goal, g);
+    c->k0 = c->cycle - 1; /* tick 0 is the last setpoint, as for every segment */
+    c->drive = KC_DRIVE_NOMINAL;
+    c->stop_intent = KC_CMD_NONE;
+    c->settle = 0;
+    c->path_length = KC_R(0.0);
+    c->blend.lax = 0;
+    c->servo_last = c->cycle;
+    c->servo_target = from;
+    memcpy(c->servo_v, v, sizeof c->servo_v);
+    memcpy(c->servo_a, a, sizeof c->servo_a);
+    if (kc_ctrl_servo_shaped(c))
+        kc_ctrl_servo_aim(c, c->cycle - 1);
+    return 1;
 }

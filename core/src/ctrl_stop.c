@@ -205,7 +205,10 @@ int kc_ctrl_joint_stop_eval(const kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *
  * is beyond its scaled A_i (it would first ramp down at a scaled jerk: a
  * longer stop, an overshoot) stops as fast as its own limits allow
  * instead. 0 when a stop cannot be planned (a chain without jerk limits:
- * kc_scurve_plan_stop takes no infinite jmax). */
+ * kc_scurve_plan_stop takes no infinite jmax), or would carry a joint's
+ * speed past its qd_max: one accelerating near its speed limit, whose
+ * acceleration falls to 0 at jerk J only after its speed has grown by
+ * qdd^2 / (2 J) (the final check would refuse that setpoint and fault). */
 static int servo_jerk_stop(kc_ctrl *c)
 {
     int n = c->chain->n_joints;
@@ -223,6 +226,9 @@ static int servo_jerk_stop(kc_ctrl *c)
         kc_real v = kc_fabs(c->qd[i]), a = l->qdd_max, jm = l->qddd_max;
         if (v > KC_R(0.0) && kc_fabs(c->qdd[i]) <= ca * v)
             a = ca * v, jm = cj * v;
+        if (c->qd[i] * c->qdd[i] > KC_R(0.0) &&
+            v + KC_R(0.5) * c->qdd[i] * c->qdd[i] / jm > l->qd_max * (KC_R(1.0) + c->cfg.limit_slack))
+            return 0;
         if (kc_scurve_plan_stop(&c->plan.halt[i], c->q[i], c->qd[i], c->qdd[i], a, jm, c->cfg.dt) != KC_OK)
             return 0;
     }

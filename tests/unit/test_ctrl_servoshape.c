@@ -44,8 +44,11 @@
  * rest on the last pose within TOL_END (position and angle); the
  * timeout's stop as above.
  *
- * And a twist above the goal's speed and omega, followed at them. */
+ * And a twist above the goal's speed and omega, followed at them; a
+ * stream taking over a moving arm (test_streams_take_over); a stream going
+ * quiet as a joint nears its speed limit, stopped within it. */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "testutil.h"
@@ -64,6 +67,9 @@
 #define TOL_END 1e-6
 #endif
 
+/* Ticks each side of a takeover whose jerk it is compared with. */
+#define AROUND 8
+
 /* Ids of the joint moves back to the start, above the streams'. */
 #define HOME_ID 5000
 
@@ -81,6 +87,12 @@ typedef struct harness {
     kc_ctrl_output out;
     kc_real q_prev[KC_MAX_JOINTS], qd_prev[KC_MAX_JOINTS], qdd_prev[KC_MAX_JOINTS];
     double worst_j, worst_track_j, worst_a, worst_cart_j, worst_cart_a, worst_follow;
+    /* Judge the jerk while a motion is followed only on the cycles from
+     * judge_from to judge_to (judge_window set): a takeover's. */
+    int judge_window;
+    int64_t judge_from, judge_to;
+    double window_j, around_j; /* the largest jerk in the window, and on the AROUND ticks each side */
+    double recent[AROUND];     /* the largest jerk of the last AROUND ticks, by cycle */
     long ticks;
 } harness;
 
@@ -109,10 +121,21 @@ static void tick(const kc_goal *g)
         double q = (double)H.out.q[j], qd = (double)H.out.qd[j], qdd = (double)H.out.qdd[j];
         double rv = fabs(qd) / (double)l->qd_max, ra = fabs(qdd) / (double)l->qdd_max;
         double rj = fabs(qdd - (double)H.qdd_prev[j]) / dt / (double)l->qddd_max;
-        if (H.out.state == KC_CTRL_MOVING && H.out.goal_id < HOME_ID) {
+        /* Following a motion, or its last setpoint as it completes (a
+         * Cartesian one's: the IK step's, settled). */
+        int ending = 0;
+        for (int e = 0; e < H.out.n_events; e++)
+            ending |= H.out.events[e].kind == KC_EVENT_COMPLETED && H.out.events[e].goal_id < HOME_ID;
+        if ((H.out.state == KC_CTRL_MOVING && H.out.goal_id < HOME_ID) || ending) {
             H.worst_track_j = fmax(H.worst_track_j, rj);
-            if (!TRACK_JERK_JUDGED)
-                rj = 0.0;
+            int in_window = H.out.cycle >= H.judge_from && H.out.cycle <= H.judge_to;
+            if (H.judge_window && in_window)
+                H.window_j = fmax(H.window_j, rj);
+            else if (H.judge_window && H.out.cycle > H.judge_to && H.out.cycle <= H.judge_to + AROUND)
+                H.around_j = fmax(H.around_j, rj);
+            H.recent[H.out.cycle % AROUND] = fmax(j == 0 ? 0.0 : H.recent[H.out.cycle % AROUND], rj);
+            if (!TRACK_JERK_JUDGED || H.judge_window)
+                rj = 0.0; /* measured; a takeover judged against its neighbours */
         }
         /* q moves by the tick's qd dt (the IK step's integration) or, in
          * a stop, by the exact cubic's step over a tick of jerk at most J
@@ -123,9 +146,9 @@ static void tick(const kc_goal *g)
                                                 (double)l->qddd_max * dt * dt * dt / 6.0);
         if (!(rv <= 1.0 + SLACK && ra <= 1.0 + SLACK && rj <= 1.0 + SLACK_JERK &&
               dq <= dq_max * (1.0 + SLACK) + 4.0 * eps * (fabs(q) + 1.0)))
-            fail_msg("cycle %ld joint %d (state %d): |qd| %.7g, |qdd| %.7g, jerk %.7g of the limits, q step %.4g "
+            fail_msg("cycle %ld joint %d (state %d drive %d jstop %d goal %ld events %d/%d): |qd| %.7g, |qdd| %.7g, jerk %.7g of the limits, q step %.4g "
                      "of %.4g",
-                     (long)H.out.cycle, j, H.out.state, rv, ra, rj, dq, dq_max);
+                     (long)H.out.cycle, j, H.out.state, H.ctrl.drive, H.ctrl.jstop, (long)H.out.goal_id, H.out.n_events, H.out.n_events ? (int)H.out.events[0].kind * 100 + (int)H.out.events[0].reason : -1, rv, ra, rj, dq, dq_max);
         H.worst_j = fmax(H.worst_j, rj);
         H.worst_a = fmax(H.worst_a, ra);
         H.q_prev[j] = H.out.q[j];
@@ -477,12 +500,252 @@ static void test_twist_capped_to_speed(void **state)
                   worst[0], worst[1], KC_REAL_NAME);
 }
 
+/* The reason of goal id's ACCEPTED event in this tick's output, or -1. */
+static int accepted_reason(int64_t id)
+{
+    for (int e = 0; e < H.out.n_events; e++)
+        if (H.out.events[e].kind == KC_EVENT_ACCEPTED && H.out.events[e].goal_id == id)
+            return (int)H.out.events[e].reason;
+    return -1;
+}
+
+/* A replacing servo stream takes over a moving arm in the tick it
+ * arrives (kinctl/ctrl.h): random lines, Cartesian paths, joint moves
+ * (the PUMA 560's: the Panda's 7 joints outnumber the task's rows) and
+ * twist streams, replaced after 30-800 ticks by a pose stream (a jump of
+ * up to 3 cm and 0.2 rad from the tool) or a twist stream (up to 0.1 m/s
+ * and 0.3 rad/s). Every tick is checked as above, jerk included, from the
+ * motion's start through the takeover to the stream's timeout stop; a
+ * takeover is ACCEPTED without KC_REASON_STOP_FIRST, the old goal
+ * PREEMPTED and the stream STARTED in the same tick, the arm moving on;
+ * where the tool is beyond the stream's Cartesian bounds (a fast joint
+ * move) the stream stops the motion first. */
+static void test_streams_take_over(void **state)
+{
+    (void)state;
+    /* In double only: the motions stopped first are followed by the IK
+     * step, whose q in float moves qdd by more than their jerk limits
+     * (above). */
+    if (!TRACK_JERK_JUDGED)
+        skip();
+    kc_model models[2] = {KC_MODEL_PUMA560, KC_MODEL_PANDA};
+    for (int m = 0; m < 2; m++) {
+        setup(models[m]);
+        H.judge_window = 1;
+        kt_rng r = kt_rng_make(2301 + (uint64_t)m);
+        int taken = 0, first = 0, eligible = 0;
+        double worst_ratio = 0.0;
+        for (int c = 0; c < CASES; c++) {
+            int64_t id = 800 + 2 * c;
+            int kind = (int)kt_uniform(&r, 0.0, m == 0 ? 4.0 : 3.0); /* line, path, twist, joint */
+            kc_pose here = H.ctrl.pose;
+            kc_goal a;
+            double dp[3];
+            kc_vec3 u = kt_rand_unit(&r), w = kt_rand_unit(&r);
+            double len = kt_uniform(&r, 0.03, 0.1);
+            for (int i = 0; i < 3; i++)
+                dp[i] = len * (double)u.v[i];
+            if (kind == 0) {
+                kc_pose to = moved(&here, dp, kc_vec3_make(KC_R(0.0), KC_R(0.0), KC_R(0.0)));
+                a = kt_line_goal(id, &to);
+            } else if (kind == 1) {
+                memset(&a, 0, sizeof a);
+                a.id = id;
+                a.kind = KC_GOAL_PATH_CART;
+                a.vel_scale = a.acc_scale = KC_R(1.0);
+                a.method = KC_PATH_QUINTIC;
+                a.n_points = 2;
+                kc_quat q;
+                kc_quat_from_mat3(&here.R, &q);
+                for (int p = 0; p < 2; p++) {
+                    for (int k = 0; k < 3; k++)
+                        a.points[p][k] = here.t.v[k] + (kc_real)(dp[k] * (p + 1) / 2.0 + (p == 0 ? 0.02 * (double)w.v[k] : 0.0));
+                    a.points[p][3] = q.w;
+                    a.points[p][4] = q.x;
+                    a.points[p][5] = q.y;
+                    a.points[p][6] = q.z;
+                }
+            } else if (kind == 2) {
+                memset(&a, 0, sizeof a);
+                a.id = id;
+                a.kind = KC_GOAL_SERVO;
+                a.vel_scale = a.acc_scale = KC_R(1.0);
+                a.servo_twist = 1;
+                for (int i = 0; i < 3; i++) {
+                    a.twist[i] = (kc_real)(0.5 * dp[i]);
+                    a.twist[3 + i] = (kc_real)(0.2 * (double)w.v[i]);
+                }
+            } else {
+                kc_real q1[KC_MAX_JOINTS];
+                for (int j = 0; j < H.chain.n_joints; j++)
+                    q1[j] = H.ctrl.q[j] + (kc_real)kt_uniform(&r, -0.3, 0.3);
+                a = kt_joint_goal(id, q1, H.chain.n_joints);
+            }
+            tick(&a);
+            assert_true(kt_has_event(&H.out, KC_EVENT_STARTED, id));
+            int n = 30 + (int)kt_uniform(&r, 0.0, 770.0);
+            for (int k = 0; k < n && H.out.state == KC_CTRL_MOVING; k++)
+                tick(kind == 2 ? &a : NULL);
+            /* The stream. */
+            kc_goal g;
+            memset(&g, 0, sizeof g);
+            g.id = id + 1;
+            g.kind = KC_GOAL_SERVO;
+            g.vel_scale = g.acc_scale = KC_R(1.0);
+            g.replace = 1;
+            int twist = kt_uniform(&r, 0.0, 1.0) < 0.5;
+            kc_vec3 u2 = kt_rand_unit(&r), w2 = kt_rand_unit(&r);
+            if (twist) {
+                g.servo_twist = 1;
+                double sv = kt_uniform(&r, 0.0, 0.1), sw = kt_uniform(&r, 0.0, 0.3);
+                for (int i = 0; i < 3; i++) {
+                    g.twist[i] = (kc_real)(sv * (double)u2.v[i]);
+                    g.twist[3 + i] = (kc_real)(sw * (double)w2.v[i]);
+                }
+            } else {
+                double sp = kt_uniform(&r, 0.0, 0.03), d2[3];
+                for (int i = 0; i < 3; i++)
+                    d2[i] = sp * (double)u2.v[i];
+                kc_vec3 turn_by;
+                kc_vec3_scale(&w2, (kc_real)kt_uniform(&r, 0.0, 0.2), &turn_by);
+                g.pose = moved(&H.ctrl.pose, d2, turn_by);
+            }
+            int moving = H.out.state == KC_CTRL_MOVING;
+            /* Taken over where the laws of the two targets match (kinctl/ctrl.h):
+             * a pose stream after a line or a Cartesian path, a twist stream
+             * after a twist stream; within the stream's bounds. */
+            eligible += moving && (twist ? kind == 2 : kind <= 1);
+            /* The takeover's tick and the next two, against the AROUND
+             * ticks each side. */
+            H.judge_from = H.out.cycle + 1;
+            H.judge_to = H.out.cycle + 3;
+            H.window_j = H.around_j = 0.0;
+            for (int i = 0; i < AROUND; i++)
+                H.around_j = fmax(H.around_j, H.recent[i]);
+            tick(&g);
+            int why = accepted_reason(g.id);
+            assert_true(why == KC_REASON_NONE || why == KC_REASON_STOP_FIRST);
+            if (moving && why == KC_REASON_NONE) {
+                taken++;
+                assert_true(kt_has_event(&H.out, KC_EVENT_PREEMPTED, id));
+                assert_true(kt_has_event(&H.out, KC_EVENT_STARTED, g.id));
+                assert_int_equal(H.out.goal_id, g.id);
+            } else if (moving) {
+                first++;
+            }
+            int hold = 200 + (int)kt_uniform(&r, 0.0, 300.0);
+            for (int k = 0; k < 20000 && hold > 0; k++) {
+                tick(&g);
+                if (H.out.goal_id == g.id)
+                    hold--;
+            }
+            assert_int_equal(H.out.goal_id, g.id);
+            if (moving && why == KC_REASON_NONE) {
+                /* No step of the joints' acceleration: the takeover's
+                 * jerk is its neighbours' (a step of qdd by a tenth of
+                 * qddd_max dt would add 0.1 to it). */
+                worst_ratio = fmax(worst_ratio, H.window_j / H.around_j);
+                if (TRACK_JERK_JUDGED && !(H.window_j <= H.around_j * 1.02 + 1e-9))
+                    fail_msg("%s case %d: the takeover's jerk %.6f of the limits, %.6f on the %d ticks each side",
+                             kc_model_name(models[m]), c, H.window_j, H.around_j, AROUND);
+            }
+            for (int k = 0; k < 20000 && H.out.state != KC_CTRL_IDLE; k++)
+                tick(NULL);
+            assert_int_equal(H.out.state, KC_CTRL_IDLE);
+            assert_true(kt_has_event(&H.out, KC_EVENT_ABORTED, g.id));
+            kc_real q0[KC_MAX_JOINTS];
+            kt_start_q(&H.chain, models[m], q0);
+            kc_goal home = kt_joint_goal(HOME_ID + 200 + c, q0, H.chain.n_joints);
+            tick(&home);
+            for (int k = 0; k < 20000 && !kt_has_event(&H.out, KC_EVENT_COMPLETED, home.id); k++)
+                tick(NULL);
+            assert_int_equal(H.out.state, KC_CTRL_IDLE);
+        }
+        print_message("%s: %d motions replaced by a servo stream, %d where the laws match: %d taken over in the "
+                      "tick, %d stopped first; the joints' jerk at a takeover at most %.4f times its neighbours'; qdd "
+                      "at most %.4f and jerk %.4f in the stops; while following (the Jacobian's: measured) jerk up to "
+                      "%.1f (%s)\n",
+                      kc_model_name(models[m]), CASES, eligible, taken, first, worst_ratio, H.worst_a, H.worst_j,
+                      H.worst_track_j, KC_REAL_NAME);
+        assert_true(taken <= eligible && taken >= eligible * 3 / 4);
+    }
+}
+
+/* A stream that goes quiet while a joint accelerates near its speed
+ * limit: its jerk-limited stop would carry the joint past qd_max (by
+ * qdd^2 / (2 qddd_max)), which the final check refuses; it stops
+ * acceleration-limited instead (kinctl/ctrl.h): no setpoint beyond
+ * qd_max, no fault, the stream ABORTED for its timeout. A twist of 2.5
+ * rad/s about the base's z axis (and the tool point's velocity with it)
+ * takes a joint of the PUMA 560 to its qd_max. */
+static int64_t quiet_run(int64_t last_message, double *worst_qd, int *fault)
+{
+    setup(KC_MODEL_PUMA560);
+    kc_goal g;
+    memset(&g, 0, sizeof g);
+    g.id = 900;
+    g.kind = KC_GOAL_SERVO;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    g.servo_twist = 1;
+    g.speed = KC_R(3.0);
+    g.omega = KC_R(3.0);
+    kc_real w = KC_R(2.5);
+    const kc_vec3 *p = &H.ctrl.pose.t;
+    g.twist[0] = -w * p->v[1]; /* w z x p */
+    g.twist[1] = w * p->v[0];
+    g.twist[5] = w;
+    int64_t cross = -1;
+    *worst_qd = 0.0;
+    *fault = 0;
+    for (int64_t k = 0; k < 4000 && (k < 10 || H.out.state != KC_CTRL_IDLE); k++) {
+        kc_ctrl_input in = {k <= last_message ? &g : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
+        assert_int_equal(kc_ctrl_step(&H.ctrl, &in, &H.out), KC_OK);
+        double fastest = 0.0;
+        for (int j = 0; j < 6; j++)
+            fastest = fmax(fastest, fabs((double)H.out.qd[j]) / (double)H.chain.joints[j].limits.qd_max);
+        *worst_qd = fmax(*worst_qd, fastest);
+        *fault |= H.out.state == KC_CTRL_FAULT || kt_has_event(&H.out, KC_EVENT_FAULT, 0) ||
+                  kt_has_event(&H.out, KC_EVENT_FAULT, g.id);
+        if (cross < 0 && fastest > 0.99)
+            cross = k;
+    }
+    return cross;
+}
+
+static void test_quiet_near_the_speed_limit(void **state)
+{
+    (void)state;
+    double worst;
+    int fault;
+    /* The tick a joint passes 0.99 of its qd_max, streamed throughout;
+     * then the stream goes quiet so that its timeout falls 0-39 ticks
+     * before it (every one of these faulted, limit_guard, while the stop
+     * was always jerk-limited). */
+    int64_t cross = quiet_run(INT64_MAX, &worst, &fault);
+    assert_true(cross > 0);
+    double top = 0.0;
+    for (int64_t d = 0; d < 40; d++) {
+        quiet_run(cross - H.cfg.servo_timeout_ticks - d, &worst, &fault);
+        top = fmax(top, worst);
+        if (fault || !(worst <= 1.0 + SLACK))
+            fail_msg("quiet %ld ticks before: %s, speeds at most %.7f of qd_max", (long)d,
+                     fault ? "faulted" : "no fault", worst);
+        assert_int_equal(H.out.state, KC_CTRL_IDLE);
+        assert_true(kt_has_event(&H.out, KC_EVENT_ABORTED, 900));
+    }
+    print_message("quiet 0-39 ticks before a joint reaches 0.99 of its speed limit: speeds at most %.7f of qd_max, "
+                  "no fault (%s)\n",
+                  top, KC_REAL_NAME);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_random_twist_streams),
         cmocka_unit_test(test_random_pose_streams),
         cmocka_unit_test(test_twist_capped_to_speed),
+        cmocka_unit_test(test_streams_take_over),
+        cmocka_unit_test(test_quiet_near_the_speed_limit),
     };
     int rc = cmocka_run_group_tests(tests, NULL, NULL);
     kt_report("ctrl_servoshape");

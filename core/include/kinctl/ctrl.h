@@ -187,6 +187,26 @@
  * what M or G alone does at that tick where that is more (a parabolic
  * blend's step of qdd), on every tick of the overlap.
  *
+ * A replacing servo stream takes over in the tick it arrives where the
+ * two targets follow the same kind of law, and goes on from the old
+ * target's pose, twist and the twist's rate at the last setpoint (a
+ * segment's twist rate by the central difference of its twists over the
+ * ticks each side): a shaped pose stream after a line, an arc, a
+ * Cartesian path or another shaped pose stream (their targets all
+ * sampled from their laws tick by tick), a twist stream after another
+ * twist stream (both moved by their twists tick by tick); its profiles
+ * or its twist's step then take it on within its bounds, so the IK step
+ * tracks it with the error it already had. The target's twist and rate
+ * must be within the stream's speed, omega, accel and alpha (a twist
+ * stream's rate within each axis' share, which its step would clamp at
+ * once). Across the two kinds of law, or from a motion in joint space
+ * (where the target would start from the tool's pose), the positions
+ * differ by a dt^2 / 2 within a tick, which the IK step's feedback turns
+ * into a step of the joints' acceleration: those stop first (random
+ * takeovers, test_ctrl_servoshape.c: the joints' jerk at the takeover at
+ * most 1.009 times that of the ticks each side; a twist stream after a
+ * line or a Cartesian path up to 4 times, which is why it stops first).
+ *
  * Every other replacement stops first: the active segment stops on its
  * path, and the goal starts from where the arm comes to rest. Its ACCEPTED
  * event carries KC_REASON_STOP_FIRST. These are a joint move whose
@@ -200,7 +220,7 @@
  * task: the step would drop the motion's null-space part, its joint
  * velocities jumping); a path that does not start at rest (Lagrange's);
  * a joint path replacing anything but a jerk-limited joint move or a
- * servo stream; a replacing servo stream; a
+ * servo stream; a replacing servo stream but those above; a
  * replacement during a superposition or a stop; a goal that cannot be
  * planned from P_s; and a goal with stop_first set. Setpoints stay continuous in
  * position and velocity throughout, and in acceleration through
@@ -225,7 +245,11 @@
  * time or somewhat more where one joint's acceleration limit and
  * another's jerk limit bind; a joint whose qdd is beyond its scaled
  * bound stops at its own limits);
- * a chain without jerk limits stops acceleration-limited. RESUME of a
+ * a chain without jerk limits stops acceleration-limited, and so does a
+ * servo stream's stop that would carry a joint past its qd_max (one
+ * accelerating near its speed limit gains qdd^2 / (2 qddd_max) before
+ * its acceleration is down: the final check would refuse that and
+ * fault; every such quiet stream faulted, limit_guard, before). RESUME of a
  * servo stream hands the arm back to the stream's own law.
  * RESET: leaves FAULT or ESTOP (at rest) for IDLE.
  *
