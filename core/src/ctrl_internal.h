@@ -194,6 +194,10 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
 
 /* ---- ctrl_servo.c: a servo stream's shaped target ---- */
 
+/* w: the rotation vector of to from^T (from's rotation onto to's, in the
+ * base frame), the short way round. */
+void kc_ctrl_turn(const kc_mat3 *from, const kc_mat3 *to, kc_vec3 *w);
+
 /* The active goal is a pose stream whose pose is shaped (jerk-limited). */
 int kc_ctrl_servo_shaped(const kc_ctrl *c);
 

@@ -76,10 +76,10 @@ static void servo_twist_tick(kc_ctrl *c)
         c->servo_target.t.v[i] += c->servo_v[i] * dt;
     kc_interp_limits l = kc_ctrl_cart_limits(&c->cfg, &c->goal);
     kc_real cap[2];
-    for (int h = 0; h < 2; h++) {
-        const kc_real *t = &c->goal.twist[3 * h];
+    for (int h = 0; h < 6; h += 3) { /* the linear part, then the angular */
+        const kc_real *t = &c->goal.twist[h];
         kc_real size = kc_sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]), top = h == 0 ? l.v : l.w;
-        cap[h] = size > top ? top / size : KC_R(1.0);
+        cap[h / 3] = size > top ? top / size : KC_R(1.0);
     }
     for (int i = 0; i < 6; i++) {
         kc_real a = shaped_rate(c->servo_v[i], c->servo_a[i], c->goal.twist[i] * cap[i / 3],
@@ -89,6 +89,22 @@ static void servo_twist_tick(kc_ctrl *c)
     }
 }
 
+
+void kc_ctrl_turn(const kc_mat3 *from, const kc_mat3 *to, kc_vec3 *w)
+{
+    kc_quat r0, r1, r0c, d;
+    kc_quat_from_mat3(from, &r0);
+    kc_quat_from_mat3(to, &r1);
+    kc_quat_conj(&r0, &r0c);
+    kc_quat_mul(&r1, &r0c, &d);
+    if (d.w < KC_R(0.0)) { /* the short way round */
+        d.w = -d.w;
+        d.x = -d.x;
+        d.y = -d.y;
+        d.z = -d.z;
+    }
+    kc_quat_log(&d, w);
+}
 
 /* A pose stream's shaped pose at tick k: the three coordinates of its
  * position and the rotation vector phi of R = exp(phi) ref, each a
@@ -153,19 +169,9 @@ static void pose_at(kc_ctrl *c, int64_t k)
 void kc_ctrl_servo_aim(kc_ctrl *c, int64_t k0)
 {
     struct kc_ctrl_servo_plan *s = &c->plan.servo;
-    kc_quat r1, rc, d;
     kc_vec3 phi1;
     kc_quat_from_mat3(&c->servo_target.R, &s->ref);
-    kc_quat_from_mat3(&c->goal.pose.R, &r1);
-    kc_quat_conj(&s->ref, &rc);
-    kc_quat_mul(&r1, &rc, &d);
-    if (d.w < KC_R(0.0)) { /* the short way round */
-        d.w = -d.w;
-        d.x = -d.x;
-        d.y = -d.y;
-        d.z = -d.z;
-    }
-    kc_quat_log(&d, &phi1);
+    kc_ctrl_turn(&c->servo_target.R, &c->goal.pose.R, &phi1);
     kc_interp_limits l = kc_ctrl_cart_limits(&c->cfg, &c->goal);
     for (int i = 0; i < 6; i++) {
         int lin = i < 3;
@@ -241,8 +247,8 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
      * jerk-limited), and for a twist stream each axis' rate within its
      * share (its step would clamp a rate beyond it at once). */
     kc_interp_limits l = kc_ctrl_cart_limits(&c->cfg, g);
-    for (int h = 0; h < 2; h++) {
-        const kc_real *vh = &v[3 * h], *ah = &a[3 * h];
+    for (int h = 0; h < 6; h += 3) { /* the linear part, then the angular */
+        const kc_real *vh = &v[h], *ah = &a[h];
         kc_real vmax = h == 0 ? l.v : l.w, amax = h == 0 ? l.a : l.dw;
         if (vh[0] * vh[0] + vh[1] * vh[1] + vh[2] * vh[2] > vmax * vmax ||
             ah[0] * ah[0] + ah[1] * ah[1] + ah[2] * ah[2] > amax * amax)

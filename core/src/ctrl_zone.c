@@ -63,19 +63,8 @@ void kc_ctrl_zone_servo_limit(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
     int shaped = kc_ctrl_servo_shaped(c);
     if (c->goal.servo_twist || shaped) {
         kc_fk_eval(c->chain, q, &c->servo_target);
-        kc_quat r0, r1, r0c, d;
         kc_vec3 w;
-        kc_quat_from_mat3(&c->pose.R, &r0);
-        kc_quat_from_mat3(&c->servo_target.R, &r1);
-        kc_quat_conj(&r0, &r0c);
-        kc_quat_mul(&r1, &r0c, &d);
-        if (d.w < KC_R(0.0)) { /* the short way round */
-            d.w = -d.w;
-            d.x = -d.x;
-            d.y = -d.y;
-            d.z = -d.z;
-        }
-        kc_quat_log(&d, &w);
+        kc_ctrl_turn(&c->pose.R, &c->servo_target.R, &w);
         for (int i = 0; i < 3; i++) {
             c->servo_v[i] = (c->servo_target.t.v[i] - c->pose.t.v[i]) / dt;
             c->servo_v[3 + i] = w.v[i] / dt;

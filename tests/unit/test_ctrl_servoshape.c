@@ -460,6 +460,20 @@ static void test_random_pose_streams(void **state)
     }
 }
 
+/* A twist stream's goal (its twist zero) with its own speed and omega. */
+static kc_goal twist_goal(int64_t id, kc_real speed, kc_real omega)
+{
+    kc_goal g;
+    memset(&g, 0, sizeof g);
+    g.id = id;
+    g.kind = KC_GOAL_SERVO;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    g.servo_twist = 1;
+    g.speed = speed;
+    g.omega = omega;
+    return g;
+}
+
 /* A twist above the goal's speed and omega is followed at them, in its
  * direction: the shaped linear and angular velocity vectors never exceed
  * them and settle on the commanded vectors scaled to them. */
@@ -467,14 +481,7 @@ static void test_twist_capped_to_speed(void **state)
 {
     (void)state;
     setup(KC_MODEL_PUMA560);
-    kc_goal g;
-    memset(&g, 0, sizeof g);
-    g.id = 700;
-    g.kind = KC_GOAL_SERVO;
-    g.vel_scale = g.acc_scale = KC_R(1.0);
-    g.servo_twist = 1;
-    g.speed = KC_R(0.02);
-    g.omega = KC_R(0.1);
+    kc_goal g = twist_goal(700, KC_R(0.02), KC_R(0.1));
     const double lin[3] = {0.06, -0.08, 0.0}, ang[3] = {0.0, 0.3, -0.4}; /* 0.1 m/s, 0.5 rad/s */
     for (int i = 0; i < 3; i++) {
         g.twist[i] = (kc_real)lin[i];
@@ -485,7 +492,7 @@ static void test_twist_capped_to_speed(void **state)
         tick(&g);
         assert_int_equal(H.out.state, KC_CTRL_MOVING);
         for (int h = 0; h < 2; h++) {
-            double size = norm3(&H.ctrl.servo_v[3 * h]) / top[h];
+            double size = norm3(h == 0 ? &H.ctrl.servo_v[0] : &H.ctrl.servo_v[3]) / top[h];
             worst[h] = fmax(worst[h], size);
             if (!(size <= 1.0 + 8.0 * (double)KC_REAL_EPS))
                 fail_msg("tick %d: the shaped %s velocity %.9g of its bound", k, h == 0 ? "linear" : "angular", size);
@@ -681,14 +688,7 @@ static void test_streams_take_over(void **state)
 static int64_t quiet_run(int64_t last_message, double *worst_qd, int *fault)
 {
     setup(KC_MODEL_PUMA560);
-    kc_goal g;
-    memset(&g, 0, sizeof g);
-    g.id = 900;
-    g.kind = KC_GOAL_SERVO;
-    g.vel_scale = g.acc_scale = KC_R(1.0);
-    g.servo_twist = 1;
-    g.speed = KC_R(3.0);
-    g.omega = KC_R(3.0);
+    kc_goal g = twist_goal(900, KC_R(3.0), KC_R(3.0));
     kc_real w = KC_R(2.5);
     const kc_vec3 *p = &H.ctrl.pose.t;
     g.twist[0] = -w * p->v[1]; /* w z x p */
