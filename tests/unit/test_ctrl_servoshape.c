@@ -158,6 +158,19 @@ static void tick(const kc_goal *g)
     H.ticks++;
 }
 
+/* Back to the arm's start for the next case: a jerk-limited joint move,
+ * every tick checked, ending at rest. */
+static void go_home(kc_model model, int64_t id)
+{
+    kc_real q0[KC_MAX_JOINTS];
+    kt_start_q(&H.chain, model, q0);
+    kc_goal home = kt_joint_goal(id, q0, H.chain.n_joints);
+    tick(&home);
+    for (int k = 0; k < 20000 && !kt_has_event(&H.out, KC_EVENT_COMPLETED, home.id); k++)
+        tick(NULL);
+    assert_int_equal(H.out.state, KC_CTRL_IDLE);
+}
+
 /* The ticks a velocity change of e (per axis) takes at most within a
  * and j: its two jerk ramps and the acceleration held between, and two
  * ticks of rounding to the grid. */
@@ -268,14 +281,7 @@ static void test_random_twist_streams(void **state)
             assert_int_equal(H.out.events[0].reason, KC_REASON_SERVO_TIMEOUT);
             for (int j = 0; j < H.chain.n_joints; j++)
                 assert_true(H.out.qd[j] == KC_R(0.0) && H.out.qdd[j] == KC_R(0.0));
-            /* Back to the start for the next case (a jerk-limited joint move). */
-            kc_real q0[KC_MAX_JOINTS];
-            kt_start_q(&H.chain, models[m], q0);
-            kc_goal home = kt_joint_goal(HOME_ID + c, q0, H.chain.n_joints);
-            tick(&home);
-            for (k = 0; k < 20000 && !kt_has_event(&H.out, KC_EVENT_COMPLETED, home.id); k++)
-                tick(NULL);
-            assert_int_equal(H.out.state, KC_CTRL_IDLE);
+            go_home(models[m], HOME_ID + c);
         }
         print_message("%s: %d twist streams, %ld ticks: the shaped twist's rate at most %.6f and its change %.6f "
                       "of the Cartesian bounds; the joints' qdd at most %.4f and jerk %.4f of their limits (while "
@@ -442,13 +448,7 @@ static void test_random_pose_streams(void **state)
                 tick(NULL);
             assert_int_equal(H.out.state, KC_CTRL_IDLE);
             assert_true(kt_has_event(&H.out, KC_EVENT_ABORTED, id));
-            kc_real q0[KC_MAX_JOINTS];
-            kt_start_q(&H.chain, models[m], q0);
-            kc_goal home = kt_joint_goal(HOME_ID + 100 + c, q0, H.chain.n_joints);
-            tick(&home);
-            for (k = 0; k < 20000 && !kt_has_event(&H.out, KC_EVENT_COMPLETED, home.id); k++)
-                tick(NULL);
-            assert_int_equal(H.out.state, KC_CTRL_IDLE);
+            go_home(models[m], HOME_ID + 100 + c);
         }
         print_message("%s: %d pose streams, %ld poses, %ld ticks: the shaped position's jerk at most %.6f of its "
                       "axis bound; the angular velocity, acceleration and jerk at most %.6f, %.6f, %.6f of the "
@@ -660,13 +660,7 @@ static void test_streams_take_over(void **state)
                 tick(NULL);
             assert_int_equal(H.out.state, KC_CTRL_IDLE);
             assert_true(kt_has_event(&H.out, KC_EVENT_ABORTED, g.id));
-            kc_real q0[KC_MAX_JOINTS];
-            kt_start_q(&H.chain, models[m], q0);
-            kc_goal home = kt_joint_goal(HOME_ID + 200 + c, q0, H.chain.n_joints);
-            tick(&home);
-            for (int k = 0; k < 20000 && !kt_has_event(&H.out, KC_EVENT_COMPLETED, home.id); k++)
-                tick(NULL);
-            assert_int_equal(H.out.state, KC_CTRL_IDLE);
+            go_home(models[m], HOME_ID + 200 + c);
         }
         print_message("%s: %d motions replaced by a servo stream, %d where the laws match: %d taken over in the "
                       "tick, %d stopped first; the joints' jerk at a takeover at most %.4f times its neighbours'; qdd "
