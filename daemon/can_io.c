@@ -238,7 +238,9 @@ static void on_frame(kd_can *c, const struct can_frame *f, int64_t now)
         c->errors++;
         if (f->can_id & CAN_ERR_BUSOFF) {
             c->bus_off++;
-            lose(c, now, "%s is bus-off (%s): CAN output lost", "error frame");
+            /* The probe a whole KD_CAN_PROBE_NS after the frame was read:
+             * the pass's now may precede its arrival. */
+            lose(c, kd_now_ns(), "%s is bus-off (%s): CAN output lost", "error frame");
         }
         return;
     }

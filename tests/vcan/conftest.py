@@ -23,6 +23,7 @@ import bisect
 import math
 import os
 import struct
+import time
 
 import pytest
 
@@ -230,6 +231,14 @@ class Sim:
         with self.drives.lock:
             d = self.drive(n)
             return d.nmt, d.state, d.statusword(), int(round(d.pos))
+
+    def wait_until(self, done, timeout=2.0 * SLOW):
+        """Until done(self) holds or timeout s have passed: the drives take
+        their frames in their own thread, after the frames are on the bus.
+        The caller asserts what it waited for."""
+        end = time.monotonic() + timeout
+        while not done(self) and time.monotonic() < end:
+            time.sleep(0.01)
 
     def events(self, n):
         """What drive n did besides its cycle: [("emcy", code), ("sync_error", length), ...]."""

@@ -196,6 +196,9 @@ def wait_moving(d):
 
 
 def assert_drives_at(sim, q, tol_counts=1):
+    """Each drive's actual position at q, once the drives have taken the
+    bus cycles already sent."""
+    sim.wait_until(lambda s: all(abs(s.state(n)[3] - pos_counts(j, q[j])) <= tol_counts for j, n in enumerate(NODES)))
     for j, n in enumerate(NODES):
         pos = sim.state(n)[3]
         assert abs(pos - pos_counts(j, q[j])) <= tol_counts, \
@@ -548,6 +551,7 @@ def test_shutdown_leaves_no_drive_enabled(can_daemon, drives, recorder, shutdown
     d.bus.send_goal_joint(61, Q_A, vel_scale=0.5, acc_scale=0.5)
     wait_moving(d)
     assert d.stop() == 0
+    sim.wait_until(lambda s: all(s.state(n)[0] == NMT_STATE[nmt_state] for n in NODES))
     for n in NODES:
         got, state, sw, _ = sim.state(n)
         assert state == drive402.SWITCH_ON_DISABLED and sw & 0x4F == 0x40, f"node {n}: {state}, 0x{sw:04x}"
