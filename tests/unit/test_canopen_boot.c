@@ -32,6 +32,8 @@ typedef struct drive {
     uint16_t clamp_index;    /* store clamp_value whatever is written */
     uint32_t clamp_value;
     int silent_sdo;          /* never answers */
+    int deaf;                /* the next deaf requests go unanswered (frames lost) */
+    int served;              /* requests received */
     struct {
         uint16_t index;
         uint8_t sub;
@@ -104,8 +106,13 @@ static int drive_serve(drive *d, const struct can_frame *req, struct can_frame *
 {
     assert_int_equal(req->can_id, 0x600u + (canid_t)d->node);
     assert_int_equal(req->len, 8);
+    d->served++;
     if (d->silent_sdo)
         return 0;
+    if (d->deaf > 0) {
+        d->deaf--;
+        return 0;
+    }
     uint8_t cmd = req->data[0];
     uint16_t index = (uint16_t)(req->data[1] | req->data[2] << 8);
     uint8_t sub = req->data[3];
@@ -163,12 +170,15 @@ static int run(kd_boot *b, drive *d, struct can_frame *last)
     struct can_frame up = heartbeat(d->node, 0);
     int r = kd_boot_rx(b, &up, out, &n);
     for (int guard = 0; guard < 1000 && r == KD_BOOT_WAITING; guard++) {
-        assert_int_equal(n, 1);
-        if (!drive_serve(d, &out[0], &ans)) {
+        /* one request, or after a timeout the abort and the request again */
+        assert_int_equal(n, out[0].data[0] == 0x80 ? 2 : 1);
+        if (n == 2)
+            assert_memory_equal(out[1].data, last->data, 4);
+        *last = out[n - 1];
+        if (drive_serve(d, &out[n - 1], &ans))
+            r = kd_boot_rx(b, &ans, out, &n);
+        else
             r = kd_boot_process(b, b->cfg.sdo_timeout_us, out, &n);
-            break;
-        }
-        r = kd_boot_rx(b, &ans, out, &n);
     }
     if (n > 0)
         *last = out[n - 1];
@@ -357,7 +367,58 @@ static void test_timeouts(void **state)
     assert_memory_equal(last.data, abort, 8);
     kd_boot_why(&b, why, sizeof why);
     assert_string_equal(why, "node 6: SDO read 0x1000:00 (device type) aborted by the master with 0x05040000: SDO "
-                             "protocol timed out");
+                             "protocol timed out, sent 3 times");
+    assert_int_equal(d.served, KD_BOOT_SDO_TRIES);
+}
+
+/* Answers lost on the bus: each unanswered request is aborted and sent
+ * again, and the boot ends as the one that lost nothing, with the same
+ * writes; one answer too many lost fails it. */
+static void test_lost_answers(void **state)
+{
+    (void)state;
+    drive clean, lossy;
+    kd_boot b;
+    struct can_frame out[KD_BOOT_OUT_MAX], last;
+    int n;
+    char why[256];
+    kd_boot_cfg c = config(5);
+    drive_init(&clean, 5);
+    assert_int_equal(kd_boot_init(&b, &c), 0);
+    kd_boot_start(&b, out, &n);
+    assert_int_equal(run(&b, &clean, &last), KD_BOOT_DONE);
+    /* two of every request's answers lost, at a write's download */
+    drive_init(&lossy, 5);
+    assert_int_equal(kd_boot_init(&b, &c), 0);
+    kd_boot_start(&b, out, &n);
+    lossy.deaf = KD_BOOT_SDO_TRIES - 1;
+    struct can_frame up = heartbeat(5, 0), ans;
+    int r = kd_boot_rx(&b, &up, out, &n);
+    for (int guard = 0; guard < 2000 && r == KD_BOOT_WAITING; guard++) {
+        if (lossy.deaf == 0 && n == 1 && out[0].data[0] != 0x80)
+            lossy.deaf = KD_BOOT_SDO_TRIES - 1; /* every new request */
+        if (drive_serve(&lossy, &out[n - 1], &ans))
+            r = kd_boot_rx(&b, &ans, out, &n);
+        else
+            r = kd_boot_process(&b, c.sdo_timeout_us, out, &n);
+    }
+    assert_int_equal(r, KD_BOOT_DONE);
+    assert_int_equal(lossy.served, clean.served * KD_BOOT_SDO_TRIES);
+    assert_int_equal(lossy.n_writes, clean.n_writes);
+    for (int i = 0; i < clean.n_writes; i++) {
+        assert_int_equal(lossy.writes[i].index, clean.writes[i].index);
+        assert_int_equal(lossy.writes[i].sub, clean.writes[i].sub);
+        assert_int_equal(lossy.writes[i].value, clean.writes[i].value);
+    }
+    /* one more lost: the first request fails after its third send */
+    drive_init(&lossy, 5);
+    lossy.deaf = KD_BOOT_SDO_TRIES;
+    assert_int_equal(kd_boot_init(&b, &c), 0);
+    kd_boot_start(&b, out, &n);
+    assert_int_equal(run(&b, &lossy, &last), KD_BOOT_E_SDO);
+    kd_boot_why(&b, why, sizeof why);
+    assert_string_equal(why, "node 5: SDO read 0x1000:00 (device type) aborted by the master with 0x05040000: SDO "
+                             "protocol timed out, sent 3 times");
 }
 
 /* configure = 0 (drives configured by other means): the checks, then NMT
@@ -475,6 +536,7 @@ int main(void)
         cmocka_unit_test(test_device_type_and_identity),
         cmocka_unit_test(test_abort_and_readback),
         cmocka_unit_test(test_timeouts),
+        cmocka_unit_test(test_lost_answers),
         cmocka_unit_test(test_checks_only),
         cmocka_unit_test(test_sync_counter_order),
         cmocka_unit_test(test_interpolation_and_args),
