@@ -86,7 +86,6 @@ static void fail(kd_master *m, int64_t now, const char *fmt, ...)
 static void read_position(kd_master *m, int j, int64_t now)
 {
     struct can_frame out[1];
-    m->sdo_tries[j]++;
     if (kd_sdo_upload(&m->sdo[j], 0x6064, 0, &out[0]) == KD_SDO_WAITING)
         send(m, out, 1, now);
 }
@@ -100,7 +99,6 @@ static void start_read(kd_master *m, int64_t now)
         tell(m, KD_DRIVES_ENABLING, "enabling %d drives: reading their positions (0x6064)", m->n);
     for (j = 0; j < m->n; j++) {
         m->have_pos[j] = 0;
-        m->sdo_tries[j] = 0;
         (void)kd_sdo_init(&m->sdo[j], node_of(m, j), (uint32_t)(m->cfg->sdo_timeout_ms * 1000.0));
         read_position(m, j, now);
     }
@@ -315,11 +313,9 @@ static void read_each(kd_master *m, const struct can_frame *f, uint32_t elapsed_
         if (r == KD_SDO_DONE && f != NULL) {
             m->have_pos[j] = 1;
             m->pos_counts[j] = (int32_t)m->sdo[j].value;
-        } else if (r == KD_SDO_E_TIMEOUT && m->sdo_tries[j] < KD_MASTER_READ_TRIES) {
-            read_position(m, j, now);
         } else if (r == KD_SDO_E_TIMEOUT) {
             fail(m, now, "joint %d (node %d): SDO read 0x6064:00 (position actual value): no answer within %g ms, %d "
-                         "times", j + 1, node_of(m, j), m->cfg->sdo_timeout_ms, m->sdo_tries[j]);
+                         "times", j + 1, node_of(m, j), m->cfg->sdo_timeout_ms, m->sdo[j].sends);
         } else if (r < 0 && r != KD_SDO_E_BUSY) {
             fail(m, now, "joint %d (node %d): SDO read 0x6064:00 (position actual value) aborted 0x%08X: %s", j + 1,
                  node_of(m, j), m->sdo[j].abort_code, kd_sdo_abort_str(m->sdo[j].abort_code));

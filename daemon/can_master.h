@@ -11,8 +11,8 @@
  *              0x6007, the joint's own writes, each read back, NMT start;
  *              with boot = false the checks and NMT start only)
  *   enabling   each drive's position actual (0x6064) read by SDO (asked
- *              up to KD_MASTER_READ_TRIES times when a drive does not
- *              answer within sdo_timeout_ms: a busy drive may drop one),
+ *              up to KD_SDO_SENDS times when a drive does not answer
+ *              within sdo_timeout_ms: a busy bus may lose a frame),
  *              converted with the joint's scale, sign and offset and
  *              checked against its limits; the controller is seated there
  *              (kc_ctrl_seat, through the I/O thread: kd_master_seat_wanted
@@ -59,8 +59,6 @@
 #include "cia402.h"
 #include "kinctl/chain.h"
 
-#define KD_MASTER_READ_TRIES 3
-
 /* status_t.drives */
 enum { KD_DRIVES_NONE = 0, KD_DRIVES_BOOTING = 1, KD_DRIVES_ENABLING = 2, KD_DRIVES_ENABLED = 3, KD_DRIVES_DISABLED = 4 };
 
@@ -80,7 +78,6 @@ typedef struct kd_master {
     int booted[KC_MAX_JOINTS];       /* configured and started */
     int64_t bootups[KC_MAX_JOINTS];  /* the link's boot-ups when it was started */
     kd_sdo sdo[KC_MAX_JOINTS];
-    int sdo_tries[KC_MAX_JOINTS];    /* reads of 0x6064 sent */
     int have_pos[KC_MAX_JOINTS];
     int32_t pos_counts[KC_MAX_JOINTS];
     kc_real q_seat[KC_MAX_JOINTS];

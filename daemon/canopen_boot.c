@@ -229,19 +229,6 @@ static int end(kd_boot *b, int result)
     return result;
 }
 
-/* The SDO request of step b->at in phase into out: PH_REQUEST a write's
- * download, PH_READBACK an upload (a check's, or a write's read-back). */
-static void send_sdo(kd_boot *b, int phase, struct can_frame *out)
-{
-    const kd_boot_step *s = &b->step[b->at];
-    if (phase == PH_REQUEST)
-        (void)kd_sdo_download(&b->sdo, s->index, s->subindex, s->value, s->size, out);
-    else
-        (void)kd_sdo_upload(&b->sdo, s->index, s->subindex, out);
-    b->phase = phase;
-    b->tries = 1;
-}
-
 /* Sends the request of step b->at, or NMT start after the last. */
 static int request(kd_boot *b, struct can_frame *out, int *n_out)
 {
@@ -250,8 +237,13 @@ static int request(kd_boot *b, struct can_frame *out, int *n_out)
         (*n_out)++;
         return end(b, KD_BOOT_DONE);
     }
-    send_sdo(b, b->step[b->at].write ? PH_REQUEST : PH_READBACK, &out[*n_out]);
+    const kd_boot_step *s = &b->step[b->at];
+    if (s->write)
+        (void)kd_sdo_download(&b->sdo, s->index, s->subindex, s->value, s->size, &out[*n_out]);
+    else
+        (void)kd_sdo_upload(&b->sdo, s->index, s->subindex, &out[*n_out]);
     (*n_out)++;
+    b->phase = s->write ? PH_REQUEST : PH_READBACK;
     return KD_BOOT_WAITING;
 }
 
@@ -260,7 +252,6 @@ int kd_boot_start(kd_boot *b, struct can_frame *out, int *n_out)
     *n_out = 0;
     b->waited_us = 0;
     b->at = 0;
-    b->tries = 0;
     b->phase = PH_WAIT_BOOT;
     b->result = KD_BOOT_WAITING;
     if (b->cfg.reset_communication) {
@@ -308,8 +299,9 @@ int kd_boot_rx(kd_boot *b, const struct can_frame *f, struct can_frame *out, int
         return sdo_failed(b, r);
     if (b->phase == PH_REQUEST) {
         /* written: read it back */
-        send_sdo(b, PH_READBACK, &out[0]);
+        (void)kd_sdo_upload(&b->sdo, s->index, s->subindex, &out[0]);
         *n_out = 1;
+        b->phase = PH_READBACK;
         return KD_BOOT_WAITING;
     }
     if ((b->sdo.value & s->mask) != (s->value & s->mask) && !s->optional) {
@@ -331,14 +323,6 @@ int kd_boot_process(kd_boot *b, uint32_t elapsed_us, struct can_frame *out, int 
         return b->waited_us >= b->cfg.bootup_timeout_us ? end(b, KD_BOOT_E_NO_BOOTUP) : KD_BOOT_WAITING;
     }
     int r = kd_sdo_process(&b->sdo, elapsed_us, &out[0], n_out);
-    if (r == KD_SDO_E_TIMEOUT && b->tries < KD_BOOT_SDO_TRIES) {
-        /* The abort is in out[0]; the same request after it. */
-        int tries = b->tries;
-        send_sdo(b, b->phase, &out[*n_out]);
-        (*n_out)++;
-        b->tries = tries + 1;
-        return KD_BOOT_WAITING;
-    }
     return r == KD_SDO_WAITING ? KD_BOOT_WAITING : sdo_failed(b, r);
 }
 
@@ -371,5 +355,5 @@ void kd_boot_why(const kd_boot *b, char *buf, size_t size)
                      s->what, b->result == KD_BOOT_E_ABORTED ? "aborted by the drive with" : "aborted by the master with",
                      b->sdo.abort_code, kd_sdo_abort_str(b->sdo.abort_code));
     if (b->sdo.abort_code == KD_SDO_ABORT_TIMEOUT && b->result == KD_BOOT_E_SDO && n > 0 && (size_t)n < size)
-        snprintf(buf + n, size - (size_t)n, ", sent %d times", b->tries);
+        snprintf(buf + n, size - (size_t)n, ", sent %d times", b->sdo.sends);
 }

@@ -36,11 +36,9 @@
  *   5. NMT start (0x000: 01 node).
  * Every write is read back by an upload and compared (COB-IDs on bits 31
  * and 0..10: drives may set bit 30, "no RTR"). A refusal stops the boot with
- * the drive's abort code, a wrong value with the value read. A request the
- * drive does not answer within sdo_timeout_us is aborted (0x05040000) and
- * sent again, KD_BOOT_SDO_TRIES times in all, as python canopen's client
- * does: a frame lost on a busy bus costs a timeout, not the boot. Each
- * request writes or reads one whole value, so sending it again is safe.
+ * the drive's abort code, a wrong value with the value read. The SDO
+ * client sends a request the drive does not answer again (canopen_sdo.h:
+ * KD_SDO_SENDS in all) before the boot fails.
  */
 #ifndef KINCTL_DAEMON_CANOPEN_BOOT_H
 #define KINCTL_DAEMON_CANOPEN_BOOT_H
@@ -56,8 +54,7 @@
 #define KD_BOOT_MAP_MAX 8     /* mapping entries per PDO (CiA 301) */
 #define KD_BOOT_EXTRA_MAX 16  /* the configuration's own writes per drive */
 #define KD_BOOT_STEPS_MAX 96  /* checks and writes of one boot */
-#define KD_BOOT_OUT_MAX 2     /* frames out of one call */
-#define KD_BOOT_SDO_TRIES 3   /* sends of one SDO request the drive does not answer */
+#define KD_BOOT_OUT_MAX 2     /* frames out of one call: NMT and a request, or an abort and the request again */
 
 #define KD_NMT_ID 0x000u
 #define KD_NMT_START 0x01u
@@ -133,7 +130,6 @@ typedef struct kd_boot {
     int phase;          /* private: where the sequence is */
     uint32_t waited_us; /* for the boot-up */
     kd_sdo sdo;
-    int tries;          /* sends of the request under way */
     int result;         /* the last result returned */
     uint32_t got;       /* KD_BOOT_E_MISMATCH: the value read */
 } kd_boot;

@@ -48,7 +48,17 @@ static void start(kd_sdo *c, int upload, uint16_t index, uint8_t subindex)
     c->index = index;
     c->subindex = subindex;
     c->elapsed_us = 0;
+    c->sends = 1;
     c->abort_code = 0;
+}
+
+/* The request of the transfer under way into out. */
+static void send_request(const kd_sdo *c, struct can_frame *out)
+{
+    if (c->upload)
+        request(c, 0x40u, 0, out);
+    else /* ccs 1, n = 4 - size unused bytes, e = 1, s = 1 */
+        request(c, (uint8_t)(0x23u | (unsigned)(4 - c->size) << 2), c->value, out);
 }
 
 int kd_sdo_download(kd_sdo *c, uint16_t index, uint8_t subindex, uint32_t value, int size, struct can_frame *out)
@@ -62,8 +72,7 @@ int kd_sdo_download(kd_sdo *c, uint16_t index, uint8_t subindex, uint32_t value,
     start(c, 0, index, subindex);
     c->value = value;
     c->size = size;
-    /* ccs 1, n = 4 - size unused bytes, e = 1, s = 1 */
-    request(c, (uint8_t)(0x23u | (unsigned)(4 - size) << 2), value, out);
+    send_request(c, out);
     return KD_SDO_WAITING;
 }
 
@@ -74,7 +83,7 @@ int kd_sdo_upload(kd_sdo *c, uint16_t index, uint8_t subindex, struct can_frame 
     start(c, 1, index, subindex);
     c->value = 0;
     c->size = 0;
-    request(c, 0x40u, 0, out);
+    send_request(c, out);
     return KD_SDO_WAITING;
 }
 
@@ -130,8 +139,15 @@ int kd_sdo_process(kd_sdo *c, uint32_t elapsed_us, struct can_frame *out, int *n
     if (!c->busy)
         return KD_SDO_DONE;
     c->elapsed_us = elapsed_us >= c->timeout_us - c->elapsed_us ? c->timeout_us : c->elapsed_us + elapsed_us;
-    if (c->elapsed_us >= c->timeout_us)
+    if (c->elapsed_us < c->timeout_us)
+        return KD_SDO_WAITING;
+    if (c->sends >= KD_SDO_SENDS)
         return client_abort(c, KD_SDO_ABORT_TIMEOUT, KD_SDO_E_TIMEOUT, out, n_out);
+    request(c, 0x80u, KD_SDO_ABORT_TIMEOUT, &out[0]);
+    send_request(c, &out[1]);
+    c->sends++;
+    c->elapsed_us = 0;
+    *n_out = 2;
     return KD_SDO_WAITING;
 }
 

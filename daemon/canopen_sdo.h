@@ -13,9 +13,14 @@
  *   0x580 + node  response: 0x60 download done, 0x43/0x47/0x4B/0x4F
  *                            upload of 4/3/2/1 bytes, 0x42 upload without
  *                            size (4 bytes), 0x80 abort with its code
- * On a timeout the client aborts with 0x05040000 (SDO protocol timed out);
- * on an answer it cannot take (segmented upload, wrong command) with
- * 0x05040001 (command specifier not valid).
+ * A request the server does not answer within timeout_us is aborted with
+ * 0x05040000 (SDO protocol timed out) and sent again, KD_SDO_SENDS times
+ * in all, as python canopen's client tries again: a frame lost on a busy
+ * bus costs a timeout, not the transfer. Each request writes or reads one
+ * whole value, so a second send changes nothing, and a late answer to the
+ * first is the answer to the second. After the last send the client gives
+ * up with 0x05040000. On an answer it cannot take (segmented upload, wrong
+ * command) it aborts with 0x05040001 (command specifier not valid).
  */
 #ifndef KINCTL_DAEMON_CANOPEN_SDO_H
 #define KINCTL_DAEMON_CANOPEN_SDO_H
@@ -26,6 +31,9 @@
 
 #define KD_SDO_TX_BASE 0x600u /* client -> server */
 #define KD_SDO_RX_BASE 0x580u /* server -> client */
+
+#define KD_SDO_SENDS 3   /* sends of a request the server does not answer */
+#define KD_SDO_OUT_MAX 2 /* frames out of one call: an abort and the request again */
 
 #define KD_SDO_ABORT_TIMEOUT 0x05040000u
 #define KD_SDO_ABORT_COMMAND 0x05040001u
@@ -47,7 +55,8 @@ typedef struct kd_sdo {
     int upload;            /* the transfer under way reads (1) or writes (0) */
     uint16_t index;        /* object of the transfer under way, or of the last one */
     uint8_t subindex;
-    uint32_t elapsed_us;   /* since the request */
+    uint32_t elapsed_us;   /* since the request was last sent */
+    int sends;             /* sends of the request under way, or of the last one */
     uint32_t value;        /* upload: the value read (zero-extended); download: the value written */
     int size;              /* bytes read or written, 1 .. 4 */
     uint32_t abort_code;   /* after KD_SDO_E_*: the abort code (the server's or ours) */
@@ -73,8 +82,10 @@ int kd_sdo_upload(kd_sdo *c, uint16_t index, uint8_t subindex, struct can_frame 
  * is the number of frames written to out (0 or 1). */
 int kd_sdo_rx(kd_sdo *c, const struct can_frame *f, struct can_frame *out, int *n_out);
 
-/* Lets elapsed_us pass. Returns KD_SDO_WAITING, or KD_SDO_E_TIMEOUT with
- * the client's abort into out (*n_out = 1), or KD_SDO_DONE when idle. */
+/* Lets elapsed_us pass. Returns KD_SDO_WAITING (after a timeout before
+ * the last send: the client's abort and the request again into out,
+ * *n_out = 2), KD_SDO_E_TIMEOUT with the client's abort into out (*n_out =
+ * 1), or KD_SDO_DONE when idle. out holds KD_SDO_OUT_MAX frames. */
 int kd_sdo_process(kd_sdo *c, uint32_t elapsed_us, struct can_frame *out, int *n_out);
 
 /* The text of a CiA 301 abort code ("object does not exist in the object

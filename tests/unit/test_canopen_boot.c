@@ -368,7 +368,7 @@ static void test_timeouts(void **state)
     kd_boot_why(&b, why, sizeof why);
     assert_string_equal(why, "node 6: SDO read 0x1000:00 (device type) aborted by the master with 0x05040000: SDO "
                              "protocol timed out, sent 3 times");
-    assert_int_equal(d.served, KD_BOOT_SDO_TRIES);
+    assert_int_equal(d.served, KD_SDO_SENDS);
 }
 
 /* Answers lost on the bus: each unanswered request is aborted and sent
@@ -391,19 +391,19 @@ static void test_lost_answers(void **state)
     drive_init(&lossy, 5);
     assert_int_equal(kd_boot_init(&b, &c), 0);
     kd_boot_start(&b, out, &n);
-    lossy.deaf = KD_BOOT_SDO_TRIES - 1;
+    lossy.deaf = KD_SDO_SENDS - 1;
     struct can_frame up = heartbeat(5, 0), ans;
     int r = kd_boot_rx(&b, &up, out, &n);
     for (int guard = 0; guard < 2000 && r == KD_BOOT_WAITING; guard++) {
         if (lossy.deaf == 0 && n == 1 && out[0].data[0] != 0x80)
-            lossy.deaf = KD_BOOT_SDO_TRIES - 1; /* every new request */
+            lossy.deaf = KD_SDO_SENDS - 1; /* every new request */
         if (drive_serve(&lossy, &out[n - 1], &ans))
             r = kd_boot_rx(&b, &ans, out, &n);
         else
             r = kd_boot_process(&b, c.sdo_timeout_us, out, &n);
     }
     assert_int_equal(r, KD_BOOT_DONE);
-    assert_int_equal(lossy.served, clean.served * KD_BOOT_SDO_TRIES);
+    assert_int_equal(lossy.served, clean.served * KD_SDO_SENDS);
     assert_int_equal(lossy.n_writes, clean.n_writes);
     for (int i = 0; i < clean.n_writes; i++) {
         assert_int_equal(lossy.writes[i].index, clean.writes[i].index);
@@ -412,7 +412,7 @@ static void test_lost_answers(void **state)
     }
     /* one more lost: the first request fails after its third send */
     drive_init(&lossy, 5);
-    lossy.deaf = KD_BOOT_SDO_TRIES;
+    lossy.deaf = KD_SDO_SENDS;
     assert_int_equal(kd_boot_init(&b, &c), 0);
     kd_boot_start(&b, out, &n);
     assert_int_equal(run(&b, &lossy, &last), KD_BOOT_E_SDO);

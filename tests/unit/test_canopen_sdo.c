@@ -152,18 +152,44 @@ static void test_timeout(void **state)
     assert_int_equal(kd_sdo_init(&c, 1, 1000), 0);
     assert_int_equal(kd_sdo_process(&c, 5000, &out, &n), KD_SDO_DONE); /* idle */
     assert_int_equal(n, 0);
-    assert_int_equal(kd_sdo_upload(&c, 0x1017, 0, &out), KD_SDO_WAITING);
-    assert_int_equal(kd_sdo_process(&c, 400, &out, &n), KD_SDO_WAITING);
-    assert_int_equal(kd_sdo_process(&c, 599, &out, &n), KD_SDO_WAITING);
-    assert_int_equal(n, 0);
-    assert_int_equal(kd_sdo_process(&c, 1, &out, &n), KD_SDO_E_TIMEOUT);
+    struct can_frame sent, two[KD_SDO_OUT_MAX];
+    const uint8_t abort[8] = {0x80, 0x17, 0x10, 0x00, 0x00, 0x00, 0x04, 0x05};
+    assert_int_equal(kd_sdo_upload(&c, 0x1017, 0, &sent), KD_SDO_WAITING);
+    /* each unanswered send: the abort, then the same request, its time afresh */
+    for (int k = 1; k < KD_SDO_SENDS; k++) {
+        assert_int_equal(kd_sdo_process(&c, 400, two, &n), KD_SDO_WAITING);
+        assert_int_equal(kd_sdo_process(&c, 599, two, &n), KD_SDO_WAITING);
+        assert_int_equal(n, 0);
+        assert_int_equal(kd_sdo_process(&c, 1, two, &n), KD_SDO_WAITING);
+        assert_int_equal(n, 2);
+        assert_frame(&two[0], 0x601, abort);
+        assert_frame(&two[1], 0x601, sent.data);
+        assert_int_equal(c.sends, k + 1);
+    }
+    assert_int_equal(kd_sdo_process(&c, 999, two, &n), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_process(&c, 1, two, &n), KD_SDO_E_TIMEOUT);
     assert_int_equal(n, 1);
-    assert_frame(&out, 0x601, (const uint8_t[]){0x80, 0x17, 0x10, 0x00, 0x00, 0x00, 0x04, 0x05});
+    assert_frame(&two[0], 0x601, abort);
     assert_int_equal(c.abort_code, KD_SDO_ABORT_TIMEOUT);
+    assert_int_equal(c.sends, KD_SDO_SENDS);
+    /* an answer to a request sent again ends the transfer; a download is
+     * sent again with its value */
+    assert_int_equal(kd_sdo_download(&c, 0x6065, 0, 20000, 4, &sent), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_process(&c, 1000, two, &n), KD_SDO_WAITING);
+    assert_frame(&two[1], 0x601, sent.data);
+    struct can_frame done = sent;
+    done.can_id = 0x581;
+    memset(done.data, 0, 8);
+    done.data[0] = 0x60;
+    done.data[1] = 0x65;
+    done.data[2] = 0x60;
+    assert_int_equal(kd_sdo_rx(&c, &done, two, &n), KD_SDO_DONE);
+    assert_int_equal(c.sends, 2);
     /* a huge step does not wrap the elapsed time */
     assert_int_equal(kd_sdo_upload(&c, 0x1017, 0, &out), KD_SDO_WAITING);
-    assert_int_equal(kd_sdo_process(&c, 999, &out, &n), KD_SDO_WAITING);
-    assert_int_equal(kd_sdo_process(&c, UINT32_MAX, &out, &n), KD_SDO_E_TIMEOUT);
+    assert_int_equal(kd_sdo_process(&c, 999, two, &n), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_process(&c, UINT32_MAX, two, &n), KD_SDO_WAITING);
+    assert_int_equal(n, 2);
 }
 
 int main(void)
