@@ -62,7 +62,10 @@ static int link_ok(const kd_can *c)
     return ok;
 }
 
-static void lose(kd_can *c, int64_t now, const char *fmt, const char *detail)
+/* The link LOST, its first probe a whole KD_CAN_PROBE_NS after the loss
+ * was seen: the clock read here, as the caller's pass may have begun before
+ * the frame or the write that told it. */
+static void lose(kd_can *c, const char *fmt, const char *detail)
 {
     if (c->state != KD_CAN_OK)
         return;
@@ -70,7 +73,7 @@ static void lose(kd_can *c, int64_t now, const char *fmt, const char *detail)
     c->state_changed = 1;
     atomic_store_explicit(&c->bus->paused, 1, memory_order_release);
     snprintf(c->lost_text, sizeof c->lost_text, fmt, c->cfg->interface, detail);
-    c->next_probe_ns = now + KD_CAN_PROBE_NS;
+    c->next_probe_ns = kd_now_ns() + KD_CAN_PROBE_NS;
     if (c->fd >= 0) {
         close(c->fd);
         c->fd = -1;
@@ -111,7 +114,7 @@ void kd_can_close(kd_can *c)
     c->fd = -1;
 }
 
-int kd_can_write(kd_can *c, const struct can_frame *frames, int count, int64_t now)
+int kd_can_write(kd_can *c, const struct can_frame *frames, int count)
 {
     int sent, err;
     if (c->state != KD_CAN_OK || c->fd < 0) {
@@ -126,7 +129,7 @@ int kd_can_write(kd_can *c, const struct can_frame *frames, int count, int64_t n
     c->errors++;
     if (err == ENETDOWN || err == ENXIO || err == ENODEV) {
         c->link_down++;
-        lose(c, now, "%s is down (%s): CAN output lost", strerror(err));
+        lose(c, "%s is down (%s): CAN output lost", strerror(err));
     }
     return sent;
 }
@@ -238,9 +241,7 @@ static void on_frame(kd_can *c, const struct can_frame *f, int64_t now)
         c->errors++;
         if (f->can_id & CAN_ERR_BUSOFF) {
             c->bus_off++;
-            /* The probe a whole KD_CAN_PROBE_NS after the frame was read:
-             * the pass's now may precede its arrival. */
-            lose(c, kd_now_ns(), "%s is bus-off (%s): CAN output lost", "error frame");
+            lose(c, "%s is bus-off (%s): CAN output lost", "error frame");
         }
         return;
     }
@@ -299,7 +300,7 @@ int kd_can_read(kd_can *c, struct can_frame *f, int64_t now)
             if (errno == ENETDOWN || errno == ENXIO || errno == ENODEV) {
                 c->link_down++;
                 c->errors++;
-                lose(c, now, "%s is down (%s): CAN output lost", strerror(errno));
+                lose(c, "%s is down (%s): CAN output lost", strerror(errno));
             }
             return 0;
         }
@@ -352,14 +353,14 @@ void kd_can_timers(kd_can *c, int64_t now)
     err = atomic_exchange_explicit(&c->bus->link_errno, 0, memory_order_acq_rel);
     if (err != 0 && c->state == KD_CAN_OK) {
         c->link_down++;
-        lose(c, now, "%s is down (%s): CAN output lost", strerror(err));
+        lose(c, "%s is down (%s): CAN output lost", strerror(err));
     }
     if (c->state == KD_CAN_LOST && now >= c->next_probe_ns)
         recover(c, now);
     if (c->state == KD_CAN_OK && c->heartbeat_period_ns > 0 && now >= c->next_heartbeat_ns) {
         struct can_frame hb;
         kd_can_encode_heartbeat(c->cfg->master_id, KD_CAN_NMT_OPERATIONAL, &hb);
-        kd_can_write(c, &hb, 1, now);
+        kd_can_write(c, &hb, 1);
         c->next_heartbeat_ns += c->heartbeat_period_ns;
         if (c->next_heartbeat_ns <= now)
             c->next_heartbeat_ns = now + c->heartbeat_period_ns;

@@ -113,7 +113,7 @@ int kd_can_open(kd_can *c, const kd_can_cfg *cfg, kd_bus *bus, int n, int64_t pe
 void kd_can_close(kd_can *c);
 
 /* Writes frames[0..count) without blocking. Returns how many went out. */
-int kd_can_write(kd_can *c, const struct can_frame *frames, int count, int64_t now);
+int kd_can_write(kd_can *c, const struct can_frame *frames, int count);
 
 /* Reads one frame, if the socket holds one, into *f and takes what it says
  * (feedback, heartbeat, EMCY, error frames). Returns 1 with *f set, or 0. */

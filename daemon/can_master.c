@@ -24,10 +24,10 @@ static void tell(kd_master *m, int drives, const char *fmt, ...)
     m->news = 1;
 }
 
-static void send(kd_master *m, const struct can_frame *out, int n, int64_t now)
+static void send(kd_master *m, const struct can_frame *out, int n)
 {
     if (n > 0)
-        kd_can_write(m->can, out, n, now);
+        kd_can_write(m->can, out, n);
 }
 
 static int node_of(const kd_master *m, int j) { return m->cfg->joint[j].node; }
@@ -83,11 +83,11 @@ static void fail(kd_master *m, int64_t now, const char *fmt, ...)
 /* ---- enabling ------------------------------------------------------------ */
 
 /* Asks drive j for its position actual value. */
-static void read_position(kd_master *m, int j, int64_t now)
+static void read_position(kd_master *m, int j)
 {
     struct can_frame out[1];
     if (kd_sdo_upload(&m->sdo[j], 0x6064, 0, &out[0]) == KD_SDO_WAITING)
-        send(m, out, 1, now);
+        send(m, out, 1);
 }
 
 static void start_read(kd_master *m, int64_t now)
@@ -100,7 +100,7 @@ static void start_read(kd_master *m, int64_t now)
     for (j = 0; j < m->n; j++) {
         m->have_pos[j] = 0;
         (void)kd_sdo_init(&m->sdo[j], node_of(m, j), (uint32_t)(m->cfg->sdo_timeout_ms * 1000.0));
-        read_position(m, j, now);
+        read_position(m, j);
     }
 }
 
@@ -238,7 +238,7 @@ static void start_boot(kd_master *m, int64_t now)
         }
         n_out = 0;
         kd_boot_start(&m->boot[j], out, &n_out);
-        send(m, out, n_out, now);
+        send(m, out, n_out);
         m->booting[j] = 1;
         any++;
     }
@@ -292,7 +292,7 @@ static void boot_each(kd_master *m, const struct can_frame *f, uint32_t elapsed_
             continue;
         n_out = 0;
         r = f != NULL ? kd_boot_rx(&m->boot[j], f, out, &n_out) : kd_boot_process(&m->boot[j], elapsed_us, out, &n_out);
-        send(m, out, n_out, now);
+        send(m, out, n_out);
         if (r != KD_BOOT_WAITING)
             boot_result(m, j, r, now);
     }
@@ -309,7 +309,7 @@ static void read_each(kd_master *m, const struct can_frame *f, uint32_t elapsed_
             continue;
         n_out = 0;
         r = f != NULL ? kd_sdo_rx(&m->sdo[j], f, out, &n_out) : kd_sdo_process(&m->sdo[j], elapsed_us, out, &n_out);
-        send(m, out, n_out, now);
+        send(m, out, n_out);
         if (r == KD_SDO_DONE && f != NULL) {
             m->have_pos[j] = 1;
             m->pos_counts[j] = (int32_t)m->sdo[j].value;
@@ -337,14 +337,14 @@ void kd_master_rx(kd_master *m, const struct can_frame *f, int64_t now)
 }
 
 /* shutdown_nmt to every drive. */
-static void send_shutdown_nmt(kd_master *m, int64_t now)
+static void send_shutdown_nmt(kd_master *m)
 {
     struct can_frame out[OUT_MAX];
     int j, n_out = 0;
     for (j = 0; j < m->n; j++) {
         kd_can_encode_nmt((uint8_t)m->cfg->shutdown_nmt, node_of(m, j), &out[n_out++]);
         if (n_out == OUT_MAX || j == m->n - 1) {
-            send(m, out, n_out, now);
+            send(m, out, n_out);
             n_out = 0;
         }
     }
@@ -358,7 +358,7 @@ static void shutdown_step(kd_master *m, int64_t now)
          * its last one before, so nothing follows the NMT command. */
         if (now - m->phase_ns < 2 * m->period_ns * m->cfg->sync_every)
             return;
-        send_shutdown_nmt(m, now);
+        send_shutdown_nmt(m);
         m->phase = P_DONE;
         tell(m, KD_DRIVES_DISABLED, "drives %s, then NMT %s",
              m->disabled_in_time ? "disabled" : "not all disabled in time",
@@ -508,7 +508,7 @@ void kd_master_shutdown(kd_master *m, int64_t now)
         return;
     }
     /* Never enabled: straight to NMT. */
-    send_shutdown_nmt(m, now);
+    send_shutdown_nmt(m);
     m->phase = P_DONE;
     tell(m, KD_DRIVES_DISABLED, "shutdown: drives never enabled; NMT %s sent",
          m->cfg->shutdown_nmt == KD_NMT_STOP ? "stop" : "enter pre-operational");
