@@ -213,6 +213,11 @@ class Sim:
         exact = [0x000, 0x080] + [base + n for n in nodes for base in (0x200, 0x300, 0x600)]
         self.drives.network.bus.set_filters([{"can_id": cid, "can_mask": 0x7FF} for cid in exact] +
                                             [{"can_id": 0x700, "can_mask": 0x780}])
+        self.sync_at = 0.0  # the kernel's time of the last SYNC the drives have taken
+        self.drives.network.subscribe(0x080, self._synced)  # called after the drives' own handler
+
+    def _synced(self, can_id, data, timestamp):
+        self.sync_at = timestamp
 
     def command(self, line):
         reply = self.drives.command(line)
@@ -239,6 +244,14 @@ class Sim:
         end = time.monotonic() + timeout
         while not done(self) and time.monotonic() < end:
             time.sleep(0.01)
+
+    def wait_taken(self, timeout=2.0 * SLOW):
+        """Until the drives have taken a SYNC sent after this call, and so
+        every frame sent before it (the bus cycle running; the drives take
+        frames in their order on the bus)."""
+        since = time.time()
+        self.wait_until(lambda s: s.sync_at > since, timeout)
+        assert self.sync_at > since, f"the drives took no SYNC within {timeout:.1f} s"
 
     def events(self, n):
         """What drive n did besides its cycle: [("emcy", code), ("sync_error", length), ...]."""

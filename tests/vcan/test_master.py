@@ -277,14 +277,15 @@ def test_velocity_offset(can_daemon, drives, recorder):
 
 # ---- faults -----------------------------------------------------------------
 
-def assert_stopped_in_fault(d, goal_id, state="FAULT"):
-    """The goal aborted, the arm at rest in state; then a few bus cycles, so
-    that the drives have taken the last target."""
+def assert_stopped_in_fault(d, sim, goal_id, state="FAULT"):
+    """The goal aborted, the arm at rest in state; then a few bus cycles,
+    and the drives have taken them (the last target)."""
     ab = d.bus.wait_event(goal_id, ["ABORTED", "COMPLETED"])
     assert ab.event == EVENTS["ABORTED"]
     d.bus.wait(lambda: d.bus.setpoints[-1].state == STATES[state] and not any(d.bus.setpoints[-1].qd[:6]),
                timeout=10, what=f"state {state} at rest")
     d.bus.wait_setpoints(5)
+    sim.wait_taken()
 
 
 def assert_goal_refused(d, goal_id):
@@ -325,7 +326,7 @@ def test_emcy_and_fault_reset(can_daemon, drives, recorder):
         assert part in lower(st.reason), f"{part!r} not in {st.reason!r}"
     assert st.code < 0
     wait_drives(d, "DISABLED")
-    assert_stopped_in_fault(d, 21)
+    assert_stopped_in_fault(d, sim, 21)
     before_reset = recorder.so_far()
     cws = [cw for kind, cw, _ in per_node(before_reset, 3) if kind == "rpdo"]
     assert not [cw for cw in cws if cw & CW_FAULT_RESET], \
@@ -358,7 +359,7 @@ def test_quick_stop_on_estop(can_daemon, drives, recorder):
     wait_moving(d)
     d.bus.send_command("ESTOP")
     wait_drives(d, "DISABLED")
-    assert_stopped_in_fault(d, 31, "ESTOP")
+    assert_stopped_in_fault(d, sim, 31, "ESTOP")
     for n in NODES:
         nmt, state, sw, _ = sim.state(n)
         if n % 2:
@@ -386,7 +387,7 @@ def test_drive_rebooted_mid_run(can_daemon, drives, recorder):
     st = wait_fault(d.bus, "drive: ", timeout=15)
     assert "joint 4 (node 4)" in st.reason and "reboot" in st.reason, st.reason
     wait_drives(d, "DISABLED")
-    assert_stopped_in_fault(d, 41)
+    assert_stopped_in_fault(d, sim, 41)
     assert sim.od(4, 0x6060) != 8, "the reboot brought the EDS's defaults back"
     with recorder.lock:
         rebooted_at = len(recorder.frames)
