@@ -43,6 +43,9 @@ int kd_sdo_init(kd_sdo *c, int node, uint32_t timeout_us)
 
 static void start(kd_sdo *c, int upload, uint16_t index, uint8_t subindex)
 {
+    c->owed_upload = c->upload; /* owed was set as the last transfer ended */
+    c->owed_index = c->index;
+    c->owed_subindex = c->subindex;
     c->busy = 1;
     c->upload = upload;
     c->index = index;
@@ -87,9 +90,16 @@ int kd_sdo_upload(kd_sdo *c, uint16_t index, uint8_t subindex, struct can_frame 
     return KD_SDO_WAITING;
 }
 
-static int client_abort(kd_sdo *c, uint32_t code, int result, struct can_frame *out, int *n_out)
+/* The transfer under way ends; answered: on a frame of the server's. */
+static void end(kd_sdo *c, int answered)
 {
     c->busy = 0;
+    c->owed = c->sends - answered;
+}
+
+static int client_abort(kd_sdo *c, uint32_t code, int answered, int result, struct can_frame *out, int *n_out)
+{
+    end(c, answered);
     c->abort_code = code;
     request(c, 0x80u, code, out);
     *n_out = 1;
@@ -102,32 +112,37 @@ int kd_sdo_rx(kd_sdo *c, const struct can_frame *f, struct can_frame *out, int *
     if (!c->busy || (f->can_id & CAN_EFF_FLAG) || f->can_id != KD_SDO_RX_BASE + (canid_t)c->node)
         return KD_SDO_IGNORED;
     if (f->len < 4)
-        return client_abort(c, KD_SDO_ABORT_COMMAND, KD_SDO_E_PROTOCOL, out, n_out);
+        return client_abort(c, KD_SDO_ABORT_COMMAND, 1, KD_SDO_E_PROTOCOL, out, n_out);
     uint16_t index = (uint16_t)(f->data[1] | f->data[2] << 8);
+    uint8_t cmd = f->data[0];
+    if (c->owed > 0 && index == c->owed_index && f->data[3] == c->owed_subindex &&
+        (cmd == 0x80u || (c->owed_upload ? (cmd & 0xE0u) == 0x40u : cmd == 0x60u))) {
+        c->owed--;
+        return KD_SDO_IGNORED;
+    }
     /* An answer about another object is a stale one (an earlier transfer
      * the client gave up on): not this transfer's. */
     if (index != c->index || f->data[3] != c->subindex)
         return KD_SDO_IGNORED;
-    uint8_t cmd = f->data[0];
     if (cmd == 0x80u) {
-        c->busy = 0;
+        end(c, 1);
         c->abort_code = f->len >= 8 ? get_u32(&f->data[4]) : 0;
         return KD_SDO_E_ABORTED;
     }
     if (!c->upload) {
         if (cmd != 0x60u)
-            return client_abort(c, KD_SDO_ABORT_COMMAND, KD_SDO_E_PROTOCOL, out, n_out);
-        c->busy = 0;
+            return client_abort(c, KD_SDO_ABORT_COMMAND, 1, KD_SDO_E_PROTOCOL, out, n_out);
+        end(c, 1);
         return KD_SDO_DONE;
     }
     /* scs 2 with e = 1: expedited; s = 1: n says the unused bytes. */
     if ((cmd & 0xE0u) != 0x40u || !(cmd & 0x02u) || f->len < 8)
-        return client_abort(c, KD_SDO_ABORT_COMMAND, KD_SDO_E_PROTOCOL, out, n_out);
+        return client_abort(c, KD_SDO_ABORT_COMMAND, 1, KD_SDO_E_PROTOCOL, out, n_out);
     int size = (cmd & 0x01u) ? 4 - (int)((cmd >> 2) & 0x03u) : 4;
     uint32_t value = get_u32(&f->data[4]);
     if (size < 4)
         value &= (1u << (8 * size)) - 1u;
-    c->busy = 0;
+    end(c, 1);
     c->value = value;
     c->size = size;
     return KD_SDO_DONE;
@@ -142,7 +157,7 @@ int kd_sdo_process(kd_sdo *c, uint32_t elapsed_us, struct can_frame *out, int *n
     if (c->elapsed_us < c->timeout_us)
         return KD_SDO_WAITING;
     if (c->sends >= KD_SDO_SENDS)
-        return client_abort(c, KD_SDO_ABORT_TIMEOUT, KD_SDO_E_TIMEOUT, out, n_out);
+        return client_abort(c, KD_SDO_ABORT_TIMEOUT, 0, KD_SDO_E_TIMEOUT, out, n_out);
     request(c, 0x80u, KD_SDO_ABORT_TIMEOUT, &out[0]);
     send_request(c, &out[1]);
     c->sends++;

@@ -21,6 +21,15 @@
  * first is the answer to the second. After the last send the client gives
  * up with 0x05040000. On an answer it cannot take (segmented upload, wrong
  * command) it aborts with 0x05040001 (command specifier not valid).
+ *
+ * A server that was only slow answers every send: the answers to a
+ * transfer's earlier sends beyond the one that ended it (owed) may still
+ * come while the next request is out. The server answers in order, so
+ * until the next transfer's own answer, a frame that answers the last
+ * transfer (its object, its kind, or an abort) is one of those and is
+ * ignored; where both transfers are the same kind on the same object, that
+ * may be the new transfer's own answer, which then costs a timeout and a
+ * send again, never a stale value taken.
  */
 #ifndef KINCTL_DAEMON_CANOPEN_SDO_H
 #define KINCTL_DAEMON_CANOPEN_SDO_H
@@ -60,6 +69,10 @@ typedef struct kd_sdo {
     uint32_t value;        /* upload: the value read (zero-extended); download: the value written */
     int size;              /* bytes read or written, 1 .. 4 */
     uint32_t abort_code;   /* after KD_SDO_E_*: the abort code (the server's or ours) */
+    int owed;              /* answers the last transfer's sends may still bring */
+    int owed_upload;       /* ... and that transfer's kind and object */
+    uint16_t owed_index;
+    uint8_t owed_subindex;
 } kd_sdo;
 
 /* Sets up c for server node (1..127) with timeout_us (> 0). Returns 0 or
@@ -76,7 +89,8 @@ int kd_sdo_download(kd_sdo *c, uint16_t index, uint8_t subindex, uint32_t value,
 int kd_sdo_upload(kd_sdo *c, uint16_t index, uint8_t subindex, struct can_frame *out);
 
 /* Takes a received frame. Returns KD_SDO_IGNORED for a frame that is not
- * the answer awaited (another id, another object: the transfer goes on),
+ * the answer awaited (another id, another object, an answer owed to the
+ * last transfer: the transfer goes on),
  * KD_SDO_DONE (value and size set), KD_SDO_E_ABORTED (abort_code set), or
  * KD_SDO_E_PROTOCOL with the client's abort into out (*n_out = 1). *n_out
  * is the number of frames written to out (0 or 1). */

@@ -190,6 +190,38 @@ static int run(kd_boot *b, drive *d, struct can_frame *last)
     return r;
 }
 
+/* Runs the boot against a drive that answers every request only after the
+ * client has sent it again, and answers both sends: the late answer to
+ * the first ends the transfer, and the answer to the second comes after
+ * the client's next request. Returns the result. */
+static int run_late(kd_boot *b, drive *d)
+{
+    struct can_frame out[KD_BOOT_OUT_MAX], late, again, owed;
+    int n, have_owed = 0;
+    struct can_frame up = heartbeat(d->node, 0);
+    int r = kd_boot_rx(b, &up, out, &n);
+    for (int guard = 0; guard < 1000 && r == KD_BOOT_WAITING; guard++) {
+        assert_int_equal(n, 1);
+        struct can_frame req = out[0];
+        if (have_owed) {
+            assert_int_equal(kd_boot_rx(b, &owed, out, &n), KD_BOOT_WAITING);
+            assert_int_equal(n, 0);
+            have_owed = 0;
+        }
+        assert_int_equal(drive_serve(d, &req, &late), 1);
+        r = kd_boot_process(b, b->cfg.sdo_timeout_us, out, &n);
+        assert_int_equal(r, KD_BOOT_WAITING);
+        assert_int_equal(n, 2);
+        assert_int_equal(out[0].data[0], 0x80);
+        assert_memory_equal(out[1].data, req.data, 8);
+        assert_int_equal(drive_serve(d, &out[1], &again), 1);
+        r = kd_boot_rx(b, &late, out, &n);
+        owed = again;
+        have_owed = 1;
+    }
+    return r;
+}
+
 static kd_boot_cfg config(int node)
 {
     kd_boot_cfg c = kd_boot_cfg_default(node);
@@ -416,6 +448,36 @@ static void test_lost_answers(void **state)
                              "protocol timed out, sent 3 times");
 }
 
+/* A drive slower than the SDO timeout, answering every send: each request
+ * ends on its late first answer, the answer to its second send is not
+ * taken for the next one's, and the boot writes what a prompt drive's
+ * does (each write twice). */
+static void test_late_answers(void **state)
+{
+    (void)state;
+    drive clean, slow;
+    kd_boot b;
+    struct can_frame out[KD_BOOT_OUT_MAX], last;
+    int n;
+    kd_boot_cfg c = config(5);
+    drive_init(&clean, 5);
+    assert_int_equal(kd_boot_init(&b, &c), 0);
+    kd_boot_start(&b, out, &n);
+    assert_int_equal(run(&b, &clean, &last), KD_BOOT_DONE);
+    drive_init(&slow, 5);
+    assert_int_equal(kd_boot_init(&b, &c), 0);
+    kd_boot_start(&b, out, &n);
+    assert_int_equal(run_late(&b, &slow), KD_BOOT_DONE);
+    assert_int_equal(slow.served, 2 * clean.served);
+    assert_int_equal(slow.n_writes, 2 * clean.n_writes);
+    for (int i = 0; i < clean.n_writes; i++)
+        for (int k = 0; k < 2; k++) {
+            assert_int_equal(slow.writes[2 * i + k].index, clean.writes[i].index);
+            assert_int_equal(slow.writes[2 * i + k].sub, clean.writes[i].sub);
+            assert_int_equal(slow.writes[2 * i + k].value, clean.writes[i].value);
+        }
+}
+
 /* configure = 0 (drives configured by other means): the checks, then NMT
  * start, and not one write. */
 static void test_checks_only(void **state)
@@ -532,6 +594,7 @@ int main(void)
         cmocka_unit_test(test_abort_and_readback),
         cmocka_unit_test(test_timeouts),
         cmocka_unit_test(test_lost_answers),
+        cmocka_unit_test(test_late_answers),
         cmocka_unit_test(test_checks_only),
         cmocka_unit_test(test_sync_counter_order),
         cmocka_unit_test(test_interpolation_and_args),

@@ -192,6 +192,69 @@ static void test_timeout(void **state)
     assert_int_equal(n, 2);
 }
 
+/* A slow server answers every send: the answer to a second send comes
+ * while the next request is out, and is not taken for its answer. */
+static void test_late_answers(void **state)
+{
+    (void)state;
+    kd_sdo c;
+    struct can_frame out, two[KD_SDO_OUT_MAX], back;
+    int n;
+    const struct can_frame written = frame(0x585, (const uint8_t[]){0x60, 0x00, 0x16, 0x00, 0, 0, 0, 0}, 8);
+    const struct can_frame read = frame(0x585, (const uint8_t[]){0x4F, 0x00, 0x16, 0x00, 2, 0, 0, 0}, 8);
+    assert_int_equal(kd_sdo_init(&c, 5, 1000), 0);
+    /* a write of 0x1600:00, sent twice, ended by the answer to the first */
+    assert_int_equal(kd_sdo_download(&c, 0x1600, 0, 2, 1, &out), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_process(&c, 1000, two, &n), KD_SDO_WAITING);
+    assert_int_equal(n, 2);
+    assert_int_equal(kd_sdo_rx(&c, &written, &out, &n), KD_SDO_DONE);
+    /* its read-back: the answer to the write's second send is ignored */
+    assert_int_equal(kd_sdo_upload(&c, 0x1600, 0, &out), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_rx(&c, &written, &out, &n), KD_SDO_IGNORED);
+    assert_int_equal(n, 0);
+    assert_true(c.busy);
+    assert_int_equal(kd_sdo_rx(&c, &read, &out, &n), KD_SDO_DONE);
+    assert_int_equal(c.value, 2);
+    /* answered at its first send, nothing is owed: a second write answer
+     * during the next read is the protocol error it always was */
+    assert_int_equal(kd_sdo_download(&c, 0x1600, 0, 2, 1, &out), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_rx(&c, &written, &out, &n), KD_SDO_DONE);
+    assert_int_equal(kd_sdo_upload(&c, 0x1600, 0, &out), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_rx(&c, &written, &out, &n), KD_SDO_E_PROTOCOL);
+    /* the owed answer never came (lost): the next transfer's own answer of
+     * another kind ends it at once, and nothing is owed after it */
+    assert_int_equal(kd_sdo_download(&c, 0x1600, 0, 2, 1, &out), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_process(&c, 1000, two, &n), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_rx(&c, &written, &out, &n), KD_SDO_DONE);
+    assert_int_equal(kd_sdo_upload(&c, 0x1600, 0, &out), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_rx(&c, &read, &out, &n), KD_SDO_DONE);
+    assert_int_equal(c.owed, 0);
+    /* the same write twice: the first write's owed answer is not the
+     * second's; the second's own answer after it ends it */
+    assert_int_equal(kd_sdo_download(&c, 0x1600, 0, 0, 1, &out), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_process(&c, 1000, two, &n), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_rx(&c, &written, &out, &n), KD_SDO_DONE);
+    assert_int_equal(kd_sdo_download(&c, 0x1600, 0, 2, 1, &out), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_rx(&c, &written, &out, &n), KD_SDO_IGNORED);
+    assert_int_equal(kd_sdo_rx(&c, &written, &out, &n), KD_SDO_DONE);
+    /* ... and where that owed answer was lost, the second's own answer is
+     * the one ignored: a timeout and a send again, then its answer */
+    assert_int_equal(kd_sdo_download(&c, 0x1600, 0, 0, 1, &out), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_process(&c, 1000, two, &n), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_rx(&c, &written, &out, &n), KD_SDO_DONE);
+    assert_int_equal(kd_sdo_download(&c, 0x1600, 0, 2, 1, &out), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_rx(&c, &written, &out, &n), KD_SDO_IGNORED);
+    assert_int_equal(kd_sdo_process(&c, 1000, two, &n), KD_SDO_WAITING);
+    assert_int_equal(n, 2);
+    assert_memory_equal(two[1].data, out.data, 8);
+    assert_int_equal(kd_sdo_rx(&c, &written, &out, &n), KD_SDO_DONE);
+    /* an abort answering an owed send is ignored too */
+    back = frame(0x585, (const uint8_t[]){0x80, 0x00, 0x16, 0x00, 0x00, 0x00, 0x04, 0x05}, 8);
+    assert_int_equal(kd_sdo_upload(&c, 0x1600, 0, &out), KD_SDO_WAITING);
+    assert_int_equal(kd_sdo_rx(&c, &back, &out, &n), KD_SDO_IGNORED);
+    assert_int_equal(kd_sdo_rx(&c, &read, &out, &n), KD_SDO_DONE);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -199,6 +262,7 @@ int main(void)
         cmocka_unit_test(test_upload),
         cmocka_unit_test(test_abort_and_foreign),
         cmocka_unit_test(test_timeout),
+        cmocka_unit_test(test_late_answers),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
