@@ -375,3 +375,27 @@ def test_reboot(sim, master, vcan):
     nmt, state, _, _ = sim.state(1)
     assert (nmt, state) == (0x7F, "switch on disabled")
     assert master.nodes[1].sdo[0x1600][1].raw == 0x60400010  # the EDS's mapping again
+
+
+def test_preop(sim, master, vcan):
+    """preop N: the drive's heartbeat says pre-operational, and it sends no
+    TPDO and takes no RPDO (the SYNCs go on) until an NMT start; SDO still
+    answers."""
+    master.configure(1)
+    master.run()
+    master.nodes[1].state = "OPERATION ENABLED"
+    rec = Recorder(IFACE)
+    sim.command("preop 1")
+    wait_for("node 1's heartbeat in pre-operational",
+             lambda: any(f[1] == 0x701 and bytes(f[2]) == b"\x7f" for f in rec.frames))
+    quiet_from = len(rec.frames)
+    before = sim.state(1)[3]
+    master.nodes[1].rpdo[1]["Target position"].raw = before + 5000
+    wait_for("ten SYNCs", lambda: sum(f[1] == 0x080 for f in rec.frames[quiet_from:]) >= 10)
+    assert not [f for f in rec.frames[quiet_from:] if f[1] == 0x181], "a TPDO in pre-operational"
+    assert sim.state(1)[0] == 0x7F and sim.state(1)[3] == before, "moved in pre-operational"
+    assert master.nodes[1].sdo[0x6064].raw == before
+    master.nodes[1].nmt.state = "OPERATIONAL"
+    wait_for("node 1 at its target", lambda: sim.state(1)[3] == before + 5000)
+    wait_for("a TPDO again", lambda: any(f[1] == 0x181 for f in rec.frames[quiet_from:]))
+    rec.close()

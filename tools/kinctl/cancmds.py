@@ -6,6 +6,7 @@ kinctl.candecode).
 register() adds them to the CLI; each runs its module's run(args).
 """
 from kinctl.argtypes import add_command, nonneg, positive
+from kinctl.drive402 import CONTROL_USAGE
 
 
 def register(sub, parents):
@@ -14,7 +15,7 @@ def register(sub, parents):
                                       "SDO server, NMT, heartbeat producer and consumer, EMCY, PDO mapping, SYNC "
                                       "(0x1019), RPDOs applied and TPDOs sent at SYNC, the CiA 402 power state "
                                       "machine; kinctld boots, configures and enables them. Control lines on stdin: "
-                                      "fault N [CODE], silent/talk/reboot/state N, lag N S, quit",
+                                      + CONTROL_USAGE,
                      "kinctl drivesim --interface vcan0 --nodes 1-6 --start 1=1000,2=-20000 --lag 0.02\n"
                      "  (then type: fault 3 0x5530, state 3, reboot 2, silent 4, talk 4, lag 1 0.5, quit)\n"
                      "  kinctl drivesim --configured --heartbeat-ms 100 --period-ms 1   "

@@ -68,6 +68,9 @@ answered "ok <command>" once applied, or "error <why>":
     silent N | talk N  node N stops or resumes sending anything
     lag N SECONDS      node N's first-order lag (0: none)
     reboot N           node N resets itself (boot-up, pre-operational)
+    preop N            node N enters pre-operational on its own, as CiA 301's
+                       0x1029 has a drive do on a communication error: no
+                       PDO sent or taken until an NMT start
     state N            answers "ok state N <nmt> <cia402 state> <statusword hex> <actual>"
     quit
 """
@@ -78,6 +81,8 @@ import threading
 import time
 
 NMT_INITIALISING, NMT_STOPPED, NMT_OPERATIONAL, NMT_PRE_OPERATIONAL = 0x00, 0x04, 0x05, 0x7F
+# The control lines (above), for a usage message.
+CONTROL_USAGE = "fault N [CODE], silent/talk/reboot/preop/state N, lag N S, quit"
 EMCY_HEARTBEAT = 0x8130
 EMCY_PDO_LENGTH = 0x8210
 EMCY_PDO_LENGTH_EXCEEDED = 0x8220
@@ -663,8 +668,8 @@ class Drives:
     def command(self, line):
         """One control line (the module's text); returns the reply.
         ValueError for a bad line."""
-        verb, args, d = control_line(self, line, ("fault", "silent", "talk", "lag", "reboot", "state"),
-                                     "fault N [CODE], silent/talk/reboot/state N, lag N S, quit")
+        verb, args, d = control_line(self, line, ("fault", "silent", "talk", "lag", "reboot", "preop", "state"),
+                                     CONTROL_USAGE)
         if d is None:
             return "ok quit"
         with self.lock:
@@ -681,6 +686,8 @@ class Drives:
                 if len(args) != 2 or not float(args[1]) >= 0:
                     raise ValueError("lag needs a node id and seconds >= 0")
                 d.lag_s = float(args[1])
+            elif verb == "preop":
+                d.node.nmt.state = "PRE-OPERATIONAL"
             elif verb == "reboot":
                 d._reset_communication()
                 d._reset_application()
