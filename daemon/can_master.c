@@ -130,7 +130,9 @@ static void start_enable(kd_master *m, int64_t now)
     m->phase_ns = now;
     for (j = 0; j < m->n; j++) {
         uint16_t cw = KD_CIA402_CW_SHUTDOWN; /* a drive not heard yet: nothing that enables */
-        if (m->can->have_fb[j])
+        if (m->disable_first[j])
+            cw = KD_CIA402_CW_DISABLE_VOLTAGE;
+        else if (m->can->have_fb[j])
             cw = kd_cia402_controlword(kd_cia402_state_of(m->can->statusword[j]), KD_CIA402_GOAL_ENABLED,
                                        m->controlword[j]);
         set_controlword(m, j, cw);
@@ -144,6 +146,13 @@ static void start_enable(kd_master *m, int64_t now)
     }
 }
 
+/* A state without the power stage on. */
+static int powered_off(kd_cia402_state s)
+{
+    return s == KD_CIA402_SWITCH_ON_DISABLED || s == KD_CIA402_READY_TO_SWITCH_ON || s == KD_CIA402_NOT_READY ||
+           s == KD_CIA402_FAULT;
+}
+
 /* Each drive's next controlword, once per TPDO that answers the last one. */
 static void walk(kd_master *m, int mode_enable)
 {
@@ -155,7 +164,11 @@ static void walk(kd_master *m, int mode_enable)
             continue;
         m->tpdos[j] = m->can->tpdos[j];
         s = kd_cia402_state_of(m->can->statusword[j]);
-        if (mode_enable)
+        if (mode_enable && m->disable_first[j])
+            m->disable_first[j] = !powered_off(s);
+        if (mode_enable && m->disable_first[j])
+            cw = KD_CIA402_CW_DISABLE_VOLTAGE;
+        else if (mode_enable)
             cw = kd_cia402_controlword(s, KD_CIA402_GOAL_ENABLED, m->controlword[j]);
         else if (m->hold == HOLD_QUICK_STOP)
             cw = kd_cia402_controlword(s, KD_CIA402_GOAL_QUICK_STOP, m->controlword[j]);
@@ -177,6 +190,15 @@ static int rebooted(const kd_master *m)
     return -1;
 }
 
+/* Drive j was last heard (its heartbeat) not operational: it missed its
+ * NMT start (a lost frame) or left on its own (CiA 301 0x1029: a
+ * communication error takes a drive to pre-operational by default). It
+ * sends no PDO and takes none: only a boot brings it back. */
+static int not_operational(const kd_master *m, int j)
+{
+    return m->can->heartbeat_ns[j] != 0 && m->can->nmt_state[j] != KD_CAN_NMT_OPERATIONAL;
+}
+
 static void enable_step(kd_master *m, int64_t now)
 {
     int j, all = 1, r = rebooted(m);
@@ -187,7 +209,7 @@ static void enable_step(kd_master *m, int64_t now)
     }
     walk(m, 1);
     for (j = 0; j < m->n && all; j++)
-        all = m->can->tpdos[j] != m->tpdos_phase[j] &&
+        all = m->can->tpdos[j] != m->tpdos_phase[j] && !m->disable_first[j] &&
               kd_cia402_state_of(m->can->statusword[j]) == KD_CIA402_OPERATION_ENABLED;
     if (all) {
         char q[KD_CAN_TEXT / 2];
@@ -207,6 +229,12 @@ static void enable_step(kd_master *m, int64_t now)
             if (m->can->tpdos[j] == m->tpdos_phase[j]) {
                 fail(m, now, "joint %d (node %d) not enabled within %g ms: no TPDO1 (statusword) from it", j + 1,
                      node_of(m, j), m->cfg->enable_timeout_ms);
+                return;
+            }
+            if (m->disable_first[j]) {
+                fail(m, now, "joint %d (node %d) not disabled within %g ms after it was booted again: %s (statusword "
+                             "0x%04x)", j + 1, node_of(m, j), m->cfg->enable_timeout_ms,
+                     kd_cia402_state_str(kd_cia402_state_of(sw)), sw);
                 return;
             }
             if (kd_cia402_state_of(sw) != KD_CIA402_OPERATION_ENABLED) {
@@ -236,6 +264,14 @@ static void start_boot(kd_master *m, int64_t now)
             fail(m, now, "joint %d (node %d): its boot cannot be written (kd_boot_init)", j + 1, node_of(m, j));
             return;
         }
+        /* A drive booted again while the bus cycle runs may still be in
+         * operation enabled (one that left OPERATIONAL without a 0x6007
+         * reaction): the first RPDO it takes after NMT start disables it,
+         * rather than hand it the controller's target, which moved on
+         * without it; and it is enabled only once a TPDO has shown it
+         * disabled, not on one sent before it took that RPDO. */
+        set_controlword(m, j, KD_CIA402_CW_DISABLE_VOLTAGE);
+        m->disable_first[j] = atomic_load(&m->bus->active) != 0;
         n_out = 0;
         kd_boot_start(&m->boot[j], out, &n_out);
         send(m, out, n_out);
@@ -366,12 +402,8 @@ static void shutdown_step(kd_master *m, int64_t now)
         return;
     }
     walk(m, 0);
-    for (j = 0; j < m->n && all; j++) {
-        kd_cia402_state s = kd_cia402_state_of(m->can->statusword[j]);
-        all = m->can->tpdos[j] != m->tpdos_phase[j] &&
-              (s == KD_CIA402_SWITCH_ON_DISABLED || s == KD_CIA402_READY_TO_SWITCH_ON || s == KD_CIA402_NOT_READY ||
-               s == KD_CIA402_FAULT);
-    }
+    for (j = 0; j < m->n && all; j++)
+        all = m->can->tpdos[j] != m->tpdos_phase[j] && powered_off(kd_cia402_state_of(m->can->statusword[j]));
     if (!all && (double)(now - m->phase_ns) * 1e-6 <= m->cfg->enable_timeout_ms)
         return;
     atomic_store_explicit(&m->bus->active, 0, memory_order_release);
@@ -481,10 +513,10 @@ void kd_master_reset(kd_master *m, int64_t now)
     int j;
     if (m->phase != P_STOPPED)
         return;
-    kd_can_clear(m->can);
     for (j = 0; j < m->n; j++)
-        if (m->booted[j] && m->can->bootups[j] != m->bootups[j])
+        if (m->booted[j] && (m->can->bootups[j] != m->bootups[j] || not_operational(m, j)))
             m->booted[j] = 0;
+    kd_can_clear(m->can);
     start_boot(m, now);
 }
 

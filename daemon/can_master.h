@@ -25,7 +25,8 @@
  *              link watches the drives (can_io.h's conditions)
  *   disabled   a refused boot or enabling, a condition (EMCY, fault,
  *              reboot, silence, following error), or ESTOP; RESET boots the
- *              drives that need it (never booted, failed, rebooted), then
+ *              drives that need it (never booted, failed, rebooted, last
+ *              heard not operational: it takes no PDO until started), then
  *              enables them all again from where they are
  * The drives' controlwords while disabled: after ESTOP, quick stop (0x02)
  * to every drive; after a condition, drives still in operation enabled
@@ -86,6 +87,7 @@ typedef struct kd_master {
     int64_t tpdos[KC_MAX_JOINTS];    /* the TPDO count the controlword last answered */
     int64_t tpdos_phase[KC_MAX_JOINTS]; /* ... at the phase's start */
     uint16_t controlword[KC_MAX_JOINTS];
+    int disable_first[KC_MAX_JOINTS]; /* booted again while the bus cycle runs: shown disabled before enabled */
     int64_t recoveries;              /* the link's, as last seen */
     int disabled_in_time;            /* shutdown: every drive said switch on disabled */
     int news;                        /* a change to tell */

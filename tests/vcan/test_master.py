@@ -376,28 +376,42 @@ def test_quick_stop_on_estop(can_daemon, drives, recorder):
     assert assert_no_jump(recorder.snapshot()) == {n: 2 for n in NODES}
 
 
-def test_drive_rebooted_mid_run(can_daemon, drives, recorder):
-    """A drive that reboots (boot-up seen) faults the arm; RESET boots and
-    configures it again and enables it where it stands."""
+@pytest.mark.parametrize("command, reason", [("reboot 4", "rebooted (boot-up seen)"), ("preop 4", "left OPERATIONAL")],
+                         ids=["rebooted", "left_operational"])
+def test_drive_lost_mid_run(can_daemon, drives, recorder, command, reason):
+    """A drive that reboots (boot-up seen), or leaves OPERATIONAL on its own
+    (its heartbeat says pre-operational, as CiA 301's 0x1029 has a drive do
+    on a communication error: no PDO sent or taken until an NMT start),
+    faults the arm; RESET boots and configures that drive again (NMT reset
+    communication, its writes read back, NMT start), not the others, and
+    enables every drive where it stands: a drive left in operation enabled
+    is disabled before it takes a target again."""
     sim = drives()
     d, _ = enabled_daemon(can_daemon, writes=WRITES)
     d.bus.send_goal_joint(41, Q_A, vel_scale=0.5, acc_scale=0.5)
     wait_moving(d)
-    sim.command("reboot 4")
+    sim.command(command)
     st = wait_fault(d.bus, "drive: ", timeout=15)
-    assert "joint 4 (node 4)" in st.reason and "reboot" in st.reason, st.reason
+    assert "joint 4 (node 4) " + reason in st.reason, st.reason
     wait_drives(d, "DISABLED")
     assert_stopped_in_fault(d, sim, 41)
-    assert sim.od(4, 0x6060) != 8, "the reboot brought the EDS's defaults back"
+    if command.startswith("reboot"):
+        assert sim.od(4, 0x6060) != 8, "the reboot brought the EDS's defaults back"
     with recorder.lock:
-        rebooted_at = len(recorder.frames)
+        lost_at = len(recorder.frames)
     reset_and_move(d, sim, 42)
     assert_configured(sim, 4, d.can, WRITES[4])
     assert d.stop() == 0
     frames = recorder.snapshot()
-    again = sdo_requests(frames[rebooted_at:], 4)
+    again = sdo_requests(frames[lost_at:], 4)
     assert any(s[1] == "download" and s[2] == 0x6060 for s in again), "node 4 configured again"
     assert not refused(sim, 4, again)
+    for n in NODES:
+        cmds = [cmd for _, cmd in nmt_commands(frames[lost_at:], n)]
+        if n == 4:
+            assert cmds[:2] == [NMT_RESET_COMMUNICATION, NMT_START], f"node 4 not booted again: NMT {cmds}"
+        else:
+            assert NMT_RESET_COMMUNICATION not in cmds and NMT_START not in cmds, f"node {n}: NMT {cmds}"
     assert assert_no_jump(frames)[4] == 2
 
 
