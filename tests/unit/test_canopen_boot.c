@@ -408,6 +408,31 @@ static void test_timeouts(void **state)
     assert_int_equal(d.served, KD_SDO_SENDS);
 }
 
+/* The boot of c against a drive that loses nothing, from power-on: what
+ * the boots against lossy or slow drives are compared with. */
+static void boot_clean(drive *clean, const kd_boot_cfg *c)
+{
+    kd_boot b;
+    struct can_frame out[KD_BOOT_OUT_MAX], last;
+    int n;
+    drive_init(clean, c->node);
+    assert_int_equal(kd_boot_init(&b, c), 0);
+    kd_boot_start(&b, out, &n);
+    assert_int_equal(run(&b, clean, &last), KD_BOOT_DONE);
+}
+
+/* got's writes are clean's, each made times times in a row. */
+static void assert_writes_repeated(const drive *got, const drive *clean, int times)
+{
+    assert_int_equal(got->n_writes, times * clean->n_writes);
+    for (int i = 0; i < clean->n_writes; i++)
+        for (int k = 0; k < times; k++) {
+            assert_int_equal(got->writes[times * i + k].index, clean->writes[i].index);
+            assert_int_equal(got->writes[times * i + k].sub, clean->writes[i].sub);
+            assert_int_equal(got->writes[times * i + k].value, clean->writes[i].value);
+        }
+}
+
 /* Answers lost on the bus: each unanswered request is aborted and sent
  * again, and the boot ends as the one that lost nothing, with the same
  * writes; one answer too many lost fails it. */
@@ -420,10 +445,7 @@ static void test_lost_answers(void **state)
     int n;
     char why[256];
     kd_boot_cfg c = config(5);
-    drive_init(&clean, 5);
-    assert_int_equal(kd_boot_init(&b, &c), 0);
-    kd_boot_start(&b, out, &n);
-    assert_int_equal(run(&b, &clean, &last), KD_BOOT_DONE);
+    boot_clean(&clean, &c);
     /* every request answered at its last send only */
     drive_init(&lossy, 5);
     lossy.lose_each = KD_SDO_SENDS - 1;
@@ -431,12 +453,7 @@ static void test_lost_answers(void **state)
     kd_boot_start(&b, out, &n);
     assert_int_equal(run(&b, &lossy, &last), KD_BOOT_DONE);
     assert_int_equal(lossy.served, clean.served * KD_SDO_SENDS);
-    assert_int_equal(lossy.n_writes, clean.n_writes);
-    for (int i = 0; i < clean.n_writes; i++) {
-        assert_int_equal(lossy.writes[i].index, clean.writes[i].index);
-        assert_int_equal(lossy.writes[i].sub, clean.writes[i].sub);
-        assert_int_equal(lossy.writes[i].value, clean.writes[i].value);
-    }
+    assert_writes_repeated(&lossy, &clean, 1);
     /* one more lost: the first request fails after its third send */
     drive_init(&lossy, 5);
     lossy.deaf = KD_SDO_SENDS;
@@ -457,25 +474,16 @@ static void test_late_answers(void **state)
     (void)state;
     drive clean, slow;
     kd_boot b;
-    struct can_frame out[KD_BOOT_OUT_MAX], last;
+    struct can_frame out[KD_BOOT_OUT_MAX];
     int n;
     kd_boot_cfg c = config(5);
-    drive_init(&clean, 5);
-    assert_int_equal(kd_boot_init(&b, &c), 0);
-    kd_boot_start(&b, out, &n);
-    assert_int_equal(run(&b, &clean, &last), KD_BOOT_DONE);
+    boot_clean(&clean, &c);
     drive_init(&slow, 5);
     assert_int_equal(kd_boot_init(&b, &c), 0);
     kd_boot_start(&b, out, &n);
     assert_int_equal(run_late(&b, &slow), KD_BOOT_DONE);
     assert_int_equal(slow.served, 2 * clean.served);
-    assert_int_equal(slow.n_writes, 2 * clean.n_writes);
-    for (int i = 0; i < clean.n_writes; i++)
-        for (int k = 0; k < 2; k++) {
-            assert_int_equal(slow.writes[2 * i + k].index, clean.writes[i].index);
-            assert_int_equal(slow.writes[2 * i + k].sub, clean.writes[i].sub);
-            assert_int_equal(slow.writes[2 * i + k].value, clean.writes[i].value);
-        }
+    assert_writes_repeated(&slow, &clean, 2);
 }
 
 /* configure = 0 (drives configured by other means): the checks, then NMT
