@@ -55,25 +55,34 @@ static kc_real shaped_rate(kc_real v, kc_real a, kc_real w, kc_real amax, kc_rea
     return kc_clamp(kc_clamp(r, a - h, a + h), -amax, amax);
 }
 
-/* A twist stream's tick: its target moves by the shaped twist over the
- * tick, which then moves towards the commanded twist axis by axis, each
- * linear axis within the goal's Cartesian acceleration and jerk (l.a,
- * l.j) over sqrt(3), each angular axis within l.dw and l.dj over sqrt(3),
- * so that the linear and angular acceleration and jerk vectors stay within
- * the bounds (kinctl/ctrl.h). The commanded linear and angular velocity
- * vectors are first scaled down to the goal's speed and omega (l.v, l.w)
- * where they exceed them, their directions kept. */
+/* A twist stream's tick: its target moves over the tick by the shaped
+ * twist and its rate as they stand (v dt + a dt^2 / 2, the rotation by
+ * (w + dw dt / 2) dt), so that the twist fed forward at each tick's target
+ * is the target's own velocity there, as a line's, an arc's or a pose
+ * stream's is (moved by v dt alone, the target would lag its twist by
+ * a dt / 2); then the shaped twist moves towards the commanded twist axis
+ * by axis, each linear axis within the goal's Cartesian acceleration and
+ * jerk (l.a, l.j) over sqrt(3), each angular axis within l.dw and l.dj
+ * over sqrt(3), so that the linear and angular acceleration and jerk
+ * vectors stay within the bounds (kinctl/ctrl.h). The commanded linear and
+ * angular velocity vectors are first scaled down to the goal's speed and
+ * omega (l.v, l.w) where they exceed them, their directions kept. The
+ * rate taken for the tick is the one before its step: the target is off
+ * the twist's own integral by (a' - a) dt^2 / 2, at most the jerk's
+ * l.j dt^3 / 2, and a twist at rest (the stream's start, a zone
+ * restraining the arm) moves it by nothing in the first tick. */
 static void servo_twist_tick(kc_ctrl *c)
 {
-    kc_real dt = c->cfg.dt;
-    kc_vec3 w = kc_vec3_make(c->servo_v[3] * dt, c->servo_v[4] * dt, c->servo_v[5] * dt);
+    kc_real dt = c->cfg.dt, half = KC_R(0.5) * dt * dt;
+    const kc_real *v = c->servo_v, *a = c->servo_a;
+    kc_vec3 w = kc_vec3_make(v[3] * dt + a[3] * half, v[4] * dt + a[4] * half, v[5] * dt + a[5] * half);
     kc_quat dr, r, r2;
     kc_quat_exp(&w, &dr);
     kc_quat_from_mat3(&c->servo_target.R, &r);
     kc_quat_mul(&dr, &r, &r2);
     kc_quat_to_mat3(&r2, &c->servo_target.R);
     for (int i = 0; i < 3; i++)
-        c->servo_target.t.v[i] += c->servo_v[i] * dt;
+        c->servo_target.t.v[i] += v[i] * dt + a[i] * half;
     kc_interp_limits l = kc_ctrl_cart_limits(&c->cfg, &c->goal);
     kc_real cap[2];
     for (int h = 0; h < 6; h += 3) { /* the linear part, then the angular */
@@ -82,13 +91,12 @@ static void servo_twist_tick(kc_ctrl *c)
         cap[h / 3] = size > top ? top / size : KC_R(1.0);
     }
     for (int i = 0; i < 6; i++) {
-        kc_real a = shaped_rate(c->servo_v[i], c->servo_a[i], c->goal.twist[i] * cap[i / 3],
-                                AXIS_SHARE * (i < 3 ? l.a : l.dw), AXIS_SHARE * (i < 3 ? l.j : l.dj), dt);
-        c->servo_a[i] = a;
-        c->servo_v[i] += a * dt;
+        kc_real ai = shaped_rate(c->servo_v[i], c->servo_a[i], c->goal.twist[i] * cap[i / 3],
+                                 AXIS_SHARE * (i < 3 ? l.a : l.dw), AXIS_SHARE * (i < 3 ? l.j : l.dj), dt);
+        c->servo_a[i] = ai;
+        c->servo_v[i] += ai * dt;
     }
 }
-
 
 void kc_ctrl_turn(const kc_mat3 *from, const kc_mat3 *to, kc_vec3 *w)
 {
@@ -212,15 +220,20 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
      * sampled tick by tick, which the IK step tracks with an error of its
      * own that so goes on unchanged: a shaped pose stream's profiles are
      * sampled as a line's, an arc's, a Cartesian path's or another shaped
-     * pose stream's law is; a twist stream's target moves by its twist
-     * over each tick, as another twist stream's does. Across the two
-     * (and from a motion in joint space, the tool's pose) the positions
-     * differ by a dt^2 / 2 in a tick, a step of the joints' acceleration
-     * through the IK step's feedback: those stop first. */
+     * pose stream's law is, and as a twist stream's target moves by its
+     * twist and its rate over the tick (servo_twist_tick), so a shaped pose
+     * stream goes on from any of them; a twist stream from another twist
+     * stream. A twist stream after one of the others changes the tool's
+     * jerk to its shaping's in a tick (the joints' jerk at the takeover up
+     * to 1.21 times that of the ticks each side, within the limits), and
+     * from a motion in joint space (the tool's pose, without a target's
+     * law) the positions differ by a dt^2 / 2 in a tick, a step of the
+     * joints' acceleration through the IK step's feedback: those stop
+     * first. */
+    int twist_law = c->goal.kind == KC_GOAL_SERVO && c->goal.servo_twist;
     int pose_law = c->goal.kind == KC_GOAL_LINE || c->goal.kind == KC_GOAL_ARC ||
-                   c->goal.kind == KC_GOAL_PATH_CART || kc_ctrl_servo_shaped(c);
-    if (g->servo_twist ? !(c->goal.kind == KC_GOAL_SERVO && c->goal.servo_twist)
-                       : !pose_law || kc_ctrl_goal_profile(c, g) != KC_PROFILE_JERK)
+                   c->goal.kind == KC_GOAL_PATH_CART || kc_ctrl_servo_shaped(c) || twist_law;
+    if (g->servo_twist ? !twist_law : !pose_law || kc_ctrl_goal_profile(c, g) != KC_PROFILE_JERK)
         return 0;
     kc_real v[6], a[6];
     kc_pose from = c->servo_target;

@@ -18,7 +18,8 @@
  *   a relative slack of SLACK, and equal to the commanded twist within
  *   rounding once a ramp has had time to end (a velocity change of size e
  *   at most 2 sqrt(e / J) + e / A + A / J + 2 ticks);
- * - the target moving by the shaped twist (its position by v dt);
+ * - the target moving by the shaped twist (its position by v dt + a dt^2 / 2,
+ *   the twist and its rate before the tick's step);
  * - every joint: |qd| <= qd_max, |qdd| <= qdd_max, the jerk (the change
  *   of qdd over a tick over dt) <= qddd_max, with a relative slack of
  *   SLACK (SLACK_JERK for the jerk), q moving by qd dt (the IK step's) or
@@ -222,17 +223,20 @@ static void test_random_twist_streams(void **state)
                     n = (int)settle + 200; /* the last twist held long enough to follow it */
                 for (int k = 0; k < n; k++) {
                     kc_pose target_before = H.ctrl.servo_target;
-                    double v_before[6];
-                    for (int i = 0; i < 6; i++)
+                    double v_before[6], a_before[6];
+                    for (int i = 0; i < 6; i++) {
                         v_before[i] = (double)H.ctrl.servo_v[i];
+                        a_before[i] = (double)H.ctrl.servo_a[i];
+                    }
                     tick(&g);
                     assert_int_equal(H.out.goal_id, id);
                     assert_int_equal(H.out.state, KC_CTRL_MOVING);
-                    /* The target moved by the shaped twist of the tick before. */
+                    /* The target moved by the shaped twist and its rate
+                     * of the tick before. */
                     for (int i = 0; i < 3 && k > 0; i++)
                         kt_near((double)H.ctrl.servo_target.t.v[i],
-                                (double)target_before.t.v[i] + v_before[i] * dt, 8.0 * (double)KC_REAL_EPS,
-                                "the target moves by the shaped twist");
+                                (double)target_before.t.v[i] + v_before[i] * dt + 0.5 * a_before[i] * dt * dt,
+                                8.0 * (double)KC_REAL_EPS, "the target moves by the shaped twist");
                     for (int i = 0; i < 6; i++) {
                         /* The shaped twist moved by its rate over the tick,
                          * the rate within its bound and changed by at most
@@ -619,9 +623,10 @@ static void test_streams_take_over(void **state)
             }
             int moving = H.out.state == KC_CTRL_MOVING;
             /* Taken over where the laws of the two targets match (kinctl/ctrl.h):
-             * a pose stream after a line or a Cartesian path, a twist stream
-             * after a twist stream; within the stream's bounds. */
-            eligible += moving && (twist ? kind == 2 : kind <= 1);
+             * a pose stream after a line, a Cartesian path or a twist
+             * stream, a twist stream after a twist stream; within the
+             * stream's bounds. */
+            eligible += moving && (twist ? kind == 2 : kind <= 2);
             /* The takeover's tick and the next two, against the AROUND
              * ticks each side. */
             H.judge_from = H.out.cycle + 1;

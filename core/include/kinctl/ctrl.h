@@ -193,19 +193,24 @@
  * segment's twist rate by the central difference of its twists over the
  * ticks each side): a shaped pose stream after a line, an arc, a
  * Cartesian path or another shaped pose stream (their targets all
- * sampled from their laws tick by tick), a twist stream after another
- * twist stream (both moved by their twists tick by tick); its profiles
- * or its twist's step then take it on within its bounds, so the IK step
- * tracks it with the error it already had. The target's twist and rate
- * must be within the stream's speed, omega, accel and alpha (a twist
+ * sampled from their laws tick by tick) or a twist stream (whose target
+ * moves over each tick by its twist and the twist's rate, v dt + a dt^2 /
+ * 2, so that the twist fed forward is the target's own velocity, as a
+ * sampled law's is), a twist stream after another twist stream; its
+ * profiles or its twist's step then take it on within its bounds, so the
+ * IK step tracks it with the error it already had. The target's twist and
+ * rate must be within the stream's speed, omega, accel and alpha (a twist
  * stream's rate within each axis' share, which its step would clamp at
- * once). Across the two kinds of law, or from a motion in joint space
- * (where the target would start from the tool's pose), the positions
- * differ by a dt^2 / 2 within a tick, which the IK step's feedback turns
- * into a step of the joints' acceleration: those stop first (random
- * takeovers, test_ctrl_servoshape.c: the joints' jerk at the takeover at
- * most 1.009 times that of the ticks each side; a twist stream after a
- * line or a Cartesian path up to 4 times, which is why it stops first).
+ * once). A twist stream after a line, an arc, a Cartesian path or a pose
+ * stream changes the tool's jerk to its shaping's in a tick, and from a
+ * motion in joint space (where the target would start from the tool's
+ * pose) the positions differ by a dt^2 / 2 within a tick, which the IK
+ * step's feedback turns into a step of the joints' acceleration: those
+ * stop first (random takeovers, test_ctrl_servoshape.c: the joints' jerk
+ * at a takeover at most 1.01 times that of the ticks each side; a twist
+ * stream after a line or a Cartesian path up to 1.21 times, within the
+ * limits; a pose stream after a twist stream whose target moved by v dt
+ * alone, 1.6 times).
  *
  * Every other replacement stops first: the active segment stops on its
  * path, and the goal starts from where the arm comes to rest. Its ACCEPTED
