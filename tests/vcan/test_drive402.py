@@ -247,22 +247,28 @@ def test_boot_configure_enable_move(sim, master, vcan):
     finally:
         master.stop()
         frames = rec.settle(0.2, 5.0)
+        lost = rec.lost
         rec.close()
+    assert lost == 0, f"the recorder's socket dropped {lost} frames"
     # TPDO1 of node n answers every n-th SYNC, once operational: the i-th
     # TPDO after the first follows the (i n)-th SYNC after the first's,
     # late by at most 2 SYNCs (the drives' process answers a SYNC while
     # the next one may already be on the bus)
     for n in NODES:
-        seen = [f[1] for f in frames if f[1] in (0x080, 0x180 + n)]
-        first = seen.index(0x180 + n)
+        seen = [f for f in frames if f[1] in (0x080, 0x180 + n)]
+        first = [f[1] for f in seen].index(0x180 + n)
         syncs, late = 0, []
-        for cid in seen[first + 1:]:
+        for _, cid, _ in seen[first + 1:]:
             if cid == 0x080:
                 syncs += 1
             else:
                 late.append(syncs - (len(late) + 1) * n)
         assert len(late) >= 10
-        assert all(0 <= x <= 2 for x in late), f"node {n}: its TPDOs against every {n}-th SYNC: {late}"
+        # A failure shows the frames from the one before the first TPDO on
+        # (receive time in us after it, id).
+        start = seen[first][0]
+        around = [(round((t - start) / 1000), hex(cid)) for t, cid, _ in seen[max(0, first - 1):first + 8]]
+        assert all(0 <= x <= 2 for x in late), f"node {n}: its TPDOs against every {n}-th SYNC: {late}; {around}"
         assert syncs - len(late) * n <= 2 + n  # none missing at the end
     # the RPDOs are controlword + target (6 bytes); SYNC empty
     assert all(len(f[2]) == 0 for f in frames if f[1] == 0x080)
