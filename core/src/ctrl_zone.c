@@ -6,6 +6,10 @@
 
 #include <string.h>
 
+/* Units in the last place of a position of the arm's size within which a
+ * change of a zone distance is rounding (kc_ctrl_zone_servo_limit). */
+#define NOISE KC_R(2.0)
+
 void kc_ctrl_zone_init(kc_ctrl *c)
 {
     kc_zone_hit none = {-1, -1, INF};
@@ -35,7 +39,11 @@ void kc_ctrl_zone_servo_limit(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
     kc_status st = kc_zone_check(c->chain, c->cfg.zones, q, NULL, &hit);
     if ((st != KC_OK && st != KC_E_LIMIT) || hit.distance >= c->zone_now.distance)
         return; /* not finite (the final check refuses it) or not approaching */
-    kc_real e = kc_max(c->zone_now.distance - c->cfg.zones->margin, KC_R(0.0));
+    /* The room left, short of the margin by the distances' rounding
+     * (band): the arm at rest there, a step whose change of distance is
+     * rounding alone stays out of the margin, which the final check keeps. */
+    kc_real band = NOISE * KC_REAL_EPS * (KC_R(1.0) + kc_vec3_norm(&c->pose.t));
+    kc_real e = kc_max(c->zone_now.distance - c->cfg.zones->margin - band, KC_R(0.0));
     /* The braking law on the measured approach; the bound on the travel
      * of any point keeps the step short of the margin whatever it is. */
     kc_real approach = c->zone_now.distance - hit.distance, s = KC_R(1.0), a = KC_R(1.0);
@@ -59,9 +67,13 @@ void kc_ctrl_zone_servo_limit(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
     /* A twist stream's or a shaped pose stream's target stays with the
      * restrained arm instead of running on into the zone, and its shaped
      * twist is the arm's over the tick (the rate zero), so a reversed twist
-     * or a pose away from the zone moves it away at once. */
+     * or a pose away from the zone moves it away at once. Not for an
+     * approach within the band: at rest against the margin, a reversed
+     * stream's first steps measure that much (rounding alone),
+     * and taking the stream back to rest on them would take it back on
+     * every tick, never away. The step itself is restrained all the same. */
     int shaped = kc_ctrl_servo_shaped(c);
-    if (c->goal.servo_twist || shaped) {
+    if ((c->goal.servo_twist || shaped) && approach > band) {
         kc_fk_eval(c->chain, q, &c->servo_target);
         kc_vec3 w;
         kc_ctrl_turn(&c->pose.R, &c->servo_target.R, &w);
