@@ -230,15 +230,15 @@ static int on_time(const kd_checker *k, const kd_job *out)
 }
 
 /* A goal taken over its joints' jerk limits after the search is refused
- * when its law is jerk-limited and so is the motion it replaces (if judged
- * from the moving state with one active): the excess is then no motion
- * law's own (a trapezoid's, a joint path's), and taking it would drive
- * the joints beyond their limits. */
-static int jerk_refused(const kd_checker *k, const kd_job *out, int moving)
+ * when its law is jerk-limited and the excess is its own
+ * (kc_verdict.jerk_own: judged from rest, from a motion on a jerk-limited
+ * law, or from its start after stopping first a motion on one that is
+ * not): the excess is then no other law's (a trapezoid's, a joint
+ * path's), and taking it would drive the joints beyond their limits. */
+static int jerk_refused(const kd_checker *k, const kd_job *out)
 {
-    const kc_ctrl *c = &k->check->scratch;
-    return kc_ctrl_jerk_limited(c, &out->goal) && out->goal.kind != KC_GOAL_JOINT &&
-           (!moving || !k->keep.active || kc_ctrl_jerk_limited(&k->keep, &k->keep.goal));
+    return kc_ctrl_jerk_limited(&k->check->scratch, &out->goal) && out->goal.kind != KC_GOAL_JOINT &&
+           out->verdict.jerk_own;
 }
 
 /* The dry run of job into out (search). A replacing goal is judged from a
@@ -297,7 +297,7 @@ static void judge(kd_checker *k, const kd_job *job, kd_job *out)
                 "kinctld: goal %" PRId64 " stops the motion it replaces first (taking over, its joints' jerk %.3g "
                 "times their limits; so, %.3g)\n",
                 out->goal.id, note.jerk, (double)out->verdict.jerk);
-    if (over_jerk(out) && jerk_refused(k, out, note.moving)) {
+    if (over_jerk(out) && jerk_refused(k, out)) {
         out->verdict.status = KC_E_LIMIT;
         out->verdict.reason = KD_REASON_JERK;
         atomic_fetch_add_explicit(&k->jerk_refused, 1, memory_order_relaxed);

@@ -45,6 +45,7 @@ kc_status kc_check_init(kc_check *k, const kc_chain *chain, const kc_ctrl_cfg *c
     k->run_moving = 0;
     k->run_stop_first = 0;
     k->run_stop_free = 0;
+    k->run_own = 0;
     k->lead = 0;
     return KC_OK;
 }
@@ -104,6 +105,7 @@ static kc_status run_set(kc_check *k, int64_t max_ticks)
     k->run_progress = KC_R(0.0);
     memcpy(k->run_qdd, k->scratch.qdd, sizeof k->run_qdd);
     k->run_jerk = KC_R(0.0);
+    k->run_own = !k->run_moving || !k->run_stop_free;
     k->running = 1;
     return KC_MORE;
 }
@@ -201,8 +203,10 @@ static void jerk_of(kc_check *k, const kc_ctrl_output *out)
             continue;
         if (ev->kind == KC_EVENT_ACCEPTED && ev->reason == KC_REASON_STOP_FIRST)
             k->run_stop_first = 1;
-        if (ev->kind == KC_EVENT_STARTED && k->run_stop_first && k->run_stop_free)
+        if (ev->kind == KC_EVENT_STARTED && k->run_stop_first && k->run_stop_free) {
             k->run_jerk = KC_R(0.0);
+            k->run_own = 1;
+        }
     }
     const kc_chain *chain = k->chain;
     for (int j = 0; j < chain->n_joints; j++) {
@@ -232,6 +236,7 @@ kc_status kc_check_run(kc_check *k, int64_t max_ticks, kc_verdict *v)
             if (judged(k, &out.events[e], tick, v)) {
                 k->running = 0;
                 v->jerk = k->run_jerk;
+                v->jerk_own = k->run_own;
                 return v->status;
             }
     }
@@ -239,6 +244,7 @@ kc_status kc_check_run(kc_check *k, int64_t max_ticks, kc_verdict *v)
         return KC_MORE;
     k->running = 0;
     v->jerk = k->run_jerk;
+    v->jerk_own = k->run_own;
     v->status = KC_E_CAPACITY;
     v->reason = KC_REASON_PLAN;
     v->tick = k->run_max;
@@ -263,13 +269,14 @@ int kc_check_slow_start(kc_check_slow *ss, const kc_verdict *v)
     ss->jerk_ok = KC_R(0.0);
     ss->s_over = KC_R(1.0);
     ss->jerk_best = v->jerk;
+    ss->s_best = KC_R(1.0);
     ss->s = kc_check_jerk_within(v) ? KC_R(0.0) : kc_check_slowing(v);
     return ss->s > KC_R(0.0);
 }
 
 int kc_check_slow_next(kc_check_slow *ss, const kc_verdict *v)
 {
-    kc_real s = ss->s;
+    kc_real s = ss->s, s_before = ss->s_best, jerk_before = ss->jerk_best;
     int best;
     if (kc_check_jerk_within(v)) {
         best = s > ss->s_ok;
@@ -279,15 +286,26 @@ int kc_check_slow_next(kc_check_slow *ss, const kc_verdict *v)
         }
     } else {
         best = ss->s_ok == KC_R(0.0) && v->jerk < ss->jerk_best;
-        if (best)
+        if (best) {
             ss->jerk_best = v->jerk;
+            ss->s_best = s;
+        }
         ss->s_over = kc_min(ss->s_over, s);
     }
     if (ss->s_ok == KC_R(0.0)) {
         /* Slowed without lowering the jerk: what exceeds the limits is not
          * the law's (a replaced trapezoid's stop, a joint path's own law). */
-        ss->s = best ? s * kc_check_slowing(v) : KC_R(0.0);
-        return best;
+        if (!best) {
+            ss->s = KC_R(0.0);
+            return 0;
+        }
+        /* The jerk came down about as s^2 since the share before (between
+         * s^1.5 and s^2.5: an acceleration step, a cubic spline's start):
+         * the square root. */
+        kc_real r = s_before / s, fell = jerk_before / v->jerk;
+        int step = fell > r * kc_sqrt(r) && fell < r * r * kc_sqrt(r);
+        ss->s = step ? s * kc_sqrt(KC_CHECK_JERK_MARGIN / v->jerk) : s * kc_check_slowing(v);
+        return 1;
     }
     /* Where the verdict within says the law has room: its cube root, kept
      * inside the bracket. */
@@ -318,6 +336,7 @@ static kc_status opening(kc_check *k, const kc_goal *goal, kc_verdict *v)
     k->run_moving = 0;
     k->run_stop_first = 0;
     k->run_stop_free = 0;
+    k->run_own = 0;
     return KC_OK;
 }
 

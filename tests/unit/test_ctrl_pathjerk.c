@@ -232,24 +232,12 @@ static void test_cartesian_path(void **state)
         setup(KC_PROFILE_JERK);
         kc_pose here;
         kc_fk_eval(&H.chain, KT_PUMA_Q0, &here);
-        kc_quat q;
-        kc_quat_from_mat3(&here.R, &q);
-        kc_goal p;
-        memset(&p, 0, sizeof p);
-        p.id = 40 + c;
-        p.kind = KC_GOAL_PATH_CART;
-        p.vel_scale = p.acc_scale = KC_R(1.0);
-        p.method = KC_PATH_SPLINE;
-        p.n_points = 2;
         const kc_real off[2][3] = {{KC_R(0.0), KC_R(0.1), KC_R(0.0)}, {KC_R(0.05), KC_R(0.2), KC_R(0.0)}};
-        for (int i = 0; i < 2; i++) {
+        kc_vec3 knots[2];
+        for (int i = 0; i < 2; i++)
             for (int k = 0; k < 3; k++)
-                p.points[i][k] = here.t.v[k] + off[i][k];
-            p.points[i][3] = q.w;
-            p.points[i][4] = q.x;
-            p.points[i][5] = q.y;
-            p.points[i][6] = q.z;
-        }
+                knots[i].v[k] = here.t.v[k] + off[i][k];
+        kc_goal p = kt_cart_path_goal(40 + c, KC_PATH_SPLINE, knots, 2, &here.R);
         tick(&p, KC_CMD_NONE);
         assert_true(kt_has_event(&H.out, KC_EVENT_STARTED, p.id));
         int64_t at = 1 + (int64_t)kt_uniform(&r, 0.0, (double)H.ctrl.plan.path_cart.pos.ticks - 2.0);

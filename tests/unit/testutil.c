@@ -426,6 +426,28 @@ kc_goal kt_line_goal(int64_t id, const kc_pose *to)
     return g;
 }
 
+kc_goal kt_cart_path_goal(int64_t id, kc_path_method method, const kc_vec3 *at, int n, const kc_mat3 *R)
+{
+    kc_goal g;
+    kc_quat o;
+    kc_quat_from_mat3(R, &o);
+    memset(&g, 0, sizeof g);
+    g.id = id;
+    g.kind = KC_GOAL_PATH_CART;
+    g.vel_scale = g.acc_scale = KC_R(1.0);
+    g.method = method;
+    g.n_points = n;
+    for (int i = 0; i < n; i++) {
+        for (int k = 0; k < 3; k++)
+            g.points[i][k] = at[i].v[k];
+        g.points[i][3] = o.w;
+        g.points[i][4] = o.x;
+        g.points[i][5] = o.y;
+        g.points[i][6] = o.z;
+    }
+    return g;
+}
+
 int kt_has_event(const kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id)
 {
     for (int e = 0; e < out->n_events; e++)
@@ -503,10 +525,13 @@ double kt_stepped_jerk(kc_ctrl *ctrl, const kc_chain *chain, const kc_real *q0, 
     return worst;
 }
 
+int kt_slow_passes, kt_slow_first_within;
+
 kc_status kt_judge_slowed(kt_judge_fn judge, void *ctx, const kc_ctrl_cfg *cfg, kc_goal *g, kc_verdict *v)
 {
     kc_status st = judge(g, v, ctx);
     kc_check_slow ss;
+    kt_slow_passes = kt_slow_first_within = 0;
     if (st != KC_OK || !kc_check_slow_start(&ss, v))
         return st;
     kc_goal asked = *g;
@@ -515,6 +540,9 @@ kc_status kt_judge_slowed(kt_judge_fn judge, void *ctx, const kc_ctrl_cfg *cfg, 
         kc_verdict w;
         if (kc_goal_slow(&h, cfg, ss.s) != KC_OK || judge(&h, &w, ctx) != KC_OK)
             break;
+        kt_slow_passes = pass + 1;
+        if (kt_slow_first_within == 0 && kc_check_jerk_within(&w))
+            kt_slow_first_within = pass + 1;
         if (kc_check_slow_next(&ss, &w)) {
             *g = h;
             *v = w;

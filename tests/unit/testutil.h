@@ -130,6 +130,10 @@ extern unsigned long kt_checks;
 kc_goal kt_joint_goal(int64_t id, const kc_real *q, int n);
 /* A line goal to the pose to at the full limits, slerp orientation, queued. */
 kc_goal kt_line_goal(int64_t id, const kc_pose *to);
+/* A Cartesian path goal by method through the n (<= KC_PATH_MAX_KNOTS - 1)
+ * positions at (after the start), in orientation R, at the full limits,
+ * computed times, queued. */
+kc_goal kt_cart_path_goal(int64_t id, kc_path_method method, const kc_vec3 *at, int n, const kc_mat3 *R);
 /* 1 when the controller's output out carries an event of kind for goal id. */
 int kt_has_event(const kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id);
 /* The PUMA 560 pose the controller suites start from: clear of every joint
@@ -242,6 +246,10 @@ typedef kc_status (*kt_judge_fn)(const kc_goal *g, kc_verdict *v, void *ctx);
  * become the best the search found. Returns the status of the goal as
  * asked. */
 kc_status kt_judge_slowed(kt_judge_fn judge, void *ctx, const kc_ctrl_cfg *cfg, kc_goal *g, kc_verdict *v);
+
+/* The dry runs of a slowed goal the last kt_judge_slowed made, and the
+ * first of them within the limits (1 ..; 0: none was). */
+extern int kt_slow_passes, kt_slow_first_within;
 
 /* An independent rest-to-rest optimum of a jerk-limited move over distance
  * D >= 0 within V, A, J: not kinctl/scurve.h's closed form, but from the

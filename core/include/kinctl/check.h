@@ -90,7 +90,9 @@
  * the limits would hide behind the stop's excess, which no slowing
  * lowers). The stop of a jerk-limited motion stays in the verdict: what
  * it does beyond the limits (a Cartesian path's joints stopping on its
- * path) the goal that stops it causes.
+ * path) the goal that stops it causes. kc_verdict.jerk_own says whether
+ * the jerk is the goal's own so: 0 only where the goal takes over from a
+ * motion whose law is not jerk-limited, whose excess it may then be.
  *
  * Not for the cycle: a dry run costs one controller step per tick of motion
  * (from a snapshot, per tick of the controller's period: cfg.dt over the
@@ -153,6 +155,7 @@ typedef struct kc_check {
     kc_real run_qdd[KC_MAX_JOINTS]; /* the joints' qdd at the last tick stepped */
     kc_real run_jerk;               /* the verdict's jerk so far */
     int run_stop_free;              /* the motion replaced follows no jerk-limited law (above) */
+    int run_own;                    /* the run's jerk is the goal's own (kc_verdict.jerk_own) */
     int running;
     /* The run under way (or the goal last judged) started from a snapshot:
      * the controller's moving state, at the controller's period; else at
@@ -214,8 +217,11 @@ kc_real kc_check_slowing(const kc_verdict *v);
  * the search brackets the share: s_ok, the fastest judged within the
  * limits (0 until one is), and s_over, the slowest judged over them; the
  * next share is kc_check_slowing's from the last verdict while none is
- * within, then the estimate from s_ok's verdict, or the bracket's
- * geometric middle where that estimate is not inside it; done when the
+ * within (its square root instead where the jerk came down about as s^2
+ * from the share judged before, between s^1.5 and s^2.5: an acceleration
+ * step, such as a cubic spline's at its start, goes as s^2), then the
+ * estimate from s_ok's verdict, or the bracket's geometric middle where
+ * that estimate is not inside it; done when the
  * bracket, or the estimate's gain over s_ok, is within
  * KC_CHECK_SLOW_CLOSE, or when, none being within, slowing did not lower
  * the jerk (what exceeds the limits is not the goal's law: the stop of a
@@ -226,6 +232,7 @@ typedef struct kc_check_slow {
     kc_real jerk_ok;
     kc_real s_over; /* slowest share judged over them */
     kc_real jerk_best; /* lowest jerk judged while none is within */
+    kc_real s_best;    /* its share */
 } kc_check_slow;
 
 /* 1 when verdict v's jerk is within the joints' limits (rounding apart). */

@@ -536,6 +536,12 @@ typedef struct kc_verdict {
      * times the run's period (1: at the jerk limit), over every tick
      * stepped; 0 when nothing was (kinctl/check.h). */
     kc_real jerk;
+    /* 1 when that jerk is the goal's own doing: judged from rest, or from
+     * a snapshot whose motion the goal's takeover or stop-first stop
+     * leaves to a jerk-limited law, or measured from the goal's start
+     * (it stops first a motion whose law is not jerk-limited); 0 when it
+     * includes the goal taking over from such a law (kinctl/check.h). */
+    int jerk_own;
     /* Judged from a snapshot (kinctl/check.h): the cycle and the state
      * the controller takes the goal in (kc_goal.take_cycle, take_state);
      * 0 when judged from rest, for whenever it arrives. */
