@@ -272,20 +272,20 @@ static void jerk_stop(kc_ctrl *c)
 #define STOP_TRACK_LEAST KC_R(0.1)
 #define STOP_HALVINGS 4 /* 1 / 2^4 = STOP_SHARE_MIN */
 
-/* Whether joint_bounded_stop's estimate at share k keeps every joint
- * within the shares. */
-static int stop_fits(const kc_ctrl *c, kc_real v, kc_real a, kc_real dec, kc_real jm, kc_real k)
+/* joint_bounded_stop's estimate at share k: the largest of every joint's
+ * acceleration and jerk over its share of qdd_max and qddd_max (within
+ * the shares: at most 1). */
+static kc_real stop_load(const kc_ctrl *c, kc_real v, kc_real a, kc_real dec, kc_real jm, kc_real k)
 {
-    kc_real D = kc_max(k * dec, kc_fabs(a));
+    kc_real D = kc_max(k * dec, kc_fabs(a)), load = KC_R(0.0);
     kc_real r = a > KC_R(0.0) ? KC_R(1.0) + a * a / (KC_R(2.0) * k * jm * v) : KC_R(1.0);
     for (int i = 0; i < c->chain->n_joints; i++) {
         const kc_joint_limits *l = &c->chain->joints[i].limits;
         kc_real qu = kc_fabs(c->qd[i] / v), cc = kc_fabs(c->qdd[i] - c->qd[i] / v * a);
-        if (qu * D + cc * r * r > STOP_ACC_SHARE * l->qdd_max ||
-            qu * k * jm + KC_R(3.0) * cc * r * D / v > STOP_JERK_SHARE * l->qddd_max)
-            return 0;
+        load = kc_max(load, (qu * D + cc * r * r) / (STOP_ACC_SHARE * l->qdd_max));
+        load = kc_max(load, (qu * k * jm + KC_R(3.0) * cc * r * D / v) / (STOP_JERK_SHARE * l->qddd_max));
     }
-    return 1;
+    return load;
 }
 
 /* A Cartesian stop's bounds on its parameter u (a line's or an arc's u, a
@@ -293,10 +293,15 @@ static int stop_fits(const kc_ctrl *c, kc_real v, kc_real a, kc_real dec, kc_rea
  * setpoint: *dec and *jm scaled by the largest k of 1, 1/2, ...,
  * STOP_SHARE_MIN whose stop keeps every joint's estimated acceleration and
  * jerk within STOP_ACC_SHARE of qdd_max and STOP_JERK_SHARE of qddd_max
- * (else the least k), *dec not below -a (a stop already braking harder
- * goes on from there) and k not below a^2 / (v jm) (a braking u'' comes
- * back to zero within half of v: with less jerk the stop would overshoot
- * rest and turn back). The joints' rate per unit of u is q_u = qd / v,
+ * (else the k whose estimate is least: from a rising u'', a smaller k
+ * lets u' rise further first, and the joints' estimate grows with it; an
+ * arc stopped early while it sped up, at the least k, 1/16, went on
+ * speeding up over most of its path, its PUMA 560 joints to their speed
+ * limits and 128 times beyond their jerk limits), *dec not below -a (a
+ * stop already braking harder goes on from there) and k not below
+ * a^2 / (v jm) (a braking u'' comes back to zero within half of v: with
+ * less jerk the stop would overshoot rest and turn back). The joints'
+ * rate per unit of u is q_u = qd / v,
  * and c = qdd - q_u a is their acceleration from the path's curve,
  * q_uu v^2. While the stop lasts u' <= w = v + a^2 / (2 k jm) (v but for
  * a rising u'', which the stop first brings to zero) and
@@ -318,12 +323,18 @@ static void joint_bounded_stop(kc_ctrl *c, kc_real v, kc_real a, kc_real *dec, k
 {
     if (!(v > KC_R(0.0)))
         return;
-    kc_real k = KC_R(1.0), least = STOP_SHARE_MIN;
+    kc_real k = KC_R(1.0), least = STOP_SHARE_MIN, best = KC_R(1.0), load = INF;
     if (a < KC_R(0.0))
         least = kc_min(kc_max(least, a * a / (v * *jm)), KC_R(1.0));
-    for (int h = 0; k > least && !stop_fits(c, v, a, *dec, *jm, k) && h < STOP_HALVINGS; h++)
+    for (int h = 0;; h++) {
+        kc_real kk = kc_max(k, least), l = stop_load(c, v, a, *dec, *jm, kk);
+        if (l < load)
+            load = l, best = kk;
+        if (l <= KC_R(1.0) || kk <= least || h >= STOP_HALVINGS)
+            break;
         k *= KC_R(0.5);
-    k = kc_max(k, least);
+    }
+    k = best;
     c->resume_share = k;
     c->stop_v0 = v;
     for (int i = 0; i < c->chain->n_joints; i++)

@@ -308,10 +308,12 @@
  * u''' (tau'', tau'''), which are the tool's, scaled down for its joints:
  * by the largest share, in halvings, that keeps each joint's acceleration
  * and jerk within a share of its limits, as estimated from the last
- * setpoint (ctrl_stop.c, joint_bounded_stop, gives the estimate and the
- * shares). Its resume ramps at that share or less. It is an estimate at
- * the stop's start: where the joints' rates change fast along the path
- * (near a singularity) the limits may still be exceeded. A line's or an
+ * setpoint, or where none does the share whose estimate is least
+ * (ctrl_stop.c, joint_bounded_stop, gives the estimate and the shares).
+ * Its resume ramps at that share or less. It is an estimate at the
+ * stop's start: where the joints' rates change fast along the path (near
+ * a singularity) the limits may still be exceeded (test_ctrl_cartstop.c:
+ * a STOP's batches of 100 random stops, 1 of 40 beyond them, by 1.15). A line's or an
  * arc's scaled stop that would pass u = 1 gives way to the gentlest
  * between it and the plan's own bounds that does not (the plan's own never
  * does); a path's leaves the law under way, as above. The trapezoid
