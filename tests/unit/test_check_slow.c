@@ -505,15 +505,7 @@ static void test_spline_paths_slowed(void **state)
     kc_fk_eval(&CHAIN, KT_PUMA_Q0, &home);
     int judged = 0, over_asked = 0, within = 0, first_early = 0, passes_max = 0;
     for (int c = 0; c < 2 * CASES; c++) {
-        kc_vec3 at[2], from = home.t;
-        for (int i = 0; i < 2; i++) {
-            kc_vec3 d = kt_rand_unit(&r);
-            kc_real len = (kc_real)kt_uniform(&r, 0.03, 0.15);
-            for (int k = 0; k < 3; k++)
-                at[i].v[k] = from.v[k] + len * d.v[k];
-            from = at[i];
-        }
-        kc_goal g = kt_cart_path_goal(300 + c, KC_PATH_SPLINE, at, 2, &home.R);
+        kc_goal g = kt_cart_path_walk(&r, 300 + c, KC_PATH_SPLINE, &home, 0.03, 0.15);
         kc_verdict v;
         if (kc_check_from(&CHECK, KT_PUMA_Q0, &g, &v) != KC_OK)
             continue; /* out of reach */

@@ -72,21 +72,8 @@ static kc_goal cart_goal(kt_rng *r, kc_goal_kind kind, const kc_pose *home)
 {
     kc_goal g;
     if (kind == KC_GOAL_PATH_CART) {
-        kc_quat q;
-        kc_quat_from_mat3(&home->R, &q);
-        memset(&g, 0, sizeof g);
-        g.id = 1;
-        g.kind = KC_GOAL_PATH_CART;
-        g.vel_scale = g.acc_scale = KC_R(1.0);
-        g.method = METHODS[(int)kt_uniform(r, 0.0, 3.0)];
-        g.n_points = 2;
-        kc_vec3 at = home->t;
-        for (int i = 0; i < 2; i++) {
-            kc_vec3 d = offset(r, 0.03, 0.15);
-            kc_vec3_add(&at, &d, &at);
-            g.points[i][0] = at.v[0], g.points[i][1] = at.v[1], g.points[i][2] = at.v[2];
-            g.points[i][3] = q.w, g.points[i][4] = q.x, g.points[i][5] = q.y, g.points[i][6] = q.z;
-        }
+        kc_path_method method = METHODS[(int)kt_uniform(r, 0.0, 3.0)];
+        g = kt_cart_path_walk(r, 1, method, home, 0.03, 0.15);
     } else {
         kc_pose to = *home;
         kc_vec3 d = offset(r, 0.05, 0.2);

@@ -560,22 +560,11 @@ static void test_streams_take_over(void **state)
                 kc_pose to = moved(&here, dp, kc_vec3_make(KC_R(0.0), KC_R(0.0), KC_R(0.0)));
                 a = kt_line_goal(id, &to);
             } else if (kind == 1) {
-                memset(&a, 0, sizeof a);
-                a.id = id;
-                a.kind = KC_GOAL_PATH_CART;
-                a.vel_scale = a.acc_scale = KC_R(1.0);
-                a.method = KC_PATH_QUINTIC;
-                a.n_points = 2;
-                kc_quat q;
-                kc_quat_from_mat3(&here.R, &q);
-                for (int p = 0; p < 2; p++) {
+                kc_vec3 knots[2];
+                for (int p = 0; p < 2; p++)
                     for (int k = 0; k < 3; k++)
-                        a.points[p][k] = here.t.v[k] + (kc_real)(dp[k] * (p + 1) / 2.0 + (p == 0 ? 0.02 * (double)w.v[k] : 0.0));
-                    a.points[p][3] = q.w;
-                    a.points[p][4] = q.x;
-                    a.points[p][5] = q.y;
-                    a.points[p][6] = q.z;
-                }
+                        knots[p].v[k] = here.t.v[k] + (kc_real)(dp[k] * (p + 1) / 2.0 + (p == 0 ? 0.02 * (double)w.v[k] : 0.0));
+                a = kt_cart_path_goal(id, KC_PATH_QUINTIC, knots, 2, &here.R);
             } else if (kind == 2) {
                 memset(&a, 0, sizeof a);
                 a.id = id;

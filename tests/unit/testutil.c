@@ -448,6 +448,19 @@ kc_goal kt_cart_path_goal(int64_t id, kc_path_method method, const kc_vec3 *at, 
     return g;
 }
 
+kc_goal kt_cart_path_walk(kt_rng *r, int64_t id, kc_path_method method, const kc_pose *from, double lo, double hi)
+{
+    kc_vec3 at[2], last = from->t;
+    for (int i = 0; i < 2; i++) {
+        kc_vec3 d = kt_rand_unit(r);
+        kc_real len = (kc_real)kt_uniform(r, lo, hi);
+        for (int k = 0; k < 3; k++)
+            at[i].v[k] = last.v[k] + len * d.v[k];
+        last = at[i];
+    }
+    return kt_cart_path_goal(id, method, at, 2, &from->R);
+}
+
 int kt_has_event(const kc_ctrl_output *out, kc_ctrl_event_kind kind, int64_t id)
 {
     for (int e = 0; e < out->n_events; e++)

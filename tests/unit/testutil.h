@@ -186,6 +186,10 @@ kc_quat kt_rand_quat(kt_rng *r);
 kc_pose kt_rand_pose(kt_rng *r);
 /* Random unit vector. */
 kc_vec3 kt_rand_unit(kt_rng *r);
+/* kt_cart_path_goal through two knots in from's orientation, each in a
+ * random direction lo to hi m from the one before (the first from
+ * from's position). */
+kc_goal kt_cart_path_walk(kt_rng *r, int64_t id, kc_path_method method, const kc_pose *from, double lo, double hi);
 /* Random joint vector inside the chain's position limits (an infinite
  * limit is replaced by -pi or pi). */
 void kt_rand_q(kt_rng *r, const kc_chain *chain, kc_real *q);

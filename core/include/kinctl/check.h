@@ -221,9 +221,9 @@ kc_real kc_check_slowing(const kc_verdict *v);
  * from the share judged before, between s^1.5 and s^2.5: an acceleration
  * step, such as a cubic spline's at its start, goes as s^2), then the
  * estimate from s_ok's verdict, or the bracket's geometric middle where
- * that estimate is not inside it; done when the
- * bracket, or the estimate's gain over s_ok, is within
- * KC_CHECK_SLOW_CLOSE, or when, none being within, slowing did not lower
+ * that estimate is not inside it; done when the bracket, or the
+ * estimate's gain over s_ok, is within KC_CHECK_SLOW_CLOSE, or when, none
+ * being within, slowing did not lower
  * the jerk (what exceeds the limits is not the goal's law: the stop of a
  * replaced trapezoid, say). */
 typedef struct kc_check_slow {

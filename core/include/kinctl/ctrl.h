@@ -312,8 +312,9 @@
  * (ctrl_stop.c, joint_bounded_stop, gives the estimate and the shares).
  * Its resume ramps at that share or less. It is an estimate at the
  * stop's start: where the joints' rates change fast along the path (near
- * a singularity) the limits may still be exceeded (test_ctrl_cartstop.c:
- * a STOP's batches of 100 random stops, 1 of 40 beyond them, by 1.15). A line's or an
+ * a singularity) the limits may still be exceeded (of 40 random streams
+ * of 100 STOPs each as in test_ctrl_cartstop.c, one went beyond them, by
+ * 1.15). A line's or an
  * arc's scaled stop that would pass u = 1 gives way to the gentlest
  * between it and the plan's own bounds that does not (the plan's own never
  * does); a path's leaves the law under way, as above. The trapezoid
