@@ -282,10 +282,11 @@ kc_status kc_ctrl_step(kc_ctrl *c, const kc_ctrl_input *in, kc_ctrl_output *out)
     /* The setpoint. */
     int finished = 0;
     out->progress = KC_R(0.0);
-    if (kc_ctrl_joint_stopping(c) || (c->active && c->goal.kind == KC_GOAL_SERVO && c->state == KC_CTRL_STOPPING)) {
+    if (kc_ctrl_joint_stopping(c) || (c->active && c->goal.kind == KC_GOAL_SERVO && c->state == KC_CTRL_STOPPING) ||
+        kc_ctrl_halting(c)) {
         if (kc_ctrl_joint_stop_eval(c, q, qd, qdd)) {
             c->jstop = 0;
-            if (c->active && c->goal.kind == KC_GOAL_SERVO) {
+            if (c->active && c->goal.kind != KC_GOAL_JOINT && c->goal.kind != KC_GOAL_PATH) {
                 kc_ctrl_stop_finished(c, out);
             } else {
                 c->state = c->after_stop;

@@ -71,11 +71,13 @@ static inline int kc_ctrl_is_path(kc_goal_kind k) { return k == KC_GOAL_PATH || 
 /* A stop in joint space is under way. */
 static inline int kc_ctrl_joint_stopping(const kc_ctrl *c) { return c->jstop; }
 
-/* The active servo goal is stopping jerk-limited, joint by joint
+/* The active servo goal, or a Cartesian goal whose stop left its path
+ * (kc_ctrl_stop_leave_path), is stopping jerk-limited, joint by joint
  * (plan.halt from tick jstop_k0), not by jstop_prof. */
-static inline int kc_ctrl_servo_halting(const kc_ctrl *c)
+static inline int kc_ctrl_halting(const kc_ctrl *c)
 {
-    return !c->jstop && c->active && c->goal.kind == KC_GOAL_SERVO && c->drive == KC_DRIVE_HALT;
+    return !c->jstop && c->active && c->state == KC_CTRL_STOPPING && c->goal.kind != KC_GOAL_JOINT &&
+           c->goal.kind != KC_GOAL_PATH && c->drive == KC_DRIVE_HALT;
 }
 
 /* ---- ctrl.c ---- */
@@ -286,6 +288,22 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out);
  * setpoint's), taken into stop_qu while u' is at least STOP_TRACK_LEAST of
  * the speed the stop started from: its resume starts where it rests. */
 void kc_ctrl_stop_track(kc_ctrl *c, int64_t j, const kc_real *qd);
+
+/* A Cartesian goal's jerk-limited stop on its path whose IK step asks
+ * qdd, the tick's setpoint, to change beyond a joint's qddd_max dt (and
+ * cfg.limit_slack): the joints cannot follow the path's stop within their
+ * limits there (near a wrist singularity the stop's own braking, at
+ * bounds estimated where it started, carried PUMA 560 joints to their
+ * acceleration limit, the tool lagged, and catching up stepped their
+ * jerk 98 times beyond the limit). The stop leaves the path: joint by
+ * joint, jerk-limited, from the last setpoint (as a servo stream's stop),
+ * that tick's setpoint from it. A PAUSE's stop then ends the goal as a
+ * STOP does, aborted at rest (a resume would start off the path, and the
+ * IK step's first tick would step qdd to close the gap). 1 when it left
+ * (kc_ctrl_halting from then on). Not in float, whose IK rounding alone
+ * steps the joints' jerk beyond the limits (kinctl/ctrl.h): the test
+ * would leave every path. */
+int kc_ctrl_stop_leave_path(kc_ctrl *c, const kc_real *qdd);
 
 /* Ends the active segment after its stop on the path came to rest. */
 void kc_ctrl_stop_finished(kc_ctrl *c, kc_ctrl_output *out);

@@ -518,6 +518,10 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
     c->cfg.ik.null_gain = null_gain;
     for (int i = 0; i < n; i++)
         qdd[i] = (qd[i] - c->qd[i]) / c->cfg.dt;
+    if (c->goal.kind != KC_GOAL_SERVO && kc_ctrl_stop_leave_path(c, qdd)) {
+        kc_ctrl_joint_stop_eval(c, q, qd, qdd);
+        return 0;
+    }
     if (c->goal.kind != KC_GOAL_SERVO)
         kc_ctrl_stop_track(c, j - 1, qd);
     /* A servo target may jump: the arm goes there within its limits, and

@@ -168,7 +168,7 @@ void kc_ctrl_joint_stop(kc_ctrl *c, int sync, kc_ctrl_state then)
 int kc_ctrl_joint_stop_eval(const kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
 {
     int done = 1;
-    int jerk = kc_ctrl_servo_halting(c);
+    int jerk = kc_ctrl_halting(c);
     for (int j = 0; j < c->chain->n_joints; j++) {
         if (jerk) {
             kc_scurve_state s;
@@ -189,9 +189,11 @@ int kc_ctrl_joint_stop_eval(const kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *
     return done;
 }
 
-/* A servo stream's stop (kinctl/ctrl.h): every joint from its (q, qd,
+/* A servo stream's stop (kinctl/ctrl.h), and a Cartesian stop that
+ * leaves its path (kc_ctrl_stop_leave_path): every joint from its (q, qd,
  * qdd) to rest by kc_scurve_plan_stop into plan.halt (a servo goal has
- * no plan of its own there). Synchronised by phase where it can be: each
+ * no plan of its own there; a stopped Cartesian goal needs its own no
+ * more). Synchronised by phase where it can be: each
  * joint's limits scaled with its speed, A_i = ca |qd_i| and
  * J_i = cj |qd_i|, ca and cj the largest that keep every joint within
  * its qdd_max and qddd_max. From qdd = 0 every joint's velocity is then
@@ -209,7 +211,7 @@ int kc_ctrl_joint_stop_eval(const kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *
  * speed past its qd_max: one accelerating near its speed limit, whose
  * acceleration falls to 0 at jerk J only after its speed has grown by
  * qdd^2 / (2 J) (the final check would refuse that setpoint and fault). */
-static int servo_jerk_stop(kc_ctrl *c)
+static int joints_jerk_stop(kc_ctrl *c)
 {
     int n = c->chain->n_joints;
     kc_real ca = INF, cj = INF;
@@ -477,7 +479,7 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
          * timeout (a stream's usual end); a fault brakes at the
          * acceleration limits, as does a stop that cannot be planned
          * jerk-limited. */
-        if (c->fault_reason == KC_REASON_NONE && servo_jerk_stop(c)) {
+        if (c->fault_reason == KC_REASON_NONE && joints_jerk_stop(c)) {
             c->drive = KC_DRIVE_HALT;
             c->jstop_k0 = c->cycle - 1;
             return;
@@ -486,7 +488,7 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
         c->active = 1; /* the servo goal stays active through its stop */
         return;
     }
-    if (c->goal.kind == KC_GOAL_JOINT && c->drive == KC_DRIVE_HALT)
+    if (c->drive == KC_DRIVE_HALT)
         return; /* already stopping joint by joint (plan.halt holds the stops, not the move) */
     if (c->goal.kind == KC_GOAL_JOINT && (c->drive == KC_DRIVE_NOMINAL || c->drive == KC_DRIVE_SCURVE) &&
         c->plan.joint.kind == KC_PROFILE_JERK) {
@@ -577,6 +579,30 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
     if (!jerk)
         kc_profile_plan_stop(&c->drive_prof, u.p, u.v, dec, c->cfg.dt);
     drive_from_here(c, jerk ? KC_DRIVE_SCURVE : KC_DRIVE_PROFILE);
+}
+
+int kc_ctrl_stop_leave_path(kc_ctrl *c, const kc_real *qdd)
+{
+#ifdef KC_REAL_FLOAT
+    (void)c, (void)qdd;
+    return 0;
+#else
+    int over = 0;
+    if (c->state != KC_CTRL_STOPPING || c->drive != KC_DRIVE_SCURVE || c->fault_reason != KC_REASON_NONE ||
+        c->blend.on)
+        return 0;
+    for (int i = 0; i < c->chain->n_joints; i++)
+        if (kc_fabs(qdd[i] - c->qdd[i]) >
+            c->chain->joints[i].limits.qddd_max * c->cfg.dt * (KC_R(1.0) + c->cfg.limit_slack))
+            over = 1;
+    if (!over || !joints_jerk_stop(c))
+        return 0;
+    c->drive = KC_DRIVE_HALT;
+    c->jstop_k0 = c->cycle - 1;
+    if (c->stop_intent == KC_CMD_PAUSE || c->stop_intent == KC_CMD_RESUME)
+        c->stop_intent = KC_CMD_STOP; /* off its path: no resume, it ends there */
+    return 1;
+#endif
 }
 
 void kc_ctrl_stop_track(kc_ctrl *c, int64_t j, const kc_real *qd)

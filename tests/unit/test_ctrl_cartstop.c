@@ -23,7 +23,9 @@
  *   copy of the controller comes to rest (the same stop);
  * - the replacing goal STARTS after that tick, not before.
  * And the stream of seed 19, which holds an arc stopped while it sped up
- * that went 128 times beyond its joints' jerk limits.
+ * that went 128 times beyond its joints' jerk limits, and streams whose
+ * stops leave their paths (kc_ctrl_halting). A PAUSE's stop that left its
+ * path ends as a STOP's does, aborted at rest.
  * In double only: in float the IK step's rounding alone makes
  * tick-to-tick jerk noise above qddd_max in any Cartesian motion
  * (kinctl/ctrl.h). */
@@ -132,7 +134,7 @@ static int moving(const kc_ctrl_output *out)
  * stream, by a STOP, or by a PAUSE and then a RESUME. */
 typedef enum ending { BY_PATH, BY_SERVO, BY_STOP, BY_PAUSE } ending;
 
-static void stop_at_random(ending how, uint64_t seed)
+static int stop_at_random(ending how, uint64_t seed)
 {
     CFG = kc_ctrl_cfg_default();
     assert_int_equal(kc_chain_init_model(&CHAIN, KC_MODEL_PUMA560, NULL), KC_OK);
@@ -141,7 +143,7 @@ static void stop_at_random(ending how, uint64_t seed)
     kc_fk_eval(&CHAIN, KT_PUMA_Q0, &home);
     kt_rng r = kt_rng_make(seed);
     static const kc_goal_kind KINDS[3] = {KC_GOAL_LINE, KC_GOAL_ARC, KC_GOAL_PATH_CART};
-    int cases = 0, stop_ticks = 0;
+    int cases = 0, stop_ticks = 0, left = 0;
     double worst = 0.0, worst_qdd = 0.0;
     for (int c = 0; cases < CASES && c < 20 * CASES; c++) {
         kc_ctrl_output out;
@@ -189,7 +191,7 @@ static void stop_at_random(ending how, uint64_t seed)
         double prev[KC_MAX_JOINTS];
         for (int j = 0; j < 6; j++)
             prev[j] = (double)CTRL.qdd[j];
-        int ended = 0, started = 0, paused = 0, t = 0;
+        int ended = 0, started = 0, paused = 0, off = 0, t = 0;
         kc_pose rest = on_path;
         for (; t < 100000 && !ended; t++) {
             int send = how < BY_STOP && (t == 0 || (how == BY_SERVO && t % 10 == 0));
@@ -206,9 +208,12 @@ static void stop_at_random(ending how, uint64_t seed)
                 break; /* a knot beyond a joint's limits */
             assert_false(kt_has_event(&out, KC_EVENT_FAULT, 0) || kt_has_event(&out, KC_EVENT_FAULT, 1));
             assert_false(started);
-            ended = kt_has_event(&out, how == BY_STOP    ? KC_EVENT_ABORTED
-                                       : how == BY_PAUSE ? KC_EVENT_COMPLETED
-                                                         : KC_EVENT_PREEMPTED,
+            /* A stop that left its path (kc_ctrl_halting) ends a PAUSE as
+             * a STOP: aborted at rest. */
+            off = off || (CTRL.active && CTRL.goal.id == 1 && CTRL.drive == KC_DRIVE_HALT);
+            ended = kt_has_event(&out, how == BY_STOP || (how == BY_PAUSE && off) ? KC_EVENT_ABORTED
+                                       : how == BY_PAUSE                         ? KC_EVENT_COMPLETED
+                                                                                 : KC_EVENT_PREEMPTED,
                                  1);
             started = kt_has_event(&out, KC_EVENT_STARTED, 2);
             for (int j = 0; j < 6; j++) {
@@ -224,16 +229,19 @@ static void stop_at_random(ending how, uint64_t seed)
         assert_true(ended);
         for (int j = 0; j < 6; j++)
             kt_near((double)out.qd[j], 0.0, 0.0, "at rest when it ends");
-        assert_int_equal(paused, how == BY_PAUSE);
-        kt_near_pose(how == BY_PAUSE ? &rest : &out.pose, &on_path, 0.0, "at rest where a STOP comes to rest");
+        assert_int_equal(paused, how == BY_PAUSE && !off);
+        kt_near_pose(paused ? &rest : &out.pose, &on_path, 0.0, "at rest where a STOP comes to rest");
         stop_ticks += t;
+        left += off;
         cases++;
     }
-    print_message("%d stopped, %d ticks of stops: joints' jerk <= %.4f, qdd <= %.4f of their limits\n", cases,
-                  stop_ticks, worst, worst_qdd);
+    print_message("%d stopped (%d left their paths), %d ticks of stops: joints' jerk <= %.4f, qdd <= %.4f of "
+                  "their limits\n",
+                  cases, left, stop_ticks, worst, worst_qdd);
     assert_int_equal(cases, CASES);
     assert_true(worst <= 1.0 + SLACK);
     assert_true(worst_qdd <= 1.0 + SLACK);
+    return left;
 }
 
 /* STOPs of the stream of seed 19: an arc slowed to a small share of its
@@ -250,6 +258,23 @@ static void test_stop_while_speeding_up(void **state)
     skip(); /* the file's header: float's rounding noise */
 #endif
     stop_at_random(BY_STOP, 19);
+}
+
+/* Streams that hold the stops whose joints could not follow their paths
+ * within their limits (near a wrist singularity): an arc STOPped (seed
+ * 179; its joints' jerk went 98 times beyond the limits) and PAUSEd there,
+ * and an arc replaced by a servo stream (seed 56; 52 times). Each left
+ * its path (kc_ctrl_halting: ctrl_internal.h), within the limits; the
+ * PAUSEd one was aborted at rest. */
+static void test_stops_leave_paths(void **state)
+{
+    (void)state;
+#ifdef KC_REAL_FLOAT
+    skip(); /* the file's header: float's rounding noise */
+#endif
+    assert_true(stop_at_random(BY_STOP, 179) >= 1);
+    assert_true(stop_at_random(BY_PAUSE, 179) >= 1);
+    assert_true(stop_at_random(BY_SERVO, 56) >= 1);
 }
 
 static void test_replaced_by_joint_path(void **state)
@@ -295,6 +320,7 @@ int main(void)
         cmocka_unit_test(test_replaced_by_servo),
         cmocka_unit_test(test_stop),
         cmocka_unit_test(test_stop_while_speeding_up),
+        cmocka_unit_test(test_stops_leave_paths),
         cmocka_unit_test(test_pause_resume),
     };
     int rc = cmocka_run_group_tests(tests, NULL, NULL);
