@@ -303,7 +303,15 @@ void kc_ctrl_stop_track(kc_ctrl *c, int64_t j, const kc_real *qd);
  * (kc_ctrl_halting from then on). Not in float, whose IK rounding alone
  * steps the joints' jerk beyond the limits (kinctl/ctrl.h): the test
  * would leave every path. */
+#ifdef KC_REAL_FLOAT
+static inline int kc_ctrl_stop_leave_path(kc_ctrl *c, const kc_real *qdd)
+{
+    (void)c, (void)qdd;
+    return 0;
+}
+#else
 int kc_ctrl_stop_leave_path(kc_ctrl *c, const kc_real *qdd);
+#endif
 
 /* Ends the active segment after its stop on the path came to rest. */
 void kc_ctrl_stop_finished(kc_ctrl *c, kc_ctrl_output *out);

@@ -581,12 +581,9 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
     drive_from_here(c, jerk ? KC_DRIVE_SCURVE : KC_DRIVE_PROFILE);
 }
 
+#ifndef KC_REAL_FLOAT
 int kc_ctrl_stop_leave_path(kc_ctrl *c, const kc_real *qdd)
 {
-#ifdef KC_REAL_FLOAT
-    (void)c, (void)qdd;
-    return 0;
-#else
     int over = 0;
     if (c->state != KC_CTRL_STOPPING || c->drive != KC_DRIVE_SCURVE || c->fault_reason != KC_REASON_NONE ||
         c->blend.on)
@@ -602,8 +599,8 @@ int kc_ctrl_stop_leave_path(kc_ctrl *c, const kc_real *qdd)
     if (c->stop_intent == KC_CMD_PAUSE || c->stop_intent == KC_CMD_RESUME)
         c->stop_intent = KC_CMD_STOP; /* off its path: no resume, it ends there */
     return 1;
-#endif
 }
+#endif
 
 void kc_ctrl_stop_track(kc_ctrl *c, int64_t j, const kc_real *qd)
 {
