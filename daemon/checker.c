@@ -145,6 +145,7 @@ typedef struct search_note {
     double jerk;   /* the goal as asked: its joints' jerk */
     double slowed; /* the share of its speed taken, 1: as asked */
     int stop_first, moving;
+    int cut; /* a slower one's dry run ran over the budget */
 } search_note;
 
 /* The dry runs of job into out (judge), from the snapshot kept when
@@ -174,6 +175,7 @@ static void search(kd_checker *k, const kd_job *job, kd_job *out, int64_t start,
     note->jerk = (double)out->verdict.jerk;
     note->slowed = 1.0;
     note->stop_first = 0;
+    note->cut = 0;
     /* No admissible transition from the moving state (the arm cannot
      * follow the superposition, or it runs into a zone or a limit): the
      * motion it replaces stops first, if the goal is taken so. */
@@ -200,6 +202,7 @@ static void search(kd_checker *k, const kd_job *job, kd_job *out, int64_t start,
         slowable = 1;
         double s = (double)ss.s;
         judge_once(k, &k->trial, start, snap);
+        note->cut = k->trial.end == KD_JOB_OVER_BUDGET;
         if (!taken(&k->trial))
             break;
         if (kc_check_slow_next(&ss, &k->trial.verdict)) {
@@ -269,6 +272,7 @@ static void judge(kd_checker *k, const kd_job *job, kd_job *out)
             out->verdict.reason = KC_REASON_LATE;
             out->end = atomic_load_explicit(&k->run, memory_order_acquire) ? KD_JOB_JUDGED : KD_JOB_STOPPED;
             memset(&note, 0, sizeof note);
+            note.slowed = 1.0;
             break;
         }
         search(k, job, out, start, snap, &note);
@@ -285,6 +289,8 @@ static void judge(kd_checker *k, const kd_job *job, kd_job *out)
     out->goal.take_cycle = out->verdict.take_cycle;
     out->goal.take_state = out->verdict.take_state;
     out->elapsed_ns = kd_now_ns() - start;
+    out->slowed = note.slowed;
+    out->cut = note.cut;
     if (note.slowed < 1.0 || note.stop_first)
         atomic_fetch_add_explicit(&k->slowed, 1, memory_order_relaxed);
     if (note.slowed < 1.0)

@@ -105,6 +105,8 @@ typedef struct kd_job {
     int64_t elapsed_ns; /* the dry run's wall-clock time */
     int64_t ticks;      /* dry-run ticks stepped */
     kc_real progress;   /* of the motion where it stopped, 0..1 */
+    double slowed;      /* the share of its speed handed on (1: as asked) */
+    int cut;            /* the budget ran out before a slower one was judged */
 } kd_job;
 
 /* A copy of one tick for the checker (kc_check_tick's arguments). */

@@ -293,6 +293,8 @@ static void answer_goals(kd_io *io, int final)
                 kd_reject_budget(&rej, io->cfg, j->elapsed_ns, j->ticks, j->progress);
             else if (j->end == KD_JOB_STOPPED || j->verdict.status == KC_OK)
                 kd_reject_set(&rej, KD_REASON_SHUTDOWN, "kinctld exiting before the goal reached the controller");
+            else if (j->verdict.reason == KD_REASON_JERK)
+                kd_reject_jerk(&rej, io->cfg, (double)j->verdict.jerk, j->slowed, j->goal.stop_first, j->cut);
             else
                 kd_reject_verdict(&rej, io->cfg, &j->goal, &j->verdict);
             reject(io, a.goal_id, &rej);

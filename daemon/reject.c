@@ -128,9 +128,7 @@ void kd_reject_verdict(kd_reject *rej, const kd_config *cfg, const kc_goal *g, c
         kd_reject_set(rej, reason, "%s.n_points = %d, expected 1 .. %d", wire_name(g->kind), (int)v->value,
                       KC_PATH_MAX_KNOTS - 1);
     else if (reason == KD_REASON_JERK)
-        kd_reject_set(rej, reason,
-                      "its joints' jerk would reach %.3g times their limits (qddd), slowed or stopping first included",
-                      (double)v->jerk);
+        kd_reject_jerk(rej, cfg, (double)v->jerk, 1.0, g->stop_first, 0);
     else if (reason == KC_REASON_LATE)
         kd_reject_set(rej, reason, "no fresh snapshot of the moving controller came to judge it from: send it again");
     else if (reason == KC_REASON_QUEUE_FULL)
@@ -143,6 +141,18 @@ void kd_reject_verdict(kd_reject *rej, const kd_config *cfg, const kc_goal *g, c
         kd_reject_set(rej, reason, "%s (%s at %.6g)", why, kc_status_str(v->status), (double)v->where);
     else
         kd_reject_set(rej, reason, "%s (%s)", why, kc_status_str(v->status));
+}
+
+void kd_reject_jerk(kd_reject *rej, const kd_config *cfg, double jerk, double slowed, int stop_first, int cut)
+{
+    char how[64] = "", budget[96] = "";
+    if (slowed < 1.0)
+        snprintf(how, sizeof how, " at %.3g of its speed", slowed);
+    if (cut)
+        snprintf(budget, sizeof budget, "; controller.check_budget_ms = %.6g ran out before a slower one was judged",
+                 cfg->check_budget_s * 1e3);
+    kd_reject_set(rej, KD_REASON_JERK, "its joints' jerk would reach %.3g times their limits (qddd)%s%s%s", jerk, how,
+                  stop_first ? ", stopping the motion it replaces first" : "", budget);
 }
 
 void kd_reject_budget(kd_reject *rej, const kd_config *cfg, int64_t elapsed_ns, int64_t ticks, kc_real progress)

@@ -63,6 +63,13 @@ void kd_reject_set(kd_reject *rej, kc_ctrl_reason reason, const char *fmt, ...)
  * failed. cfg names the arm's joints, limits, zones and volumes. */
 void kd_reject_verdict(kd_reject *rej, const kd_config *cfg, const kc_goal *g, const kc_verdict *v);
 
+/* The rejection of a goal whose joints' jerk would reach `jerk` times
+ * their limits (KD_REASON_JERK) as judged at its best: at `slowed` of its
+ * speed (1: as asked), stopping the motion it replaces first or not;
+ * `cut` when the budget (controller.check_budget_ms) ran out before a
+ * slower one was judged. */
+void kd_reject_jerk(kd_reject *rej, const kd_config *cfg, double jerk, double slowed, int stop_first, int cut);
+
 /* The rejection of a goal whose dry run was stopped by its budget
  * (controller.check_budget_ms) after elapsed_ns, ticks dry-run ticks in,
  * the motion at progress (0..1). */

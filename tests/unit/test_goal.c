@@ -399,6 +399,20 @@ static void test_dry_run_texts(void **state)
     v.value = (kc_real)KC_CTRL_QUEUE_MAX;
     snprintf(want, sizeof want, "queue_full: the controller's goal queue (%d goals) is full", KC_CTRL_QUEUE_MAX);
     assert_rejection(&g, &v, KC_E_CAPACITY, want);
+    /* The joints' jerk: what the search judged it at, and whether the
+     * budget cut it short. */
+    kd_reject rej;
+    CFG.check_budget_s = 0.5;
+    kd_reject_jerk(&rej, &CFG, 31.4, 1.0, 0, 1);
+    assert_string_equal(rej.text, "jerk: its joints' jerk would reach 31.4 times their limits (qddd); "
+                                  "controller.check_budget_ms = 500 ran out before a slower one was judged");
+    kd_reject_jerk(&rej, &CFG, 1.3, 0.233, 1, 0);
+    assert_string_equal(rej.text, "jerk: its joints' jerk would reach 1.3 times their limits (qddd) at 0.233 of its "
+                                  "speed, stopping the motion it replaces first");
+    v.status = KC_E_LIMIT;
+    v.reason = KD_REASON_JERK;
+    v.jerk = KC_R(2.5);
+    assert_rejection(&g, &v, KC_E_LIMIT, "jerk: its joints' jerk would reach 2.5 times their limits (qddd)");
 }
 
 int main(void)
