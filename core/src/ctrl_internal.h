@@ -68,6 +68,10 @@ static inline int kc_ctrl_zones_on(const kc_ctrl *c)
 
 static inline int kc_ctrl_is_path(kc_goal_kind k) { return k == KC_GOAL_PATH || k == KC_GOAL_PATH_CART; }
 
+/* The goal kinds the IK step follows (a line, an arc, a Cartesian path, a
+ * servo stream): not the joint move's and joint path's. */
+static inline int kc_ctrl_is_cart(kc_goal_kind k) { return k != KC_GOAL_JOINT && k != KC_GOAL_PATH; }
+
 /* A stop in joint space is under way. */
 static inline int kc_ctrl_joint_stopping(const kc_ctrl *c) { return c->jstop; }
 
@@ -76,8 +80,8 @@ static inline int kc_ctrl_joint_stopping(const kc_ctrl *c) { return c->jstop; }
  * (plan.halt from tick jstop_k0), not by jstop_prof. */
 static inline int kc_ctrl_halting(const kc_ctrl *c)
 {
-    return !c->jstop && c->active && c->state == KC_CTRL_STOPPING && c->goal.kind != KC_GOAL_JOINT &&
-           c->goal.kind != KC_GOAL_PATH && c->drive == KC_DRIVE_HALT;
+    return !c->jstop && c->active && c->state == KC_CTRL_STOPPING && kc_ctrl_is_cart(c->goal.kind) &&
+           c->drive == KC_DRIVE_HALT;
 }
 
 /* ---- ctrl.c ---- */

@@ -477,8 +477,7 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
         kc_ctrl_stop_on_path(c, intent);
         j = c->cycle - c->k0;
     }
-    int cart = c->goal.kind == KC_GOAL_LINE || c->goal.kind == KC_GOAL_ARC || c->goal.kind == KC_GOAL_PATH_CART ||
-               c->goal.kind == KC_GOAL_SERVO;
+    int cart = kc_ctrl_is_cart(c->goal.kind);
     if (cart)
         cart_timing(c, j, &now);
     else
@@ -518,12 +517,13 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
     c->cfg.ik.null_gain = null_gain;
     for (int i = 0; i < n; i++)
         qdd[i] = (qd[i] - c->qd[i]) / c->cfg.dt;
-    if (c->goal.kind != KC_GOAL_SERVO && kc_ctrl_stop_leave_path(c, qdd)) {
-        kc_ctrl_joint_stop_eval(c, q, qd, qdd);
-        return 0;
-    }
-    if (c->goal.kind != KC_GOAL_SERVO)
+    if (c->goal.kind != KC_GOAL_SERVO) {
+        if (kc_ctrl_stop_leave_path(c, qdd)) {
+            kc_ctrl_joint_stop_eval(c, q, qd, qdd);
+            return 0;
+        }
         kc_ctrl_stop_track(c, j - 1, qd);
+    }
     /* A servo target may jump: the arm goes there within its limits, and
      * only a joint limit in the way is a fault. */
     /* The replaced motion's stop in a superposition is followed as a stop
