@@ -55,26 +55,36 @@ static kc_real shaped_rate(kc_real v, kc_real a, kc_real w, kc_real amax, kc_rea
     return kc_clamp(kc_clamp(r, a - h, a + h), -amax, amax);
 }
 
-/* A twist stream's tick: its target moves over the tick by the shaped
- * twist and its rate as they stand (v dt + a dt^2 / 2, the rotation by
- * (w + dw dt / 2) dt), so that the twist fed forward at each tick's target
- * is the target's own velocity there, as a line's, an arc's or a pose
- * stream's is (moved by v dt alone, the target would lag its twist by
- * a dt / 2); then the shaped twist moves towards the commanded twist axis
- * by axis, each linear axis within the goal's Cartesian acceleration and
- * jerk (l.a, l.j) over sqrt(3), each angular axis within l.dw and l.dj
- * over sqrt(3), so that the linear and angular acceleration and jerk
- * vectors stay within the bounds (kinctl/ctrl.h). The commanded linear and
- * angular velocity vectors are first scaled down to the goal's speed and
- * omega (l.v, l.w) where they exceed them, their directions kept. The
- * rate taken for the tick is the one before its step: the target is off
- * the twist's own integral by (a' - a) dt^2 / 2, at most the jerk's
- * l.j dt^3 / 2, and a twist at rest (the stream's start, a zone
- * restraining the arm) moves it by nothing in the first tick. */
+/* A twist stream's tick: the shaped twist v moves towards the commanded
+ * twist axis by axis, its rate a' for the tick (shaped_rate) within the
+ * goal's Cartesian acceleration and jerk (l.a, l.j) over sqrt(3) on each
+ * linear axis, l.dw and l.dj over sqrt(3) on each angular one, so that
+ * the linear and angular acceleration and jerk vectors stay within the
+ * bounds (kinctl/ctrl.h); the commanded linear and angular velocity
+ * vectors are first scaled down to the goal's speed and omega (l.v, l.w)
+ * where they exceed them, their directions kept. The rate is held over
+ * the tick: the target moves by v dt + a' dt^2 / 2 (the rotation by (w +
+ * dw' dt / 2) dt) and the twist becomes v + a' dt, the target's own
+ * velocity at the tick, which the IK step feeds forward as it does a
+ * line's. The target so moves by a piecewise constant acceleration,
+ * whose third difference over a tick is the mean of two consecutive
+ * steps of the rate: within the jerk bound. Moved by the rate before the
+ * step, a reversal of the rate's ramp gave 2 times the bound, and 1.5 its
+ * every start. */
 static void servo_twist_tick(kc_ctrl *c)
 {
     kc_real dt = c->cfg.dt, half = KC_R(0.5) * dt * dt;
-    const kc_real *v = c->servo_v, *a = c->servo_a;
+    kc_interp_limits l = kc_ctrl_cart_limits(&c->cfg, &c->goal);
+    kc_real cap[2], a[6];
+    for (int h = 0; h < 6; h += 3) { /* the linear part, then the angular */
+        const kc_real *t = &c->goal.twist[h];
+        kc_real size = kc_sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]), top = h == 0 ? l.v : l.w;
+        cap[h / 3] = size > top ? top / size : KC_R(1.0);
+    }
+    for (int i = 0; i < 6; i++)
+        a[i] = shaped_rate(c->servo_v[i], c->servo_a[i], c->goal.twist[i] * cap[i / 3],
+                           AXIS_SHARE * (i < 3 ? l.a : l.dw), AXIS_SHARE * (i < 3 ? l.j : l.dj), dt);
+    const kc_real *v = c->servo_v;
     kc_vec3 w = kc_vec3_make(v[3] * dt + a[3] * half, v[4] * dt + a[4] * half, v[5] * dt + a[5] * half);
     kc_quat dr, r, r2;
     kc_quat_exp(&w, &dr);
@@ -83,18 +93,9 @@ static void servo_twist_tick(kc_ctrl *c)
     kc_quat_to_mat3(&r2, &c->servo_target.R);
     for (int i = 0; i < 3; i++)
         c->servo_target.t.v[i] += v[i] * dt + a[i] * half;
-    kc_interp_limits l = kc_ctrl_cart_limits(&c->cfg, &c->goal);
-    kc_real cap[2];
-    for (int h = 0; h < 6; h += 3) { /* the linear part, then the angular */
-        const kc_real *t = &c->goal.twist[h];
-        kc_real size = kc_sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]), top = h == 0 ? l.v : l.w;
-        cap[h / 3] = size > top ? top / size : KC_R(1.0);
-    }
     for (int i = 0; i < 6; i++) {
-        kc_real ai = shaped_rate(c->servo_v[i], c->servo_a[i], c->goal.twist[i] * cap[i / 3],
-                                 AXIS_SHARE * (i < 3 ? l.a : l.dw), AXIS_SHARE * (i < 3 ? l.j : l.dj), dt);
-        c->servo_a[i] = ai;
-        c->servo_v[i] += ai * dt;
+        c->servo_a[i] = a[i];
+        c->servo_v[i] += a[i] * dt;
     }
 }
 

@@ -10,6 +10,10 @@
  * change of a zone distance is rounding (kc_ctrl_zone_servo_limit). */
 #define NOISE KC_R(2.0)
 
+/* How far (m) a stream's target may run ahead of an arm the zone holds
+ * back on a step whose approach is within that rounding. */
+#define LEAD KC_R(1e-3)
+
 void kc_ctrl_zone_init(kc_ctrl *c)
 {
     kc_zone_hit none = {-1, -1, INF};
@@ -68,12 +72,23 @@ void kc_ctrl_zone_servo_limit(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
      * restrained arm instead of running on into the zone, and its shaped
      * twist is the arm's over the tick (the rate zero), so a reversed twist
      * or a pose away from the zone moves it away at once. Not for an
-     * approach within the band: at rest against the margin, a reversed
-     * stream's first steps measure that much (rounding alone),
-     * and taking the stream back to rest on them would take it back on
-     * every tick, never away. The step itself is restrained all the same. */
+     * approach within the band while the target is within LEAD of the
+     * arm: at rest against the margin, a reversed stream's first steps
+     * measure that much (rounding alone), and taking the stream back to
+     * rest on them would take it back on every tick, never away (so too
+     * judged on the direction of the step's velocity: sliding along a
+     * wall, a reversed stream's first steps may head in, its axes' rates
+     * ramping alike before the commanded twist's direction shows). But a
+     * stream pushing on, its step from rest within qdd_max dt, can measure
+     * an approach of no more than the band for good (in float, the PUMA
+     * 560 against a wall: 4 units in the last place on both), its target
+     * then running on into the zone at the stream's twist while the arm
+     * stays, and a reversed stream would first brake that twist. The step
+     * itself is restrained all the same. */
     int shaped = kc_ctrl_servo_shaped(c);
-    if ((c->goal.servo_twist || shaped) && approach > band) {
+    kc_vec3 lead;
+    kc_vec3_sub(&c->servo_target.t, &c->pose.t, &lead);
+    if ((c->goal.servo_twist || shaped) && (approach > band || kc_vec3_norm(&lead) > LEAD)) {
         kc_fk_eval(c->chain, q, &c->servo_target);
         kc_vec3 w;
         kc_ctrl_turn(&c->pose.R, &c->servo_target.R, &w);

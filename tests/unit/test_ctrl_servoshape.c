@@ -87,7 +87,7 @@ typedef struct harness {
     kc_ctrl ctrl;
     kc_ctrl_output out;
     kc_real q_prev[KC_MAX_JOINTS], qd_prev[KC_MAX_JOINTS], qdd_prev[KC_MAX_JOINTS];
-    double worst_j, worst_track_j, worst_a, worst_cart_j, worst_cart_a, worst_follow;
+    double worst_j, worst_target_j, worst_track_j, worst_a, worst_cart_j, worst_cart_a, worst_follow;
     /* Judge the jerk while a motion is followed only on the cycles from
      * judge_from to judge_to (judge_window set): a takeover's. */
     int judge_window;
@@ -202,6 +202,9 @@ static void test_random_twist_streams(void **state)
                 bound_j[i] = (double)(i < 3 ? H.cfg.cart_jerk : H.cfg.cart_angular_jerk) / sqrt(3.0);
             }
             double v_prev[6] = {0}, a_prev[6] = {0};
+            /* The target's last four positions, for its jerk. */
+            double p_hist[4][3];
+            int seen = 0;
             long settle = 0;
             int changes = 1 + (int)kt_uniform(&r, 0.0, 5.0);
             for (int s = 0; s < changes; s++) {
@@ -223,20 +226,37 @@ static void test_random_twist_streams(void **state)
                     n = (int)settle + 200; /* the last twist held long enough to follow it */
                 for (int k = 0; k < n; k++) {
                     kc_pose target_before = H.ctrl.servo_target;
-                    double v_before[6], a_before[6];
-                    for (int i = 0; i < 6; i++) {
+                    double v_before[6];
+                    for (int i = 0; i < 6; i++)
                         v_before[i] = (double)H.ctrl.servo_v[i];
-                        a_before[i] = (double)H.ctrl.servo_a[i];
-                    }
                     tick(&g);
                     assert_int_equal(H.out.goal_id, id);
                     assert_int_equal(H.out.state, KC_CTRL_MOVING);
-                    /* The target moved by the shaped twist and its rate
-                     * of the tick before. */
+                    /* The target moved by the shaped twist of the tick
+                     * before and the rate of this tick's step, held over
+                     * the tick. */
                     for (int i = 0; i < 3 && k > 0; i++)
                         kt_near((double)H.ctrl.servo_target.t.v[i],
-                                (double)target_before.t.v[i] + v_before[i] * dt + 0.5 * a_before[i] * dt * dt,
+                                (double)target_before.t.v[i] + v_before[i] * dt +
+                                    0.5 * (double)H.ctrl.servo_a[i] * dt * dt,
                                 8.0 * (double)KC_REAL_EPS, "the target moves by the shaped twist");
+                    /* The target's jerk, its positions' third difference
+                     * over dt^3, within the axis' jerk bound (judged in
+                     * double: in float the positions' rounding alone
+                     * gives 40 times it). With the target moved by the
+                     * rate before the step it reached twice the bound. */
+                    memmove(p_hist[0], p_hist[1], sizeof p_hist[0] * 3);
+                    for (int i = 0; i < 3; i++)
+                        p_hist[3][i] = (double)H.ctrl.servo_target.t.v[i];
+                    seen++;
+                    for (int i = 0; i < 3 && seen >= 4; i++) {
+                        double d3 = p_hist[3][i] - 3.0 * p_hist[2][i] + 3.0 * p_hist[1][i] - p_hist[0][i];
+                        double rt = fabs(d3) / (dt * dt * dt) / bound_j[i];
+                        H.worst_target_j = fmax(H.worst_target_j, rt);
+                        if (TRACK_JERK_JUDGED && !(rt <= 1.0 + SLACK))
+                            fail_msg("%s case %d tick %d axis %d: the target's jerk %.7g of its bound",
+                                     kc_model_name(models[m]), c, k, i, rt);
+                    }
                     for (int i = 0; i < 6; i++) {
                         /* The shaped twist moved by its rate over the tick,
                          * the rate within its bound and changed by at most
@@ -288,11 +308,11 @@ static void test_random_twist_streams(void **state)
             go_home(models[m], HOME_ID + c);
         }
         print_message("%s: %d twist streams, %ld ticks: the shaped twist's rate at most %.6f and its change %.6f "
-                      "of the Cartesian bounds; the joints' qdd at most %.4f and jerk %.4f of their limits (while "
+                      "of the Cartesian bounds, the target's jerk %.6f; the joints' qdd at most %.4f and jerk %.4f of their limits (while "
                       "tracking %.7f); the tool's twist off the commanded by at most %.2e of its size; each stream "
                       "ended by its timeout's jerk-limited stop (%s)\n",
-                      kc_model_name(models[m]), CASES, H.ticks, H.worst_cart_a, H.worst_cart_j, H.worst_a, H.worst_j,
-                      H.worst_track_j, H.worst_follow, KC_REAL_NAME);
+                      kc_model_name(models[m]), CASES, H.ticks, H.worst_cart_a, H.worst_cart_j, H.worst_target_j,
+                      H.worst_a, H.worst_j, H.worst_track_j, H.worst_follow, KC_REAL_NAME);
         assert_true(H.worst_cart_j > 0.5); /* the shaping does use the jerk it is allowed */
     }
 }

@@ -330,6 +330,12 @@ static void servo_into_wall(double side)
         tick(&g, KC_CMD_NONE);
     assert_true(fabs((double)H.out.pose.t.v[0] - x_end) < 1e-4);
     assert_true(H.min_clear >= (double)margin());
+    /* the stream's target stays with the arm held at the margin (within
+     * ctrl_zone.c's LEAD of 1 mm and a tick of the twist), not running on
+     * into the wall: in float it once ran 18 cm in, at 0.2 m/s */
+    kc_vec3 lead;
+    kc_vec3_sub(&H.ctrl.servo_target.t, &H.ctrl.pose.t, &lead);
+    assert_true((double)kc_vec3_norm(&lead) <= 1e-3 + 0.2 * (double)H.cfg.dt);
     /* a twist away from the wall is followed at once, shaped from the
      * arm's twist at rest (kinctl/ctrl.h; at 0.5 / sqrt(3) m/s^2 and
      * 5 / sqrt(3) m/s^3 it is 4.4 cm away after 0.6 s; 1 mm if it started

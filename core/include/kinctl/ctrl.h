@@ -194,9 +194,10 @@
  * ticks each side): a shaped pose stream after a line, an arc, a
  * Cartesian path or another shaped pose stream (their targets all
  * sampled from their laws tick by tick) or a twist stream (whose target
- * moves over each tick by its twist and the twist's rate, v dt + a dt^2 /
- * 2, so that the twist fed forward is the target's own velocity, as a
- * sampled law's is), a twist stream after another twist stream; its
+ * moves over each tick by its twist and the rate of that tick's step,
+ * held over the tick, v dt + a dt^2 / 2, so that the twist fed forward,
+ * v + a dt, is the target's own velocity, as a sampled law's is), a twist
+ * stream after another twist stream; its
  * profiles or its twist's step then take it on within its bounds, so the
  * IK step tracks it with the error it already had. The target's twist and
  * rate must be within the stream's speed, omega, accel and alpha (a twist
