@@ -219,43 +219,60 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
         return 0;
     /* The stream's target goes on from the motion's own target as it is
      * sampled tick by tick, which the IK step tracks with an error of its
-     * own that so goes on unchanged: a shaped pose stream's profiles are
-     * sampled as a line's, an arc's, a Cartesian path's or another shaped
-     * pose stream's law is, and as a twist stream's target moves by its
-     * twist and its rate over the tick (servo_twist_tick), so a shaped pose
-     * stream goes on from any of them; a twist stream from another twist
-     * stream. A twist stream after one of the others changes the tool's
-     * jerk to its shaping's in a tick (the joints' jerk at the takeover up
-     * to 1.21 times that of the ticks each side, within the limits), and
-     * from a motion in joint space (the tool's pose, without a target's
+     * own that so goes on unchanged: a line's, an arc's, a Cartesian
+     * path's, a shaped pose stream's or a twist stream's (kinctl/ctrl.h).
+     * From a motion in joint space (the tool's pose, without a target's
      * law) the positions differ by a dt^2 / 2 in a tick, a step of the
      * joints' acceleration through the IK step's feedback: those stop
      * first. */
     int twist_law = c->goal.kind == KC_GOAL_SERVO && c->goal.servo_twist;
-    int pose_law = c->goal.kind == KC_GOAL_LINE || c->goal.kind == KC_GOAL_ARC ||
-                   c->goal.kind == KC_GOAL_PATH_CART || kc_ctrl_servo_shaped(c) || twist_law;
-    if (g->servo_twist ? !twist_law : !pose_law || kc_ctrl_goal_profile(c, g) != KC_PROFILE_JERK)
+    int law = c->goal.kind == KC_GOAL_LINE || c->goal.kind == KC_GOAL_ARC || c->goal.kind == KC_GOAL_PATH_CART ||
+              kc_ctrl_servo_shaped(c) || twist_law;
+    if (!law || (!(g->servo_twist && twist_law) && kc_ctrl_goal_profile(c, g) != KC_PROFILE_JERK))
         return 0;
-    kc_real v[6], a[6];
+    /* A twist stream holds its rate over each tick (servo_twist_tick):
+     * one taking over another law goes on from the rate of that law's
+     * last tick, ab, its twist's backward difference (for a cubic law of
+     * jerk J, a - J dt / 2), whose twist it so continues: the twist's
+     * change over the next tick is the step of the rate from there. From
+     * a, the rate at the tick, the target's jerk (third difference) at the
+     * takeover reaches 4 / 3 of the two laws'. A pose stream's profiles
+     * start from the rate at the tick. */
+    int held = g->servo_twist && !twist_law;
+    kc_real v[6], a[6], ab[6], dt = c->cfg.dt;
     kc_pose from = c->servo_target;
     if (c->goal.kind == KC_GOAL_SERVO) {
         memcpy(v, c->servo_v, sizeof v);
         memcpy(a, c->servo_a, sizeof a);
+        memcpy(ab, a, sizeof ab);
+        /* A shaped pose stream's twist a tick before (its plan started
+         * before it; else the rate at the tick). */
+        if (held && c->plan.servo.k0 < c->cycle - 1) {
+            pose_at(c, c->cycle - 2);
+            for (int i = 0; i < 6; i++)
+                ab[i] = (v[i] - c->servo_v[i]) / dt;
+            pose_at(c, c->cycle - 1);
+        }
     } else {
         /* The segment's target at j, the last setpoint's tick, its twist,
-         * and the twist's rate by the central difference of its twist at
-         * j + 1 and j - 1. */
+         * and the twist's rate by the central difference of its twists at
+         * j + 1 and j - 1, and by the backward one of j and j - 1. */
         int64_t j = c->cycle - 1 - c->k0;
         kc_ctrl_seg_point o;
         kc_ctrl_seg_eval(c, j + 1, &o);
         memcpy(a, o.twist, sizeof a);
         kc_ctrl_seg_eval(c, j - 1, &o);
-        for (int i = 0; i < 6; i++)
-            a[i] = (a[i] - o.twist[i]) / (KC_R(2.0) * c->cfg.dt);
+        memcpy(ab, o.twist, sizeof ab);
         kc_ctrl_seg_eval(c, j, &o);
         from = o.pose;
         memcpy(v, o.twist, sizeof v);
+        for (int i = 0; i < 6; i++) {
+            a[i] = (a[i] - ab[i]) / (KC_R(2.0) * dt);
+            ab[i] = (v[i] - ab[i]) / dt;
+        }
     }
+    if (held)
+        memcpy(a, ab, sizeof a);
     /* Within the goal's Cartesian bounds: the vectors (a pose stream's
      * profiles bring an axis beyond its own share back within it,
      * jerk-limited), and for a twist stream each axis' rate within its

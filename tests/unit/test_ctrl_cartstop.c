@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* test_ctrl_cartstop.c - a Cartesian goal (a line, an arc, a Cartesian
  * path) stopped on its path, by a STOP or because a joint path or a
- * servo stream replaces it (it stops first), keeps its joints within
+ * trapezoidal servo stream replaces it (it stops first), keeps its joints within
  * their acceleration and jerk limits (kinctl/ctrl.h: the stop's bounds
  * on its path parameter are scaled for the joints, ctrl_stop.c). At the
  * tool's limits alone the PUMA 560's joints went up to 185 times beyond
@@ -97,7 +97,9 @@ static kc_goal cart_goal(kt_rng *r, kc_goal_kind kind, const kc_pose *home)
 }
 
 /* A joint path through two knots within 0.3 rad of q on every joint
- * (blend, spline or quintic), or a servo twist stream of up to 0.1 m/s. */
+ * (blend, spline or quintic), or a servo twist stream of up to 0.1 m/s on
+ * the trapezoid profile (a jerk-limited one takes over a moving line, arc
+ * or Cartesian path in the tick, where it can: test_ctrl_servoshape.c). */
 static kc_goal replacing(kt_rng *r, int servo, const kc_real *q)
 {
     kc_goal g;
@@ -109,6 +111,7 @@ static kc_goal replacing(kt_rng *r, int servo, const kc_real *q)
         kc_vec3 v = offset(r, 0.0, 0.1);
         g.kind = KC_GOAL_SERVO;
         g.servo_twist = 1;
+        g.profile = KC_GOAL_PROFILE_TRAPEZOID;
         g.pose = CTRL.pose;
         g.twist[0] = v.v[0], g.twist[1] = v.v[1], g.twist[2] = v.v[2];
         return g;

@@ -188,30 +188,35 @@
  * blend's step of qdd), on every tick of the overlap.
  *
  * A replacing servo stream takes over in the tick it arrives where the
- * two targets follow the same kind of law, and goes on from the old
- * target's pose, twist and the twist's rate at the last setpoint (a
- * segment's twist rate by the central difference of its twists over the
- * ticks each side): a shaped pose stream after a line, an arc, a
- * Cartesian path or another shaped pose stream (their targets all
- * sampled from their laws tick by tick) or a twist stream (whose target
- * moves over each tick by its twist and the rate of that tick's step,
- * held over the tick, v dt + a dt^2 / 2, so that the twist fed forward,
- * v + a dt, is the target's own velocity, as a sampled law's is), a twist
- * stream after another twist stream; its
+ * old target follows a law: a line, an arc, a Cartesian path, a shaped
+ * pose stream (all sampled from their laws tick by tick) or a twist
+ * stream (whose target moves over each tick by its twist and the rate of
+ * that tick's step, held over the tick: v dt + a dt^2 / 2, with v + a dt
+ * the twist fed forward at the tick's target, the target's own velocity
+ * there, as a sampled law's is). The stream goes on from the old target's
+ * pose, twist and the twist's rate at the last setpoint: a shaped pose
+ * stream's profiles from the rate at that tick (a segment's by the
+ * central difference of its twists over the ticks each side), a twist
+ * stream from the rate of the old law's last tick (the backward
+ * difference, the rate its own law holds: from the rate at the tick, its
+ * target's jerk at the takeover reached 4 / 3 of the two laws'). Its
  * profiles or its twist's step then take it on within its bounds, so the
  * IK step tracks it with the error it already had. The target's twist and
  * rate must be within the stream's speed, omega, accel and alpha (a twist
- * stream's rate within each axis' share, which its step would clamp at
- * once). A twist stream after a line, an arc, a Cartesian path or a pose
- * stream changes the tool's jerk to its shaping's in a tick, and from a
- * motion in joint space (where the target would start from the tool's
- * pose) the positions differ by a dt^2 / 2 within a tick, which the IK
- * step's feedback turns into a step of the joints' acceleration: those
- * stop first (random takeovers, test_ctrl_servoshape.c: the joints' jerk
- * at a takeover at most 1.01 times that of the ticks each side; a twist
- * stream after a line or a Cartesian path up to 1.21 times, within the
- * limits; a pose stream after a twist stream whose target moved by v dt
- * alone, 1.6 times).
+ * stream's rate within each axis' share, 1 / sqrt(3) of the bound, which
+ * its step would clamp at once: a line accelerating along no axis of the
+ * base is often beyond it). From a motion in joint space (where the
+ * target would start from the tool's pose) the positions differ by a
+ * dt^2 / 2 within a tick, which the IK step's feedback turns into a step
+ * of the joints' acceleration: those stop first. Random takeovers
+ * (test_ctrl_servoshape.c): the joints' jerk on a takeover's first three
+ * ticks at most 1.09 times that of the eight ticks each side, where the
+ * IK step's response to the change of the target's jerk overshoots the
+ * new level for a tick as it does on a pose stream's own new poses (up to
+ * 1.17 times there). A twist stream's target moved by the rate before
+ * the tick's step reached twice its jerk bound on every reversal of the
+ * rate's ramp, and a twist stream after a line 1.25 times the joints'
+ * jerk around it.
  *
  * Every other replacement stops first: the active segment stops on its
  * path, and the goal starts from where the arm comes to rest. Its ACCEPTED
