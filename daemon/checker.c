@@ -288,6 +288,7 @@ static void judge(kd_checker *k, const kd_job *job, kd_job *out)
         atomic_fetch_add_explicit(&k->moving, 1, memory_order_relaxed);
     out->goal.take_cycle = out->verdict.take_cycle;
     out->goal.take_state = out->verdict.take_state;
+    out->goal.qu = out->verdict.qu; /* what its resume after a pause is held to */
     out->elapsed_ns = kd_now_ns() - start;
     out->slowed = note.slowed;
     out->cut = note.cut;

@@ -105,6 +105,7 @@ static kc_status run_set(kc_check *k, int64_t max_ticks)
     k->run_progress = KC_R(0.0);
     memcpy(k->run_qdd, k->scratch.qdd, sizeof k->run_qdd);
     k->run_jerk = KC_R(0.0);
+    k->run_qu = KC_R(0.0);
     k->run_own = !k->run_moving || !k->run_stop_free;
     k->running = 1;
     return KC_MORE;
@@ -232,11 +233,14 @@ kc_status kc_check_run(kc_check *k, int64_t max_ticks, kc_verdict *v)
         k->run_in.goal = NULL;
         k->run_progress = out.progress;
         jerk_of(k, &out);
+        if (k->scratch.goal.id == k->run_goal.id)
+            k->run_qu = kc_max(k->run_qu, kc_ctrl_rate_per_u(&k->scratch));
         for (int e = 0; e < out.n_events; e++)
             if (judged(k, &out.events[e], tick, v)) {
                 k->running = 0;
                 v->jerk = k->run_jerk;
                 v->jerk_own = k->run_own;
+                v->qu = k->run_qu;
                 return v->status;
             }
     }
@@ -245,6 +249,7 @@ kc_status kc_check_run(kc_check *k, int64_t max_ticks, kc_verdict *v)
     k->running = 0;
     v->jerk = k->run_jerk;
     v->jerk_own = k->run_own;
+    v->qu = k->run_qu;
     v->status = KC_E_CAPACITY;
     v->reason = KC_REASON_PLAN;
     v->tick = k->run_max;

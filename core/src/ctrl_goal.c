@@ -135,8 +135,8 @@ kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *g, kc_verdict
     if ((unsigned)g->kind > (unsigned)KC_GOAL_SERVO || !scale_ok(g->vel_scale) || !scale_ok(g->acc_scale) ||
         (unsigned)g->profile > (unsigned)KC_GOAL_PROFILE_JERK)
         return kc_ctrl_bad_goal(v);
-    const kc_real limits[6] = {g->speed, g->accel, g->omega, g->alpha, g->jerk, g->angular_jerk};
-    for (int i = 0; i < 6; i++)
+    const kc_real limits[7] = {g->speed, g->accel, g->omega, g->alpha, g->jerk, g->angular_jerk, g->qu};
+    for (int i = 0; i < 7; i++)
         if (!limit_ok(limits[i]))
             return kc_ctrl_bad_goal(v);
     switch (g->kind) {

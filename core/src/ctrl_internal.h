@@ -293,6 +293,12 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out);
  * the speed the stop started from: its resume starts where it rests. */
 void kc_ctrl_stop_track(kc_ctrl *c, int64_t j, const kc_real *qd);
 
+/* A line's, arc's or Cartesian path's joints' largest rate per unit of
+ * its parameter's rate, |qd_i / u'| / qddd_max_i at the last setpoint,
+ * while it runs on its own law at a tenth of u's top rate or more; else
+ * 0 (the dry run's kc_verdict.qu). */
+kc_real kc_ctrl_rate_per_u(const kc_ctrl *c);
+
 /* A Cartesian goal's jerk-limited stop on its path whose IK step asks
  * qdd, the tick's setpoint, to change beyond a joint's qddd_max dt (and
  * cfg.limit_slack): the joints cannot follow the path's stop within their

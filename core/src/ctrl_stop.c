@@ -318,9 +318,14 @@ static kc_real stop_load(const kc_ctrl *c, kc_real v, kc_real a, kc_real dec, kc
  * at most, and at most (not below STOP_SHARE_MIN) the k whose |q_u| k jm
  * is within STOP_RESUME_SHARE of qddd_max, q_u the largest seen while the
  * stop ran (kc_ctrl_stop_track; at the stop's start alone it was half of
- * that at rest on a PUMA 560 line): from rest, the IK step's first tick
- * corrects what error the tool had left, and stepped the joints' jerk up
- * to twice |q_u| k jm. */
+ * that at rest on a PUMA 560 line) and by the goal's dry run over its
+ * whole path (kc_goal.qu): from rest, the IK step's first tick corrects
+ * what error the tool had left, and stepped the joints' jerk up to twice
+ * |q_u| k jm; and a slow ramp ends its last jerk phase far ahead, where
+ * |q_u| may be larger than anywhere the stop came (a PUMA 560 Cartesian
+ * path resumed at 0.16 of its length: the ramp's last phase at 0.71, the
+ * joints' jerk 1.28 times their limits for 25 ticks, with the stop's
+ * q_u alone). */
 static void joint_bounded_stop(kc_ctrl *c, kc_real v, kc_real a, kc_real *dec, kc_real *jm)
 {
     if (!(v > KC_R(0.0)))
@@ -366,6 +371,23 @@ static kc_profile_kind seg_u_bounds(const kc_ctrl *c, kc_real *v, kc_real *a, kc
     if (!kc_isfinite(*jm))
         *jm = KC_R(1.0);
     return kind;
+}
+
+kc_real kc_ctrl_rate_per_u(const kc_ctrl *c)
+{
+    if (!c->active || c->state != KC_CTRL_MOVING || c->drive != KC_DRIVE_NOMINAL || c->blend.on ||
+        !kc_ctrl_is_cart(c->goal.kind) || c->goal.kind == KC_GOAL_SERVO)
+        return KC_R(0.0);
+    kc_real top = KC_R(1.0), a, jm, qu = KC_R(0.0);
+    if (!kc_ctrl_is_path(c->goal.kind))
+        seg_u_bounds(c, &top, &a, &jm);
+    kc_profile_state u;
+    kc_ctrl_drive_state(c, (c->cycle - 1) - c->k0, &u);
+    if (!(u.v >= STOP_TRACK_LEAST * top))
+        return KC_R(0.0);
+    for (int i = 0; i < c->chain->n_joints; i++)
+        qu = kc_max(qu, kc_fabs(c->qd[i] / u.v) / c->chain->joints[i].limits.qddd_max);
+    return qu;
 }
 
 /* A jerk-limited line's or arc's stop from u's state into drive_scurve,
@@ -658,9 +680,9 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
     /* A Cartesian goal's ramp from where its stop came to rest, at the
      * share of the bounds its stop chose (joint_bounded_stop). */
     if (c->goal.kind != KC_GOAL_PATH) {
-        kc_real k = c->resume_share;
-        if (c->stop_qu * k * jmax > STOP_RESUME_SHARE)
-            k = kc_max(STOP_RESUME_SHARE / (c->stop_qu * jmax), STOP_SHARE_MIN);
+        kc_real k = c->resume_share, qu = kc_max(c->stop_qu, c->goal.qu);
+        if (qu * k * jmax > STOP_RESUME_SHARE)
+            k = kc_max(STOP_RESUME_SHARE / (qu * jmax), STOP_SHARE_MIN);
         amax *= k, jmax *= k;
     }
     jerk = jerk && kc_scurve_plan(&c->drive_scurve, u.p, KC_R(0.0), KC_R(0.0), end, vmax, amax, jmax, c->cfg.dt) ==

@@ -184,6 +184,65 @@ static void test_dry_run_verdicts(void **state)
     assert_int_equal(v.tick, 5);
 }
 
+/* The dry run's qu (kc_verdict.qu): the joints' largest rate per unit of a
+ * line's parameter rate over their qddd_max, while it moves at a tenth of
+ * its top speed or more. Measured here on a controller running the same
+ * line, u' from the tool point's speed (the FK of consecutive setpoints)
+ * over the line's length: the two agree within 2 % (the tool's speed is
+ * its target's, but for the half tick a difference lags and the
+ * tracking). */
+static void test_dry_run_qu(void **state)
+{
+    (void)state;
+    setup();
+    kc_verdict v;
+    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, KT_PUMA_Q0), KC_OK);
+    kc_pose start, to;
+    kc_fk_eval(&CHAIN, KT_PUMA_Q0, &start);
+    to = start;
+    to.t.v[1] += KC_R(0.2);
+    to.t.v[2] -= KC_R(0.1);
+    double length = sqrt(0.2 * 0.2 + 0.1 * 0.1);
+    kc_goal g = kt_line_goal(1, &to);
+    assert_int_equal(kc_check_from(&CHECK, KT_PUMA_Q0, &g, &v), KC_OK);
+    assert_true(v.qu > KC_R(0.0));
+    static double speed[4000], rate[4000];
+    int n = 0;
+    double top = 0.0, dt = (double)CFG.dt;
+    kc_ctrl_output out;
+    memset(&out, 0, sizeof out);
+    assert_int_equal(kc_ctrl_init(&CTRL, &CHAIN, &CFG, KT_PUMA_Q0), KC_OK);
+    kc_pose before = start;
+    for (int k = 0; k < 4000 && !kt_has_event(&out, KC_EVENT_COMPLETED, 1); k++) {
+        kc_ctrl_input in = {k == 0 ? &g : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
+        assert_int_equal(kc_ctrl_step(&CTRL, &in, &out), KC_OK);
+        double d = 0.0;
+        for (int i = 0; i < 3; i++)
+            d += pow((double)out.pose.t.v[i] - (double)before.t.v[i], 2.0);
+        before = out.pose;
+        speed[n] = sqrt(d) / dt;
+        rate[n] = 0.0;
+        for (int j = 0; j < 6; j++)
+            rate[n] = fmax(rate[n], fabs((double)out.qd[j]) / (double)CHAIN.joints[j].limits.qddd_max);
+        top = fmax(top, speed[n]);
+        n++;
+    }
+    assert_true(kt_has_event(&out, KC_EVENT_COMPLETED, 1));
+    double qu = 0.0;
+    for (int k = 0; k < n; k++)
+        if (speed[k] >= 0.1 * top)
+            qu = fmax(qu, rate[k] / (speed[k] / length));
+    print_message("qu: the dry run's %.6g, measured %.6g (%s)\n", (double)v.qu, qu, KC_REAL_NAME);
+    kt_near(qu, (double)v.qu, 0.02 * qu, "the dry run's qu");
+    /* A joint move has no path parameter: 0. */
+    kc_real q1[6];
+    for (int j = 0; j < 6; j++)
+        q1[j] = KT_PUMA_Q0[j] + KC_R(0.2);
+    kc_goal jm = joint_goal(2, q1);
+    assert_int_equal(kc_check_from(&CHECK, KT_PUMA_Q0, &jm, &v), KC_OK);
+    assert_true(v.qu == KC_R(0.0));
+}
+
 /* A waist sweep into a sphere where the wrist passes: the zone, the link
  * volume that enters it, and their distance. */
 static void test_zone_verdict(void **state)
@@ -430,6 +489,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_goal_check_verdicts),
         cmocka_unit_test(test_dry_run_verdicts),
+        cmocka_unit_test(test_dry_run_qu),
         cmocka_unit_test(test_zone_verdict),
         cmocka_unit_test(test_queue_end),
         cmocka_unit_test(test_sliced_same_verdict),

@@ -154,6 +154,7 @@ typedef struct kc_check {
     kc_real run_progress; /* of the goal's motion when last stepped, 0..1 */
     kc_real run_qdd[KC_MAX_JOINTS]; /* the joints' qdd at the last tick stepped */
     kc_real run_jerk;               /* the verdict's jerk so far */
+    kc_real run_qu;                 /* the verdict's qu so far */
     int run_stop_free;              /* the motion replaced follows no jerk-limited law (above) */
     int run_own;                    /* the run's jerk is the goal's own (kc_verdict.jerk_own) */
     int running;

@@ -316,7 +316,10 @@
  * and jerk within a share of its limits, as estimated from the last
  * setpoint, or where none does the share whose estimate is least
  * (ctrl_stop.c, joint_bounded_stop, gives the estimate and the shares).
- * Its resume ramps at that share or less. It is an estimate at the
+ * Its resume ramps at that share or less, and at a jerk whose share of
+ * the joints' qddd_max the largest rates of the joints per unit of the
+ * path's parameter hold, as the stop saw them and as the goal's dry run
+ * did over the whole path (kc_goal.qu, which kinctld sets). It is an estimate at the
  * stop's start: where the joints' rates change fast along the path (near
  * a singularity) the joints may not follow the stop within their limits
  * (a PUMA 560 arc's STOP went 98 times beyond their jerk limits). In
@@ -329,9 +332,12 @@
  * left their paths and none went beyond the limits; the tool came to
  * rest up to 3.1 cm and 0.42 rad from where the path's stop rests. Not
  * in float, where the IK step's rounding alone is above that bound: the
- * stop keeps its path. A resume is not watched: of 200 streams of PAUSE
- * and RESUME, 4 went beyond the joints' jerk limits, by 1.03 to 1.28. A
- * line's or an
+ * stop keeps its path. Of 200 random streams of 100 PAUSEs and RESUMEs
+ * each, judged and handed on as kinctld does, none went beyond the
+ * joints' limits (with the stop's rates alone, 4 did in their resumes, by
+ * 1.03 to 1.28: a slow ramp's last jerk phase came where the joints'
+ * rates are larger than anywhere the stop came; the resumes so held took
+ * 1.5 % longer in all). A line's or an
  * arc's scaled stop that would pass u = 1 gives way to the gentlest
  * between it and the plan's own bounds that does not (the plan's own never
  * does); a path's leaves the law under way, as above. The trapezoid
@@ -448,6 +454,14 @@ typedef struct kc_goal {
      * whenever it arrives. kinctld holds such a goal until its cycle. */
     int64_t take_cycle;
     uint32_t take_state;
+    /* Line, arc, Cartesian path: the largest of its joints' rates per unit
+     * of the rate of its path parameter u (|qd_i| / u', over qddd_max_i)
+     * that its dry run saw while u' was at least a tenth of its top
+     * (kc_verdict.qu; kinctld sets it). A resume after a pause ramps u''
+     * at a jerk whose share of the joints' qddd_max this holds for the
+     * path still ahead, as the stop's own measure (kc_ctrl.stop_qu) holds
+     * it for the way the stop came. 0: the stop's alone. */
+    kc_real qu;
     kc_goal_profile profile; /* joint move, line, arc, path: its motion law */
     /* Fractions of the joints' velocity and acceleration limits, (0, 1]. */
     kc_real vel_scale, acc_scale;
@@ -567,6 +581,10 @@ typedef struct kc_verdict {
      * 0 when judged from rest, for whenever it arrives. */
     int64_t take_cycle;
     uint32_t take_state;
+    /* A dry run that stepped a line, an arc or a Cartesian path: the
+     * largest |qd_i| / u' / qddd_max_i while it ran on its own law at a
+     * tenth of u's top rate or more (kc_goal.qu); else 0. */
+    kc_real qu;
 } kc_verdict;
 
 typedef enum kc_ctrl_event_kind {
