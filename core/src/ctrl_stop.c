@@ -274,6 +274,17 @@ static void jerk_stop(kc_ctrl *c)
 #define STOP_TRACK_LEAST KC_R(0.1)
 #define STOP_HALVINGS 4 /* 1 / 2^4 = STOP_SHARE_MIN */
 
+/* The joints' largest rate per unit of the path's parameter over their
+ * jerk limits, max |qd_i / v| / qddd_max_i, for joint velocities qd at
+ * u' = v. */
+static kc_real rate_per_u(const kc_ctrl *c, const kc_real *qd, kc_real v)
+{
+    kc_real qu = KC_R(0.0);
+    for (int i = 0; i < c->chain->n_joints; i++)
+        qu = kc_max(qu, kc_fabs(qd[i] / v) / c->chain->joints[i].limits.qddd_max);
+    return qu;
+}
+
 /* joint_bounded_stop's estimate at share k: the largest of every joint's
  * acceleration and jerk over its share of qdd_max and qddd_max (within
  * the shares: at most 1). */
@@ -344,8 +355,7 @@ static void joint_bounded_stop(kc_ctrl *c, kc_real v, kc_real a, kc_real *dec, k
     k = best;
     c->resume_share = k;
     c->stop_v0 = v;
-    for (int i = 0; i < c->chain->n_joints; i++)
-        c->stop_qu = kc_max(c->stop_qu, kc_fabs(c->qd[i] / v) / c->chain->joints[i].limits.qddd_max);
+    c->stop_qu = kc_max(c->stop_qu, rate_per_u(c, c->qd, v));
     *jm *= k;
     *dec = kc_max(k * *dec, a < KC_R(0.0) ? -a : KC_R(0.0));
 }
@@ -378,16 +388,12 @@ kc_real kc_ctrl_rate_per_u(const kc_ctrl *c)
     if (!c->active || c->state != KC_CTRL_MOVING || c->drive != KC_DRIVE_NOMINAL || c->blend.on ||
         !kc_ctrl_is_cart(c->goal.kind) || c->goal.kind == KC_GOAL_SERVO)
         return KC_R(0.0);
-    kc_real top = KC_R(1.0), a, jm, qu = KC_R(0.0);
+    kc_real top = KC_R(1.0), a, jm; /* u's top rate: a path's own, tau' = 1 */
     if (!kc_ctrl_is_path(c->goal.kind))
         seg_u_bounds(c, &top, &a, &jm);
     kc_profile_state u;
     kc_ctrl_drive_state(c, (c->cycle - 1) - c->k0, &u);
-    if (!(u.v >= STOP_TRACK_LEAST * top))
-        return KC_R(0.0);
-    for (int i = 0; i < c->chain->n_joints; i++)
-        qu = kc_max(qu, kc_fabs(c->qd[i] / u.v) / c->chain->joints[i].limits.qddd_max);
-    return qu;
+    return u.v >= STOP_TRACK_LEAST * top ? rate_per_u(c, c->qd, u.v) : KC_R(0.0);
 }
 
 /* A jerk-limited line's or arc's stop from u's state into drive_scurve,
@@ -632,8 +638,7 @@ void kc_ctrl_stop_track(kc_ctrl *c, int64_t j, const kc_real *qd)
     kc_ctrl_drive_state(c, j, &u);
     if (!(u.v >= STOP_TRACK_LEAST * c->stop_v0))
         return;
-    for (int i = 0; i < c->chain->n_joints; i++)
-        c->stop_qu = kc_max(c->stop_qu, kc_fabs(qd[i] / u.v) / c->chain->joints[i].limits.qddd_max);
+    c->stop_qu = kc_max(c->stop_qu, rate_per_u(c, qd, u.v));
 }
 
 void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
