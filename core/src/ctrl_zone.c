@@ -3,6 +3,7 @@
  * toward a zone and the final check of every setpoint (kinctl/ctrl.h,
  * kinctl/zone.h). */
 #include "ctrl_internal.h"
+#include "vec3_internal.h"
 
 #include <string.h>
 
@@ -86,9 +87,8 @@ void kc_ctrl_zone_servo_limit(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
      * stays, and a reversed stream would first brake that twist. The step
      * itself is restrained all the same. */
     int shaped = kc_ctrl_servo_shaped(c);
-    kc_vec3 lead;
-    kc_vec3_sub(&c->servo_target.t, &c->pose.t, &lead);
-    if ((c->goal.servo_twist || shaped) && (approach > band || kc_vec3_norm(&lead) > LEAD)) {
+    kc_vec3 lead = kc_v3_sub(c->servo_target.t, c->pose.t);
+    if ((c->goal.servo_twist || shaped) && (approach > band || kc_v3_dot(lead, lead) > LEAD * LEAD)) {
         kc_fk_eval(c->chain, q, &c->servo_target);
         kc_vec3 w;
         kc_ctrl_turn(&c->pose.R, &c->servo_target.R, &w);

@@ -144,18 +144,26 @@ static void test_goal_check_verdicts(void **state)
     assert_names(&v, KC_REASON_JOINT_LIMIT, KC_FIELD_TARGET, -1, 1);
 }
 
+/* A check from KT_PUMA_Q0 on the PUMA 560, and a line from the tool's
+ * pose there (*start) moved by dy and dz (*to). */
+static kc_goal line_from_start(int64_t id, kc_real dy, kc_real dz, kc_pose *start, kc_pose *to)
+{
+    setup();
+    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, KT_PUMA_Q0), KC_OK);
+    kc_fk_eval(&CHAIN, KT_PUMA_Q0, start);
+    *to = *start;
+    to->t.v[1] += dy;
+    to->t.v[2] += dz;
+    return kt_line_goal(id, to);
+}
+
 /* The dry run's own verdicts: where the motion fails, and when it ends. */
 static void test_dry_run_verdicts(void **state)
 {
     (void)state;
-    setup();
     kc_verdict v;
-    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, KT_PUMA_Q0), KC_OK);
     kc_pose start, to;
-    kc_fk_eval(&CHAIN, KT_PUMA_Q0, &start);
-    to = start;
-    to.t.v[1] += KC_R(0.2);
-    kc_goal g = kt_line_goal(1, &to);
+    kc_goal g = line_from_start(1, KC_R(0.2), KC_R(0.0), &start, &to);
     assert_int_equal(kc_check_from(&CHECK, KT_PUMA_Q0, &g, &v), KC_OK);
     assert_int_equal(v.reason, KC_REASON_NONE);
     kc_pose end;
@@ -194,16 +202,10 @@ static void test_dry_run_verdicts(void **state)
 static void test_dry_run_qu(void **state)
 {
     (void)state;
-    setup();
     kc_verdict v;
-    assert_int_equal(kc_check_init(&CHECK, &CHAIN, &CFG, 100000, KT_PUMA_Q0), KC_OK);
     kc_pose start, to;
-    kc_fk_eval(&CHAIN, KT_PUMA_Q0, &start);
-    to = start;
-    to.t.v[1] += KC_R(0.2);
-    to.t.v[2] -= KC_R(0.1);
+    kc_goal g = line_from_start(1, KC_R(0.2), KC_R(-0.1), &start, &to);
     double length = sqrt(0.2 * 0.2 + 0.1 * 0.1);
-    kc_goal g = kt_line_goal(1, &to);
     assert_int_equal(kc_check_from(&CHECK, KT_PUMA_Q0, &g, &v), KC_OK);
     assert_true(v.qu > KC_R(0.0));
     static double speed[4000], rate[4000];
