@@ -286,7 +286,7 @@ kc_status kc_ctrl_step(kc_ctrl *c, const kc_ctrl_input *in, kc_ctrl_output *out)
         kc_ctrl_halting(c)) {
         if (kc_ctrl_joint_stop_eval(c, q, qd, qdd)) {
             c->jstop = 0;
-            if (c->active && kc_ctrl_is_cart(c->goal.kind)) {
+            if (c->active && c->goal.kind != KC_GOAL_JOINT) {
                 kc_ctrl_stop_finished(c, out);
             } else {
                 c->state = c->after_stop;

@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* ctrl_blend.c - a replacing Cartesian goal taken over from a moving line,
- * arc, joint move or servo stream without stopping (kinctl/ctrl.h): the
- * replaced segment M stops (kc_ctrl_stop_on_path, from tick k: a line or
- * an arc on its path, a joint move or a servo stream in joint space),
- * coming to rest at pose P_s after T_s
+/* ctrl_blend.c - a replacing Cartesian goal taken over from a moving
+ * goal without stopping (kinctl/ctrl.h): the replaced segment M stops
+ * (kc_ctrl_stop_on_path, from tick k: a line or an arc on its path, a
+ * joint move or a servo stream in joint space; a path joint by joint,
+ * halt_stop), coming to rest at pose P_s after T_s
  * ticks; the new segment G is planned from P_s at rest and starts t0 ticks
  * after k. The target while M's stop lasts is the superposition
  *     p = p_M + (p_G - p_s),   R = A R_M,  A = R_G R_s^T (left, base frame),
@@ -17,8 +17,8 @@
  * motion in position, velocity and acceleration. t0 is the earliest of a
  * bounded search in [0, T_s] whose sum keeps the Cartesian limits on every
  * tick of the overlap; T_s always does (no overlap). A joint path G
- * replacing a joint move or a servo stream is superposed the same way in
- * joint space, M's stop taken exactly: q = q_M + (q_G - q_s), t0 keeping
+ * replacing any of them is superposed the same way in joint space, M's
+ * stop (a line's or an arc's joint by joint, halt_stop) taken exactly: q = q_M + (q_G - q_s), t0 keeping
  * the joints' limits (admissible_joints). */
 #include "ctrl_internal.h"
 #include "ik_internal.h"
@@ -111,7 +111,7 @@ static void stop_point(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
 {
     const kc_ctrl_blend *b = &c->blend;
     j = j < 0 ? 0 : j;
-    if (b->kind == KC_GOAL_LINE || b->kind == KC_GOAL_ARC) {
+    if (b->stop_drive != KC_DRIVE_HALT && (b->kind == KC_GOAL_LINE || b->kind == KC_GOAL_ARC)) {
         kc_ctrl_interp_point(b->kind, &b->plan.line, &b->plan.arc, b->stop_drive, &b->stop.prof, &b->stop.scurve, j,
                              o);
         return;
@@ -421,21 +421,48 @@ static void give_back_stop(kc_ctrl *c)
     }
 }
 
+/* M stops joint by joint, from the last setpoint, its plan giving way to
+ * G's: the halts into the record, planned before anything is changed
+ * (kc_ctrl_halt_plan; a Cartesian M's within its Cartesian bounds lm).
+ * 0 where they cannot be planned (M goes on, G waits for M's own stop). */
+static int halt_stop(kc_ctrl *c, const kc_interp_limits *lm)
+{
+    kc_ctrl_blend *b = &c->blend;
+    if (!kc_ctrl_halt_plan(c, b->plan.halt, c->goal.kind == KC_GOAL_PATH ? NULL : lm))
+        return 0;
+    b->kind = c->goal.kind;
+    b->stop_drive = KC_DRIVE_HALT;
+    b->k0 = c->cycle - 1;
+    b->stop_ticks = 0;
+    for (int i = 0; i < c->chain->n_joints; i++)
+        b->stop_ticks = b->plan.halt[i].ticks > b->stop_ticks ? b->plan.halt[i].ticks : b->stop_ticks;
+    c->state = KC_CTRL_STOPPING;
+    c->stop_intent = INTENT_PREEMPT;
+    return 1;
+}
+
 int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
 {
     kc_ctrl_blend *b = &c->blend;
     int in_joints = c->goal.kind == KC_GOAL_JOINT || c->goal.kind == KC_GOAL_SERVO;
+    /* A joint or Cartesian path (its plan is as large as G's), and a line
+     * or an arc under a joint path (superposed in joint space, M's stop
+     * must be known there), stop joint by joint (halt_stop). */
+    int halts = kc_ctrl_is_path(c->goal.kind) ||
+                (g->kind == KC_GOAL_PATH && (c->goal.kind == KC_GOAL_LINE || c->goal.kind == KC_GOAL_ARC));
     if (!c->active || c->state != KC_CTRL_MOVING || b->on ||
-        (c->goal.kind != KC_GOAL_LINE && c->goal.kind != KC_GOAL_ARC && !in_joints) ||
-        (g->kind != KC_GOAL_LINE && g->kind != KC_GOAL_ARC && g->kind != KC_GOAL_PATH_CART &&
-         !(g->kind == KC_GOAL_PATH && in_joints)))
+        (g->kind != KC_GOAL_LINE && g->kind != KC_GOAL_ARC && !kc_ctrl_is_path(g->kind)))
+        return 0;
+    /* A path that does not start at rest (Lagrange's) needs a ramp of its
+     * own: not superposed (checked on its plan below too). */
+    if (kc_ctrl_is_path(g->kind) && g->method == KC_PATH_LAGRANGE)
         return 0;
     /* The IK step turns the sum's twist back into joint velocities, and
      * gives a joint-space stop's own back (J^+ J qd = qd) only where the
-     * task leaves no null space: a redundant arm's joint move or servo
-     * stream stops first (its null-space motion would jump to the IK's
-     * objective). */
-    if (in_joints && g->kind != KC_GOAL_PATH && c->chain->n_joints > kc_ik_task_rows(c->cfg.ik.mask))
+     * task leaves no null space: on a redundant arm a Cartesian goal
+     * replacing a motion that stops joint by joint stops it first (its
+     * null-space motion would jump to the IK's objective). */
+    if ((in_joints || halts) && g->kind != KC_GOAL_PATH && c->chain->n_joints > kc_ik_task_rows(c->cfg.ik.mask))
         return 0;
     /* A trapezoid joint move's stop brakes at a joint's acceleration limit
      * from its first tick to its last: the IK step, adding its correction
@@ -443,18 +470,24 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
      * its target. It stops first, in joint space. */
     if (c->goal.kind == KC_GOAL_JOINT && (c->drive == KC_DRIVE_RETARGET || c->plan.joint.kind != KC_PROFILE_JERK))
         return 0;
-    /* A joint move or a servo stream has no Cartesian limits of its own:
-     * G's bound the sum (or what M's stop alone does, where that is more;
-     * a servo stream's stop that cannot be planned jerk-limited is no
-     * KC_DRIVE_HALT: keep_stop refuses it, the goal waits for it). */
+    /* A joint move, a servo stream or a joint path has no Cartesian limits
+     * of its own: G's bound the sum (or what M's stop alone does, where
+     * that is more; a servo stream's stop that cannot be planned
+     * jerk-limited is no KC_DRIVE_HALT: keep_stop refuses it, the goal
+     * waits for it). */
     kc_interp_limits lg = kc_ctrl_cart_limits(&c->cfg, g);
-    kc_interp_limits lm = in_joints ? lg : kc_ctrl_cart_limits(&c->cfg, &c->goal);
+    kc_interp_limits lm = in_joints || c->goal.kind == KC_GOAL_PATH ? lg : kc_ctrl_cart_limits(&c->cfg, &c->goal);
     blend_bounds lim = {kc_max(lm.v, lg.v), kc_max(lm.a, lg.a), kc_max(lm.j, lg.j),
                         kc_max(lm.w, lg.w), kc_max(lm.dw, lg.dw), kc_max(lm.dj, lg.dj)};
     kc_real old_length = c->path_length;
-    kc_ctrl_stop_on_path(c, INTENT_PREEMPT);
-    if (!keep_stop(c))
-        return 0; /* a stop that is not a profile: it goes on, the goal waits for it */
+    if (halts) {
+        if (!halt_stop(c, &lm))
+            return 0; /* M goes on; the goal waits for its stop on its path */
+    } else {
+        kc_ctrl_stop_on_path(c, INTENT_PREEMPT);
+        if (!keep_stop(c))
+            return 0; /* a stop that is not a profile: it goes on, the goal waits for it */
+    }
     kc_ctrl_seg_point rest;
     kc_status st;
     if (g->kind == KC_GOAL_PATH) {
@@ -481,8 +514,16 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
             st = KC_E_ARG;
     }
     if (st != KC_OK) {
-        /* M goes on stopping; G waits for it (and is planned again then). */
-        give_back_stop(c);
+        /* M goes on stopping; G waits for it (and is planned again then).
+         * A stop joint by joint runs from plan.halt (kc_ctrl_halting), M's
+         * own plan being gone. */
+        if (halts) {
+            memcpy(c->plan.halt, b->plan.halt, sizeof(kc_scurve) * (size_t)c->chain->n_joints);
+            c->drive = KC_DRIVE_HALT;
+            c->jstop_k0 = b->k0;
+        } else {
+            give_back_stop(c);
+        }
         c->path_length = old_length;
         return 0;
     }

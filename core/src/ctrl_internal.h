@@ -75,12 +75,15 @@ static inline int kc_ctrl_is_cart(kc_goal_kind k) { return k != KC_GOAL_JOINT &&
 /* A stop in joint space is under way. */
 static inline int kc_ctrl_joint_stopping(const kc_ctrl *c) { return c->jstop; }
 
-/* The active servo goal, or a Cartesian goal whose stop left its path
- * (kc_ctrl_stop_leave_path), is stopping jerk-limited, joint by joint
- * (plan.halt from tick jstop_k0), not by jstop_prof. */
+/* The active servo goal, a Cartesian goal whose stop left its path
+ * (kc_ctrl_stop_leave_path), or a goal whose replacement could not be
+ * planned after its stop joint by joint had taken the place of its plan
+ * (ctrl_blend.c) is stopping jerk-limited, joint by joint (plan.halt from
+ * tick jstop_k0), not by jstop_prof; a joint move's stop joint by joint
+ * is its own drive (kc_ctrl_seg_eval). */
 static inline int kc_ctrl_halting(const kc_ctrl *c)
 {
-    return !c->jstop && c->active && c->state == KC_CTRL_STOPPING && kc_ctrl_is_cart(c->goal.kind) &&
+    return !c->jstop && c->active && c->state == KC_CTRL_STOPPING && c->goal.kind != KC_GOAL_JOINT &&
            c->drive == KC_DRIVE_HALT;
 }
 
@@ -279,6 +282,12 @@ void kc_ctrl_joint_stop(kc_ctrl *c, int sync, kc_ctrl_state then);
 /* The joint-space stop at this tick (c->cycle) into q, qd, qdd; 1 when
  * every joint has come to rest. */
 int kc_ctrl_joint_stop_eval(const kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd);
+
+/* Every joint's jerk-limited stop from the last setpoint's (q, qd, qdd)
+ * into halt[0..n_joints), synchronised by phase where it can be, within
+ * the Cartesian bounds cart too where not NULL; 0 (halt partly written)
+ * where a joint has no jerk limit or would pass its qd_max. */
+int kc_ctrl_halt_plan(const kc_ctrl *c, kc_scurve *halt, const kc_interp_limits *cart);
 
 /* Starts (or, for a path braking hard, arms) the stop on the path of the
  * active segment, for the given intent. */

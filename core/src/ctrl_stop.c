@@ -189,11 +189,12 @@ int kc_ctrl_joint_stop_eval(const kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *
     return done;
 }
 
-/* A servo stream's stop (kinctl/ctrl.h), and a Cartesian stop that
- * leaves its path (kc_ctrl_stop_leave_path): every joint from its (q, qd,
- * qdd) to rest by kc_scurve_plan_stop into plan.halt (a servo goal has
- * no plan of its own there; a stopped Cartesian goal needs its own no
- * more). Synchronised by phase where it can be: each
+/* A servo stream's stop (kinctl/ctrl.h), a Cartesian stop that leaves
+ * its path (kc_ctrl_stop_leave_path) and a path's stop under a replacing
+ * goal (ctrl_blend.c): every joint from its (q, qd, qdd) to rest by
+ * kc_scurve_plan_stop into halt (plan.halt: a servo goal has no plan of
+ * its own there; a stopped Cartesian goal needs its own no more).
+ * Synchronised by phase where it can be: each
  * joint's limits scaled with its speed, A_i = ca |qd_i| and
  * J_i = cj |qd_i|, ca and cj the largest that keep every joint within
  * its qdd_max and qddd_max. From qdd = 0 every joint's velocity is then
@@ -206,12 +207,16 @@ int kc_ctrl_joint_stop_eval(const kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *
  * qdd != 0 they end near the same tick. A joint whose |qdd|
  * is beyond its scaled A_i (it would first ramp down at a scaled jerk: a
  * longer stop, an overshoot) stops as fast as its own limits allow
- * instead. 0 when a stop cannot be planned (a chain without jerk limits:
+ * instead. With Cartesian bounds cart (a stop of a Cartesian goal), ca
+ * and cj also keep the tool's acceleration and jerk of that straight
+ * stop, its twist times ca and cj, within them, and every joint stops at
+ * its scaled limits (one beyond them first ramps down to them). 0 when a
+ * stop cannot be planned (a chain without jerk limits:
  * kc_scurve_plan_stop takes no infinite jmax), or would carry a joint's
  * speed past its qd_max: one accelerating near its speed limit, whose
  * acceleration falls to 0 at jerk J only after its speed has grown by
  * qdd^2 / (2 J) (the final check would refuse that setpoint and fault). */
-static int joints_jerk_stop(kc_ctrl *c)
+int kc_ctrl_halt_plan(const kc_ctrl *c, kc_scurve *halt, const kc_interp_limits *cart)
 {
     int n = c->chain->n_joints;
     kc_real ca = INF, cj = INF;
@@ -223,15 +228,33 @@ static int joints_jerk_stop(kc_ctrl *c)
             cj = kc_min(cj, l->qddd_max / v);
         }
     }
+    if (cart != NULL) {
+        /* The tool's twist J qd scaled alike: its speed and angular speed
+         * times ca and cj within the Cartesian bounds. */
+        kc_jacobian jac;
+        kc_real t[6];
+        kc_fk_jacobian(c->chain, c->q, &jac, NULL);
+        for (int r = 0; r < 6; r++) {
+            t[r] = KC_R(0.0);
+            for (int i = 0; i < n; i++)
+                t[r] += jac.m[r][i] * c->qd[i];
+        }
+        kc_real v = kc_sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+        kc_real w = kc_sqrt(t[3] * t[3] + t[4] * t[4] + t[5] * t[5]);
+        if (v > KC_R(0.0))
+            ca = kc_min(ca, cart->a / v), cj = kc_min(cj, cart->j / v);
+        if (w > KC_R(0.0))
+            ca = kc_min(ca, cart->dw / w), cj = kc_min(cj, cart->dj / w);
+    }
     for (int i = 0; i < n; i++) {
         const kc_joint_limits *l = &c->chain->joints[i].limits;
         kc_real v = kc_fabs(c->qd[i]), a = l->qdd_max, jm = l->qddd_max;
-        if (v > KC_R(0.0) && kc_fabs(c->qdd[i]) <= ca * v)
+        if (v > KC_R(0.0) && (cart != NULL || kc_fabs(c->qdd[i]) <= ca * v))
             a = ca * v, jm = cj * v;
         if (c->qd[i] * c->qdd[i] > KC_R(0.0) &&
             v + KC_R(0.5) * c->qdd[i] * c->qdd[i] / jm > l->qd_max * (KC_R(1.0) + c->cfg.limit_slack))
             return 0;
-        if (kc_scurve_plan_stop(&c->plan.halt[i], c->q[i], c->qd[i], c->qdd[i], a, jm, c->cfg.dt) != KC_OK)
+        if (kc_scurve_plan_stop(&halt[i], c->q[i], c->qd[i], c->qdd[i], a, jm, c->cfg.dt) != KC_OK)
             return 0;
     }
     return 1;
@@ -507,7 +530,7 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
          * timeout (a stream's usual end); a fault brakes at the
          * acceleration limits, as does a stop that cannot be planned
          * jerk-limited. */
-        if (c->fault_reason == KC_REASON_NONE && joints_jerk_stop(c)) {
+        if (c->fault_reason == KC_REASON_NONE && kc_ctrl_halt_plan(c, c->plan.halt, NULL)) {
             c->drive = KC_DRIVE_HALT;
             c->jstop_k0 = c->cycle - 1;
             return;
@@ -620,7 +643,7 @@ int kc_ctrl_stop_leave_path(kc_ctrl *c, const kc_real *qdd)
         if (kc_fabs(qdd[i] - c->qdd[i]) >
             c->chain->joints[i].limits.qddd_max * c->cfg.dt * (KC_R(1.0) + c->cfg.limit_slack))
             over = 1;
-    if (!over || !joints_jerk_stop(c))
+    if (!over || !kc_ctrl_halt_plan(c, c->plan.halt, NULL))
         return 0;
     c->drive = KC_DRIVE_HALT;
     c->jstop_k0 = c->cycle - 1;

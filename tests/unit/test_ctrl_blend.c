@@ -2,12 +2,13 @@
 /* test_ctrl_blend.c - goals replaced mid-motion (kinctl/ctrl.h): every
  * ordered pair of a joint move, a line, an arc and a Cartesian path
  * replacing one another at random ticks on the PUMA 560. A replacing line,
- * arc or path takes over from a moving line, arc or joint move in the tick
- * it arrives (the replaced motion's stop superposed on it: a joint move's
- * as the FK of its joints, its twist J qd checked against FK's
- * difference); a joint goal retargets from the current state; the other
- * pairs stop first and are accepted with KC_REASON_STOP_FIRST, as a joint
- * move of the 7-joint Panda replaced by a line does. Every tick: the
+ * arc or path takes over from any of them in the tick it arrives (the
+ * replaced motion's stop superposed on it: a line's or an arc's on its
+ * path, a joint move's and a Cartesian path's in joint space, as the FK of
+ * its joints, its twist J qd checked against FK's difference); a joint
+ * goal retargets from the current state; a joint move of the 7-joint
+ * Panda replaced by a line stops first and is accepted with
+ * KC_REASON_STOP_FIRST. Every tick: the
  * joints inside their limits, each joint's change of q within qd_max dt,
  * of qd within qdd_max dt (the continuity of the setpoint); the tool
  * point's and the tool's angular speed, measured from the FK of
@@ -21,8 +22,8 @@
  * acceleration is no worse than in the plain Cartesian motions of the
  * same runs. The replacing goal ends at its target. A line
  * continued along its direction is taken over with no change of speed.
- * And the fallbacks: a replacement during a superposition, one of a
- * Cartesian path, each with its reason. */
+ * And the fallbacks: a replacement during a superposition, a path that
+ * does not start at rest (Lagrange's), each with its reason. */
 #include <math.h>
 #include <string.h>
 
@@ -161,8 +162,8 @@ static void joint_stop_eval(int64_t jm, kc_real *q, kc_real *qd)
 }
 
 /* The replaced segment at tick jm (>= 0) of its stop, as the controller
- * planned it: a line or an arc (jerk-limited or a trapezoid's stop), or a
- * joint move's tool: FK of its joints, and its twist J(q) qd, checked
+ * planned it: a line or an arc (jerk-limited or a trapezoid's stop), or
+ * a stop in joint space (a joint move's, a Cartesian path's) its tool: FK of its joints, and its twist J(q) qd, checked
  * against the central difference of FK along qd (step JOINT_H, within
  * JOINT_TWIST_TOL m/s or rad/s: FK's rounding over the step, and its
  * truncation). */
@@ -177,7 +178,7 @@ static void stop_eval(int64_t jm, kc_interp_cart_state *m)
 {
     const kc_ctrl_blend *b = &H.ctrl.blend;
     jm = jm < 0 ? 0 : jm;
-    if (b->kind == KC_GOAL_JOINT) {
+    if (b->kind == KC_GOAL_JOINT || b->stop_drive == KC_DRIVE_HALT) {
         kc_real q[KC_MAX_JOINTS], qd[KC_MAX_JOINTS], qa[KC_MAX_JOINTS], qb[KC_MAX_JOINTS];
         kc_pose pose, pa, pb;
         kc_jacobian jac;
@@ -588,7 +589,7 @@ static void test_every_pair(void **state)
                 b = random_goal(&r, KINDS[ib], 2, rest_ahead());
                 b.replace = 1;
                 tick(&b);
-                int blend = a.kind != KC_GOAL_PATH_CART && cart(b.kind);
+                int blend = cart(b.kind);
                 if (event_reason(KC_EVENT_STARTED, b.id) >= 0) {
                     assert_int_equal(event_reason(KC_EVENT_PREEMPTED, a.id), KC_REASON_NONE);
                     assert_int_equal(event_reason(KC_EVENT_ACCEPTED, b.id), KC_REASON_NONE);
@@ -631,7 +632,7 @@ static void test_every_pair(void **state)
               fmax(1.0, WORST.plain[i]) * (1.0 + TOOL_REL_A) +
                   TOOL_NOISE_A / (double)(i == 1 ? H.cfg.cart_accel : H.cfg.cart_alpha)))
             fail_msg("superposed: %.4f of an acceleration limit, plain motions %.4f", WORST.blend[i], WORST.plain[i]);
-    assert_int_equal(superposed, 3 * 3 * CASES);
+    assert_int_equal(superposed, 4 * 3 * CASES);
     assert_true(overlapped > 0);
     assert_true(overlapped_joint > 0);
 }
@@ -772,8 +773,10 @@ static void test_line_continued(void **state)
 }
 
 /* Where no transition is built the replacement stops first and says so:
- * a second replacement while a superposition lasts, and the replacement
- * of a Cartesian path. Both still continuous and ending at their goal. */
+ * a second replacement while a superposition lasts, and a Cartesian path
+ * by Lagrange's polynomial (it does not start at rest) replacing a
+ * Cartesian path, which stops on its own path. Both still continuous and
+ * ending at their goal. */
 static void test_fallbacks(void **state)
 {
     (void)state;
@@ -802,14 +805,72 @@ static void test_fallbacks(void **state)
     tick(&a);
     for (int k = 0; k < 200; k++)
         tick(NULL);
-    b = random_goal(&r, KC_GOAL_LINE, 2, rest_ahead());
+    b = random_goal(&r, KC_GOAL_PATH_CART, 2, rest_ahead());
+    b.method = KC_PATH_LAGRANGE;
     b.replace = 1;
     tick(&b);
     assert_int_equal(event_reason(KC_EVENT_ACCEPTED, b.id), KC_REASON_STOP_FIRST);
+    assert_false(H.ctrl.blend.on);
+    assert_int_equal(H.ctrl.drive, KC_DRIVE_SCURVE); /* on its path, jerk-limited */
     assert_string_equal(kc_ctrl_reason_str(KC_REASON_STOP_FIRST),
                         "no continuous transition from the motion it replaces: that motion stops first");
     run_until_completed(b.id, 20000);
     check_end(&b);
+}
+
+/* A replacing goal that cannot be planned from where the replaced path's
+ * stop joint by joint comes to rest (a line of 20 cm at 1e-5 m/s: more
+ * ticks than a profile holds), after the path's own plan gave way to it:
+ * the path goes on stopping joint by joint (kc_ctrl_halting), the goal
+ * waits for it (KC_REASON_STOP_FIRST) and is then aborted, unplannable
+ * (KC_REASON_PLAN). A Cartesian path and a joint path; every tick within
+ * the joints' limits, their jerk too, and the arm at rest in the end. */
+static void test_plan_fails(void **state)
+{
+    (void)state;
+    kt_rng r = kt_rng_make(11);
+    for (int i = 0; i < 2; i++) {
+        setup();
+        kc_goal a = random_goal(&r, KC_GOAL_PATH_CART, 1, H.out.pose), b;
+        if (i == 1) {
+            a.kind = KC_GOAL_PATH;
+            for (int k = 0; k < 2; k++)
+                for (int j = 0; j < 6; j++)
+                    a.points[k][j] = KT_PUMA_Q0[j] + (kc_real)(0.1 * (k + 1));
+        }
+        tick(&a);
+        for (int k = 0; k < 200; k++)
+            tick(NULL);
+        kc_pose to = rest_ahead();
+        to.t.v[0] += KC_R(0.2);
+        b = kt_line_goal(2, &to);
+        b.speed = KC_R(1e-5);
+        b.replace = 1;
+        double qdd[KC_MAX_JOINTS];
+        for (int j = 0; j < 6; j++)
+            qdd[j] = (double)H.out.qdd[j];
+        tick(&b);
+        assert_int_equal(event_reason(KC_EVENT_ACCEPTED, b.id), KC_REASON_STOP_FIRST);
+        assert_false(H.ctrl.blend.on);
+        assert_int_equal(H.ctrl.drive, KC_DRIVE_HALT);
+        int aborted = -1;
+        for (int k = 0; k < 20000 && aborted < 0; k++) {
+            for (int j = 0; j < 6; j++) {
+                double jerk = fabs((double)H.out.qdd[j] - qdd[j]) / (double)H.cfg.dt;
+                if (!(jerk <= (double)H.chain.joints[j].limits.qddd_max * (1.0 + SLACK)))
+                    fail_msg("cycle %ld joint %d: jerk %.6g", (long)H.out.cycle, j, jerk);
+                qdd[j] = (double)H.out.qdd[j];
+            }
+            tick(NULL);
+            aborted = event_reason(KC_EVENT_ABORTED, b.id);
+        }
+        assert_int_equal(aborted, KC_REASON_PLAN);
+        assert_int_equal(H.events[KC_EVENT_PREEMPTED], 1);
+        assert_int_equal(H.events[KC_EVENT_FAULT], 0);
+        assert_int_equal(H.out.state, KC_CTRL_IDLE);
+        for (int j = 0; j < 6; j++)
+            assert_true(H.out.qd[j] == KC_R(0.0));
+    }
 }
 
 int main(void)
@@ -820,6 +881,7 @@ int main(void)
         cmocka_unit_test(test_joint_move_redundant),
         cmocka_unit_test(test_line_continued),
         cmocka_unit_test(test_fallbacks),
+        cmocka_unit_test(test_plan_fails),
     };
     int rc = cmocka_run_group_tests(tests, NULL, NULL);
     kt_report("ctrl_blend");

@@ -1,12 +1,14 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
-/* test_ctrl_pathblend.c - a joint path replacing a moving jerk-limited
- * joint move or servo stream without stopping (kinctl/ctrl.h): the old
- * motion's jerk-limited stop M, known joint by joint, superposed in joint
- * space on the path G planned from where M rests (q_s):
- * q = q_M(t) + q_G(t - t0) - q_s. Random joint moves and servo streams on
- * the PUMA 560, replaced at random moments by a joint path through two
- * knots near the joints (each method that starts at rest), and on the
- * 7-joint Panda (no IK step in between: redundancy is no matter). The path takes
+/* test_ctrl_pathblend.c - a joint path replacing any moving goal without
+ * stopping (kinctl/ctrl.h): the old motion's jerk-limited stop M, known
+ * joint by joint (a joint move's on its line or joint by joint, every
+ * other kind's joint by joint), superposed in joint space on the path G
+ * planned from where M rests (q_s): q = q_M(t) + q_G(t - t0) - q_s.
+ * Random joint moves, servo streams, lines, arcs, Cartesian paths and
+ * joint paths on the PUMA 560, replaced at random moments by a joint path
+ * through two knots near the joints (each method that starts at rest),
+ * and joint moves, servo streams, lines and joint paths on the 7-joint
+ * Panda (no IK step in between: redundancy is no matter). The path takes
  * over in the tick it arrives (ACCEPTED with KC_REASON_NONE). Every tick
  * from the replacement on: the setpoint is that sum, computed here from
  * the plans the controller holds through the public evaluators (M's stops
@@ -163,6 +165,84 @@ static kc_goal path_goal(kt_rng *r, int64_t id, kc_path_method method)
     return g;
 }
 
+/* The motions replaced: on each arm (the Panda's qddd_max of twice
+ * qdd_max per tick: the change of qd over a tick, the tick's mean qdd, is
+ * far from the qdd at its end), the kind of goal. */
+static const struct {
+    kc_model model;
+    kc_goal_kind kind;
+} REPLACED[] = {
+    {KC_MODEL_PUMA560, KC_GOAL_JOINT}, {KC_MODEL_PUMA560, KC_GOAL_SERVO}, {KC_MODEL_PANDA, KC_GOAL_JOINT},
+    {KC_MODEL_PANDA, KC_GOAL_SERVO},   {KC_MODEL_PUMA560, KC_GOAL_LINE},  {KC_MODEL_PUMA560, KC_GOAL_ARC},
+    {KC_MODEL_PUMA560, KC_GOAL_PATH_CART}, {KC_MODEL_PUMA560, KC_GOAL_PATH}, {KC_MODEL_PANDA, KC_GOAL_LINE},
+    {KC_MODEL_PANDA, KC_GOAL_PATH},
+};
+
+/* The active segment's planned ticks (a Cartesian or joint path's
+ * duration). */
+static int64_t planned_ticks(void)
+{
+    const kc_ctrl *c = &H.ctrl;
+    switch (c->goal.kind) {
+    case KC_GOAL_LINE: return c->plan.line.ticks;
+    case KC_GOAL_ARC: return c->plan.arc.ticks;
+    case KC_GOAL_PATH_CART: return (int64_t)(c->plan.path_cart.pos.duration / c->cfg.dt);
+    case KC_GOAL_PATH: return (int64_t)(c->plan.path.duration / c->cfg.dt);
+    default: return c->plan.joint.ticks;
+    }
+}
+
+/* Motion REPLACED[which] started from the arm's start and stepped to a
+ * random tick; 1 when it is moving there (a joint path with a knot
+ * beyond a limit is refused, a line the arm cannot follow faults: the
+ * caller draws again). */
+static int start_replaced(kt_rng *r, size_t which, kc_path_method method)
+{
+    const kc_real *q0;
+    kc_goal_kind kind = REPLACED[which].kind;
+    setup_model(REPLACED[which].model, &q0);
+    int n = H.chain.n_joints;
+    int64_t id = 1;
+    if (kind != KC_GOAL_JOINT && kind != KC_GOAL_SERVO) {
+        /* a line or an arc of 5 to 30 cm, a Cartesian path through
+         * two points 3 to 8 cm apart, a joint path near the
+         * joints, replaced at a random tick of its first 80 % */
+        kc_goal a = kind == KC_GOAL_PATH_CART ? kt_cart_path_walk(r, id, KC_PATH_BLEND, &H.ctrl.pose, 0.03, 0.08)
+                    : kind == KC_GOAL_PATH    ? path_goal(r, id, method)
+                                              : kt_cart_goal(r, id, &H.ctrl.pose, kind == KC_GOAL_ARC, 0);
+        a.replace = 0;
+        tick(&a);
+        int64_t at = 2 + (int64_t)kt_uniform(r, 0.0, 0.8 * (double)planned_ticks());
+        for (int64_t k = 1; k < at; k++)
+            tick(NULL);
+    } else if (kind == KC_GOAL_JOINT) {
+        /* a jerk-limited joint move, replaced at a random tick */
+        kc_real to[KC_MAX_JOINTS];
+        for (int j = 0; j < n; j++)
+            to[j] = q0[j] + (kc_real)kt_uniform(r, -0.4, 0.4);
+        kc_goal a = kt_joint_goal(id, to, n);
+        tick(&a);
+        int64_t at = 2 + (int64_t)kt_uniform(r, 0.0, (double)(H.ctrl.plan.joint.ticks - 4));
+        for (int64_t k = 1; k < at; k++)
+            tick(NULL);
+    } else {
+        /* a servo stream, its target moving at up to 0.1 m/s */
+        kc_goal s;
+        memset(&s, 0, sizeof s);
+        s.id = id;
+        s.kind = KC_GOAL_SERVO;
+        s.vel_scale = s.acc_scale = KC_R(1.0);
+        s.servo_twist = 1;
+        kc_vec3 u = kt_rand_unit(r);
+        for (int k = 0; k < 3; k++)
+            s.twist[k] = (kc_real)kt_uniform(r, 0.02, 0.1) * u.v[k];
+        int ticks = 100 + (int)kt_uniform(r, 0.0, 400.0);
+        for (int k = 0; k < ticks; k++)
+            tick(&s);
+    }
+    return H.out.state == KC_CTRL_MOVING;
+}
+
 static void test_replaced_by_a_path(void **state)
 {
     (void)state;
@@ -170,45 +250,15 @@ static void test_replaced_by_a_path(void **state)
     const kc_path_method methods[3] = {KC_PATH_BLEND, KC_PATH_SPLINE, KC_PATH_QUINTIC};
     int overlapped = 0, cases = 0;
     double worst = 0.0;
-    /* which: 0, 1 the PUMA's joint move, servo stream; 2, 3 the Panda's
-     * (its qddd_max of twice qdd_max per tick: the change of qd over a
-     * tick, the tick's mean qdd, is far from the qdd at its end) */
-    for (int which = 0; which < 4; which++)
+    for (size_t which = 0; which < sizeof REPLACED / sizeof REPLACED[0]; which++)
         for (int c = 0; c < CASES; c++) {
-            const kc_real *q0;
-            setup_model(which < 2 ? KC_MODEL_PUMA560 : KC_MODEL_PANDA, &q0);
-            int n = H.chain.n_joints;
-            int64_t id = 1;
-            if (which % 2 == 0) {
-                /* a jerk-limited joint move, replaced at a random tick */
-                kc_real to[KC_MAX_JOINTS];
-                for (int j = 0; j < n; j++)
-                    to[j] = q0[j] + (kc_real)kt_uniform(&r, -0.4, 0.4);
-                kc_goal a = kt_joint_goal(id, to, n);
-                tick(&a);
-                int64_t at = 2 + (int64_t)kt_uniform(&r, 0.0, (double)(H.ctrl.plan.joint.ticks - 4));
-                for (int64_t k = 1; k < at; k++)
-                    tick(NULL);
-            } else {
-                /* a servo stream, its target moving at up to 0.1 m/s */
-                kc_goal s;
-                memset(&s, 0, sizeof s);
-                s.id = id;
-                s.kind = KC_GOAL_SERVO;
-                s.vel_scale = s.acc_scale = KC_R(1.0);
-                s.servo_twist = 1;
-                kc_vec3 u = kt_rand_unit(&r);
-                for (int k = 0; k < 3; k++)
-                    s.twist[k] = (kc_real)kt_uniform(&r, 0.02, 0.1) * u.v[k];
-                int ticks = 100 + (int)kt_uniform(&r, 0.0, 400.0);
-                for (int k = 0; k < ticks; k++)
-                    tick(&s);
-            }
-            assert_int_equal(H.out.state, KC_CTRL_MOVING);
+            int tries = 0;
+            while (!start_replaced(&r, which, methods[c % 3]))
+                assert_true(++tries < 20);
             kc_goal g = path_goal(&r, 2, methods[c % 3]);
             tick(&g);
             assert_int_equal(event_reason(KC_EVENT_ACCEPTED, g.id), KC_REASON_NONE);
-            assert_int_equal(event_reason(KC_EVENT_PREEMPTED, id), KC_REASON_NONE);
+            assert_int_equal(event_reason(KC_EVENT_PREEMPTED, 1), KC_REASON_NONE);
             assert_int_equal(event_reason(KC_EVENT_STARTED, g.id), KC_REASON_NONE);
             assert_true(H.ctrl.blend.on);
             overlapped += H.ctrl.k0 - H.ctrl.blend.k0 < H.ctrl.blend.stop_ticks;
@@ -219,13 +269,14 @@ static void test_replaced_by_a_path(void **state)
                 assert_int_equal(H.out.state == KC_CTRL_FAULT, 0);
             }
             assert_true(done);
-            for (int j = 0; j < n; j++)
+            for (int j = 0; j < H.chain.n_joints; j++)
                 assert_true(H.out.q[j] == g.points[1][j]);
             worst = fmax(worst, H.worst_j);
             cases++;
         }
-    print_message("%d joint moves and servo streams (PUMA 560, Panda) replaced by a joint path, %d overlapping the "
-                  "stop; the jerk while superposed at most %.4f of its bound (%s)\n",
+    print_message("%d joint moves, servo streams, lines, arcs, Cartesian and joint paths (PUMA 560, Panda) replaced "
+                  "by a joint path, %d overlapping the stop; the jerk while superposed at most %.4f of its bound "
+                  "(%s)\n",
                   cases, overlapped, worst, KC_REAL_NAME);
     assert_true(overlapped > 0);
 }

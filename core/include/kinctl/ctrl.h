@@ -122,12 +122,15 @@
  * (qdd of a Cartesian motion: the change of qd over the last tick).
  *
  * A line, an arc or a Cartesian path replacing a moving line, arc,
- * jerk-limited joint move or servo stream takes over in the tick it
- * arrives by superposition (ctrl_blend.c). The old segment M gets its stop
- * (the law of STOP, below: a line or an arc on its path, jerk-limited by
- * default, a trapezoid's for a trapezoid line or arc; a joint move in
- * joint space, on its line or joint by joint; a servo stream's
- * jerk-limited halt joint by joint; a stop in joint space has tool pose
+ * Cartesian or joint path, jerk-limited joint move or servo stream takes
+ * over in the tick it arrives by superposition (ctrl_blend.c). The old
+ * segment M gets its stop (the law of STOP, below: a line or an arc on its
+ * path, jerk-limited by default, a trapezoid's for a trapezoid line or
+ * arc; a joint move in joint space, on its line or joint by joint; a
+ * servo stream's jerk-limited halt joint by joint; a path's the same
+ * halt, within a Cartesian path's Cartesian bounds as well, its plan
+ * giving way to G's (a path's plan is as large as the controller's room
+ * for one: it cannot be kept beside G's); a stop in joint space has tool pose
  * FK(q_M) and twist J(q_M) qd_M, the geometric Jacobian's, q_M the stop
  * as the IK step integrates it: its velocity at the next tick fed forward
  * from q_M, q_M(j) = q_M(0) + dt (qd_M(1) + ... + qd_M(j)) in closed
@@ -176,9 +179,12 @@
  * add (the old one may brake at a joint's limits, as a joint move's does).
  * One that has not started yet stays at rest where it starts.
  *
- * A joint path replacing a moving jerk-limited joint move or servo stream
+ * A joint path replacing any moving goal but a trapezoid joint move
  * takes over in the tick it arrives the same way, in joint space: M's
- * stop joint by joint (exact, no IK step in between), G planned from the
+ * stop joint by joint (a joint move's or servo stream's as above; a
+ * line's, an arc's or a path's the halt joint by joint, a line's, an
+ * arc's or a Cartesian path's within its Cartesian bounds as well;
+ * exact, no IK step in between), G planned from the
  * joints q_s where it rests, at rest there (Lagrange's polynomial is not:
  * it stops first), q = q_M + q_G - q_s (and so qd, qdd; G adds nothing
  * before it starts), t0 the earliest of the same bounded search at which
@@ -221,17 +227,19 @@
  * Every other replacement stops first: the active segment stops on its
  * path, and the goal starts from where the arm comes to rest. Its ACCEPTED
  * event carries KC_REASON_STOP_FIRST. These are a joint move whose
- * retarget would pass a limit; a Cartesian goal replacing a path, a
+ * retarget would pass a limit; a Cartesian goal replacing a
  * trapezoid joint move (its stop brakes at a joint's acceleration limit
  * from its first tick to its last, which the IK step cannot follow
  * through a Cartesian target with its correction added), a servo stream
  * whose stop is not jerk-limited (a chain without jerk limits: it brakes
- * at the acceleration limits) or a joint move or servo stream of an arm
- * whose joints outnumber the IK task's rows (the Panda's 7 under the full
- * task: the step would drop the motion's null-space part, its joint
- * velocities jumping); a path that does not start at rest (Lagrange's);
- * a joint path replacing anything but a jerk-limited joint move or a
- * servo stream; a replacing servo stream but those above; a
+ * at the acceleration limits) or a joint move, servo stream or path of
+ * an arm whose joints outnumber the IK task's rows (the Panda's 7 under
+ * the full task: the step would drop the stop's null-space part, its
+ * joint velocities jumping); a path that does not start at rest
+ * (Lagrange's); a joint path replacing a trapezoid joint move; a stop
+ * joint by joint that cannot be planned jerk-limited (a chain without
+ * jerk limits, a joint accelerating near its qd_max: the goal waits for
+ * the motion's own stop); a replacing servo stream but those above; a
  * replacement during a superposition or a stop; a goal that cannot be
  * planned from P_s; and a goal with stop_first set. Setpoints stay continuous in
  * position and velocity throughout, and in acceleration through
@@ -686,7 +694,7 @@ typedef enum kc_ctrl_drive {
     KC_DRIVE_STOPPING_WAIT = 2, /* path: a stop is pending until it is feasible */
     KC_DRIVE_RETARGET = 3,      /* trapezoid joint move from a moving state: plan.retarget per joint */
     KC_DRIVE_SCURVE = 4,        /* jerk-limited joint move on its line, line, arc: u from drive_scurve */
-    KC_DRIVE_HALT = 5           /* jerk-limited joint move or servo stream stopping joint by joint: plan.halt */
+    KC_DRIVE_HALT = 5           /* a jerk-limited stop joint by joint: plan.halt */
 } kc_ctrl_drive;
 
 /* What a jerk-limited joint move stopping on its straight line keeps of
@@ -701,14 +709,16 @@ typedef struct kc_ctrl_blend_joint {
 } kc_ctrl_blend_joint;
 
 /* A replacing goal's transition (a line, an arc or a Cartesian path; a
- * joint path in joint space): the line, arc, joint move or servo stream
- * it replaced, stopping, superposed on it (ctrl_blend.c). */
+ * joint path in joint space): the motion it replaced, stopping,
+ * superposed on it (ctrl_blend.c). */
 typedef struct kc_ctrl_blend {
     int on;
-    kc_goal_kind kind; /* the replaced segment: KC_GOAL_LINE, KC_GOAL_ARC, KC_GOAL_JOINT or KC_GOAL_SERVO */
-    /* Its plan, or for a jerk-limited joint move or a servo stream what
-     * its stop needs: its line (stop_drive KC_DRIVE_SCURVE) or one
-     * jerk-limited stop a joint (KC_DRIVE_HALT). */
+    kc_goal_kind kind; /* the replaced segment's */
+    /* Its plan (a line's or an arc's stopping on its path), or what a
+     * stop elsewhere needs: a jerk-limited joint move's line (stop_drive
+     * KC_DRIVE_SCURVE) or one jerk-limited stop a joint (KC_DRIVE_HALT:
+     * a joint move's, a servo stream's, a path's, a line's or an arc's
+     * under a joint path). */
     union {
         kc_interp_line line;
         kc_interp_arc arc;
