@@ -422,14 +422,18 @@ static void give_back_stop(kc_ctrl *c)
 }
 
 /* M stops joint by joint, from the last setpoint, its plan giving way to
- * G's: the halts into the record, planned before anything is changed
- * (kc_ctrl_halt_plan; a Cartesian M's within its Cartesian bounds lm).
- * 0 where they cannot be planned (M goes on, G waits for M's own stop). */
+ * G's: the halts (kc_ctrl_halt_plan; a Cartesian M's within its
+ * Cartesian bounds lm) planned in the storage of a joint goal's retarget,
+ * unused here, and moved into the record only once every joint's is
+ * (the record may hold a superposition under way). 0 where they cannot
+ * be planned: nothing changed, M goes on and G waits for its own stop. */
 static int halt_stop(kc_ctrl *c, const kc_interp_limits *lm)
 {
     kc_ctrl_blend *b = &c->blend;
-    if (!kc_ctrl_halt_plan(c, b->plan.halt, c->goal.kind == KC_GOAL_PATH ? NULL : lm))
+    kc_scurve *halt = c->retarget_plan.sj;
+    if (!kc_ctrl_halt_plan(c, halt, c->goal.kind == KC_GOAL_PATH ? NULL : lm))
         return 0;
+    memcpy(b->plan.halt, halt, sizeof(kc_scurve) * (size_t)c->chain->n_joints);
     b->kind = c->goal.kind;
     b->stop_drive = KC_DRIVE_HALT;
     b->k0 = c->cycle - 1;
@@ -445,12 +449,17 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
 {
     kc_ctrl_blend *b = &c->blend;
     int in_joints = c->goal.kind == KC_GOAL_JOINT || c->goal.kind == KC_GOAL_SERVO;
-    /* A joint or Cartesian path (its plan is as large as G's), and a line
-     * or an arc under a joint path (superposed in joint space, M's stop
-     * must be known there), stop joint by joint (halt_stop). */
-    int halts = kc_ctrl_is_path(c->goal.kind) ||
+    int stopping = c->state == KC_CTRL_STOPPING;
+    /* A joint or Cartesian path (its plan is as large as G's), a line or
+     * an arc under a joint path (superposed in joint space, M's stop must
+     * be known there), a superposition (the sum of two plans, neither of
+     * which alone stops it) and a motion already stopping (for a STOP, a
+     * PAUSE, a goal waiting for it, the servo timeout) stop joint by joint
+     * from the last setpoint (halt_stop). Not a stop in joint space by
+     * jstop_prof (an e-stop's, a fault's: no goal is taken then). */
+    int halts = b->on || stopping || kc_ctrl_is_path(c->goal.kind) ||
                 (g->kind == KC_GOAL_PATH && (c->goal.kind == KC_GOAL_LINE || c->goal.kind == KC_GOAL_ARC));
-    if (!c->active || c->state != KC_CTRL_MOVING || b->on ||
+    if (!c->active || (c->state != KC_CTRL_MOVING && !stopping) || c->jstop ||
         (g->kind != KC_GOAL_LINE && g->kind != KC_GOAL_ARC && !kc_ctrl_is_path(g->kind)))
         return 0;
     /* A path that does not start at rest (Lagrange's) needs a ramp of its
@@ -468,8 +477,9 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
      * from its first tick to its last: the IK step, adding its correction
      * to that, cannot follow it within the limit, and the tool would lag
      * its target. It stops first, in joint space. */
-    if (c->goal.kind == KC_GOAL_JOINT && (c->drive == KC_DRIVE_RETARGET || c->plan.joint.kind != KC_PROFILE_JERK))
-        return 0;
+    if (c->goal.kind == KC_GOAL_JOINT && (c->drive == KC_DRIVE_RETARGET ||
+                                          (c->drive != KC_DRIVE_HALT && c->plan.joint.kind != KC_PROFILE_JERK)))
+        return 0; /* (a joint move stopping joint by joint is a jerk-limited one: plan.halt holds its stops) */
     /* A joint move, a servo stream or a joint path has no Cartesian limits
      * of its own: G's bound the sum (or what M's stop alone does, where
      * that is more; a servo stream's stop that cannot be planned
@@ -520,7 +530,8 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
         if (halts) {
             memcpy(c->plan.halt, b->plan.halt, sizeof(kc_scurve) * (size_t)c->chain->n_joints);
             c->drive = KC_DRIVE_HALT;
-            c->jstop_k0 = b->k0;
+            c->jstop_k0 = c->k0 = b->k0; /* (a joint move's is its drive: kc_ctrl_seg_eval) */
+            b->on = 0;
         } else {
             give_back_stop(c);
         }

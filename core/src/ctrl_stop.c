@@ -209,8 +209,7 @@ int kc_ctrl_joint_stop_eval(const kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *
  * longer stop, an overshoot) stops as fast as its own limits allow
  * instead. With Cartesian bounds cart (a stop of a Cartesian goal), ca
  * and cj also keep the tool's acceleration and jerk of that straight
- * stop, its twist times ca and cj, within them, and every joint stops at
- * its scaled limits (one beyond them first ramps down to them). 0 when a
+ * stop, its twist times ca and cj, within them. 0 when a
  * stop cannot be planned (a chain without jerk limits:
  * kc_scurve_plan_stop takes no infinite jmax), or would carry a joint's
  * speed past its qd_max: one accelerating near its speed limit, whose
@@ -249,7 +248,7 @@ int kc_ctrl_halt_plan(const kc_ctrl *c, kc_scurve *halt, const kc_interp_limits 
     for (int i = 0; i < n; i++) {
         const kc_joint_limits *l = &c->chain->joints[i].limits;
         kc_real v = kc_fabs(c->qd[i]), a = l->qdd_max, jm = l->qddd_max;
-        if (v > KC_R(0.0) && (cart != NULL || kc_fabs(c->qdd[i]) <= ca * v))
+        if (v > KC_R(0.0) && kc_fabs(c->qdd[i]) <= ca * v)
             a = ca * v, jm = cj * v;
         if (c->qd[i] * c->qdd[i] > KC_R(0.0) &&
             v + KC_R(0.5) * c->qdd[i] * c->qdd[i] / jm > l->qd_max * (KC_R(1.0) + c->cfg.limit_slack))

@@ -22,8 +22,9 @@
  * acceleration is no worse than in the plain Cartesian motions of the
  * same runs. The replacing goal ends at its target. A line
  * continued along its direction is taken over with no change of speed.
- * And the fallbacks: a replacement during a superposition, a path that
- * does not start at rest (Lagrange's), each with its reason. */
+ * Replacements during a superposition or a stop, chains of them; and
+ * the fallbacks: a path that does not start at rest (Lagrange's), a
+ * replacement that cannot be planned, each with its reason. */
 #include <math.h>
 #include <string.h>
 
@@ -369,9 +370,9 @@ static void check_target(int64_t k)
 }
 
 /* One tick, every check above on its setpoint. */
-static void tick(const kc_goal *g)
+static void step(const kc_goal *g, kc_ctrl_command cmd)
 {
-    kc_ctrl_input in = {g, KC_CMD_NONE, 0, KC_REASON_NONE};
+    kc_ctrl_input in = {g, cmd, 0, KC_REASON_NONE};
     int blending = H.ctrl.blend.on;
     assert_int_equal(kc_ctrl_step(&H.ctrl, &in, &H.out), KC_OK);
     blending = blending || H.ctrl.blend.on;
@@ -437,6 +438,8 @@ static void tick(const kc_goal *g)
     for (int e = 0; e < H.out.n_events; e++)
         H.events[H.out.events[e].kind]++;
 }
+
+static void tick(const kc_goal *g) { step(g, KC_CMD_NONE); }
 
 /* The reason of the last output's event of that kind for goal id, or -1. */
 static int event_reason(kc_ctrl_event_kind kind, int64_t id)
@@ -772,34 +775,98 @@ static void test_line_continued(void **state)
     assert_true(H.out.cycle - start + ts < ts + tg);
 }
 
+/* A replacement during a superposition, and during a STOP's or a PAUSE's
+ * stop: the motion under way (the sum, or the stop) stops joint by joint
+ * from the last setpoint (KC_DRIVE_HALT), superposed on the new goal, an
+ * arc, which takes over in the tick (ACCEPTED with no reason) and ends at
+ * its goal; every tick checked as above. */
+static void test_replaced_again(void **state)
+{
+    (void)state;
+    kt_rng r = kt_rng_make(7);
+    for (int how = 0; how < 3; how++) {
+        setup();
+        kc_goal a = random_goal(&r, KC_GOAL_LINE, 1, H.out.pose), b, c;
+        tick(&a);
+        for (int k = 0; k < 300; k++)
+            tick(NULL);
+        if (how == 0) {
+            b = random_goal(&r, KC_GOAL_LINE, 2, rest_ahead());
+            b.replace = 1;
+            tick(&b);
+            assert_true(H.ctrl.blend.on);
+            tick(NULL);
+        } else {
+            step(NULL, how == 1 ? KC_CMD_STOP : KC_CMD_PAUSE);
+            for (int k = 0; k < 20; k++)
+                tick(NULL);
+            assert_int_equal(H.out.state, KC_CTRL_STOPPING);
+        }
+        c = random_goal(&r, KC_GOAL_ARC, 3, rest_ahead());
+        c.replace = 1;
+        tick(&c);
+        assert_int_equal(event_reason(KC_EVENT_ACCEPTED, c.id), KC_REASON_NONE);
+        assert_int_equal(event_reason(KC_EVENT_STARTED, c.id), KC_REASON_NONE);
+        assert_true(H.ctrl.blend.on);
+        assert_int_equal(H.ctrl.blend.stop_drive, KC_DRIVE_HALT);
+        run_until_completed(c.id, 20000);
+        check_end(&c);
+        assert_int_equal(H.events[KC_EVENT_PREEMPTED], how == 0 ? 2 : 1);
+        assert_int_equal(H.events[KC_EVENT_ABORTED], 0);
+    }
+}
+
+/* Chains of five goals of random kinds, each replacing the one before
+ * 1 to 400 ticks after it, mostly while that one is still superposed on
+ * the stop of the one before it, or stopping: every Cartesian goal takes
+ * over in its tick (ACCEPTED with no reason), a joint goal retargets (or,
+ * where its retarget would pass a limit, stops first); every tick checked
+ * as above, the last goal ending at its goal. */
+static void test_chains(void **state)
+{
+    (void)state;
+    kt_rng r = kt_rng_make(2027);
+    int during = 0, cartesian = 0;
+    for (int c = 0; c < 4 * CASES; c++) {
+        setup();
+        kc_goal g = random_goal(&r, KINDS[(int)kt_uniform(&r, 0.0, 4.0)], 1, H.out.pose);
+        tick(&g);
+        for (int64_t id = 2; id <= 5; id++) {
+            int wait = 1 + (int)kt_uniform(&r, 0.0, 400.0);
+            for (int k = 0; k < wait; k++)
+                tick(NULL);
+            int busy = H.ctrl.blend.on || H.out.state == KC_CTRL_STOPPING;
+            g = random_goal(&r, KINDS[(int)kt_uniform(&r, 0.0, 4.0)], id, rest_ahead());
+            g.replace = 1;
+            tick(&g);
+            if (cart(g.kind)) {
+                if (event_reason(KC_EVENT_STARTED, id) != KC_REASON_NONE)
+                    fail_msg("case %d: goal %ld (kind %d) not taken over: accepted with reason %d", c, (long)id,
+                             g.kind, event_reason(KC_EVENT_ACCEPTED, id));
+                cartesian++;
+                during += busy;
+            }
+        }
+        run_until_completed(5, 20000);
+        check_end(&g);
+        assert_int_equal(H.events[KC_EVENT_FAULT], 0);
+        assert_int_equal(H.events[KC_EVENT_ABORTED], 0);
+    }
+    print_message("%d chains: %d Cartesian goals taken over in their tick, %d of them during a superposition or a "
+                  "stop\n",
+                  4 * CASES, cartesian, during);
+    assert_true(during > 0);
+}
+
 /* Where no transition is built the replacement stops first and says so:
- * a second replacement while a superposition lasts, and a Cartesian path
- * by Lagrange's polynomial (it does not start at rest) replacing a
- * Cartesian path, which stops on its own path. Both still continuous and
- * ending at their goal. */
+ * a Cartesian path by Lagrange's polynomial (it does not start at rest)
+ * replacing a Cartesian path, which stops on its own path; still
+ * continuous and ending at its goal. */
 static void test_fallbacks(void **state)
 {
     (void)state;
     kt_rng r = kt_rng_make(7);
-    setup();
-    kc_goal a = random_goal(&r, KC_GOAL_LINE, 1, H.out.pose), b, c;
-    tick(&a);
-    for (int k = 0; k < 300; k++)
-        tick(NULL);
-    b = random_goal(&r, KC_GOAL_LINE, 2, rest_ahead());
-    b.replace = 1;
-    tick(&b);
-    assert_true(H.ctrl.blend.on);
-    tick(NULL);
-    c = random_goal(&r, KC_GOAL_ARC, 3, rest_ahead());
-    c.replace = 1;
-    tick(&c);
-    assert_int_equal(event_reason(KC_EVENT_ACCEPTED, c.id), KC_REASON_STOP_FIRST);
-    assert_int_equal(H.out.state, KC_CTRL_STOPPING);
-    run_until_completed(c.id, 20000);
-    check_end(&c);
-    assert_int_equal(H.events[KC_EVENT_PREEMPTED], 2);
-
+    kc_goal a, b;
     setup();
     a = random_goal(&r, KC_GOAL_PATH_CART, 1, H.out.pose);
     tick(&a);
@@ -880,6 +947,8 @@ int main(void)
         cmocka_unit_test(test_joint_stops),
         cmocka_unit_test(test_joint_move_redundant),
         cmocka_unit_test(test_line_continued),
+        cmocka_unit_test(test_replaced_again),
+        cmocka_unit_test(test_chains),
         cmocka_unit_test(test_fallbacks),
         cmocka_unit_test(test_plan_fails),
     };

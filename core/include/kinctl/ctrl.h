@@ -172,12 +172,16 @@
  * the final check of every setpoint still holds, a joint that cannot
  * follow faults as any Cartesian motion does; the dry run, given a
  * snapshot of the controller, steps this very takeover and refuses a G
- * whose overlap faults, kinctl/check.h), and a replacement that arrives while a
- * superposition lasts stops first. A STOP or PAUSE (or that replacement)
- * during the overlap lets the new segment go on as judged until the old
- * one's stop has ended, and then stops it on its path: the two stops never
- * add (the old one may brake at a joint's limits, as a joint move's does).
- * One that has not started yet stays at rest where it starts.
+ * whose overlap faults, kinctl/check.h). A replacement that arrives while
+ * a superposition lasts, or while the motion stops (a STOP's, a PAUSE's,
+ * one a goal waits for, the servo timeout's), takes over the same way
+ * from the motion under way, which stops joint by joint from the last
+ * setpoint (the halt below: a sum of two plans has no stop of its own).
+ * A STOP or PAUSE during the overlap lets the new segment go on as
+ * judged until the old one's stop has ended, and then stops it on its
+ * path: the two stops never add (the old one may brake at a joint's
+ * limits, as a joint move's does). One that has not started yet stays at
+ * rest where it starts.
  *
  * A joint path replacing any moving goal but a trapezoid joint move
  * takes over in the tick it arrives the same way, in joint space: M's
@@ -239,8 +243,8 @@
  * (Lagrange's); a joint path replacing a trapezoid joint move; a stop
  * joint by joint that cannot be planned jerk-limited (a chain without
  * jerk limits, a joint accelerating near its qd_max: the goal waits for
- * the motion's own stop); a replacing servo stream but those above; a
- * replacement during a superposition or a stop; a goal that cannot be
+ * the motion's own stop); a replacing servo stream but those above (none
+ * during a superposition or a stop); a goal that cannot be
  * planned from P_s; and a goal with stop_first set. Setpoints stay continuous in
  * position and velocity throughout, and in acceleration through
  * everything jerk-limited.
@@ -765,7 +769,9 @@ typedef struct kc_ctrl {
     kc_goal goal;
     kc_ctrl_plan plan;
     /* A jerk-limited retarget, planned here before it replaces the active
-     * segment's plan (which a retarget not taken still needs). */
+     * segment's plan (which a retarget not taken still needs); a stop
+     * joint by joint under a replacing goal is planned in its sj first
+     * (ctrl_blend.c). */
     kc_interp_joint retarget_plan;
     int64_t k0;                /* tick of the segment's start (or of its drive profile) */
     kc_ctrl_drive drive;
