@@ -367,6 +367,18 @@ static void swap_joint_line(kc_ctrl *c)
     bj->n = n, bj->kind = kind, bj->sync = sync;
 }
 
+/* M's stops joint by joint into the record, stop_ticks their last
+ * joint's. */
+static void keep_halts(kc_ctrl *c, const kc_scurve *halt)
+{
+    kc_ctrl_blend *b = &c->blend;
+    b->stop_drive = KC_DRIVE_HALT;
+    b->stop_ticks = 0;
+    for (int i = 0; i < c->chain->n_joints; i++)
+        b->stop_ticks = halt[i].ticks > b->stop_ticks ? halt[i].ticks : b->stop_ticks;
+    memcpy(b->plan.halt, halt, sizeof(kc_scurve) * (size_t)c->chain->n_joints);
+}
+
 /* Moves what M's stop reads out of c->plan into the record (G is planned
  * there), with its start tick: a line or an arc (small), a jerk-limited
  * joint move's line, or a joint move's or servo stream's stops joint by
@@ -375,15 +387,12 @@ static void swap_joint_line(kc_ctrl *c)
 static int keep_stop(kc_ctrl *c)
 {
     kc_ctrl_blend *b = &c->blend;
-    int n = c->chain->n_joints;
     b->kind = c->goal.kind;
     b->stop_drive = c->drive;
     b->stop_ticks = 0;
     b->k0 = c->goal.kind == KC_GOAL_SERVO ? c->jstop_k0 : c->k0;
     if (c->drive == KC_DRIVE_HALT) {
-        for (int i = 0; i < n; i++)
-            b->stop_ticks = c->plan.halt[i].ticks > b->stop_ticks ? c->plan.halt[i].ticks : b->stop_ticks;
-        memcpy(b->plan.halt, c->plan.halt, sizeof(kc_scurve) * (size_t)n);
+        keep_halts(c, c->plan.halt);
         return 1;
     }
     if (c->drive == KC_DRIVE_SCURVE) {
@@ -433,13 +442,9 @@ static int halt_stop(kc_ctrl *c, const kc_interp_limits *lm)
     kc_scurve *halt = c->retarget_plan.sj;
     if (!kc_ctrl_halt_plan(c, halt, c->goal.kind == KC_GOAL_PATH ? NULL : lm))
         return 0;
-    memcpy(b->plan.halt, halt, sizeof(kc_scurve) * (size_t)c->chain->n_joints);
+    keep_halts(c, halt);
     b->kind = c->goal.kind;
-    b->stop_drive = KC_DRIVE_HALT;
     b->k0 = c->cycle - 1;
-    b->stop_ticks = 0;
-    for (int i = 0; i < c->chain->n_joints; i++)
-        b->stop_ticks = b->plan.halt[i].ticks > b->stop_ticks ? b->plan.halt[i].ticks : b->stop_ticks;
     c->state = KC_CTRL_STOPPING;
     c->stop_intent = INTENT_PREEMPT;
     return 1;
@@ -462,8 +467,9 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     if (!c->active || (c->state != KC_CTRL_MOVING && !stopping) || c->jstop ||
         (g->kind != KC_GOAL_LINE && g->kind != KC_GOAL_ARC && !kc_ctrl_is_path(g->kind)))
         return 0;
-    /* A path that does not start at rest (Lagrange's) needs a ramp of its
-     * own: not superposed (checked on its plan below too). */
+    /* A path that does not start at rest (Lagrange's: every other method
+     * starts at rest, kc_ctrl_path_starts_at_rest) needs a ramp of its
+     * own: not superposed, known before M's plan gives way. */
     if (kc_ctrl_is_path(g->kind) && g->method == KC_PATH_LAGRANGE)
         return 0;
     /* The IK step turns the sum's twist back into joint velocities, and
@@ -501,27 +507,14 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     kc_ctrl_seg_point rest;
     kc_status st;
     if (g->kind == KC_GOAL_PATH) {
-        /* In joint space, from where M's stop rests (q_s), at rest there
-         * (a path that is not, Lagrange's, needs a ramp: not superposed). */
-        kc_real d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
+        /* In joint space, from where M's stop rests (q_s), at rest there. */
         stop_joints(c, b->stop_ticks, 1, &rest);
         memcpy(b->q_rest, rest.q, sizeof(kc_real) * (size_t)c->chain->n_joints);
         st = kc_ctrl_plan_path_from(c, g, b->q_rest);
-        kc_path_eval_time(&c->plan.path, KC_R(0.0), rest.q, d1, d2);
-        for (int i = 0; i < c->chain->n_joints && st == KC_OK; i++)
-            st = d1[i] == KC_R(0.0) ? KC_OK : KC_E_ARG;
     } else {
         stop_point(c, b->stop_ticks, &rest);
         b->rest = rest.pose;
         st = kc_ctrl_plan_cart_from(c, g, &b->rest);
-    }
-    if (st == KC_OK && g->kind == KC_GOAL_PATH_CART) {
-        /* A path that does not start at rest (Lagrange's) needs a ramp of
-         * its own: not superposed. */
-        kc_path_pose s;
-        kc_path_cart_eval_time(&c->plan.path_cart, KC_R(0.0), &s);
-        if (kc_vec3_norm(&s.v) != KC_R(0.0) || kc_vec3_norm(&s.w) != KC_R(0.0))
-            st = KC_E_ARG;
     }
     if (st != KC_OK) {
         /* M goes on stopping; G waits for it (and is planned again then).
