@@ -179,6 +179,13 @@ static int8_t status_event_of(kc_ctrl_event_kind kind)
     return KINCTL_STATUS_T_NONE;
 }
 
+/* What a goal aborted from now on with no reason of the core's says. */
+static void stop_cause(kd_io *io, kc_ctrl_reason reason, const char *text)
+{
+    io->stop_reason = reason;
+    (void)snprintf(io->stop_text, sizeof io->stop_text, "%s", text);
+}
+
 static void publish_event(kd_io *io, const kc_ctrl_event *e)
 {
     int8_t ev = status_event_of(e->kind);
@@ -187,7 +194,9 @@ static void publish_event(kd_io *io, const kc_ctrl_event *e)
         e->reason != KC_REASON_NONE) {
         if (e->kind == KC_EVENT_REJECTED)
             io->rejections++;
-        if (e->reason == KC_REASON_EXTERNAL) {
+        if (e->kind == KC_EVENT_ABORTED && e->reason == KC_REASON_NONE) {
+            kd_reject_set(&rej, io->stop_reason, "%s", io->stop_text);
+        } else if (e->reason == KC_REASON_EXTERNAL) {
             kd_reject_set(&rej, io->ext_reason, "%s", io->ext_text);
         } else if (e->reason == KC_REASON_ZONE) {
             char pair[256];
@@ -197,7 +206,7 @@ static void publish_event(kd_io *io, const kc_ctrl_event *e)
             kd_reject_set(&rej, e->reason, "%s (at %.6g)", kc_ctrl_reason_str(e->reason), (double)e->where);
         else
             kd_reject_set(&rej, e->reason, "%s", kc_ctrl_reason_str(e->reason));
-        if (e->reason == KC_REASON_NONE)
+        if (e->reason == KC_REASON_NONE && e->kind != KC_EVENT_ABORTED)
             rej.code = KC_OK;
         publish_status(io, ev, e->goal_id, rej.code, rej.text);
     } else {
@@ -220,15 +229,18 @@ static void drain_ticks(kd_io *io)
             io->seat_pending = 0;
             kd_master_seated(&io->master, t->seat_status, t->seat_joint, kd_now_ns());
         }
-        for (i = 0; i < t->out.n_events && i < KC_CTRL_EVENTS_MAX; i++)
-            publish_event(io, &t->out.events[i]);
         if (t->policy_cmd != KC_CMD_NONE) {
             kd_reject rej;
-            kd_reject_set(&rej, KD_REASON_OVERRUN, "%lld consecutive missed cycles: %s sent",
-                          (long long)t->policy_missed, t->policy_cmd == KC_CMD_ESTOP ? "ESTOP" : "STOP");
+            char what[96];
+            (void)snprintf(what, sizeof what, "%lld consecutive missed cycles: %s sent", (long long)t->policy_missed,
+                           t->policy_cmd == KC_CMD_ESTOP ? "ESTOP" : "STOP");
+            kd_reject_set(&rej, KD_REASON_OVERRUN, "%s", what);
             fprintf(stderr, "kinctld: %s\n", rej.text);
             publish_status(io, KINCTL_STATUS_T_NONE, t->out.goal_id, rej.code, rej.text);
+            stop_cause(io, KD_REASON_OVERRUN, what);
         }
+        for (i = 0; i < t->out.n_events && i < KC_CTRL_EVENTS_MAX; i++)
+            publish_event(io, &t->out.events[i]);
         /* The dry runs learn where the queue ends (from the goals they
          * judged: servo messages pass them by). */
         kd_checker_tick(&io->checker, &t->out, t->goals_taken - t->servo_taken);
@@ -389,6 +401,10 @@ static void push_command(kd_io *io, kc_ctrl_command command)
         return;
     }
     io->cmds_pushed++;
+    if (command == KC_CMD_STOP)
+        stop_cause(io, KD_REASON_STOPPED, "a STOP command ended it");
+    else if (command == KC_CMD_ESTOP)
+        stop_cause(io, KD_REASON_STOPPED, "an ESTOP command ended it");
     /* The drives follow: quick stop on ESTOP, enabled again on RESET. */
     if (command == KC_CMD_ESTOP)
         kd_master_estop(&io->master, kd_now_ns());
@@ -527,6 +543,7 @@ static void shutdown_step(kd_io *io)
         c.command = KC_CMD_STOP;
         if (kd_spsc_push(&io->cycle->cmds, &c) == 0) {
             io->cmds_pushed++;
+            stop_cause(io, KD_REASON_SHUTDOWN, "kinctld exiting: the arm stopped");
             io->stop_sent = 1;
             io->stop_seq = io->cmds_pushed;
         }
@@ -657,6 +674,7 @@ int kd_io_init(kd_io *io, const kd_config *cfg, kd_cycle *cycle, kc_check *check
     io->cfg = cfg;
     io->cycle = cycle;
     io->check = check;
+    stop_cause(io, KD_REASON_STOPPED, "a STOP or ESTOP ended it");
     kd_msg_init();
     clock_gettime(CLOCK_REALTIME, &rt);
     clock_gettime(CLOCK_MONOTONIC, &mono);

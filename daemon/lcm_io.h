@@ -119,6 +119,12 @@ struct kd_io {
     kc_ctrl_reason ext_reason;
     char ext_text[KD_CAN_TEXT];
 
+    /* Why the controller was last told to stop: what a goal's ABORTED
+     * says when the core gives no reason of its own (a STOP or ESTOP
+     * command, the overrun policy's, kinctld's own at exit). */
+    kc_ctrl_reason stop_reason;
+    char stop_text[KD_REASON_TEXT];
+
     int64_t next_status_ns, next_stats_ns, status_period_ns, stats_period_ns;
     int stats_due;
 

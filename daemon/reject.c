@@ -31,6 +31,7 @@ const char *kd_reason_token(kc_ctrl_reason reason)
     case (int)KD_REASON_CAN: return "can";
     case (int)KD_REASON_CHECK_BUDGET: return "check_budget";
     case (int)KD_REASON_JERK: return "jerk";
+    case (int)KD_REASON_STOPPED: return "stopped";
     default: return "unknown";
     }
 }
@@ -39,7 +40,8 @@ kc_status kd_reason_code(kc_ctrl_reason reason)
 {
     switch ((int)reason) {
     case KC_REASON_NONE:
-    case KC_REASON_STOP_FIRST: return KC_OK; /* an ACCEPTED's note, not a failure */
+    case KC_REASON_STOP_FIRST:                 /* an ACCEPTED's note, not a failure */
+    case (int)KD_REASON_STOPPED: return KC_OK; /* ended as the caller asked */
     case KC_REASON_BAD_GOAL:
     case KC_REASON_JOINT_COUNT:
     case KC_REASON_PLAN: return KC_E_ARG;

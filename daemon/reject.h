@@ -32,6 +32,8 @@
 /* a jerk-limited Cartesian goal whose joints' jerk the dry run finds beyond
  * their limits at every share of its speed tried, stopping first too */
 #define KD_REASON_JERK ((kc_ctrl_reason)(KC_REASON_COUNT + 6))
+/* a STOP or ESTOP command ended the goal (its ABORTED, code 0) */
+#define KD_REASON_STOPPED ((kc_ctrl_reason)(KC_REASON_COUNT + 7))
 
 typedef struct kd_reject {
     kc_ctrl_reason reason;

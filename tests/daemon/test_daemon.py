@@ -256,6 +256,7 @@ def test_stop_command_mid_motion(kinctld):
     d.bus.send_command("STOP")
     ab = d.bus.wait_event(50, ["ABORTED", "COMPLETED"])
     assert ab.event == EVENTS["ABORTED"]
+    assert (ab.code, ab.reason) == (0, "stopped: a STOP command ended it"), (ab.code, ab.reason)
     final = d.bus.wait_idle()
     assert all(v == 0.0 for v in final.qd[:PUMA_N])
     assert d.stop() == 0
@@ -276,7 +277,8 @@ def test_sigint_mid_motion_stops_the_arm(kinctld):
     d.bus.wait(lambda: any(s.goal_id == 60 and s.state == STATES["MOVING"] for s in d.bus.setpoints[-5:]), 5.0,
                "motion")
     assert d.stop(signal.SIGINT) == 0
-    assert d.bus.wait_event(60, ["ABORTED"])
+    ab = d.bus.wait_event(60, ["ABORTED"])
+    assert ab.code < 0 and ab.reason == "shutdown: kinctld exiting: the arm stopped", (ab.code, ab.reason)
     final = d.bus.wait(lambda: [s for s in d.bus.statuses if s.reason.startswith("shutdown: ")], 2.0,
                        "the final status")[-1]
     assert final.state == STATES["IDLE"] and "at rest" in final.reason

@@ -215,7 +215,9 @@ def test_estop_latches_until_reset(kinctld):
     d.bus.wait(lambda: any(s.goal_id == 30 for s in d.bus.setpoints[-3:]), 5.0, "motion")
     d.bus.wait_setpoints(200)
     d.bus.send_command("ESTOP")
-    assert d.bus.wait_event(30, END).event == EVENTS["ABORTED"]
+    ab = d.bus.wait_event(30, END)
+    assert ab.event == EVENTS["ABORTED"] and (ab.code, ab.reason) == (0, "stopped: an ESTOP command ended it"), \
+        (ab.event, ab.code, ab.reason)
     d.bus.wait(lambda: [s for s in d.bus.setpoints[-3:] if s.state == STATES["ESTOP"]
                         and all(v == 0.0 for v in s.qd[:N])], 5.0, "e-stopped at rest")
     d.bus.send_goal_joint(31, QN)
@@ -277,9 +279,10 @@ def test_overrun_policy_stops_the_arm(kinctld, tmp_path):
     os.kill(d.proc.pid, signal.SIGSTOP)
     time.sleep(0.5)
     os.kill(d.proc.pid, signal.SIGCONT)
-    assert d.bus.wait_event(60, END).event == EVENTS["ABORTED"]
+    ab = d.bus.wait_event(60, END)
     note = d.bus.wait(lambda: [s for s in d.bus.statuses if s.reason.startswith("overrun: ")], 2.0, "overrun status")
     assert "STOP sent" in note[0].reason
+    assert ab.event == EVENTS["ABORTED"] and ab.code < 0 and ab.reason == note[0].reason, (ab.event, ab.code, ab.reason)
     d.bus.wait_idle()
     assert_smooth(setpoints_since(d, s0.cycle))
     assert d.stop() == 0

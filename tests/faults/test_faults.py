@@ -92,6 +92,7 @@ def test_sigstop_50ms_policy_and_no_burst(kinctld, tmp_path):
     assert st.event == EVENTS["ABORTED"], st.reason
     note = d.bus.wait(lambda: [s for s in d.bus.statuses if s.reason.startswith("overrun: ")], 2.0, "overrun")
     assert "ESTOP sent" in note[0].reason
+    assert st.code < 0 and st.reason == note[0].reason, (st.code, st.reason)
     d.bus.wait(lambda: [s for s in d.bus.setpoints[-5:] if s.state == STATES["ESTOP"]
                         and all(v == 0.0 for v in s.qd[:N])], 5.0, "e-stopped at rest")
     d.bus.wait_stats(lambda s: s.overruns >= 40)
