@@ -195,7 +195,10 @@ static kc_status begin_moving(kc_check *k, const kc_goal *goal, kc_verdict *v)
 
 /* The joints' jerk at the tick just stepped, into the run's largest; a
  * goal that stops first a motion without a jerk-limited law is measured
- * from the tick it starts (kinctl/check.h). */
+ * from the tick it starts (kinctl/check.h). A goal superposed on the
+ * replaced motion's stop joint by joint (jerk-limited halts from the last
+ * setpoint, whatever that motion's law: kinctl/ctrl.h) owns the jerk from
+ * its takeover on, as over a jerk-limited motion's stop. */
 static void jerk_of(kc_check *k, const kc_ctrl_output *out)
 {
     for (int e = 0; e < out->n_events; e++) {
@@ -204,6 +207,9 @@ static void jerk_of(kc_check *k, const kc_ctrl_output *out)
             continue;
         if (ev->kind == KC_EVENT_ACCEPTED && ev->reason == KC_REASON_STOP_FIRST)
             k->run_stop_first = 1;
+        if (ev->kind == KC_EVENT_ACCEPTED && ev->reason == KC_REASON_NONE && k->scratch.blend.on &&
+            k->scratch.blend.stop_drive == KC_DRIVE_HALT)
+            k->run_own = 1;
         if (ev->kind == KC_EVENT_STARTED && k->run_stop_first && k->run_stop_free) {
             k->run_jerk = KC_R(0.0);
             k->run_own = 1;

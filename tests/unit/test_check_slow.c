@@ -29,7 +29,9 @@
  * - Whose doing the verdict's jerk is (kc_verdict.jerk_own): the goal's
  *   from rest, over a jerk-limited motion's stop, and from its start
  *   where it stops first a trapezoid; not where it is superposed on a
- *   trapezoid line's stop.
+ *   trapezoid line's stop. A line replacing a joint path (no jerk-limited
+ *   law of its own) owns it both superposed on the path's jerk-limited
+ *   halts and stopping it first.
  * - Cartesian spline paths, whose acceleration steps at their ends: the
  *   search brings 9 in 10 within, most from its second dry run.
  * Those holding stepped Cartesian motions to the limits in double only:
@@ -482,6 +484,73 @@ static void test_jerk_own_after_a_trapezoid(void **state)
     assert_true(superposed >= CASES / 2 && stopped_first >= CASES / 2);
 }
 
+/* MOVING set going on a joint path from the start pose through two
+ * knots, each joint moving one way by 0.05-0.3 rad to the first and as
+ * much again to the second (blend, spline or quintic: the methods that
+ * start at rest), at the joints' limits, stepped 20 to 600 ticks; out
+ * gets the last tick's output. */
+static void moving_joint_path(kt_rng *r, const kc_ctrl_cfg *cfg, kc_ctrl_output *out)
+{
+    static const kc_path_method methods[3] = {KC_PATH_BLEND, KC_PATH_SPLINE, KC_PATH_QUINTIC};
+    kc_goal m;
+    memset(&m, 0, sizeof m);
+    m.id = 1;
+    m.kind = KC_GOAL_PATH;
+    m.vel_scale = m.acc_scale = KC_R(1.0);
+    m.method = methods[(int)kt_uniform(r, 0.0, 3.0)];
+    m.n_points = 2;
+    for (int j = 0; j < 6; j++) {
+        kc_real d = (kc_real)(kt_uniform(r, 0.05, 0.3) * (kt_uniform(r, 0.0, 1.0) < 0.5 ? -1 : 1));
+        m.points[0][j] = KT_PUMA_Q0[j] + d;
+        m.points[1][j] = KT_PUMA_Q0[j] + 2 * d;
+    }
+    assert_int_equal(kc_ctrl_init(&MOVING, &CHAIN, cfg, KT_PUMA_Q0), KC_OK);
+    memset(out, 0, sizeof *out);
+    int ticks = (int)kt_uniform(r, 20.0, 600.0);
+    for (int t = 0; t < ticks; t++) {
+        kc_ctrl_input in = {t == 0 ? &m : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
+        assert_int_equal(kc_ctrl_step(&MOVING, &in, out), KC_OK);
+    }
+}
+
+/* A jerk-limited line taking over from a moving joint path, whose own
+ * law is not jerk-limited (kc_ctrl_jerk_limited): superposed on the
+ * path's stop joint by joint (jerk-limited halts from the last setpoint,
+ * kinctl/ctrl.h), or stopping it first on the path's own law. Either
+ * way the verdict's jerk is the goal's own (kc_verdict.jerk_own: the
+ * halts' share of it the goal's doing, as over a jerk-limited motion's
+ * stop; after a stop first, measured from its start), and the controller
+ * given the goal as judged steps that jerk. */
+static void test_jerk_own_after_a_joint_path(void **state)
+{
+    (void)state;
+    kc_ctrl_cfg cfg = setup(KC_R(0.001));
+    kt_rng r = kt_rng_make(0x0A2);
+    int superposed = 0, stopped_first = 0, over_own = 0;
+    for (int c = 0; c < 4 * CASES; c++) {
+        kc_ctrl_output out;
+        moving_joint_path(&r, &cfg, &out);
+        kc_goal g = replacing_line(&r, c % 4 != 0);
+        g.stop_first = c % 3 == 0;
+        kc_verdict v;
+        if (out.state != KC_CTRL_MOVING || judge_moving(&g, &v, NULL) != KC_OK)
+            continue; /* at rest already, or out of reach */
+        assert_int_equal(v.reason, g.stop_first ? KC_REASON_STOP_FIRST : KC_REASON_NONE);
+        assert_int_equal(v.jerk_own, 1);
+        superposed += !g.stop_first;
+        stopped_first += g.stop_first;
+        over_own += over(&v);
+        double worst, worst_stop;
+        step_as_judged(&g, &v, 1, &worst, &worst_stop);
+        /* (the verdict's ratio is kc_real's rounding of the one here) */
+        kt_near(worst, (double)v.jerk, 4.0 * (double)KC_REAL_EPS * worst, "the controller's jerk, as judged");
+    }
+    print_message("%d lines superposed on a joint path's stop, %d stopping it first; %d of them over their "
+                  "joints' jerk limits, the goal's own\n",
+                  superposed, stopped_first, over_own);
+    assert_true(superposed >= CASES && stopped_first >= CASES / 2);
+}
+
 /* Cartesian cubic-spline paths (clamped) of two knots 3 to 15 cm apart
  * from the start pose, from rest: the spline's acceleration steps at its
  * start and its end, which the IK step turns into steps of the joints'
@@ -539,6 +608,7 @@ int main(void)
         cmocka_unit_test(test_replacing_lines_keep_joints_within_jerk),
         cmocka_unit_test(test_stop_first_judged_from_its_start),
         cmocka_unit_test(test_jerk_own_after_a_trapezoid),
+        cmocka_unit_test(test_jerk_own_after_a_joint_path),
         cmocka_unit_test(test_spline_paths_slowed),
     };
     int rc = cmocka_run_group_tests(tests, NULL, NULL);

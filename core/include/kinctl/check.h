@@ -90,9 +90,13 @@
  * the limits would hide behind the stop's excess, which no slowing
  * lowers). The stop of a jerk-limited motion stays in the verdict: what
  * it does beyond the limits (a Cartesian path's joints stopping on its
- * path) the goal that stops it causes. kc_verdict.jerk_own says whether
- * the jerk is the goal's own so: 0 only where the goal takes over from a
- * motion whose law is not jerk-limited, whose excess it may then be.
+ * path) the goal that stops it causes; so does a stop joint by joint
+ * (jerk-limited halts from the last setpoint, kinctl/ctrl.h: a joint
+ * path's under a goal superposed on it), whatever the law it stops.
+ * kc_verdict.jerk_own says whether the jerk is the goal's own so: 0 only
+ * where the goal takes over from a motion whose law is not jerk-limited
+ * superposed on that law's own stop (a trapezoid line's on its path),
+ * whose excess it may then be.
  *
  * Not for the cycle: a dry run costs one controller step per tick of motion
  * (from a snapshot, per tick of the controller's period: cfg.dt over the
