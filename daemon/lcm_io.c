@@ -401,15 +401,16 @@ static void push_command(kd_io *io, kc_ctrl_command command)
         return;
     }
     io->cmds_pushed++;
-    if (command == KC_CMD_STOP)
+    /* What ended an aborted goal; the drives follow: quick stop on ESTOP,
+     * enabled again on RESET. */
+    if (command == KC_CMD_STOP) {
         stop_cause(io, KD_REASON_STOPPED, "a STOP command ended it");
-    else if (command == KC_CMD_ESTOP)
+    } else if (command == KC_CMD_ESTOP) {
         stop_cause(io, KD_REASON_STOPPED, "an ESTOP command ended it");
-    /* The drives follow: quick stop on ESTOP, enabled again on RESET. */
-    if (command == KC_CMD_ESTOP)
         kd_master_estop(&io->master, kd_now_ns());
-    else if (command == KC_CMD_RESET)
+    } else if (command == KC_CMD_RESET) {
         kd_master_reset(&io->master, kd_now_ns());
+    }
 }
 
 /* The controller seated where the drives are, before the step of the
