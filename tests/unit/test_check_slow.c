@@ -290,9 +290,21 @@ static kc_status judge_moving(const kc_goal *g, kc_verdict *v, void *ctx)
 
 static int over(const kc_verdict *v) { return !kc_check_jerk_within(v); }
 
+/* MOVING set going on goal m from the start pose, stepped 20 to 600
+ * ticks; out gets the last tick's output. */
+static void set_moving(kt_rng *r, const kc_goal *m, const kc_ctrl_cfg *cfg, kc_ctrl_output *out)
+{
+    assert_int_equal(kc_ctrl_init(&MOVING, &CHAIN, cfg, KT_PUMA_Q0), KC_OK);
+    memset(out, 0, sizeof *out);
+    int ticks = (int)kt_uniform(r, 20.0, 600.0);
+    for (int t = 0; t < ticks; t++) {
+        kc_ctrl_input in = {t == 0 ? m : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
+        assert_int_equal(kc_ctrl_step(&MOVING, &in, out), KC_OK);
+    }
+}
+
 /* MOVING set going on a joint move of up to 0.4 rad a joint from the
- * start pose (profile: its law), stepped 20 to 600 ticks; out gets the
- * last tick's output. */
+ * start pose (profile: its law), set_moving. */
 static void moving_joint_move(kt_rng *r, kc_goal_profile profile, const kc_ctrl_cfg *cfg, kc_ctrl_output *out)
 {
     kc_real q[6];
@@ -300,13 +312,7 @@ static void moving_joint_move(kt_rng *r, kc_goal_profile profile, const kc_ctrl_
         q[j] = KT_PUMA_Q0[j] + (kc_real)kt_uniform(r, -0.4, 0.4);
     kc_goal m = kt_joint_goal(1, q, 6);
     m.profile = profile;
-    assert_int_equal(kc_ctrl_init(&MOVING, &CHAIN, cfg, KT_PUMA_Q0), KC_OK);
-    memset(out, 0, sizeof *out);
-    int ticks = (int)kt_uniform(r, 20.0, 600.0);
-    for (int t = 0; t < ticks; t++) {
-        kc_ctrl_input in = {t == 0 ? &m : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
-        assert_int_equal(kc_ctrl_step(&MOVING, &in, out), KC_OK);
-    }
+    set_moving(r, &m, cfg, out);
 }
 
 /* A line of 5 to 20 cm from where MOVING's tool is, replacing its motion
@@ -487,8 +493,7 @@ static void test_jerk_own_after_a_trapezoid(void **state)
 /* MOVING set going on a joint path from the start pose through two
  * knots, each joint moving one way by 0.05-0.3 rad to the first and as
  * much again to the second (blend, spline or quintic: the methods that
- * start at rest), at the joints' limits, stepped 20 to 600 ticks; out
- * gets the last tick's output. */
+ * start at rest), at the joints' limits: set_moving. */
 static void moving_joint_path(kt_rng *r, const kc_ctrl_cfg *cfg, kc_ctrl_output *out)
 {
     static const kc_path_method methods[3] = {KC_PATH_BLEND, KC_PATH_SPLINE, KC_PATH_QUINTIC};
@@ -504,13 +509,7 @@ static void moving_joint_path(kt_rng *r, const kc_ctrl_cfg *cfg, kc_ctrl_output 
         m.points[0][j] = KT_PUMA_Q0[j] + d;
         m.points[1][j] = KT_PUMA_Q0[j] + 2 * d;
     }
-    assert_int_equal(kc_ctrl_init(&MOVING, &CHAIN, cfg, KT_PUMA_Q0), KC_OK);
-    memset(out, 0, sizeof *out);
-    int ticks = (int)kt_uniform(r, 20.0, 600.0);
-    for (int t = 0; t < ticks; t++) {
-        kc_ctrl_input in = {t == 0 ? &m : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
-        assert_int_equal(kc_ctrl_step(&MOVING, &in, out), KC_OK);
-    }
+    set_moving(r, &m, cfg, out);
 }
 
 /* A jerk-limited line taking over from a moving joint path, whose own
