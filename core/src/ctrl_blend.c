@@ -467,10 +467,11 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     if (!c->active || (c->state != KC_CTRL_MOVING && !stopping) || c->jstop ||
         (g->kind != KC_GOAL_LINE && g->kind != KC_GOAL_ARC && !kc_ctrl_is_path(g->kind)))
         return 0;
-    /* A path that does not start at rest (Lagrange's: every other method
-     * starts at rest, kc_ctrl_path_starts_at_rest) needs a ramp of its
-     * own: not superposed, known before M's plan gives way. */
-    if (kc_ctrl_is_path(g->kind) && g->method == KC_PATH_LAGRANGE)
+    /* A path that the controller ramps (kc_ctrl_path_ramped: one that
+     * moves at its ends, or whose acceleration steps there) needs its
+     * own law, which a stop while superposed cannot wait on (the wait
+     * runs the path on its own timing, ctrl_stop.c): not superposed. */
+    if (kc_ctrl_is_path(g->kind) && kc_ctrl_path_ramped(c, g))
         return 0;
     /* The IK step turns the sum's twist back into joint velocities, and
      * gives a joint-space stop's own back (J^+ J qd = qd) only where the

@@ -256,23 +256,45 @@ void kc_ctrl_blend_joints(const kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o);
 
 /* ---- ctrl_stop.c: stops, resume, faults ---- */
 
+/* The plan time the active path's plan lasts. */
+kc_real kc_ctrl_path_duration(const kc_ctrl *c);
+
 /* The rate C of a tau' ramp from rest at tau0 up to 1 that, with the same
- * ramp down into the path's end, keeps every limit (a path that does not
- * start or end at rest, Lagrange's, and every resume); 0 when none of the
- * rates tried does. */
+ * ramp down into the path's end, keeps every limit (a path the controller
+ * ramps, kc_ctrl_path_ramped, and every resume); 0 when none of the rates
+ * tried does. */
 kc_real kc_ctrl_path_ramp_rate(const kc_ctrl *c, kc_real tau0);
 
 /* The bound on tau''' of a jerk-limited change of a path's rate over plan
- * times [tau0, tau1] (kinctl/ctrl.h): every joint's qddd_max (Cartesian:
- * the goal's jerk over the tool point's speed, its angular jerk over the
- * tool's angular speed) over the largest |q'| on sampled instants, so the
- * jerk the change adds through tau''' stays within the limit. Infinite
- * for the trapezoid (cfg.profile or the goal's, or a chain without jerk
- * limits) and for a path that stands still there. */
-kc_real kc_ctrl_path_tau_jerk(const kc_ctrl *c, kc_real tau0, kc_real tau1);
+ * times [tau0, tau1] with |tau''| <= A (kinctl/ctrl.h): a joint path's
+ * every joint's room for the jerk the law adds (qddd_max less the path's
+ * own |q'''|, at least half of qddd_max) less 3 |q''| A (the jerk of
+ * 3 q'' tau' tau''), but at least half its room, over |q'| on sampled
+ * instants; a Cartesian path's the goal's jerk over the tool point's
+ * speed, its angular jerk over the tool's angular speed. So the jerk the
+ * change adds stays within the limit. Infinite for the trapezoid
+ * (cfg.profile or the goal's, or a chain without jerk limits) and for a
+ * path that stands still there. */
+kc_real kc_ctrl_path_tau_jerk(const kc_ctrl *c, kc_real tau0, kc_real tau1, kc_real A);
 
-/* Whether the planned path starts at rest (every knot method but Lagrange). */
-int kc_ctrl_path_starts_at_rest(const kc_ctrl *c);
+/* The bound on tau''' of the ramps from rest at tau0 to tau' = 1 and into
+ * the path's end at rate C (kc_ctrl_path_ramp_rate): kc_ctrl_path_tau_jerk
+ * over the stretches of plan time the ramps cover, or over all of it from
+ * tau0 where they meet. */
+kc_real kc_ctrl_path_ramp_jerk(const kc_ctrl *c, kc_real tau0, kc_real C);
+
+/* Whether the controller runs the path goal g on its own ramps of tau'
+ * from rest and into the end: one that moves at its ends (Lagrange's, a
+ * natural spline), and under a jerk-limited law one whose acceleration
+ * steps at its ends (a clamped cubic spline, a parabolic blend). */
+int kc_ctrl_path_ramped(const kc_ctrl *c, const kc_goal *g);
+
+/* The active path's drive from rest to its end at ramp rate C and bound
+ * Jt on tau''' (kc_ctrl_path_ramp_rate, kc_ctrl_path_ramp_jerk):
+ * jerk-limited (KC_DRIVE_SCURVE) where Jt is finite and it can be
+ * planned, else at the constant rate C (KC_DRIVE_PROFILE). 0 when neither
+ * can be planned. */
+int kc_ctrl_path_ramp_drive(kc_ctrl *c, kc_real C, kc_real Jt);
 
 /* A stop of every joint in joint space: each at its own acceleration limit
  * (hard, for e-stop) or all synchronised on the current direction of motion

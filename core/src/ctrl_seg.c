@@ -203,18 +203,15 @@ int kc_ctrl_start_next(kc_ctrl *c, kc_ctrl_output *out)
         c->blend.on = 0;
         c->blend.lax = 0;
         kc_status st = kc_ctrl_plan_goal(c);
-        if (st == KC_OK && kc_ctrl_is_path(c->goal.kind) && !kc_ctrl_path_starts_at_rest(c)) {
-            /* Lagrange's polynomial moves at its first and last knot: run
-             * it on a tau' that ramps up from rest and down into the end. */
-            kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
-            kc_real C = kc_ctrl_path_ramp_rate(c, KC_R(0.0)), Jt = kc_ctrl_path_tau_jerk(c, KC_R(0.0), T);
-            /* Jerk-limited (tau'' continuous) where the law is (kinctl/ctrl.h). */
-            st = !(C > KC_R(0.0)) ? KC_E_LIMIT
-                 : kc_isfinite(Jt)
-                     ? kc_scurve_plan(&c->drive_scurve, KC_R(0.0), KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, Jt, c->cfg.dt)
-                     : kc_profile_plan(&c->drive_prof, KC_R(0.0), KC_R(0.0), T, KC_R(1.0), C, c->cfg.dt);
-            if (st == KC_OK)
-                c->drive = kc_isfinite(Jt) ? KC_DRIVE_SCURVE : KC_DRIVE_PROFILE;
+        if (st == KC_OK && kc_ctrl_is_path(c->goal.kind) && kc_ctrl_path_ramped(c, &c->goal)) {
+            /* A path moving at its first and last knot (Lagrange's), or
+             * whose acceleration steps there under a jerk-limited law (a
+             * cubic spline's): run it on a tau' that ramps up from rest
+             * and down into the end. */
+            kc_real C = kc_ctrl_path_ramp_rate(c, KC_R(0.0));
+            st = C > KC_R(0.0) && kc_ctrl_path_ramp_drive(c, C, kc_ctrl_path_ramp_jerk(c, KC_R(0.0), C))
+                     ? KC_OK
+                     : KC_E_LIMIT;
         }
         if (st != KC_OK) {
             kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
@@ -412,7 +409,7 @@ void kc_ctrl_seg_eval(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
     case KC_GOAL_PATH_CART: {
         kc_profile_state u;
         kc_ctrl_drive_state(c, j, &u);
-        kc_real T = g->kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
+        kc_real T = kc_ctrl_path_duration(c);
         o->progress = T > KC_R(0.0) ? kc_min(u.p / T, KC_R(1.0)) : KC_R(1.0);
         if (g->kind == KC_GOAL_PATH) {
             int end = path_joint_at(&c->plan.path, u.p, u.v, u.a, n, o);

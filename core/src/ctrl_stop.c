@@ -3,6 +3,7 @@
  * path parameter, paths by their plan time), in joint space, resuming, and
  * faults (kinctl/ctrl.h). */
 #include "ctrl_internal.h"
+#include "path_internal.h"
 #include "size_internal.h"
 
 #include <string.h>
@@ -15,16 +16,41 @@ static KC_SIZE_NOINLINE void drive_from_here(kc_ctrl *c, kc_ctrl_drive drive)
     c->k0 = c->cycle - 1;
 }
 
+/* A joint path's q' and q'' at plan time tau, and each joint's room for
+ * the jerk its time law adds (kinctl/ctrl.h): qddd_max less the path's own
+ * |q'''| there (which tau'^3 <= 1 scales), but at least half of qddd_max
+ * (where the path's own jerk comes near its limit or beyond, with times
+ * given). */
+static void path_jerk_room(const kc_ctrl *c, kc_real tau, kc_real *d1, kc_real *d2, kc_real *room)
+{
+    const kc_path *p = &c->plan.path;
+    kc_real q[KC_MAX_JOINTS];
+    int end = kc_path_eval_time(p, tau, q, d1, d2) == KC_DONE, k = kc_path_find_piece(p, tau);
+    kc_real x = tau - p->start[k];
+    for (int j = 0; j < c->chain->n_joints; j++) {
+        kc_real d3 = KC_R(0.0), m = c->chain->joints[j].limits.qddd_max;
+        for (int i = p->n_coeffs - 1; i >= 3 && !end; i--)
+            d3 = d3 * x + (kc_real)(i * (i - 1) * (i - 2)) * p->c[k][i][j];
+        room[j] = kc_max(m - kc_fabs(d3), KC_R(0.5) * m);
+    }
+}
+
 /* Largest |q'' tau'^2 + q' tau''| / qdd_max (Cartesian: the tool point's
  * acceleration over its limit) on sampled instants of a change of tau' at
  * the constant rate a for the time D, from plan time tau0 at rate r0: at
  * most 1 when it keeps every limit. A stop is (tau, rate, -C, rate / C), a
  * start from rest (tau, 0, C, 1 / C), the ramp into the end (T - 1/(2C),
- * 1, -C, 1 / C). */
-static kc_real path_ramp_load(const kc_ctrl *c, kc_real tau0, kc_real r0, kc_real a, kc_real D)
+ * 1, -C, 1 / C). Under a jerk-limited law a joint path's 3 |q''| tau' |a|
+ * (the jerk 3 q'' tau' tau'' adds) counts too, against half its room
+ * (path_jerk_room; kc_ctrl_path_tau_jerk leaves tau''' the other half),
+ * tau' being the sample's rate for a ramp (the jerk-limited ramp, its
+ * |tau''| within |a|, has no more where it reaches the same tau: it
+ * starts or ends at rest there), and r0 for a stop (which brakes later
+ * than at the constant rate). */
+static kc_real path_ramp_load(const kc_ctrl *c, kc_real tau0, kc_real r0, kc_real a, kc_real D, int ramp)
 {
     const kc_goal *g = &c->goal;
-    int n = c->chain->n_joints;
+    int n = c->chain->n_joints, jerk = kc_ctrl_goal_profile(c, g) == KC_PROFILE_JERK;
     kc_real vmax[KC_MAX_JOINTS], amax[KC_MAX_JOINTS], worst = KC_R(0.0);
     kc_ctrl_scaled_limits(c, g, vmax, amax);
     kc_real a_cart = kc_ctrl_cart_limits(&c->cfg, g).a;
@@ -32,10 +58,13 @@ static kc_real path_ramp_load(const kc_ctrl *c, kc_real tau0, kc_real r0, kc_rea
         kc_real t = D * (kc_real)i / (kc_real)STOP_SAMPLES;
         kc_real r = r0 + a * t, at = kc_max(tau0 + r0 * t + KC_R(0.5) * a * t * t, KC_R(0.0));
         if (g->kind == KC_GOAL_PATH) {
-            kc_real q[KC_MAX_JOINTS], d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
-            kc_path_eval_time(&c->plan.path, at, q, d1, d2);
-            for (int j = 0; j < n; j++)
+            kc_real d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS], room[KC_MAX_JOINTS];
+            path_jerk_room(c, at, d1, d2, room);
+            for (int j = 0; j < n; j++) {
                 worst = kc_max(worst, kc_fabs(d2[j] * r * r + d1[j] * a) / amax[j]);
+                if (jerk)
+                    worst = kc_max(worst, KC_R(6.0) * kc_fabs(d2[j] * a) * (ramp ? r : r0) / room[j]);
+            }
         } else {
             kc_path_pose s;
             kc_path_cart_eval_time(&c->plan.path_cart, at, &s);
@@ -75,27 +104,59 @@ static kc_real path_stop_rate(const kc_ctrl *c, kc_real tau, kc_real rate)
     if (!kc_isfinite(dec))
         dec = KC_R(1.0) / c->cfg.dt; /* standing still: stop within a tick */
     for (int tries = 0; tries < 6; tries++) {
-        if (path_ramp_load(c, tau, rate, -dec, rate / dec) <= KC_R(1.0))
+        if (path_ramp_load(c, tau, rate, -dec, rate / dec, 0) <= KC_R(1.0))
             return dec;
         dec *= KC_R(0.5);
     }
     return KC_R(0.0);
 }
 
+/* The number of bisection steps refining a ramp's rate between the first
+ * of the halvings that keeps the limits and the one before it (within
+ * 1/16 of the rate that just does, on the samples). */
+#define RAMP_RATE_STEPS 4
+
+static int ramp_fits(const kc_ctrl *c, kc_real tau0, kc_real T, kc_real C)
+{
+    return path_ramp_load(c, tau0, KC_R(0.0), C, KC_R(1.0) / C, 1) <= KC_R(1.0) &&
+           path_ramp_load(c, T - KC_R(0.5) / C, KC_R(1.0), -C, KC_R(1.0) / C, 1) <= KC_R(1.0);
+}
+
 kc_real kc_ctrl_path_ramp_rate(const kc_ctrl *c, kc_real tau0)
 {
-    kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
+    kc_real T = kc_ctrl_path_duration(c);
     kc_real C = KC_R(1.0) / (KC_R(10.0) * c->cfg.dt); /* a ramp of at least ten ticks */
     for (int tries = 0; tries < 16; tries++) {
-        if (path_ramp_load(c, tau0, KC_R(0.0), C, KC_R(1.0) / C) <= KC_R(1.0) &&
-            path_ramp_load(c, T - KC_R(0.5) / C, KC_R(1.0), -C, KC_R(1.0) / C) <= KC_R(1.0))
+        if (ramp_fits(c, tau0, T, C)) {
+            kc_real hi = KC_R(2.0) * C;
+            for (int i = 0; i < RAMP_RATE_STEPS && tries > 0; i++) {
+                kc_real m = KC_R(0.5) * (C + hi);
+                if (ramp_fits(c, tau0, T, m))
+                    C = m;
+                else
+                    hi = m;
+            }
             return C;
+        }
         C *= KC_R(0.5);
     }
     return KC_R(0.0);
 }
 
-kc_real kc_ctrl_path_tau_jerk(const kc_ctrl *c, kc_real tau0, kc_real tau1)
+kc_real kc_ctrl_path_ramp_jerk(const kc_ctrl *c, kc_real tau0, kc_real C)
+{
+    kc_real T = kc_ctrl_path_duration(c);
+    kc_real J = kc_ctrl_path_tau_jerk(c, tau0, T, C);
+    /* A ramp from rest to tau' = 1 within C and J covers (1 / C + C / J)
+     * / 2 of plan time, and so does the ramp into the end: a larger J
+     * only shortens them. */
+    kc_real d = KC_R(0.5) * (KC_R(1.0) / C + C / J);
+    if (!kc_isfinite(J) || !(J > KC_R(0.0)) || KC_R(2.0) * d >= T - tau0)
+        return J;
+    return kc_min(kc_ctrl_path_tau_jerk(c, tau0, tau0 + d, C), kc_ctrl_path_tau_jerk(c, T - d, T, C));
+}
+
+kc_real kc_ctrl_path_tau_jerk(const kc_ctrl *c, kc_real tau0, kc_real tau1, kc_real A)
 {
     const kc_goal *g = &c->goal;
     kc_real J = INF;
@@ -110,12 +171,12 @@ kc_real kc_ctrl_path_tau_jerk(const kc_ctrl *c, kc_real tau0, kc_real tau1)
     for (int i = 0; i <= STOP_SAMPLES; i++) {
         kc_real tau = kc_max(tau0 + h * (kc_real)i, KC_R(0.0));
         if (g->kind == KC_GOAL_PATH) {
-            kc_real q[KC_MAX_JOINTS], d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
-            kc_path_eval_time(&c->plan.path, tau, q, d1, d2);
+            kc_real d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS], room[KC_MAX_JOINTS];
+            path_jerk_room(c, tau, d1, d2, room);
             for (int j = 0; j < c->chain->n_joints; j++) {
                 kc_real v = kc_fabs(d1[j]) + KC_R(0.5) * h * kc_fabs(d2[j]);
                 if (v > KC_R(0.0))
-                    J = kc_min(J, c->chain->joints[j].limits.qddd_max / v);
+                    J = kc_min(J, kc_max(room[j] - KC_R(3.0) * A * kc_fabs(d2[j]), KC_R(0.5) * room[j]) / v);
             }
         } else {
             kc_path_pose s;
@@ -131,19 +192,30 @@ kc_real kc_ctrl_path_tau_jerk(const kc_ctrl *c, kc_real tau0, kc_real tau1)
     return J;
 }
 
-int kc_ctrl_path_starts_at_rest(const kc_ctrl *c)
+int kc_ctrl_path_ramped(const kc_ctrl *c, const kc_goal *g)
 {
-    if (c->goal.kind == KC_GOAL_PATH) {
-        kc_real q[KC_MAX_JOINTS], d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS];
-        kc_path_eval_time(&c->plan.path, KC_R(0.0), q, d1, d2);
-        for (int j = 0; j < c->chain->n_joints; j++)
-            if (d1[j] != KC_R(0.0))
-                return 0;
+    if (g->method == KC_PATH_LAGRANGE || (g->method == KC_PATH_SPLINE && g->spline_end == KC_PATH_SPLINE_NATURAL))
+        return 1; /* moving at its ends */
+    /* At rest at its ends, where a cubic spline's acceleration, and a
+     * parabolic blend's, steps. */
+    return kc_ctrl_goal_profile(c, g) == KC_PROFILE_JERK &&
+           (g->method == KC_PATH_SPLINE || (g->method == KC_PATH_BLEND && g->blend == KC_PATH_BLEND_PARABOLIC));
+}
+
+kc_real kc_ctrl_path_duration(const kc_ctrl *c)
+{
+    return c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
+}
+
+int kc_ctrl_path_ramp_drive(kc_ctrl *c, kc_real C, kc_real Jt)
+{
+    kc_real T = kc_ctrl_path_duration(c), z = KC_R(0.0);
+    if (kc_isfinite(Jt) && kc_scurve_plan(&c->drive_scurve, z, z, z, T, KC_R(1.0), C, Jt, c->cfg.dt) == KC_OK) {
+        c->drive = KC_DRIVE_SCURVE;
         return 1;
     }
-    kc_path_pose s;
-    kc_path_cart_eval_time(&c->plan.path_cart, KC_R(0.0), &s);
-    return kc_vec3_norm(&s.v) == KC_R(0.0) && kc_vec3_norm(&s.w) == KC_R(0.0);
+    c->drive = KC_DRIVE_PROFILE;
+    return kc_profile_plan(&c->drive_prof, z, z, T, KC_R(1.0), C, c->cfg.dt) == KC_OK;
 }
 
 void kc_ctrl_joint_stop(kc_ctrl *c, int sync, kc_ctrl_state then)
@@ -466,10 +538,16 @@ static int path_scurve_stop(kc_ctrl *c, const kc_profile_state *u, kc_real dec, 
     kc_scurve s;
     kc_real end = u->p + u->v * u->v / dec;
     for (int i = 0; i < 4; i++) {
-        kc_real Jt = kc_ctrl_path_tau_jerk(c, u->p, kc_min(end, T));
+        kc_real Jt = kc_ctrl_path_tau_jerk(c, u->p, kc_min(end, T), kc_max(dec, kc_fabs(u->a)));
         kc_real D = dec;
         if (c->goal.kind == KC_GOAL_PATH_CART && kc_isfinite(Jt))
             joint_bounded_stop(c, u->v, u->a, &D, &Jt);
+        /* A stop from a ramp whose tau' still rises brings tau'' to 0
+         * before tau' passes 1 (the path's own rate): at the jerk that
+         * ramp itself has there at most (in its last phase, the one
+         * that just does: tau''^2 / (2 (1 - tau'))). */
+        if (u->a > KC_R(0.0) && u->v < KC_R(1.0))
+            Jt = kc_max(Jt, u->a * u->a / (KC_R(2.0) * (KC_R(1.0) - u->v)));
         if (!kc_isfinite(Jt) || kc_scurve_plan_stop(&s, u->p, u->v, u->a, D, Jt, c->cfg.dt) != KC_OK)
             return 0;
         if (s.p1 <= end)
@@ -591,7 +669,7 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
          * slowest is kept). A first stop that would pass the end leaves
          * the drive under way, which stops at the end first; a slower one
          * that would gives way to the one before it. */
-        kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
+        kc_real T = kc_ctrl_path_duration(c);
         kc_ctrl_drive drive = c->drive;
         int64_t k0 = c->k0;
         for (int tries = 0;; tries++) {
@@ -691,14 +769,14 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
     kc_real end = KC_R(1.0), vmax, amax, jmax;
     int jerk;
     if (kc_ctrl_is_path(c->goal.kind)) {
-        kc_real T = c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
+        kc_real T = kc_ctrl_path_duration(c);
         /* (a constant-rate stop may have come to rest past the end) */
         u.p = kc_min(u.p, T);
         kc_real C = kc_ctrl_path_ramp_rate(c, u.p);
         if (!(C > KC_R(0.0)))
             C = KC_R(1.0); /* the rates tried all fail: the gentlest ramp there is */
         end = T, vmax = KC_R(1.0), amax = C;
-        jmax = kc_ctrl_path_tau_jerk(c, u.p, T);
+        jmax = kc_ctrl_path_ramp_jerk(c, u.p, C);
         jerk = kc_isfinite(jmax);
     } else {
         /* A jerk-limited line or arc resumes jerk-limited. */

@@ -9,7 +9,8 @@ ends once, preempted, aborted or completed; no FAULT; the last accepted
 goal completes on its target. The whole stream, from the cycle before
 the first goal to the rest after the last, every takeover included, has
 no missing cycle and stays within qd_max and qdd_max with qdd changing
-by at most qddd_max dt a cycle (Arm.check_limits); each joint move, from
+by at most qddd_max dt a cycle (Arm.check_limits), joint paths and their
+stops included; each joint move, from
 the setpoint it took over, integrates q and qd as a jerk-limited motion
 does (Arm.check_stream: a Cartesian goal's qdd is the IK step's
 difference quotient, which that check does not describe). A failure
@@ -162,13 +163,12 @@ def checked(check, a, stream, goals, **kw):
     return None
 
 
-def worst_jerk(a, stream, held=lambda p, b: True):
-    """The largest |change of qdd| / (qddd_max dt) over the stream (from p
-    to b where held(p, b) is true), with the goal, cycle and joint where
-    it is."""
+def worst_jerk(a, stream):
+    """The largest |change of qdd| / (qddd_max dt) over the stream, with
+    the goal, cycle and joint where it is."""
     worst = (0.0, 0, 0, 0)
     for p, b in zip(stream, stream[1:]):
-        for j in range(a.n if held(p, b) else 0):
+        for j in range(a.n):
             r = abs(b.qdd[j] - p.qdd[j]) / (a.qddd[j] * DT)
             if r > worst[0]:
                 worst = (r, b.goal_id, b.cycle, j)
@@ -193,24 +193,6 @@ def check_events(goals, answers, statuses):
                        for s in statuses if s.event == EVENTS["FAULT"]]
 
 
-def unheld_cycles(stream, goals):
-    """The cycles into which the change of qdd is not held to the jerk
-    limits: while a joint path drives the joints (or stops them: a path on
-    its own law), and at rest after one (a cubic spline ends with its
-    acceleration). Between the controller's ramps and stops a path runs on
-    its method's law, whose jerk the method sets (a cubic spline's
-    acceleration steps at its knots and ends: kinctl/path.h). The takeover
-    of a goal from one is held, and so is all of a servo twist stream (its
-    twist shaped, its stops jerk-limited: kinctl/ctrl.h)."""
-    free, unheld, last = ("path",), set(), ""
-    for b in stream:
-        kind = goals.get(b.goal_id, ("",))[0]
-        last = kind if b.goal_id else last
-        if kind in free or (b.goal_id == 0 and last in free):
-            unheld.add(b.cycle)
-    return unheld
-
-
 def check_setpoints(a, stream, goals):
     """No cycle missing; every setpoint within the limits; each joint move,
     from the setpoint before its first, integrating as a jerk-limited
@@ -220,8 +202,7 @@ def check_setpoints(a, stream, goals):
         if b.cycle != p.cycle + 1:
             return [f"setpoints of cycles {p.cycle + 1} to {b.cycle - 1} missing "
                     f"({goal_name(p.goal_id, goals)} to {goal_name(b.goal_id, goals)})"]
-    unheld = unheld_cycles(stream, goals)
-    failed = [checked(a.check_limits, a, stream, goals, jerk_held=lambda p, b: b.cycle not in unheld)]
+    failed = [checked(a.check_limits, a, stream, goals)]
     for i in range(1, len(stream)):
         g = stream[i].goal_id
         if g != stream[i - 1].goal_id and goals.get(g, ("",))[0] == "joint":
@@ -296,16 +277,11 @@ def replace_at_random(d, a, rng, label, kinds=MIX):
             for e in ("PREEMPTED", "ABORTED")}
     # An ACCEPTED with a reason: taken with the motion it replaces stopping first.
     stop_first = sum(bool(answers[g][0].reason) for g in accepted)
-    unheld = unheld_cycles(stream, goals)
-    r, wg, wc, wj = worst_jerk(a, stream, lambda p, b: b.cycle not in unheld)
-    free = worst_jerk(a, stream, lambda p, b: b.cycle in unheld)
+    r, wg, wc, wj = worst_jerk(a, stream)
     taken = ", ".join(f"{kinds.count(k)} {k}" for k in EVERY if k in kinds)
     print(f"\n{label}: {len(accepted)} of {GOALS} goals accepted ({taken}; {stop_first} stopping first), "
           f"{ends['PREEMPTED']} preempted, {ends['ABORTED']} aborted; {len(stream)} cycles; worst jerk "
           f"{r:.7f} x qddd_max ({goal_name(wg, goals)}, cycle {wc}, q{wj + 1}); {time.monotonic() - t0:.1f} s")
-    if free[0] > 0.0:
-        print(f"  not held to the jerk limits (joint paths): up to {free[0]:.3g} x qddd_max "
-              f"({goal_name(free[1], goals)}, cycle {free[2]}, q{free[3] + 1})")
     for g in goals:
         if answers[g] and answers[g][0].event == EVENTS["REJECTED"]:
             print(f"  rejected {goal_name(g, goals)}: {answers[g][0].reason}")

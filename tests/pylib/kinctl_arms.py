@@ -52,15 +52,13 @@ class Arm:
         assert Ruckig(n).calculate(inp, traj) == Result.Working
         return traj.duration / DT
 
-    def check_limits(self, stream, jerk_held=None):
+    def check_limits(self, stream):
         """Consecutive cycles, each with q inside its limits, within qd_max
         and qdd_max, q changing by at most qd_max dt and qd by at most
         qdd_max dt a cycle (continuity), and qdd changing by at most
-        qddd_max dt a cycle (any motion; with jerk_held, into the
-        setpoints b for which jerk_held(b) is true)."""
+        qddd_max dt a cycle."""
         for a, b in zip(stream, stream[1:]):
             assert b.cycle == a.cycle + 1, (a.cycle, b.cycle)
-            jerk = jerk_held is None or jerk_held(a, b)
             for j in range(self.n):
                 where = (b.cycle, b.goal_id, j)
                 assert self.q[j][0] <= b.q[j] <= self.q[j][1], where
@@ -68,7 +66,7 @@ class Arm:
                 assert abs(b.qd[j] - a.qd[j]) <= self.qdd[j] * DT * (1 + SLACK) + 1e-9, where
                 assert abs(b.qd[j]) <= self.qd[j] * (1 + SLACK), where
                 assert abs(b.qdd[j]) <= self.qdd[j] * (1 + SLACK), where
-                assert not jerk or abs(b.qdd[j] - a.qdd[j]) <= self.qddd[j] * DT * (1 + SLACK), where
+                assert abs(b.qdd[j] - a.qdd[j]) <= self.qddd[j] * DT * (1 + SLACK), where
 
     def check_stream(self, stream):
         """check_limits, and q and qd continuous as a jerk-limited joint

@@ -63,7 +63,8 @@ static kc_goal path_goal(kt_rng *r, int64_t id, const kc_real *home, int method,
     g.kind = KC_GOAL_PATH;
     g.replace = replace;
     g.vel_scale = g.acc_scale = KC_R(1.0);
-    g.method = (kc_path_method)method;
+    const kc_path_method methods[3] = {KC_PATH_BLEND, KC_PATH_SPLINE, KC_PATH_QUINTIC};
+    g.method = methods[method];
     g.n_points = 2;
     g.dim = CHAIN.n_joints;
     for (int k = 0; k < 2; k++)

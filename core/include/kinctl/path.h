@@ -86,7 +86,8 @@
  * (Bernstein coefficients on eight sub-intervals of each piece): the
  * stretched path keeps the three limits within its pieces (a cubic
  * spline's acceleration still jumps at its ends unless they are natural:
- * there no stretch helps). With
+ * there no stretch helps; the controller runs such a path on ramps of its
+ * own, kinctl/ctrl.h). With
  * given knot velocities the times follow the rule alone and the limits are
  * not checked. A segment with no motion gets T_i = 0 and is KC_E_ARG (except
  * for blends, where T_i >= 2 t_acc).
