@@ -75,6 +75,10 @@ typedef struct kd_tick {
     int in_servo_stale;
     int in_fault; /* the step was given an external fault */
     int in_seated; /* the controller was seated (kc_ctrl_seat) before the step */
+    /* The goal as the dry run handed it on (setpoint_t.input_goal_share ..). */
+    double in_goal_share;
+    int in_goal_stop_first;
+    double in_goal_qu;
     /* The last seat (kd_cmd.seat) the cycle took: kc_ctrl_seat's answer. */
     int seat_status, seat_joint;
 } kd_tick;

@@ -66,6 +66,9 @@ static void publish_setpoint(kd_io *io, const kd_tick *t)
     sp->input_servo_stale = (int8_t)(t->in_servo_stale != 0);
     sp->input_fault = (int8_t)(t->in_fault != 0);
     sp->input_seated = (int8_t)(t->in_seated != 0);
+    sp->input_goal_share = t->in_goal_share;
+    sp->input_goal_stop_first = (int8_t)(t->in_goal_stop_first != 0);
+    sp->input_goal_qu = t->in_goal_qu;
     publish(io, KD_MSG_SETPOINT, sp);
 }
 

@@ -78,7 +78,8 @@ static const kd_msg_info info[KD_MSG_TYPE_COUNT] = {
      8 + 8 + 8 + 5 * 1 + 2 * 4 + 31 * 16 * 8 + 1 + 31 * 8 + 7 * 8},
     {"goal_servo_t", "GOAL_SERVO", 1, 8 + 8 + 8 + 2 * 1 + 3 * 8 + 4 * 8 + 6 * 8 + 8},
     {"command_t", "COMMAND", 1, 8 + 8 + 1},
-    {"setpoint_t", "SETPOINT", 0, 8 + 8 + 8 + 8 + 1 + 4 + 3 * 16 * 8 + 3 * 8 + 4 * 8 + 8 + 1 + 1 + 1 + 1},
+    {"setpoint_t", "SETPOINT", 0,
+     8 + 8 + 8 + 8 + 1 + 4 + 3 * 16 * 8 + 3 * 8 + 4 * 8 + 8 + 1 + 1 + 1 + 1 + 8 + 1 + 8},
     {"status_t", "STATUS", 0,
      8 + 8 + 8 + 1 + 8 + 8 + 4 + 1 + 8 + 4 + (4 + 1) + 4 + 2 * 16 * 8 + 1 + 4 + 1 + 3 * 8 + 1 + 16 * 1},
     {"stats_t", "STATS", 0, 8 + 18 * 8 + 1 + 5 * 8},
@@ -407,6 +408,12 @@ static kd_msg_status validate_setpoint(kd_reason *r, const kinctl_setpoint_t *m)
     CHECK(check_enum(r, ty, "input_command", m->input_command, 0, KINCTL_COMMAND_T_RESET));
     CHECK(check_enum(r, ty, "input_servo_stale", m->input_servo_stale, 0, 1));
     CHECK(check_enum(r, ty, "input_fault", m->input_fault, 0, 1));
+    CHECK(check_enum(r, ty, "input_seated", m->input_seated, 0, 1));
+    CHECK(check_finite(r, ty, "input_goal_share", &m->input_goal_share, 1));
+    if (!(m->input_goal_share > 0.0 && m->input_goal_share <= 1.0))
+        return fail(r, KD_MSG_E_RANGE, "%s.input_goal_share = %g outside (0, 1]", ty, m->input_goal_share);
+    CHECK(check_enum(r, ty, "input_goal_stop_first", m->input_goal_stop_first, 0, 1));
+    CHECK(check_nonneg(r, ty, "input_goal_qu", m->input_goal_qu));
     return KD_MSG_OK;
 }
 

@@ -194,5 +194,6 @@ kc_status kc_goal_slow(kc_goal *g, const kc_ctrl_cfg *cfg, kc_real s)
             g->times[i] /= s;
         g->blend_time /= s;
     }
+    g->slowed = (g->slowed > KC_R(0.0) ? g->slowed : KC_R(1.0)) * s;
     return KC_OK;
 }

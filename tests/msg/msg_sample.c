@@ -161,6 +161,9 @@ void msg_sample(kd_msg_type type, uint32_t seed, kd_msg_any *m, char *reason_buf
         p->input_servo_stale = (int8_t)pick(s, 0, 1);
         p->input_fault = (int8_t)pick(s, 0, 1);
         p->input_seated = (int8_t)pick(s, 0, 1);
+        p->input_goal_share = uniform(s, 0.001, 1.0);
+        p->input_goal_stop_first = (int8_t)pick(s, 0, 1);
+        p->input_goal_qu = uniform(s, 0.0, 50.0);
         break;
     }
     case KD_MSG_STATUS: {

@@ -107,6 +107,8 @@ static void print_json(kd_msg_type t, const kd_msg_any *m)
         pi("input_goal_id", p->input_goal_id); pi("input_command", p->input_command);
         pi("input_servo_stale", p->input_servo_stale);
         pi("input_fault", p->input_fault); pi("input_seated", p->input_seated);
+        pd("input_goal_share", &p->input_goal_share, 1, 0); pi("input_goal_stop_first", p->input_goal_stop_first);
+        pd("input_goal_qu", &p->input_goal_qu, 1, 0);
         break;
     }
     case KD_MSG_STATUS: {

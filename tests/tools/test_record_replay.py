@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """kinctl record / play / replay against a real kinctld over real LCM."""
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -279,3 +280,52 @@ def test_replay_takes_the_daemons_configuration(multicast, tmp_path):
             if ch == "KINCTL_SETPOINT" and setpoint_t.decode(dt).input_goal_id == 8001]
     r = run_kinctl(None, "replay", path, "--model", "panda", "--period-us", "1000")
     assert r.returncode == 1 and f"DIFFERS at cycle {took[0]}:" in r.stdout, r.stdout + r.stderr
+
+
+def test_replay_of_goals_the_dry_run_changed(multicast, tmp_path, kinctl):
+    """A fast line from rest and one replacing a moving joint move, whose
+    joints' jerk the dry run finds beyond their limits: kinctld slows each
+    (and may stop the move first), and the setpoints that took them say
+    so (input_goal_share < 1, input_goal_stop_first, input_goal_qu). The
+    log replays bit for bit; with the first line's share put back to 1
+    it differs from that line's first ticks on."""
+    path = str(tmp_path / "slowed.lcmlog")
+    d = start_kinctld()
+    fast = ["--speed", "0.5", "--accel", "3", "--jerk", "200"]
+    try:
+        rec = start_record(d, path)
+        ok(run_kinctl(d, "--deg", "goal", "joint", "--q", QN, "--wait"))
+        ok(run_kinctl(d, "goal", "line", "--to", "0.45,0.15,0.38," + DOWN, "--id", "9001", "--wait", *fast))
+        ok(run_kinctl(d, "--deg", "goal", "joint", "--q", QN, "--wait"))
+        ok(run_kinctl(d, "--deg", "goal", "joint", "--q", "30,30,-160,20,60,10", "--id", "9002"))
+        time.sleep(0.4)
+        ok(run_kinctl(d, "goal", "line", "--to", "0.45,0.15,0.38," + DOWN, "--id", "9003", "--replace", "--wait",
+                      *fast))
+        stop_record(rec)
+    finally:
+        assert d.stop() == 0, d.stderr
+    assert "goal 9001 slowed to" in d.stderr and "goal 9003 slowed to" in d.stderr, d.stderr
+    evs = events(path)
+    took = {s.input_goal_id: s for s in (setpoint_t.decode(dt) for _, ch, dt in evs if ch == "KINCTL_SETPOINT")
+            if s.input_goal_id}
+    assert {9001, 9002, 9003} <= set(took)
+    assert 0.0 < took[9001].input_goal_share < 1.0 and 0.0 < took[9003].input_goal_share < 1.0
+    assert took[9002].input_goal_share == 1.0 and took[9001].input_goal_qu > 0.0
+    r = kinctl(None, "replay", path)
+    assert r.returncode == 0 and "BIT-EXACT" in r.stdout, r.stdout + r.stderr
+
+    as_asked = []
+    for t, ch, data in evs:
+        if ch == "KINCTL_SETPOINT" and setpoint_t.decode(data).input_goal_id == 9001:
+            s = setpoint_t.decode(data)
+            s.input_goal_share = 1.0
+            data = s.encode()
+        as_asked.append((t, ch, data))
+    bad = str(tmp_path / "as_asked.lcmlog")
+    write_log(bad, as_asked)
+    r = kinctl(None, "replay", bad)
+    differs = re.search(r"DIFFERS at cycle (\d+):", r.stdout)
+    assert r.returncode == 1 and differs, r.stdout + r.stderr
+    # from the line's first ticks (their motion the jerk's alone, a few units in the last place)
+    assert took[9001].cycle <= int(differs[1]) <= took[9001].cycle + 2, r.stdout
+    assert "active goal logged 9001" in r.stdout, r.stdout

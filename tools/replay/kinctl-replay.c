@@ -9,7 +9,10 @@
  * was given (input_goal_id, input_command, input_servo_stale, input_fault,
  * input_seated): the goals that reached the cycle, at the cycle they
  * reached it, after the daemon's I/O thread had dry-run and perhaps
- * rejected others. The goal itself is
+ * rejected others, and what that dry run changed in the goal it handed
+ * on (input_goal_share, input_goal_stop_first, input_goal_qu: slowed for
+ * its joints' jerk, the motion it replaces stopping first, the hold on
+ * its resumes). The goal itself is
  * the message in the log with that goal_id (the next one not used yet, in
  * log order) that the daemon took: turned into a kc_goal by the daemon's
  * own kd_goal_from_msg (daemon/goal.c) and passing the core's goal check,
@@ -174,6 +177,20 @@ static int find_goal(recording *r, const kd_config *cfg, int64_t id, kc_goal *go
     return -1;
 }
 
+/* The goal as the daemon's dry run handed it to the step, from the
+ * setpoint's input_goal_share, input_goal_stop_first and input_goal_qu:
+ * the motion it replaces stopping first, slowed by kc_goal_slow to its
+ * share as kinctld slows it (once, from the goal as asked), its resumes'
+ * hold. 0, or -1 for a share kc_goal_slow refuses for this goal. */
+static int as_handed_on(const kinctl_setpoint_t *sp, const kd_config *cfg, kc_goal *goal)
+{
+    goal->stop_first = sp->input_goal_stop_first != 0;
+    if (sp->input_goal_share < 1.0 && kc_goal_slow(goal, &cfg->ctrl, (kc_real)sp->input_goal_share) != KC_OK)
+        return -1;
+    goal->qu = (kc_real)sp->input_goal_qu;
+    return 0;
+}
+
 static int at_rest(const kinctl_setpoint_t *sp)
 {
     int j;
@@ -277,6 +294,12 @@ static int replay(recording *r, const kd_config *cfg, int progress)
                 printf("INCOMPLETE: cycle %" PRId64 " took goal %" PRId64 ", which is not in the log: bit-exact "
                        "through cycle %" PRId64 "\n",
                        sp->cycle, sp->input_goal_id, r->sp[i - 1].cycle);
+                return 1;
+            }
+            if (as_handed_on(sp, cfg, &goal) != 0) {
+                printf("DIFFERS at cycle %" PRId64 ": goal %" PRId64 " cannot be slowed to %.17g of its speed, as "
+                       "the log shows\n",
+                       sp->cycle, sp->input_goal_id, sp->input_goal_share);
                 return 1;
             }
             in.goal = &goal;
