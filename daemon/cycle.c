@@ -125,7 +125,7 @@ static void tick(kd_cycle *c, int64_t deadline_ns, int64_t consecutive_missed, i
 
     /* Read before the slot goes back to the I/O thread. */
     t->in_goal_id = goal != NULL ? goal->id : 0;
-    t->in_goal_share = goal != NULL && goal->slowed > KC_R(0.0) ? (double)goal->slowed : 1.0;
+    t->in_goal_share = (double)kc_goal_share(goal);
     t->in_goal_stop_first = goal != NULL && goal->stop_first;
     t->in_goal_qu = goal != NULL ? (double)goal->qu : 0.0;
     t->in_command = in.command;

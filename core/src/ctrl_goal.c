@@ -194,6 +194,11 @@ kc_status kc_goal_slow(kc_goal *g, const kc_ctrl_cfg *cfg, kc_real s)
             g->times[i] /= s;
         g->blend_time /= s;
     }
-    g->slowed = (g->slowed > KC_R(0.0) ? g->slowed : KC_R(1.0)) * s;
+    g->slowed = kc_goal_share(g) * s;
     return KC_OK;
+}
+
+kc_real kc_goal_share(const kc_goal *g)
+{
+    return g != NULL && g->slowed > KC_R(0.0) ? g->slowed : KC_R(1.0);
 }

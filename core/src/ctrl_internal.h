@@ -289,13 +289,6 @@ kc_real kc_ctrl_path_ramp_jerk(const kc_ctrl *c, kc_real tau0, kc_real C);
  * steps at its ends (a clamped cubic spline, a parabolic blend). */
 int kc_ctrl_path_ramped(const kc_ctrl *c, const kc_goal *g);
 
-/* The active path's drive from rest to its end at ramp rate C and bound
- * Jt on tau''' (kc_ctrl_path_ramp_rate, kc_ctrl_path_ramp_jerk):
- * jerk-limited (KC_DRIVE_SCURVE) where Jt is finite and it can be
- * planned, else at the constant rate C (KC_DRIVE_PROFILE). 0 when neither
- * can be planned. */
-int kc_ctrl_path_ramp_drive(kc_ctrl *c, kc_real C, kc_real Jt);
-
 /* A stop of every joint in joint space: each at its own acceleration limit
  * (hard, for e-stop) or all synchronised on the current direction of motion
  * (sync). Ends in state `then`. */

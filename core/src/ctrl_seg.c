@@ -207,11 +207,20 @@ int kc_ctrl_start_next(kc_ctrl *c, kc_ctrl_output *out)
             /* A path moving at its first and last knot (Lagrange's), or
              * whose acceleration steps there under a jerk-limited law (a
              * cubic spline's): run it on a tau' that ramps up from rest
-             * and down into the end. */
-            kc_real C = kc_ctrl_path_ramp_rate(c, KC_R(0.0));
-            st = C > KC_R(0.0) && kc_ctrl_path_ramp_drive(c, C, kc_ctrl_path_ramp_jerk(c, KC_R(0.0), C))
-                     ? KC_OK
-                     : KC_E_LIMIT;
+             * and down into the end, at rate C, tau''' within Jt (finite
+             * under a jerk-limited law: jerk-limited ramps, KC_DRIVE_SCURVE;
+             * else at the constant rate C, KC_DRIVE_PROFILE). */
+            kc_real z = KC_R(0.0), T = kc_ctrl_path_duration(c), C = kc_ctrl_path_ramp_rate(c, z);
+            kc_real Jt = C > z ? kc_ctrl_path_ramp_jerk(c, z, C) : z;
+            if (!(C > z))
+                st = KC_E_LIMIT;
+            else if (kc_isfinite(Jt)) {
+                c->drive = KC_DRIVE_SCURVE;
+                st = kc_scurve_plan(&c->drive_scurve, z, z, z, T, KC_R(1.0), C, Jt, c->cfg.dt);
+            } else {
+                c->drive = KC_DRIVE_PROFILE;
+                st = kc_profile_plan(&c->drive_prof, z, z, T, KC_R(1.0), C, c->cfg.dt);
+            }
         }
         if (st != KC_OK) {
             kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);

@@ -16,20 +16,27 @@ static KC_SIZE_NOINLINE void drive_from_here(kc_ctrl *c, kc_ctrl_drive drive)
     c->k0 = c->cycle - 1;
 }
 
-/* A joint path's q' and q'' at plan time tau, and each joint's room for
- * the jerk its time law adds (kinctl/ctrl.h): qddd_max less the path's own
- * |q'''| there (which tau'^3 <= 1 scales), but at least half of qddd_max
- * (where the path's own jerk comes near its limit or beyond, with times
- * given). */
+/* A joint path's q' and q'' at plan time tau and, where room is not NULL,
+ * each joint's room for the jerk its time law adds (kinctl/ctrl.h):
+ * qddd_max less the path's own |q'''| there (which tau'^3 <= 1 scales),
+ * but at least half of qddd_max (where the path's own jerk comes near its
+ * limit or beyond, with times given). */
 static void path_jerk_room(const kc_ctrl *c, kc_real tau, kc_real *d1, kc_real *d2, kc_real *room)
 {
     const kc_path *p = &c->plan.path;
     kc_real q[KC_MAX_JOINTS];
-    int end = kc_path_eval_time(p, tau, q, d1, d2) == KC_DONE, k = kc_path_find_piece(p, tau);
+    if (!(tau < p->duration)) { /* the end state, where the path's jerk is 0 */
+        kc_path_eval_time(p, tau, q, d1, d2);
+        for (int j = 0; room != NULL && j < c->chain->n_joints; j++)
+            room[j] = c->chain->joints[j].limits.qddd_max;
+        return;
+    }
+    int k = kc_path_find_piece(p, tau);
     kc_real x = tau - p->start[k];
-    for (int j = 0; j < c->chain->n_joints; j++) {
+    kc_path_eval_piece(p, k, x, q, d1, d2);
+    for (int j = 0; room != NULL && j < c->chain->n_joints; j++) {
         kc_real d3 = KC_R(0.0), m = c->chain->joints[j].limits.qddd_max;
-        for (int i = p->n_coeffs - 1; i >= 3 && !end; i--)
+        for (int i = p->n_coeffs - 1; i >= 3; i--)
             d3 = d3 * x + (kc_real)(i * (i - 1) * (i - 2)) * p->c[k][i][j];
         room[j] = kc_max(m - kc_fabs(d3), KC_R(0.5) * m);
     }
@@ -59,7 +66,7 @@ static kc_real path_ramp_load(const kc_ctrl *c, kc_real tau0, kc_real r0, kc_rea
         kc_real r = r0 + a * t, at = kc_max(tau0 + r0 * t + KC_R(0.5) * a * t * t, KC_R(0.0));
         if (g->kind == KC_GOAL_PATH) {
             kc_real d1[KC_MAX_JOINTS], d2[KC_MAX_JOINTS], room[KC_MAX_JOINTS];
-            path_jerk_room(c, at, d1, d2, room);
+            path_jerk_room(c, at, d1, d2, jerk ? room : NULL);
             for (int j = 0; j < n; j++) {
                 worst = kc_max(worst, kc_fabs(d2[j] * r * r + d1[j] * a) / amax[j]);
                 if (jerk)
@@ -205,17 +212,6 @@ int kc_ctrl_path_ramped(const kc_ctrl *c, const kc_goal *g)
 kc_real kc_ctrl_path_duration(const kc_ctrl *c)
 {
     return c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration;
-}
-
-int kc_ctrl_path_ramp_drive(kc_ctrl *c, kc_real C, kc_real Jt)
-{
-    kc_real T = kc_ctrl_path_duration(c), z = KC_R(0.0);
-    if (kc_isfinite(Jt) && kc_scurve_plan(&c->drive_scurve, z, z, z, T, KC_R(1.0), C, Jt, c->cfg.dt) == KC_OK) {
-        c->drive = KC_DRIVE_SCURVE;
-        return 1;
-    }
-    c->drive = KC_DRIVE_PROFILE;
-    return kc_profile_plan(&c->drive_prof, z, z, T, KC_R(1.0), C, c->cfg.dt) == KC_OK;
 }
 
 void kc_ctrl_joint_stop(kc_ctrl *c, int sync, kc_ctrl_state then)

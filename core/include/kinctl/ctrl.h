@@ -497,9 +497,10 @@ typedef struct kc_goal {
      * it for the way the stop came. 0: the stop's alone. */
     kc_real qu;
     /* The share of its speed kc_goal_slow has slowed it to (the product
-     * of the shares, each call's s), 0 or 1: as asked. The controller
-     * does not read it: a record of the goal as it runs (kinctld
-     * publishes it with the setpoint, which kinctl-replay reads). */
+     * of the shares, each call's s), 0 or 1: as asked (kc_goal_share).
+     * The controller does not read it: a record of the goal as it runs
+     * (kinctld publishes it with the setpoint, which kinctl-replay
+     * reads). */
     kc_real slowed;
     kc_goal_profile profile; /* joint move, line, arc, path: its motion law */
     /* Fractions of the joints' velocity and acceleration limits, (0, 1]. */
@@ -905,12 +906,16 @@ kc_status kc_ctrl_goal_check(const kc_chain *chain, const kc_goal *goal, kc_verd
  * along it is s^k times what it was (the IK step's correction aside).
  * For a jerk-limited line, arc or Cartesian path (kinctl/check.h: how
  * kinctld brings a goal whose joints' jerk the dry run finds beyond their
- * qddd_max within them). g->slowed records it (times what it held, 0
- * counting as 1). KC_E_ARG for NULL, s outside (0, 1], or any other goal
+ * qddd_max within them). g->slowed records it (times kc_goal_share's
+ * value before). KC_E_ARG for NULL, s outside (0, 1], or any other goal
  * (a joint move or joint path is planned within the joints' limits; a
  * trapezoid's jerk is unbounded by design); g is then unchanged.
  * Cycle-safe. */
 kc_status kc_goal_slow(kc_goal *g, const kc_ctrl_cfg *cfg, kc_real s);
+
+/* The share of its speed goal g runs at: g->slowed, 1 where that is 0 (a
+ * goal never slowed) or g is NULL. Cycle-safe. */
+kc_real kc_goal_share(const kc_goal *g);
 
 /* 1 when goal g's motion, given to controller c, follows a jerk-limited
  * law (kinctl/scurve.h): a joint move, line, arc, Cartesian path or servo
