@@ -307,8 +307,10 @@
  * blend's) - it is jerk-limited by default: tau follows
  * kc_scurve_plan_stop from (tau, tau', tau'') within c (the stop), or the
  * rest-to-rest kc_scurve to the path's end with tau' <= 1 and tau'' <= the
- * ramp's rate (the ramps, the resume), so tau'' is continuous. A joint's
- * jerk under that law is
+ * ramp's rate (the ramps, the resume), so tau'' is continuous (a path
+ * whose ramps cannot be planned under its law is aborted as it would
+ * start: KC_EVENT_ABORTED, KC_REASON_PLAN). A joint's jerk under that law
+ * is
  *     q''' tau'^3 + 3 q'' tau' tau'' + q' tau''',
  * q' .. q''' the path's own derivatives in tau. Each joint's room is
  * qddd_max less the path's own |q'''| where the law runs (at least half
