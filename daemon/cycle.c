@@ -128,6 +128,10 @@ static void tick(kd_cycle *c, int64_t deadline_ns, int64_t consecutive_missed, i
     t->in_goal_share = (double)kc_goal_share(goal);
     t->in_goal_stop_first = goal != NULL && goal->stop_first;
     t->in_goal_qu = goal != NULL ? (double)goal->qu : 0.0;
+    t->in_goal_scheduled = goal != NULL && goal->take_cycle != 0;
+    /* The step's output cycle is the controller's next. */
+    t->in_goal_take_ahead = t->in_goal_scheduled ? goal->take_cycle - (c->ctrl->cycle + 1) : 0;
+    t->in_goal_take_state = t->in_goal_scheduled ? goal->take_state : 0u;
     t->in_command = in.command;
     t->in_servo_stale = in.servo_stale;
     t->in_fault = in.fault != KC_REASON_NONE;

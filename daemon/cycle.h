@@ -79,6 +79,9 @@ typedef struct kd_tick {
     double in_goal_share;
     int in_goal_stop_first;
     double in_goal_qu;
+    int in_goal_scheduled; /* (setpoint_t.input_goal_scheduled ..) */
+    int64_t in_goal_take_ahead;
+    uint32_t in_goal_take_state;
     /* The last seat (kd_cmd.seat) the cycle took: kc_ctrl_seat's answer. */
     int seat_status, seat_joint;
 } kd_tick;

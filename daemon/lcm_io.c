@@ -69,6 +69,9 @@ static void publish_setpoint(kd_io *io, const kd_tick *t)
     sp->input_goal_share = t->in_goal_share;
     sp->input_goal_stop_first = (int8_t)(t->in_goal_stop_first != 0);
     sp->input_goal_qu = t->in_goal_qu;
+    sp->input_goal_scheduled = (int8_t)(t->in_goal_scheduled != 0);
+    sp->input_goal_take_ahead = t->in_goal_take_ahead;
+    sp->input_goal_take_state = (int64_t)t->in_goal_take_state;
     publish(io, KD_MSG_SETPOINT, sp);
 }
 

@@ -9,6 +9,7 @@
  * daemon counts refusals and tools print them. */
 #include "msg.h"
 
+#include <inttypes.h>
 #include <limits.h>
 #include <math.h>
 #include <stdarg.h>
@@ -79,7 +80,7 @@ static const kd_msg_info info[KD_MSG_TYPE_COUNT] = {
     {"goal_servo_t", "GOAL_SERVO", 1, 8 + 8 + 8 + 2 * 1 + 3 * 8 + 4 * 8 + 6 * 8 + 8},
     {"command_t", "COMMAND", 1, 8 + 8 + 1},
     {"setpoint_t", "SETPOINT", 0,
-     8 + 8 + 8 + 8 + 1 + 4 + 3 * 16 * 8 + 3 * 8 + 4 * 8 + 8 + 1 + 1 + 1 + 1 + 8 + 1 + 8},
+     8 + 8 + 8 + 8 + 1 + 4 + 3 * 16 * 8 + 3 * 8 + 4 * 8 + 8 + 1 + 1 + 1 + 1 + 8 + 1 + 8 + 1 + 8 + 8},
     {"status_t", "STATUS", 0,
      8 + 8 + 8 + 1 + 8 + 8 + 4 + 1 + 8 + 4 + (4 + 1) + 4 + 2 * 16 * 8 + 1 + 4 + 1 + 3 * 8 + 1 + 16 * 1},
     {"stats_t", "STATS", 0, 8 + 18 * 8 + 1 + 5 * 8},
@@ -414,6 +415,13 @@ static kd_msg_status validate_setpoint(kd_reason *r, const kinctl_setpoint_t *m)
         return fail(r, KD_MSG_E_RANGE, "%s.input_goal_share = %g outside (0, 1]", ty, m->input_goal_share);
     CHECK(check_enum(r, ty, "input_goal_stop_first", m->input_goal_stop_first, 0, 1));
     CHECK(check_nonneg(r, ty, "input_goal_qu", m->input_goal_qu));
+    CHECK(check_enum(r, ty, "input_goal_scheduled", m->input_goal_scheduled, 0, 1));
+    if (!(m->input_goal_take_state >= 0 && m->input_goal_take_state <= (int64_t)UINT32_MAX))
+        return fail(r, KD_MSG_E_RANGE, "%s.input_goal_take_state = %" PRId64 " outside 0 .. 2^32 - 1", ty,
+                    m->input_goal_take_state);
+    if (!m->input_goal_scheduled && (m->input_goal_take_ahead != 0 || m->input_goal_take_state != 0))
+        return fail(r, KD_MSG_E_RANGE, "%s.input_goal_take_ahead and input_goal_take_state not 0 for a goal not scheduled",
+                    ty);
     return KD_MSG_OK;
 }
 

@@ -164,6 +164,11 @@ void msg_sample(kd_msg_type type, uint32_t seed, kd_msg_any *m, char *reason_buf
         p->input_goal_share = uniform(s, 0.001, 1.0);
         p->input_goal_stop_first = (int8_t)pick(s, 0, 1);
         p->input_goal_qu = uniform(s, 0.0, 50.0);
+        p->input_goal_scheduled = (int8_t)pick(s, 0, 1);
+        if (p->input_goal_scheduled) {
+            p->input_goal_take_ahead = pick(s, -1000, 1000);
+            p->input_goal_take_state = (int64_t)next(s);
+        }
         break;
     }
     case KD_MSG_STATUS: {

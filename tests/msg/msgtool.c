@@ -109,6 +109,8 @@ static void print_json(kd_msg_type t, const kd_msg_any *m)
         pi("input_fault", p->input_fault); pi("input_seated", p->input_seated);
         pd("input_goal_share", &p->input_goal_share, 1, 0); pi("input_goal_stop_first", p->input_goal_stop_first);
         pd("input_goal_qu", &p->input_goal_qu, 1, 0);
+        pi("input_goal_scheduled", p->input_goal_scheduled); pi("input_goal_take_ahead", p->input_goal_take_ahead);
+        pi("input_goal_take_state", p->input_goal_take_state);
         break;
     }
     case KD_MSG_STATUS: {

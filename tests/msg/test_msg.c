@@ -466,6 +466,9 @@ static const enum_field enum_fields[] = {
     EF(KD_MSG_COMMAND, command_t, command, -128, "command_t.command = -128"),
     EF(KD_MSG_SETPOINT, setpoint_t, state, 6, "setpoint_t.state = 6"),
     EF(KD_MSG_SETPOINT, setpoint_t, state, -1, "setpoint_t.state = -1"),
+    EF(KD_MSG_SETPOINT, setpoint_t, input_seated, 2, "setpoint_t.input_seated = 2"),
+    EF(KD_MSG_SETPOINT, setpoint_t, input_goal_stop_first, -1, "setpoint_t.input_goal_stop_first = -1"),
+    EF(KD_MSG_SETPOINT, setpoint_t, input_goal_scheduled, 2, "setpoint_t.input_goal_scheduled = 2"),
 };
 
 static void test_unknown_enums(void **state)
@@ -527,6 +530,28 @@ static void test_ranges(void **state)
     m.goal_servo.timeout_us = INT64_MIN;
     expect_decode(KD_MSG_GOAL_SERVO, encode(KD_MSG_GOAL_SERVO, &m), KD_MSG_E_RANGE,
                   "timeout_us");
+
+    msg_sample(KD_MSG_SETPOINT, 19, &m, NULL);
+    m.setpoint.input_goal_share = 0.0;
+    expect_decode(KD_MSG_SETPOINT, encode(KD_MSG_SETPOINT, &m), KD_MSG_E_RANGE,
+                  "setpoint_t.input_goal_share = 0 outside (0, 1]");
+    m.setpoint.input_goal_share = 1.0;
+    m.setpoint.input_goal_scheduled = 1;
+    m.setpoint.input_goal_take_ahead = -3; /* handed on late: allowed, the step refuses it */
+    m.setpoint.input_goal_take_state = (int64_t)UINT32_MAX;
+    expect_decode(KD_MSG_SETPOINT, encode(KD_MSG_SETPOINT, &m), KD_MSG_OK, NULL);
+    m.setpoint.input_goal_take_state = (int64_t)UINT32_MAX + 1;
+    expect_decode(KD_MSG_SETPOINT, encode(KD_MSG_SETPOINT, &m), KD_MSG_E_RANGE,
+                  "setpoint_t.input_goal_take_state = 4294967296 outside 0 .. 2^32 - 1");
+    m.setpoint.input_goal_take_state = -1;
+    expect_decode(KD_MSG_SETPOINT, encode(KD_MSG_SETPOINT, &m), KD_MSG_E_RANGE,
+                  "setpoint_t.input_goal_take_state = -1 outside");
+    m.setpoint.input_goal_take_state = 0;
+    m.setpoint.input_goal_scheduled = 0;
+    expect_decode(KD_MSG_SETPOINT, encode(KD_MSG_SETPOINT, &m), KD_MSG_E_RANGE,
+                  "setpoint_t.input_goal_take_ahead and input_goal_take_state not 0 for a goal not scheduled");
+    m.setpoint.input_goal_take_ahead = 0;
+    expect_decode(KD_MSG_SETPOINT, encode(KD_MSG_SETPOINT, &m), KD_MSG_OK, NULL);
 }
 
 /* Random bytes: never accepted, never a crash (the sanitizer build watches).

@@ -77,6 +77,9 @@ def random_message(typename, rng):
         m.command = rng.randint(c.STOP, c.RESET)
     if typename in ("setpoint_t", "status_t"):
         m.state = rng.randint(c.IDLE, c.ESTOP)
+    if typename == "setpoint_t":
+        m.input_goal_take_state = rng.randint(0, 2**32 - 1) if m.input_goal_scheduled else 0
+        m.input_goal_take_ahead = rng.randint(-1000, 1000) if m.input_goal_scheduled else 0
     if typename == "status_t":
         m.event = rng.randint(c.NONE, c.EVENT_FAULT)
     return m

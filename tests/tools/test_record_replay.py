@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """kinctl record / play / replay against a real kinctld over real LCM."""
+import math
 import os
 import re
 import signal
@@ -11,7 +12,7 @@ import lcm
 import pytest
 
 from kinctl.local import unique_url
-from kinctl_testing import SLOW, run_kinctl, start_kinctld
+from kinctl_testing import EVENTS, SLOW, finished, kinctld, run_kinctl, start_kinctld  # noqa: F401 (kinctld: fixture)
 from kinctl_msgs import goal_joint_t, goal_path_t, setpoint_t
 
 QN = "0,45,-180,0,45,0"
@@ -329,3 +330,61 @@ def test_replay_of_goals_the_dry_run_changed(multicast, tmp_path, kinctl):
     # from the line's first ticks (their motion the jerk's alone, a few units in the last place)
     assert took[9001].cycle <= int(differs[1]) <= took[9001].cycle + 2, r.stdout
     assert "active goal logged 9001" in r.stdout, r.stdout
+
+
+def test_replay_of_a_goal_refused_late(multicast, tmp_path, kinctld, kinctl):
+    """A replacing goal judged from the moving state is taken only in the
+    tick and from the state it was judged for: a PAUSE sent just after it
+    reaches the controller first, and the step refuses the goal (REJECTED,
+    late), the move pausing. The setpoint of that tick says what schedule
+    the goal came with (input_goal_scheduled, input_goal_take_ahead,
+    input_goal_take_state); the log replays bit for bit, and with the
+    schedule left out the replay takes the goal and differs from that tick
+    on."""
+    path = str(tmp_path / "late.lcmlog")
+    d = kinctld()
+    rad = math.pi / 180.0
+    home = [float(x) * rad for x in QN.split(",")]
+    far = [x * rad for x in (30, 30, -160, 20, 60, 10)]
+    other = [x * rad for x in (-20, 40, -170, -10, 50, -20)]
+    rec = start_record(d, path)
+    late = None
+    try:
+        for i in range(12):
+            base = 9100 + 10 * i
+            d.bus.send_goal_joint(base, home)
+            finished(d, base)
+            d.bus.send_goal_joint(base + 1, far)
+            d.bus.wait_event(base + 1, ["STARTED"])
+            time.sleep(0.2)
+            d.bus.send_goal_joint(base + 2, other, replace=True)
+            time.sleep(0.001 * (i % 4))  # after the dry run's snapshot, before the goal's tick
+            d.bus.send_command("PAUSE")
+            st = d.bus.wait_event(base + 2, ["ACCEPTED", "REJECTED"])
+            d.bus.send_command("STOP")
+            d.bus.wait_idle()
+            if st.event == EVENTS["REJECTED"]:
+                assert st.reason.startswith("late"), st.reason
+                late = base + 2
+                break
+        stop_record(rec)
+    finally:
+        assert d.stop() == 0, d.stderr
+    assert late is not None, "no replacing goal was refused as late in 12 tries"
+    evs = events(path)
+    sp = [s for s in (setpoint_t.decode(dt) for _, ch, dt in evs if ch == "KINCTL_SETPOINT") if s.input_goal_id == late]
+    assert len(sp) == 1 and sp[0].input_goal_scheduled == 1 and sp[0].goal_id != late, sp
+    r = kinctl(None, "replay", path)
+    assert r.returncode == 0 and "BIT-EXACT" in r.stdout, r.stdout + r.stderr
+
+    unscheduled = []
+    for t, ch, data in evs:
+        if ch == "KINCTL_SETPOINT" and setpoint_t.decode(data).input_goal_id == late:
+            s = setpoint_t.decode(data)
+            s.input_goal_scheduled, s.input_goal_take_ahead, s.input_goal_take_state = 0, 0, 0
+            data = s.encode()
+        unscheduled.append((t, ch, data))
+    bad = str(tmp_path / "unscheduled.lcmlog")
+    write_log(bad, unscheduled)
+    r = kinctl(None, "replay", bad)
+    assert r.returncode == 1 and f"DIFFERS at cycle {sp[0].cycle}:" in r.stdout, r.stdout + r.stderr

@@ -12,7 +12,9 @@
  * rejected others, and what that dry run changed in the goal it handed
  * on (input_goal_share, input_goal_stop_first, input_goal_qu: slowed for
  * its joints' jerk, the motion it replaces stopping first, the hold on
- * its resumes). The goal itself is
+ * its resumes; input_goal_scheduled, input_goal_take_ahead,
+ * input_goal_take_state: the tick and state it was judged for, outside
+ * which the step refuses it as late). The goal itself is
  * the message in the log with that goal_id (the next one not used yet, in
  * log order) that the daemon took: turned into a kc_goal by the daemon's
  * own kd_goal_from_msg (daemon/goal.c) and passing the core's goal check,
@@ -177,17 +179,26 @@ static int find_goal(recording *r, const kd_config *cfg, int64_t id, kc_goal *go
     return -1;
 }
 
-/* The goal as the daemon's dry run handed it to the step, from the
- * setpoint's input_goal_share, input_goal_stop_first and input_goal_qu:
- * the motion it replaces stopping first, slowed by kc_goal_slow to its
- * share as kinctld slows it (once, from the goal as asked), its resumes'
- * hold. 0, or -1 for a share kc_goal_slow refuses for this goal. */
-static int as_handed_on(const kinctl_setpoint_t *sp, const kd_config *cfg, kc_goal *goal)
+/* The goal as the daemon's dry run handed it to the step whose output
+ * cycle is `cycle` (the replay's count), from the setpoint's
+ * input_goal_share, input_goal_stop_first and input_goal_qu: the motion it
+ * replaces stopping first, slowed by kc_goal_slow to its share as kinctld
+ * slows it (once, from the goal as asked), its resumes' hold; and from
+ * input_goal_scheduled, the tick (input_goal_take_ahead after this one)
+ * and state it is to be taken in, so that the step takes or refuses it as
+ * kinctld's did. 0, or -1 for a share kc_goal_slow refuses for this goal. */
+static int as_handed_on(const kinctl_setpoint_t *sp, const kd_config *cfg, int64_t cycle, kc_goal *goal)
 {
     goal->stop_first = sp->input_goal_stop_first != 0;
     if (sp->input_goal_share < 1.0 && kc_goal_slow(goal, &cfg->ctrl, (kc_real)sp->input_goal_share) != KC_OK)
         return -1;
     goal->qu = (kc_real)sp->input_goal_qu;
+    if (sp->input_goal_scheduled) {
+        goal->take_cycle = cycle + sp->input_goal_take_ahead;
+        if (goal->take_cycle == 0) /* 0 would mean "whenever": any other tick is refused alike */
+            goal->take_cycle = -1;
+        goal->take_state = (uint32_t)sp->input_goal_take_state;
+    }
     return 0;
 }
 
@@ -296,7 +307,7 @@ static int replay(recording *r, const kd_config *cfg, int progress)
                        sp->cycle, sp->input_goal_id, r->sp[i - 1].cycle);
                 return 1;
             }
-            if (as_handed_on(sp, cfg, &goal) != 0) {
+            if (as_handed_on(sp, cfg, ctrl.cycle + 1, &goal) != 0) {
                 printf("DIFFERS at cycle %" PRId64 ": goal %" PRId64 " cannot be slowed to %.17g of its speed, as "
                        "the log shows\n",
                        sp->cycle, sp->input_goal_id, sp->input_goal_share);
