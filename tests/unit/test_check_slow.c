@@ -208,7 +208,9 @@ static void test_slow_scales_the_law(void **state)
     const kc_real s = KC_R(0.8);
     kc_pose to = {.R = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}}, .t = {{0.5, 0.0, 0.5}}};
     kc_goal g = kt_line_goal(1, &to);
+    assert_true(g.slowed == KC_R(0.0) && kc_goal_share(&g) == KC_R(1.0)); /* never slowed: as asked */
     assert_int_equal(kc_goal_slow(&g, &cfg, s), KC_OK);
+    assert_true(g.slowed == s && kc_goal_share(&g) == s);
     /* The defaults, taken and scaled. */
     kt_near((double)g.speed, (double)(s * cfg.cart_speed), 0.0, "speed");
     kt_near((double)g.accel, (double)(s * s * cfg.cart_accel), 0.0, "accel");
@@ -221,6 +223,7 @@ static void test_slow_scales_the_law(void **state)
     assert_int_equal(kc_goal_slow(&h, &cfg, s), KC_OK);
     kt_near((double)h.speed, (double)(s * g.speed), 0.0, "speed slowed twice");
     kt_near((double)h.jerk, (double)(s * s * s * g.jerk), 0.0, "jerk slowed twice");
+    assert_true(kc_goal_share(&h) == s * s); /* the product of the shares */
     /* A Cartesian path's knot times and blend time stretch by 1/s. */
     kc_goal p;
     memset(&p, 0, sizeof p);
@@ -254,6 +257,7 @@ static void test_slow_scales_the_law(void **state)
     assert_refused(&sv, &cfg, s);
     assert_int_equal(kc_goal_slow(NULL, &cfg, s), KC_E_ARG);
     assert_int_equal(kc_goal_slow(&g, NULL, s), KC_E_ARG);
+    assert_true(kc_goal_share(NULL) == KC_R(1.0));
 }
 
 static void test_slowed_lines_keep_joints_within_jerk(void **state)
