@@ -25,18 +25,15 @@ static void path_jerk_room(const kc_ctrl *c, kc_real tau, kc_real *d1, kc_real *
 {
     const kc_path *p = &c->plan.path;
     kc_real q[KC_MAX_JOINTS];
-    if (!(tau < p->duration)) { /* the end state, where the path's jerk is 0 */
-        kc_path_eval_time(p, tau, q, d1, d2);
-        for (int j = 0; room != NULL && j < c->chain->n_joints; j++)
-            room[j] = c->chain->joints[j].limits.qddd_max;
-        return;
-    }
-    int k = kc_path_find_piece(p, tau);
+    int end = !(tau < p->duration), k = kc_path_find_piece(p, tau);
     kc_real x = tau - p->start[k];
-    kc_path_eval_piece(p, k, x, q, d1, d2);
+    if (end) /* the end state, where the path's jerk is 0 */
+        kc_path_eval_time(p, tau, q, d1, d2);
+    else
+        kc_path_eval_piece(p, k, x, q, d1, d2);
     for (int j = 0; room != NULL && j < c->chain->n_joints; j++) {
         kc_real d3 = KC_R(0.0), m = c->chain->joints[j].limits.qddd_max;
-        for (int i = p->n_coeffs - 1; i >= 3; i--)
+        for (int i = p->n_coeffs - 1; i >= 3 && !end; i--)
             d3 = d3 * x + (kc_real)(i * (i - 1) * (i - 2)) * p->c[k][i][j];
         room[j] = kc_max(m - kc_fabs(d3), KC_R(0.5) * m);
     }

@@ -17,7 +17,7 @@ import signal
 
 import pytest
 
-from kinctl_testing import multicast, run_kinctl, start_kinctld  # noqa: F401 (fixtures)
+from kinctl_testing import kinctld, multicast, run_kinctl, start_kinctld  # noqa: F401 (fixtures)
 
 
 @pytest.fixture

@@ -12,7 +12,7 @@ import lcm
 import pytest
 
 from kinctl.local import unique_url
-from kinctl_testing import EVENTS, SLOW, finished, kinctld, run_kinctl, start_kinctld  # noqa: F401 (kinctld: fixture)
+from kinctl_testing import EVENTS, SLOW, finished, run_kinctl, start_kinctld
 from kinctl_msgs import goal_joint_t, goal_path_t, setpoint_t
 
 QN = "0,45,-180,0,45,0"
