@@ -4,8 +4,11 @@
 The programs, their arguments, environment and working directory are the
 ctest tests of BUILD_DIR whose names match REGEX (ctest --show-only), so
 each is defined once, in its own CMakeLists.txt. Prints each test's time
-under valgrind and the total.
-  memcheck.py BUILD_DIR REGEX [--jobs N] [--valgrind PATH] [--ctest PATH]"""
+under valgrind and the total. The unit tests run the share --share of
+their random cases (KINCTL_TEST_SHARE, tests/unit/testutil.h): valgrind
+checks the code the cases run, which a share of them runs too; the suites
+themselves run every case.
+  memcheck.py BUILD_DIR REGEX [--jobs N] [--share S] [--valgrind PATH] [--ctest PATH]"""
 import argparse
 import concurrent.futures
 import json
@@ -19,13 +22,13 @@ import time
 VALGRIND_ARGS = ['--error-exitcode=1', '--leak-check=full', '--quiet']
 
 
-def tests_of(ctest, build, regex):
+def tests_of(ctest, build, regex, share):
     out = subprocess.run([ctest, '--test-dir', build, '--show-only=json-v1', '-R', regex],
                          check=True, capture_output=True, text=True).stdout
     tests = []
     for t in json.loads(out)['tests']:
         props = {p['name']: p['value'] for p in t.get('properties', [])}
-        env = dict(os.environ)
+        env = dict(os.environ, KINCTL_TEST_SHARE=str(share))
         for kv in props.get('ENVIRONMENT', []):
             k, _, v = kv.partition('=')
             env[k] = v
@@ -49,13 +52,17 @@ def main():
     ap.add_argument('build')
     ap.add_argument('regex')
     ap.add_argument('--jobs', type=int, default=2)
+    ap.add_argument('--share', type=float, default=0.25,
+                    help='share of the unit tests\' random cases to run (0 < S <= 1; default 0.25)')
     ap.add_argument('--valgrind', default='valgrind')
     ap.add_argument('--ctest', default='ctest')
     a = ap.parse_args()
+    if not 0.0 < a.share <= 1.0:
+        ap.error(f'--share {a.share}: not a share (0 < S <= 1)')
     valgrind = shutil.which(a.valgrind)
     if valgrind is None:
         sys.exit(f'{a.valgrind} not found (scripts/setup.sh installs valgrind)')
-    tests = tests_of(a.ctest, a.build, a.regex)
+    tests = tests_of(a.ctest, a.build, a.regex, a.share)
     if not tests:
         sys.exit(f'no ctest test matches {a.regex!r} in {a.build}')
     failed = []

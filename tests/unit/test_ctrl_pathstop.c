@@ -22,9 +22,9 @@
 #include "testutil.h"
 
 #ifdef KC_REAL_FLOAT
-#define CASES 1000
+#define CASES kt_cases(1000)
 #else
-#define CASES 3000
+#define CASES kt_cases(3000)
 #endif
 
 static kc_chain CHAIN;

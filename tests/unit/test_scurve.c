@@ -27,7 +27,7 @@
 #define FLOAT_BUILD 0
 #endif
 
-#define N_RANDOM 4000
+#define N_RANDOM kt_cases(4000)
 #define EPS ((double)KC_REAL_EPS)
 #define LIMIT_SLACK (16.0 * EPS)
 

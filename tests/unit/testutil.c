@@ -305,6 +305,22 @@ int kt_is_sentinel(const void *p, size_t n)
 
 /* ---- PRNG ---- */
 
+int kt_cases(int n)
+{
+    const char *text = getenv("KINCTL_TEST_SHARE");
+    char *end;
+    double share;
+    if (text == NULL || text[0] == '\0')
+        return n;
+    share = strtod(text, &end);
+    if (*end != '\0' || !(share > 0.0 && share <= 1.0)) {
+        print_error("KINCTL_TEST_SHARE=%s: not a share of the random cases (0 < share <= 1)\n", text);
+        _fail(__FILE__, __LINE__);
+    }
+    int cases = (int)(share * n);
+    return cases > 0 ? cases : 1;
+}
+
 kt_rng kt_rng_make(uint64_t seed)
 {
     kt_rng r = {seed};

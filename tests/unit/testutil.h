@@ -171,6 +171,14 @@ int kt_index_listed(const json_t *list, size_t i);
 
 /* ---- deterministic PRNG (splitmix64) ---- */
 
+/* How many of a test's n random cases to run: n, or the share of them
+ * that the environment's KINCTL_TEST_SHARE asks for (0 < share <= 1; at
+ * least one case). tests/analysis/memcheck.py sets it: valgrind checks
+ * the code each case runs, and a share of the cases runs the same code in
+ * a fraction of the time. The suites' own runs keep every case. A value
+ * that is not such a share fails the test. */
+int kt_cases(int n);
+
 typedef struct kt_rng {
     uint64_t s;
 } kt_rng;
