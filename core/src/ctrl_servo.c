@@ -212,6 +212,64 @@ void kc_ctrl_servo_tick(kc_ctrl *c)
         pose_at(c, c->cycle);
 }
 
+/* Whether a stream can take over the motion in joint space under way
+ * from a target of joint_target: where the IK step gives a joint velocity
+ * back exactly (six joints under the full task: J invertible; a redundant
+ * arm's step would drop the motion's null-space part). */
+static int joint_target_exists(const kc_ctrl *c)
+{
+    return c->cfg.ik.mask == KC_IK_MASK_FULL && c->chain->n_joints == 6;
+}
+
+/* A target for the joints' motion at the last setpoint (q, qd, qdd),
+ * whose law the IK step (kinctl/ik.h: qd' = J^-1 (v + k e), k the gain of
+ * the row) tracks with the joints going on at that acceleration: pose,
+ * twist v and its rate a at that tick. The step's next velocity is to be
+ * qd1 = qd + qdd dt, so v + k e = J qd1. A target moving by v dt + a
+ * dt^2 / 2 over a tick, the tool by J qd1 dt + (dJ/dt) qd dt^2 / 2, keeps
+ * the error e where
+ *     k e = (a - (dJ/dt) qd) dt / 2 = J qdd dt / 2,
+ * the law's own error at that acceleration (a line's, followed): e is
+ * that, v = J qd1 - J qdd dt / 2 = J (qd + qdd dt / 2), and a the change
+ * of J qd1 over the tick to J(q1) (qd1 + qdd dt), q1 = q + qd1 dt, over
+ * dt. The pose is the tool's moved by e (the step's error of a rotation
+ * exp(phi) is phi to third order in |phi|, here some 1e-5 rad). */
+static void joint_target(const kc_ctrl *c, kc_pose *target, kc_real *v, kc_real *a)
+{
+    kc_real dt = c->cfg.dt, qd1[6], q1[6], e[6];
+    kc_jacobian jac;
+    for (int j = 0; j < 6; j++) {
+        qd1[j] = c->qd[j] + c->qdd[j] * dt;
+        q1[j] = c->q[j] + qd1[j] * dt;
+    }
+    kc_fk_jacobian(c->chain, c->q, &jac, target);
+    for (int i = 0; i < 6; i++) {
+        kc_real u = KC_R(0.0), jqdd = KC_R(0.0);
+        for (int j = 0; j < 6; j++) {
+            u += jac.m[i][j] * qd1[j];
+            jqdd += jac.m[i][j] * c->qdd[j];
+        }
+        v[i] = u - KC_R(0.5) * dt * jqdd;
+        a[i] = u; /* J qd1, until J(q1) is known */
+        e[i] = KC_R(0.5) * dt * jqdd / (i < 3 ? c->cfg.ik.gain_pos : c->cfg.ik.gain_rot);
+    }
+    kc_fk_jacobian(c->chain, q1, &jac, NULL);
+    for (int i = 0; i < 6; i++) {
+        kc_real u1 = KC_R(0.0);
+        for (int j = 0; j < 6; j++)
+            u1 += jac.m[i][j] * (qd1[j] + c->qdd[j] * dt);
+        a[i] = (u1 - a[i]) / dt;
+    }
+    kc_vec3 phi = kc_vec3_make(e[3], e[4], e[5]);
+    kc_quat dr, r, r2;
+    kc_quat_exp(&phi, &dr);
+    kc_quat_from_mat3(&target->R, &r);
+    kc_quat_mul(&dr, &r, &r2);
+    kc_quat_to_mat3(&r2, &target->R);
+    for (int i = 0; i < 3; i++)
+        target->t.v[i] += e[i];
+}
+
 int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
 {
     if (g->kind != KC_GOAL_SERVO || g->stop_first || !c->active || c->state != KC_CTRL_MOVING || c->blend.on ||
@@ -221,14 +279,14 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
      * sampled tick by tick, which the IK step tracks with an error of its
      * own that so goes on unchanged: a line's, an arc's, a Cartesian
      * path's, a shaped pose stream's or a twist stream's (kinctl/ctrl.h).
-     * From a motion in joint space (the tool's pose, without a target's
-     * law) the positions differ by a dt^2 / 2 in a tick, a step of the
-     * joints' acceleration through the IK step's feedback: those stop
-     * first. */
+     * From a motion in joint space, a target placed where the IK step
+     * would have tracked one (joint_target). */
     int twist_law = c->goal.kind == KC_GOAL_SERVO && c->goal.servo_twist;
     int law = c->goal.kind == KC_GOAL_LINE || c->goal.kind == KC_GOAL_ARC || c->goal.kind == KC_GOAL_PATH_CART ||
               kc_ctrl_servo_shaped(c) || twist_law;
-    if (!law || (!(g->servo_twist && twist_law) && kc_ctrl_goal_profile(c, g) != KC_PROFILE_JERK))
+    int in_joints = c->goal.kind == KC_GOAL_JOINT || c->goal.kind == KC_GOAL_PATH;
+    if ((!law && !(in_joints && joint_target_exists(c))) ||
+        (!(g->servo_twist && twist_law) && kc_ctrl_goal_profile(c, g) != KC_PROFILE_JERK))
         return 0;
     /* A twist stream holds its rate over each tick (servo_twist_tick):
      * one taking over another law goes on from the rate of that law's
@@ -241,7 +299,10 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     int held = g->servo_twist && !twist_law;
     kc_real v[6], a[6], ab[6], dt = c->cfg.dt;
     kc_pose from = c->servo_target;
-    if (c->goal.kind == KC_GOAL_SERVO) {
+    if (!law) {
+        joint_target(c, &from, v, a);
+        memcpy(ab, a, sizeof ab);
+    } else if (c->goal.kind == KC_GOAL_SERVO) {
         memcpy(v, c->servo_v, sizeof v);
         memcpy(a, c->servo_a, sizeof a);
         memcpy(ab, a, sizeof ab);

@@ -204,7 +204,16 @@
  * stream (whose target moves over each tick by its twist and the rate of
  * that tick's step, held over the tick: v dt + a dt^2 / 2, with v + a dt
  * the twist fed forward at the tick's target, the target's own velocity
- * there, as a sampled law's is). The stream goes on from the old target's
+ * there, as a sampled law's is); and from a joint move or a joint path
+ * on an arm of six joints under the full task, where the IK step gives
+ * joint velocities back (J invertible), from a target with the law the
+ * step would have tracked with the joints' (q, qd, qdd) at the last
+ * setpoint: the tool's pose moved by the step's error at that
+ * acceleration, k e = J qdd dt / 2 (k the row's gain), twist J (qd + qdd
+ * dt / 2), its rate the change of J qd over the next tick with qdd held,
+ * so that the step's first velocity is qd + qdd dt (the joints' qdd goes
+ * on: no step at the takeover) and from there the stream's own law moves
+ * the target. The stream goes on from the old target's
  * pose, twist and the twist's rate at the last setpoint: a shaped pose
  * stream's profiles from the rate at that tick (a segment's by the
  * central difference of its twists over the ticks each side), a twist
@@ -216,15 +225,15 @@
  * rate must be within the stream's speed, omega, accel and alpha (a twist
  * stream's rate within each axis' share, 1 / sqrt(3) of the bound, which
  * its step would clamp at once: a line accelerating along no axis of the
- * base is often beyond it). From a motion in joint space (where the
- * target would start from the tool's pose) the positions differ by a
- * dt^2 / 2 within a tick, which the IK step's feedback turns into a step
- * of the joints' acceleration: those stop first. Random takeovers
+ * base is often beyond it; a joint move at speed is beyond a stream's
+ * default Cartesian speed and acceleration). Random takeovers
  * (test_ctrl_servoshape.c): the joints' jerk on a takeover's first three
  * ticks at most 1.09 times that of the eight ticks each side, where the
  * IK step's response to the change of the target's jerk overshoots the
  * new level for a tick as it does on a pose stream's own new poses (up to
- * 1.17 times there). A twist stream's target moved by the rate before
+ * 1.17 times there); from a joint move, no change of qdd on the
+ * takeover's tick (81 of 249 PUMA 560 joint moves taken over, the others
+ * beyond the stream's bounds). A twist stream's target moved by the rate before
  * the tick's step reached twice its jerk bound on every reversal of the
  * rate's ramp, and a twist stream after a line 1.25 times the joints'
  * jerk around it.
