@@ -241,8 +241,8 @@
  * Every other replacement stops first: the active segment stops on its
  * path, and the goal starts from where the arm comes to rest. Its ACCEPTED
  * event carries KC_REASON_STOP_FIRST. These are a joint move whose
- * retarget would pass a limit; a Cartesian goal replacing a
- * trapezoid joint move (its stop brakes at a joint's acceleration limit
+ * retarget would pass a limit; a line, an arc or a Cartesian path
+ * replacing a trapezoid joint move (its stop brakes at a joint's acceleration limit
  * from its first tick to its last, which the IK step cannot follow
  * through a Cartesian target with its correction added), a servo stream
  * whose stop is not jerk-limited (a chain without jerk limits: it brakes
