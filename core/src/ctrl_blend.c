@@ -21,7 +21,6 @@
  * stop (a line's or an arc's joint by joint, halt_stop) taken exactly: q = q_M + (q_G - q_s), t0 keeping
  * the joints' limits (admissible_joints). */
 #include "ctrl_internal.h"
-#include "ik_internal.h"
 #include "size_internal.h"
 
 #include <string.h>
@@ -107,11 +106,16 @@ static void stop_joints(const kc_ctrl *c, int64_t j, int exact, kc_ctrl_seg_poin
 /* The replaced segment's stop at its tick j: a line's or an arc's point,
  * or a joint move's or servo stream's tool pose and twist J(q) qd
  * (stop_joints' q and qd). */
+static int stop_on_path(const kc_ctrl_blend *b)
+{
+    return b->stop_drive != KC_DRIVE_HALT && (b->kind == KC_GOAL_LINE || b->kind == KC_GOAL_ARC);
+}
+
 static void stop_point(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
 {
     const kc_ctrl_blend *b = &c->blend;
     j = j < 0 ? 0 : j;
-    if (b->stop_drive != KC_DRIVE_HALT && (b->kind == KC_GOAL_LINE || b->kind == KC_GOAL_ARC)) {
+    if (stop_on_path(b)) {
         kc_ctrl_interp_point(b->kind, &b->plan.line, &b->plan.arc, b->stop_drive, &b->stop.prof, &b->stop.scurve, j,
                              o);
         return;
@@ -473,13 +477,6 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
      * runs the path on its own timing, ctrl_stop.c): not superposed. */
     if (kc_ctrl_is_path(g->kind) && kc_ctrl_path_ramped(c, g))
         return 0;
-    /* The IK step turns the sum's twist back into joint velocities, and
-     * gives a joint-space stop's own back (J^+ J qd = qd) only where the
-     * task leaves no null space: on a redundant arm a Cartesian goal
-     * replacing a motion that stops joint by joint stops it first (its
-     * null-space motion would jump to the IK's objective). */
-    if ((in_joints || halts) && g->kind != KC_GOAL_PATH && c->chain->n_joints > kc_ik_task_rows(c->cfg.ik.mask))
-        return 0;
     /* A trapezoid joint move's stop brakes at a joint's acceleration limit
      * from its first tick to its last: the IK step, adding its correction
      * to that, cannot follow it within the limit, and the tool would lag
@@ -563,20 +560,24 @@ void kc_ctrl_blend_joints(const kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o)
     }
 }
 
-void kc_ctrl_blend_apply(kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o)
+int kc_ctrl_blend_apply(kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o, kc_real *qd_m)
 {
     kc_ctrl_blend *b = &c->blend;
     int64_t j = k - b->k0;
     if (c->goal.kind == KC_GOAL_PATH) {
         kc_ctrl_blend_joints(c, k, o);
         b->on = j < b->stop_ticks; /* M rests at q_s: the sum is G alone from here */
-        return;
+        return 0;
     }
     if (j >= b->stop_ticks) {
         b->on = 0; /* M rests at P_s: the sum is G alone from here */
-        return;
+        return 0;
     }
     kc_ctrl_seg_point m;
     stop_point(c, j, &m);
     compose(b, &m, o);
+    if (qd_m == NULL || stop_on_path(b))
+        return 0;
+    memcpy(qd_m, m.qd, sizeof(kc_real) * (size_t)c->chain->n_joints);
+    return 1;
 }

@@ -246,8 +246,11 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out);
 int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out);
 
 /* The segment's point o at absolute tick k, composed with the replaced
- * segment's stop at k while that stop lasts; the transition ends with it. */
-void kc_ctrl_blend_apply(kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o);
+ * segment's stop at k while that stop lasts; the transition ends with it.
+ * Returns 1 when that stop is in joint space and qd_m (non-NULL, the
+ * chain's joints) then holds its joint velocities fed forward with o's
+ * twist (the IK step's null-space feed-forward, kc_ik_step_ff); else 0. */
+int kc_ctrl_blend_apply(kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o, kc_real *qd_m);
 
 /* A joint path's point o at absolute tick k with the replaced motion's
  * stop in joint space added while the superposition lasts (what

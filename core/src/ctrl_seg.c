@@ -491,7 +491,7 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
     out->progress = now.progress;
     if (!cart) {
         if (c->blend.on) /* a joint path superposed on a stop in joint space */
-            kc_ctrl_blend_apply(c, c->cycle, &now);
+            kc_ctrl_blend_apply(c, c->cycle, &now, NULL);
         memcpy(q, now.q, sizeof(kc_real) * (size_t)n);
         memcpy(qd, now.qd, sizeof(kc_real) * (size_t)n);
         memcpy(qdd, now.qdd, sizeof(kc_real) * (size_t)n);
@@ -500,9 +500,11 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
     /* Cartesian: the target where the segment is at the last setpoint's
      * instant, its twist fed forward; the step heads for tick j. */
     kc_ctrl_seg_point before;
+    kc_real qd_m[KC_MAX_JOINTS];
+    const kc_real *null_ff = NULL;
     kc_ctrl_seg_eval(c, j - 1, &before);
-    if (c->blend.on)
-        kc_ctrl_blend_apply(c, c->cycle - 1, &before);
+    if (c->blend.on && kc_ctrl_blend_apply(c, c->cycle - 1, &before, qd_m))
+        null_ff = qd_m; /* a stop in joint space: its null-space part too (kinctl/ctrl.h) */
     if (c->goal.kind == KC_GOAL_SERVO)
         kc_ctrl_servo_tick(c);
     kc_ik_result res;
@@ -516,10 +518,16 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
     if (c->null_cycle != c->cycle - 1)
         x = KC_R(0.0);
     x = c->settle > 0 ? kc_max(x - rate, KC_R(0.0)) : kc_min(x + rate, KC_R(1.0));
+    /* A stop in joint space fed forward carries the null-space motion
+     * the joints had (the objective's included) while it lasts; the
+     * objective comes back from 0 after it. */
+    if (null_ff != NULL)
+        x = KC_R(0.0);
     c->null_x = x;
     c->null_cycle = c->cycle;
     c->cfg.ik.null_gain = null_gain * x * x * (KC_R(3.0) - KC_R(2.0) * x);
-    kc_status st = kc_ik_step(c->chain, &c->cfg.ik, &before.pose, before.twist, c->cfg.dt, c->q, c->qd, q, qd, &res);
+    kc_status st =
+        kc_ik_step_ff(c->chain, &c->cfg.ik, &before.pose, before.twist, null_ff, c->cfg.dt, c->q, c->qd, q, qd, &res);
     c->cfg.ik.null_gain = null_gain;
     for (int i = 0; i < n; i++)
         qdd[i] = (qd[i] - c->qd[i]) / c->cfg.dt;

@@ -457,11 +457,18 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
                      kc_real dt, const kc_real *q, const kc_real *qd, kc_real *q_next, kc_real *qd_next,
                      kc_ik_result *res)
 {
+    return kc_ik_step_ff(chain, cfg, target, twist_ff, NULL, dt, q, qd, q_next, qd_next, res);
+}
+
+kc_status kc_ik_step_ff(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose *target, const kc_real *twist_ff,
+                        const kc_real *qd_ff, kc_real dt, const kc_real *q, const kc_real *qd, kc_real *q_next,
+                        kc_real *qd_next, kc_ik_result *res)
+{
     if (chain == NULL || cfg == NULL || target == NULL || q == NULL || qd == NULL || q_next == NULL ||
         qd_next == NULL || res == NULL)
         return KC_E_ARG;
     if (kc_ik_cfg_check(cfg, chain) != KC_OK || !positive(dt) || !kc_pose_isfinite(target) ||
-        !q_valid(chain, q) || !q_valid(chain, qd))
+        !q_valid(chain, q) || !q_valid(chain, qd) || (qd_ff != NULL && !q_valid(chain, qd_ff)))
         return KC_E_ARG;
 
     kc_ik_problem p;
@@ -533,12 +540,20 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
     for (int i = 0; i < p.r; i++)
         u[i] = ff[i] + (i < 3 ? cfg->gain_pos : cfg->gain_rot) * e[i];
     kc_real(*jt)[KC_MAX_JOINTS] = task_jacobian(cfg->mask, &jac, &cur, n);
+    /* qd_ff's null-space part, J^+ (u - J qd_ff) + qd_ff = J^+ u + (I -
+     * J^+ J) qd_ff: its task part taken out of u, and all of it added. */
+    int null_ff = qd_ff != NULL && n > p.r;
+    for (int i = 0; i < p.r && null_ff; i++)
+        for (int j = 0; j < n; j++)
+            u[i] -= jt[i][j] * qd_ff[j];
     /* The null-space velocity stays below half the slowest joint's limit
      * (only a redundant task has one). */
     kc_real null_bound = KC_REAL_MAX;
     for (int j = 0; j < n && n > p.r; j++)
         null_bound = kc_min(null_bound, chain->joints[j].limits.qd_max);
     kc_real w = limited_step(&p, jt, u, KC_R(0.0), cfg->null_gain, null_bound, q, qd_des, NULL);
+    for (int j = 0; j < n && null_ff; j++)
+        qd_des[j] += qd_ff[j];
 
     /* One scale for the whole command keeps the tool on its direction:
      * first the velocity limits, then the acceleration limits from qd. */

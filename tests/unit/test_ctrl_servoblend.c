@@ -15,9 +15,10 @@
  * jerk, not in its joints' (on its own, a line here asks up to 1.5-2
  * times the elbow's qddd_max): once it moves, each joint's jerk is held
  * to its limit (the halt's) plus what the goal alone asks of that joint.
- * The fallbacks: the 7-joint Panda under the full task, and a chain
- * without jerk limits (no jerk-limited halt to plan), stop first and say
- * so. */
+ * The 7-joint Panda's streams replaced by lines the same way (the halt
+ * fed to the IK step in the task's null space too). The fallback: a
+ * chain without jerk limits (no jerk-limited halt to plan) stops first
+ * and says so. */
 #include <math.h>
 #include <string.h>
 
@@ -332,34 +333,69 @@ static void test_stream_replaced(void **state)
         assert_true(worst[2] > 0.5); /* the halts do use the jerk they are allowed */
 }
 
-/* No transition where the halt cannot be superposed: the Panda under the
- * full task (redundant: the IK step would not give its null-space motion
- * back) and a chain without jerk limits (no jerk-limited halt) stop first,
- * continuous and within the limits (the jerk not judged on the chain
- * without a limit), and the line still ends at its end. */
+/* The 7-joint Panda under the full task: a line replacing its stream at
+ * a random moment takes over the same way, the halt's joint velocities
+ * fed forward to the IK step in the task's null space (kc_ik_step_ff:
+ * without them the step would drop the halt's null-space part, its
+ * joint velocities jumping), every tick checked as above. */
+static void test_redundant_replaced(void **state)
+{
+    (void)state;
+    kt_rng r = kt_rng_make(2029);
+    int overlapped = 0;
+    double worst[4] = {0.0}; /* over the runs: H.worst, worst_g */
+    for (int c = 0; c < CASES; c++) {
+        setup(KC_MODEL_PANDA, 0);
+        int64_t id = 100 + c;
+        kt_stream_init(&H.stream, &r, &H.start, (double)H.cfg.dt);
+        stream(id, 200 + (int)kt_uniform(&r, 0.0, 400.0));
+        kc_goal g = random_goal(&r, KC_GOAL_LINE, 1000 + c, rest_ahead());
+        if (JUDGE_JERK)
+            plain_jerk(&g);
+        H.check = 2;
+        tick(&g);
+        assert_int_equal(event_reason(KC_EVENT_ACCEPTED, g.id), KC_REASON_NONE);
+        assert_true(H.ctrl.blend.on);
+        assert_int_equal(H.ctrl.blend.kind, KC_GOAL_SERVO);
+        overlapped += H.ctrl.k0 - H.ctrl.blend.k0 < H.ctrl.blend.stop_ticks;
+        run_to_end(&g);
+        assert_int_equal(H.events[KC_EVENT_FAULT], 0);
+        assert_int_equal(H.events[KC_EVENT_ABORTED], 0);
+        double w[4] = {H.worst[0], H.worst[1], H.worst[2], H.worst_g};
+        for (int i = 0; i < 4; i++)
+            worst[i] = fmax(worst[i], w[i]);
+    }
+    print_message("panda: %d streams replaced by a line, %d overlapping the halt; of the limits: |qd| at most %.4f, "
+                  "|qdd| %.4f, the jerk %.4f until the line moves, then %.4f of the limit plus the line's own (%s)\n",
+                  CASES, overlapped, worst[0], worst[1], worst[2], worst[3], KC_REAL_NAME);
+    assert_true(overlapped > 0);
+}
+
+/* No transition where the halt cannot be planned jerk-limited: on a
+ * chain without jerk limits the stream stops first, continuous and within
+ * the limits (the jerk not judged: it has no limit), and the line still
+ * ends at its end. */
 static void test_stops_first(void **state)
 {
     (void)state;
     kt_rng r = kt_rng_make(2029);
-    for (int which = 0; which < 2; which++) {
-        setup(which == 0 ? KC_MODEL_PANDA : KC_MODEL_PUMA560, which == 1);
-        kt_stream_init(&H.stream, &r, &H.start, (double)H.cfg.dt);
-        stream(7, 300);
-        kc_goal g = random_goal(&r, KC_GOAL_LINE, 8, rest_ahead());
-        H.check = which == 0;
-        tick(&g);
-        assert_int_equal(event_reason(KC_EVENT_ACCEPTED, g.id), KC_REASON_STOP_FIRST);
-        assert_int_equal(H.out.state, KC_CTRL_STOPPING);
-        assert_false(H.ctrl.blend.on);
-        run_to_end(&g);
-        assert_int_equal(H.events[KC_EVENT_FAULT], 0);
-    }
+    setup(KC_MODEL_PUMA560, 1);
+    kt_stream_init(&H.stream, &r, &H.start, (double)H.cfg.dt);
+    stream(7, 300);
+    kc_goal g = random_goal(&r, KC_GOAL_LINE, 8, rest_ahead());
+    tick(&g);
+    assert_int_equal(event_reason(KC_EVENT_ACCEPTED, g.id), KC_REASON_STOP_FIRST);
+    assert_int_equal(H.out.state, KC_CTRL_STOPPING);
+    assert_false(H.ctrl.blend.on);
+    run_to_end(&g);
+    assert_int_equal(H.events[KC_EVENT_FAULT], 0);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_stream_replaced),
+        cmocka_unit_test(test_redundant_replaced),
         cmocka_unit_test(test_stops_first),
     };
     int rc = cmocka_run_group_tests(tests, NULL, NULL);

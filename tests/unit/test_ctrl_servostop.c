@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* test_ctrl_servostop.c - how a servo stream stops (kinctl/ctrl.h): STOP,
- * PAUSE (and RESUME) and a replacement that stops first (a line on the
- * redundant Panda, a Lagrange joint path) bring every joint to rest jerk-limited from its (q, qd, qdd),
+ * PAUSE (and RESUME) and a replacement that stops first (a Lagrange
+ * joint path) bring every joint to rest jerk-limited from its (q, qd, qdd),
  * as does the servo timeout (test_ctrl_servoshape.c), while ESTOP still
  * brakes at the acceleration limits from its first tick, as STOP does on a
  * chain without jerk limits. Streams of random speeds and
@@ -142,8 +142,8 @@ static void first_stop_tick(double *spread)
     *spread = hi > 0 ? (double)(hi - lo) / (double)hi : 0.0;
 }
 
-/* STOP, PAUSE + RESUME, and replacement by a line and by a joint path,
- * each from a random moment of a random stream. */
+/* STOP, PAUSE + RESUME, and replacement by a joint path that stops
+ * first, each from a random moment of a random stream. */
 static void test_stops_jerk_limited(void **state)
 {
     (void)state;
@@ -193,30 +193,23 @@ static void test_stops_jerk_limited(void **state)
                 assert_int_equal(H.out.state, KC_CTRL_IDLE);
                 assert_at_rest();
             } else {
-                /* A replacement that stops first: a line 5 cm up on the
-                 * Panda (redundant: on the PUMA a line takes over without
-                 * stopping, test_ctrl_servoblend.c), or a joint path
-                 * through two knots near the joints now by Lagrange's
-                 * polynomial (it does not start at rest: not superposed). */
+                /* A replacement that stops first: a joint path through
+                 * two knots near the joints now by Lagrange's polynomial
+                 * (it does not start at rest: not superposed; a line takes
+                 * over without stopping, test_ctrl_servoblend.c). */
                 kc_goal g;
                 memset(&g, 0, sizeof g);
-                if (mode == 2 && models[m] == KC_MODEL_PANDA) {
-                    kc_pose to = H.out.pose;
-                    to.t.v[2] += KC_R(0.05);
-                    g = kt_line_goal(1000 + c, &to);
-                } else {
-                    g.id = 1000 + c;
-                    g.kind = KC_GOAL_PATH;
-                    g.vel_scale = g.acc_scale = KC_R(1.0);
-                    g.method = KC_PATH_LAGRANGE;
-                    g.n_points = 2;
-                    for (int j = 0; j < n; j++) {
-                        const kc_joint_limits *l = &H.chain.joints[j].limits;
-                        kc_real mid = (l->q_min + l->q_max) / KC_R(2.0);
-                        kc_real to = H.out.q[j] + (mid > H.out.q[j] ? KC_R(0.1) : KC_R(-0.1));
-                        g.points[0][j] = to;
-                        g.points[1][j] = H.out.q[j];
-                    }
+                g.id = 1000 + c;
+                g.kind = KC_GOAL_PATH;
+                g.vel_scale = g.acc_scale = KC_R(1.0);
+                g.method = KC_PATH_LAGRANGE;
+                g.n_points = 2;
+                for (int j = 0; j < n; j++) {
+                    const kc_joint_limits *l = &H.chain.joints[j].limits;
+                    kc_real mid = (l->q_min + l->q_max) / KC_R(2.0);
+                    kc_real to = H.out.q[j] + (mid > H.out.q[j] ? KC_R(0.1) : KC_R(-0.1));
+                    g.points[0][j] = to;
+                    g.points[1][j] = H.out.q[j];
                 }
                 g.replace = 1;
                 tick(&g, KC_CMD_NONE);

@@ -163,8 +163,12 @@
  * and after it until the tool is back within cfg.track_tol and closing
  * in, the tracking bound is a stop's (TRACK_GIVE_UP times it); from the
  * takeover the setpoint is the IK step's, following the sum (a stop in
- * joint space included: with a task that leaves no null space the step
- * gives its joint velocities back, J^+ J qd_M = qd_M). Limits:
+ * joint space included: its joint velocities qd_M are fed forward in the
+ * task's null space too, kc_ik_step_ff, so that the step gives them back
+ * whole, J^+ J qd_M + (I - J^+ J) qd_M = qd_M, on a redundant arm as on
+ * any other; the IK's own null-space objective rests while they are fed,
+ * M's stop carrying the joints' null-space motion, and comes back from 0
+ * after it as at a Cartesian goal's start). Limits:
  * the joints are not judged over the overlap beforehand (M's stop stays
  * inside the position limits its motion was planned or checked within,
  * give or take dt |qd| / 2; their jerk is M's stop's until G moves, then
@@ -246,10 +250,7 @@
  * from its first tick to its last, which the IK step cannot follow
  * through a Cartesian target with its correction added), a servo stream
  * whose stop is not jerk-limited (a chain without jerk limits: it brakes
- * at the acceleration limits) or a joint move, servo stream or path of
- * an arm whose joints outnumber the IK task's rows (the Panda's 7 under
- * the full task: the step would drop the stop's null-space part, its
- * joint velocities jumping); a path the controller ramps (one that does
+ * at the acceleration limits); a path the controller ramps (one that does
  * not start at rest, Lagrange's, a natural spline; jerk-limited, a
  * clamped spline, a parabolic blend); a joint path replacing a trapezoid joint move; a stop
  * joint by joint that cannot be planned jerk-limited (a chain without

@@ -177,6 +177,23 @@ kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose 
                      kc_real dt, const kc_real *q, const kc_real *qd, kc_real *q_next, kc_real *qd_next,
                      kc_ik_result *res);
 
+/*
+ * kc_ik_step with joint velocities qd_ff fed forward in the task's null
+ * space: on a redundant task (more joints than the task's rows) the
+ * command becomes
+ *     qd_next = J^+ (twist_ff + k e) + (I - J^+ J) qd_ff + null-space term,
+ * so that a joint-space motion whose tool twist J qd_ff is twist_ff is
+ * given back whole (J^+ J qd_ff + (I - J^+ J) qd_ff = qd_ff), its part
+ * that does not move the tool included (the controller's superposition
+ * of a Cartesian goal on a stop in joint space, kinctl/ctrl.h). The
+ * scaling to the velocity and acceleration limits applies to the whole
+ * command. qd_ff NULL, or a task without a null space: kc_ik_step.
+ * KC_E_ARG also for a non-finite qd_ff.
+ */
+kc_status kc_ik_step_ff(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose *target, const kc_real *twist_ff,
+                        const kc_real *qd_ff, kc_real dt, const kc_real *q, const kc_real *qd, kc_real *q_next,
+                        kc_real *qd_next, kc_ik_result *res);
+
 /* Distance from the base origin beyond which no configuration reaches: the
  * sum of every constant translation, the largest prismatic travels and the
  * tool offset. A cheap, conservative workspace bound (infinite when a
