@@ -11,8 +11,10 @@
  * criterion there is 1e-4 on direction cosines and positions. */
 #ifdef KC_REAL_FLOAT
 #define TOL_IK_T 1e-4
+#define FLOAT_TOL 1
 #else
 #define TOL_IK_T 1e-6
+#define FLOAT_TOL 0
 #endif
 
 static double max_pose_diff(const kc_pose *a, const kc_pose *b)
@@ -433,6 +435,81 @@ static void test_miss_reasons(void **state)
     kt_near((double)res.pos_err, 0.05, 1e-3, "closest approach of the stretched arm");
 }
 
+/* kc_ik_step_ff on the Panda under the full task (one null-space
+ * dimension): at the target (e = 0), fed forward the joint velocities qd
+ * the arm already has and their twist J qd, the step gives qd back whole,
+ * its part that does not move the tool included; kc_ik_step keeps only
+ * J^+ J qd (the same twist, the null-space part lost). On the PUMA 560
+ * (no null space) the feed-forward changes nothing. A non-finite qd_ff is
+ * refused. Random velocities up to 0.3 rad/s, the null-space objective
+ * off (its gradient would add its own motion). */
+static void test_step_null_feed_forward(void **state)
+{
+    (void)state;
+    const double tol = FLOAT_TOL ? 1e-4 : 1e-10;
+    kt_rng r = kt_rng_make(4242);
+    kc_ik_cfg cfg = kc_ik_cfg_default();
+    cfg.null_gain = KC_R(0.0);
+    for (int m = 0; m < 2; m++) {
+        kc_chain chain;
+        assert_int_equal(kc_chain_init_model(&chain, m == 0 ? KC_MODEL_PANDA : KC_MODEL_PUMA560, NULL), KC_OK);
+        int n = chain.n_joints;
+        const kc_real *q = m == 0 ? KT_PANDA_Q0 : KT_PUMA_Q0;
+        double worst = 0.0, lost = 0.0;
+        for (int c = 0; c < 50; c++) {
+            kc_real qd[KC_MAX_JOINTS], twist[6], q1[KC_MAX_JOINTS], qd1[KC_MAX_JOINTS], q2[KC_MAX_JOINTS],
+                qd2[KC_MAX_JOINTS];
+            for (int j = 0; j < n; j++)
+                qd[j] = (kc_real)kt_uniform(&r, -0.3, 0.3);
+            kc_jacobian jac;
+            kc_pose at;
+            assert_int_equal(kc_fk_jacobian(&chain, q, &jac, &at), KC_OK);
+            for (int i = 0; i < 6; i++) {
+                twist[i] = KC_R(0.0);
+                for (int j = 0; j < n; j++)
+                    twist[i] += jac.m[i][j] * qd[j];
+            }
+            kc_ik_result res;
+            assert_int_equal(kc_ik_step_ff(&chain, &cfg, &at, twist, qd, KC_R(0.001), q, qd, q1, qd1, &res), KC_OK);
+            assert_int_equal(kc_ik_step(&chain, &cfg, &at, twist, KC_R(0.001), q, qd, q2, qd2, &res), KC_OK);
+            double off = 0.0, change = 0.0;
+            for (int j = 0; j < n; j++) {
+                off = fmax(off, fabs((double)qd1[j] - (double)qd[j]));
+                change = fmax(change, fabs((double)qd2[j] - (double)qd[j]));
+                if (m == 1)
+                    assert_true(qd1[j] == qd2[j] && q1[j] == q2[j]);
+            }
+            /* Both give the twist: J qd1 = J qd2 = J qd. */
+            for (int i = 0; i < 6; i++) {
+                double t1 = 0.0, t2 = 0.0;
+                for (int j = 0; j < n; j++) {
+                    t1 += (double)jac.m[i][j] * (double)qd1[j];
+                    t2 += (double)jac.m[i][j] * (double)qd2[j];
+                }
+                kt_near(t1, (double)twist[i], tol, "the twist with the feed-forward");
+                kt_near(t2, (double)twist[i], tol, "the twist without it");
+            }
+            worst = fmax(worst, off);
+            lost = fmax(lost, change);
+            if (m == 0)
+                assert_true(change > 1e-3); /* the null-space part kc_ik_step drops */
+        }
+        print_message("%s: qd given back within %.3g rad/s with the null-space feed-forward, up to %.3g rad/s off "
+                      "without it\n",
+                      m == 0 ? "panda" : "puma560", worst, lost);
+        assert_true(worst <= tol);
+    }
+    kc_chain chain;
+    kc_chain_init_model(&chain, KC_MODEL_PANDA, NULL);
+    kc_real bad[7] = {0}, still[7] = {0}, q1[7], qd1[7];
+    bad[3] = (kc_real)NAN;
+    kc_pose at;
+    kc_fk_eval(&chain, KT_PANDA_Q0, &at);
+    kc_ik_result res;
+    assert_int_equal(kc_ik_step_ff(&chain, &cfg, &at, NULL, bad, KC_R(0.001), KT_PANDA_Q0, still, q1, qd1, &res),
+                     KC_E_ARG);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -442,6 +519,7 @@ int main(void)
         cmocka_unit_test(test_bad_input),           cmocka_unit_test(test_singular_targets),
         cmocka_unit_test(test_deterministic),       cmocka_unit_test(test_step_online), cmocka_unit_test(test_step_into_a_limit),
         cmocka_unit_test(test_miss_reasons),        cmocka_unit_test(test_step_feed_forward),
+        cmocka_unit_test(test_step_null_feed_forward),
     };
     int failed = cmocka_run_group_tests(tests, NULL, NULL);
     kt_report("ik");
