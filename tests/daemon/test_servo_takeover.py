@@ -1,0 +1,63 @@
+# SPDX-License-Identifier: BSD-3-Clause
+"""kinctld: a servo stream replacing a joint move takes over in the cycle
+it arrives, without stopping, through LCM (kinctl/ctrl.h: on a six-joint
+arm the stream's target starts where the IK step would have tracked one
+with the joints' motion, so their acceleration goes on through the
+takeover).
+
+puma560 moves from its nominal pose by a joint move slowed to 5 % of its
+limits (the tool then stays within a stream's default Cartesian speed and
+acceleration, which a joint move at full speed does not: that one stops
+first); a twist stream replaces it while every joint still moves. The
+stream is accepted with no reason (not stop_first), the joint move is
+preempted, and the stream's first setpoint follows the move's last in
+the next cycle with the arm still moving. Every published setpoint is
+smooth (assert_smooth); from the move's last setpoint to the stream's
+first, qdd changes by at most qddd_max dt (the joints' acceleration goes
+on: a step of it at the takeover is what stopping first avoided). The
+stream then ends by its timeout, aborted, the arm at rest."""
+import time
+
+from kinctl_testing import (EVENTS, N, QN, STATES, assert_smooth, go_nominal, max_jerk_ratio, servo_twist,
+                            setpoints_since)
+
+# Relative slack of the limit checks: the daemon's core is double.
+SLACK = 1e-6
+# The joint move's share of the joints' limits, and how far each joint
+# goes (rad): about 1.5 s of motion, the stream sent 0.5 s in.
+SCALE = 0.05
+TRAVEL = 0.3
+# The stream: a twist of 0.05 m/s along +z, a message every 10 ms for
+# 0.6 s (its takeover may be scheduled some hundred ms after its first
+# message in a slow build), stale after 100 ms (the daemon's default cap).
+TWIST = [0.0, 0.0, 0.05, 0.0, 0.0, 0.0]
+TIMEOUT_US = 100000
+
+
+def test_joint_move_replaced_by_twist_stream_without_stopping(kinctld):
+    d = kinctld()
+    s0 = go_nominal(d)
+    d.bus.send_goal_joint(2, [q + TRAVEL for q in QN], vel_scale=SCALE, acc_scale=SCALE)
+    assert d.bus.wait_event(2, ("STARTED",)).event == EVENTS["STARTED"]
+    time.sleep(0.5)
+    g = servo_twist(3, TWIST, TIMEOUT_US)
+    for _ in range(60):
+        d.bus.send("GOAL_SERVO", g)
+        time.sleep(0.01)
+    accepted = d.bus.wait_event(3, ("ACCEPTED", "REJECTED"))
+    assert accepted.event == EVENTS["ACCEPTED"] and accepted.code == 0 and accepted.reason == "", accepted.reason
+    assert d.bus.wait_event(2, ("PREEMPTED", "ABORTED", "COMPLETED")).event == EVENTS["PREEMPTED"]
+    end = d.bus.wait_event(3, ("ABORTED", "COMPLETED", "FAULT"))
+    assert end.event == EVENTS["ABORTED"], end.reason
+    s = d.bus.wait_idle()
+    sps = setpoints_since(d, s0.cycle)
+    assert_smooth(sps, SLACK)
+    i = next(i for i, sp in enumerate(sps) if sp.goal_id == 3)
+    assert sps[i - 1].goal_id == 2 and sps[i].cycle == sps[i - 1].cycle + 1
+    assert sps[i].state == STATES["MOVING"]
+    assert min(abs(v) for v in sps[i - 1].qd[:N]) > 0.01  # every joint moving when it is replaced
+    assert max(abs(v) for v in sps[i].qd[:N]) > 0.01  # and not stopped for the stream
+    rj, _ = max_jerk_ratio(sps[i - 1:i + 1])
+    assert rj <= 1.0 + SLACK, rj
+    assert all(v == 0.0 for v in s.qd[:N])
+    assert d.stop() == 0
