@@ -7,9 +7,14 @@ limits times dt, the tool's position within the Cartesian speed times dt;
 the tool keeps moving through the takeover and ends on the new target. So
 does a line replacing a jerk-limited joint move (the move's stop in joint
 space superposed). A replacement that must stop first (a line replacing a
-trapezoid joint move) is accepted with the reason stop_first."""
+trapezoid joint move) is accepted with the reason stop_first. On the
+Panda (7 joints: the full task leaves a null space) a line replacing a
+joint move takes over the same way, the move's stop fed to the IK step
+in that null space too, every setpoint within the arm's limits, its
+jerk included (kinctl_arms.Arm.check_limits)."""
 import math
 
+from kinctl_arms import Arm
 from kinctl_testing import (DT, END, EVENTS, QN, assert_smooth, close, finished, go_nominal, goal_joint_t,
                             setpoints_since)
 
@@ -101,4 +106,31 @@ def test_line_replacing_a_trapezoid_joint_move_stops_first(kinctld):
     s = finished(d, 3)
     assert close(s.position, target, 1e-6), s.position
     assert_smooth(setpoints_since(d, s0.cycle))
+    assert d.stop() == 0
+
+
+# The Panda's pose of test_replace_random.py, from which lines reach.
+PANDA_HOME = [0.0, -0.3, 0.0, -2.0, 0.0, 1.8, 0.8]
+
+
+def test_panda_line_replacing_a_joint_move_without_stopping(kinctld):
+    a = Arm("panda")
+    d = kinctld("--model", "panda")
+    d.bus.send_goal_joint(1, PANDA_HOME)
+    s0 = finished(d, 1)
+    d.bus.send_goal_joint(2, [q + 0.2 for q in PANDA_HOME], vel_scale=0.2)
+    d.bus.wait(lambda: any(s.goal_id == 2 for s in d.bus.setpoints[-3:]), 5.0, "motion")
+    d.bus.wait_setpoints(200)
+    target = [s0.position[0], s0.position[1], s0.position[2] + 0.05]
+    d.bus.send_goal_line(3, target, list(s0.orientation), replace=True)
+    accepted = d.bus.wait_event(3, ("ACCEPTED", "REJECTED"))
+    assert accepted.event == EVENTS["ACCEPTED"] and accepted.code == 0 and accepted.reason == "", accepted.reason
+    assert d.bus.wait_event(2, ("PREEMPTED",) + END).event == EVENTS["PREEMPTED"]
+    s = finished(d, 3)
+    assert close(s.position, target, 1e-6), s.position
+    stream = setpoints_since(d, s0.cycle)
+    a.check_limits(stream)
+    i = next(i for i, sp in enumerate(stream) if sp.goal_id == 3)
+    assert stream[i - 1].goal_id == 2 and stream[i].cycle == stream[i - 1].cycle + 1
+    assert max(abs(v) for v in stream[i].qd[:a.n]) > 0.05  # not stopped for the line
     assert d.stop() == 0
