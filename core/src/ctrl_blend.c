@@ -103,14 +103,16 @@ static void stop_joints(const kc_ctrl *c, int64_t j, int exact, kc_ctrl_seg_poin
     }
 }
 
-/* The replaced segment's stop at its tick j: a line's or an arc's point,
- * or a joint move's or servo stream's tool pose and twist J(q) qd
- * (stop_joints' q and qd). */
+/* Whether the replaced segment stops on its path (a line's or an arc's
+ * own stop), not in joint space. */
 static int stop_on_path(const kc_ctrl_blend *b)
 {
     return b->stop_drive != KC_DRIVE_HALT && (b->kind == KC_GOAL_LINE || b->kind == KC_GOAL_ARC);
 }
 
+/* The replaced segment's stop at its tick j: a line's or an arc's point,
+ * or a joint move's or servo stream's tool pose and twist J(q) qd
+ * (stop_joints' q and qd). */
 static void stop_point(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
 {
     const kc_ctrl_blend *b = &c->blend;
