@@ -55,6 +55,16 @@ static kc_real shaped_rate(kc_real v, kc_real a, kc_real w, kc_real amax, kc_rea
     return kc_clamp(kc_clamp(r, a - h, a + h), -amax, amax);
 }
 
+/* R turned by exp(phi) in the base frame: R = exp(phi) R. */
+static void turn_by(kc_mat3 *R, kc_vec3 phi)
+{
+    kc_quat dr, r, r2;
+    kc_quat_exp(&phi, &dr);
+    kc_quat_from_mat3(R, &r);
+    kc_quat_mul(&dr, &r, &r2);
+    kc_quat_to_mat3(&r2, R);
+}
+
 /* A twist stream's tick: the shaped twist v moves towards the commanded
  * twist axis by axis, its rate a' for the tick (shaped_rate) within the
  * goal's Cartesian acceleration and jerk (l.a, l.j) over sqrt(3) on each
@@ -85,12 +95,8 @@ static void servo_twist_tick(kc_ctrl *c)
         a[i] = shaped_rate(c->servo_v[i], c->servo_a[i], c->goal.twist[i] * cap[i / 3],
                            AXIS_SHARE * (i < 3 ? l.a : l.dw), AXIS_SHARE * (i < 3 ? l.j : l.dj), dt);
     const kc_real *v = c->servo_v;
-    kc_vec3 w = kc_vec3_make(v[3] * dt + a[3] * half, v[4] * dt + a[4] * half, v[5] * dt + a[5] * half);
-    kc_quat dr, r, r2;
-    kc_quat_exp(&w, &dr);
-    kc_quat_from_mat3(&c->servo_target.R, &r);
-    kc_quat_mul(&dr, &r, &r2);
-    kc_quat_to_mat3(&r2, &c->servo_target.R);
+    turn_by(&c->servo_target.R,
+            kc_vec3_make(v[3] * dt + a[3] * half, v[4] * dt + a[4] * half, v[5] * dt + a[5] * half));
     for (int i = 0; i < 3; i++)
         c->servo_target.t.v[i] += v[i] * dt + a[i] * half;
     for (int i = 0; i < 6; i++) {
@@ -260,12 +266,7 @@ static void joint_target(const kc_ctrl *c, kc_pose *target, kc_real *v, kc_real 
             u1 += jac.m[i][j] * (qd1[j] + c->qdd[j] * dt);
         a[i] = (u1 - a[i]) / dt;
     }
-    kc_vec3 phi = kc_vec3_make(e[3], e[4], e[5]);
-    kc_quat dr, r, r2;
-    kc_quat_exp(&phi, &dr);
-    kc_quat_from_mat3(&target->R, &r);
-    kc_quat_mul(&dr, &r, &r2);
-    kc_quat_to_mat3(&r2, &target->R);
+    turn_by(&target->R, kc_vec3_make(e[3], e[4], e[5]));
     for (int i = 0; i < 3; i++)
         target->t.v[i] += e[i];
 }
