@@ -14,7 +14,7 @@ in that null space too, every setpoint within the arm's limits, its
 jerk included (kinctl_arms.Arm.check_limits)."""
 import math
 
-from kinctl_arms import Arm
+from kinctl_arms import HOMES, Arm
 from kinctl_testing import (DT, END, EVENTS, QN, assert_smooth, close, finished, go_nominal, goal_joint_t,
                             setpoints_since)
 
@@ -109,16 +109,12 @@ def test_line_replacing_a_trapezoid_joint_move_stops_first(kinctld):
     assert d.stop() == 0
 
 
-# The Panda's pose of test_replace_random.py, from which lines reach.
-PANDA_HOME = [0.0, -0.3, 0.0, -2.0, 0.0, 1.8, 0.8]
-
-
 def test_panda_line_replacing_a_joint_move_without_stopping(kinctld):
     a = Arm("panda")
     d = kinctld("--model", "panda")
-    d.bus.send_goal_joint(1, PANDA_HOME)
+    d.bus.send_goal_joint(1, HOMES["panda"])
     s0 = finished(d, 1)
-    d.bus.send_goal_joint(2, [q + 0.2 for q in PANDA_HOME], vel_scale=0.2)
+    d.bus.send_goal_joint(2, [q + 0.2 for q in HOMES["panda"]], vel_scale=0.2)
     d.bus.wait(lambda: any(s.goal_id == 2 for s in d.bus.setpoints[-3:]), 5.0, "motion")
     d.bus.wait_setpoints(200)
     target = [s0.position[0], s0.position[1], s0.position[2] + 0.05]

@@ -11,10 +11,9 @@ ends on its target."""
 import random
 
 from kinctl import client as kc
-from kinctl_arms import Arm
+from kinctl_arms import HOMES, Arm
 from kinctl_testing import END, EVENTS, close, fast_cart_limits, finished, random_offset, setpoints_since
 
-Q0 = [0.0, -0.3, 0.0, -2.0, 0.0, 1.8, 0.8]
 CASES = 16
 
 
@@ -36,7 +35,7 @@ def test_panda_lines_and_arcs_within_joint_limits(kinctld):
     rng = random.Random(0x4E11)
     taken = 0
     for c in range(CASES):
-        d.bus.send_goal_joint(100 + 2 * c, Q0)
+        d.bus.send_goal_joint(100 + 2 * c, HOMES["panda"])
         home = finished(d, 100 + 2 * c)
         goal_id = 101 + 2 * c
         to, msg = random_goal(rng, c, home, goal_id)

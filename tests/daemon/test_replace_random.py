@@ -30,19 +30,16 @@ import time
 import pytest
 
 from kinctl import client as kc
-from kinctl_arms import Arm
+from kinctl_arms import HOMES, Arm
 from kinctl_testing import DT, END, EVENT_NAMES, EVENTS, fast_cart_limits, finished, random_offset, setpoints_since
 
 GOALS = 20
 FIRST = 100
 # Each goal is sent this long (s) after the one before, drawn uniformly.
 DELAY = (0.0, 0.3)
-# Joint moves go near a pose from which lines and arcs stay mostly
-# reachable (puma560's nominal pose, the panda's pose of
-# test_cart_null_jerk.py), SPREAD rad about it on every joint (inside
-# either arm's limits), or one in three anywhere (Arm.random_target).
-HOMES = {"puma560": [0.0, 0.7854, -3.1416, 0.0, 0.7854, 0.0],
-         "panda": [0.0, -0.3, 0.0, -2.0, 0.0, 1.8, 0.8]}
+# Joint moves go near the arm's home (kinctl_arms.HOMES), SPREAD rad
+# about it on every joint (inside either arm's limits), or one in three
+# anywhere (Arm.random_target).
 SPREAD = 0.5
 CHANNELS = {"joint": "GOAL_JOINT", "line": "GOAL_LINE", "arc": "GOAL_ARC", "path": "GOAL_PATH",
             "cpath": "GOAL_PATH", "servo": "GOAL_SERVO"}

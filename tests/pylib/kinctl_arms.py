@@ -11,9 +11,13 @@ import re
 
 from ruckig import InputParameter, Result, Ruckig, Synchronization, Trajectory
 
-from kinctl_testing import DT, MODELS
+from kinctl_testing import DT, MODELS, QN
 
 SLACK = 1e-6
+# Poses from which lines and arcs stay mostly reachable: puma560's
+# nominal pose, and one of the panda's away from mid-range (its IK
+# objective's rest) where its null-space motion is at work.
+HOMES = {"puma560": QN, "panda": [0.0, -0.3, 0.0, -2.0, 0.0, 1.8, 0.8]}
 # Targets keep this far inside the position limits (rad): a replacing
 # goal's overshoot from full speed (about vmax^2 / (2 amax) plus the jerk
 # phases) stays clear of them, so the dry run accepts every goal.
