@@ -93,16 +93,27 @@ def session(multicast, tmp_path_factory):
 
 def test_log_is_lcm_logger_compatible(session, multicast, tmp_path):
     """LCM's own tools and ours agree. lcm-logger, recording the same run,
-    caught the same messages in the same order (it may lose some: seen here,
-    40 setpoints while the clients started, when kinctl record lost none). Our log played by lcm-logplayer and recorded again
-    by kinctl record comes back identical."""
+    caught the same messages in the same order of each sender (it may lose
+    some: seen here, 40 setpoints while the clients started, when kinctl
+    record lost none). Across senders the two may differ: two datagrams
+    looped back from two processes at once are handed to the two
+    receivers' sockets by two CPUs, each socket in turn (seen once, two
+    neighbours 9,000 messages in). Our log
+    played by lcm-logplayer and recorded again by kinctl record comes back
+    identical."""
     path, _ = session
     ours = [(ch, d) for _, ch, d in events(path)]
     theirs = [(ch, d) for _, ch, d in events(path + ".lcm-logger")]
     pos = {m: i for i, m in enumerate(ours)}
-    in_ours = [pos[m] for m in theirs if m in pos]
-    assert len(in_ours) > len(ours) // 2
-    assert in_ours == sorted(in_ours)  # the same order
+    assert sum(m in pos for m in theirs) > len(ours) // 2
+
+    def sender(ch):  # the clients' channels, or kinctld's own
+        return ch.startswith("KINCTL_GOAL_") or ch == "KINCTL_COMMAND"
+
+    for client in (False, True):
+        in_ours = [pos[m] for m in theirs if m in pos and sender(m[0]) == client]
+        assert len(in_ours) > 10
+        assert in_ours == sorted(in_ours)  # the same order
 
     url = unique_url(subnet=79)
     env = dict(os.environ)
