@@ -474,10 +474,11 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
         (g->kind != KC_GOAL_LINE && g->kind != KC_GOAL_ARC && !kc_ctrl_is_path(g->kind)))
         return 0;
     /* A path that the controller ramps (kc_ctrl_path_ramped: one that
-     * moves at its ends, or whose acceleration steps there) needs its
-     * own law, which a stop while superposed cannot wait on (the wait
-     * runs the path on its own timing, ctrl_stop.c): not superposed. */
-    if (kc_ctrl_is_path(g->kind) && kc_ctrl_path_ramped(c, g))
+     * moves at its ends, or whose acceleration steps there) is superposed
+     * on its jerk-limited ramps, its own timing (ramp_on: a stop while
+     * superposed waits on it too, ctrl_stop.c); at a constant rate its
+     * tau'' steps at rest: it waits for the stop. */
+    if (kc_ctrl_is_path(g->kind) && kc_ctrl_path_ramped(c, g) && !kc_ctrl_path_jerk_law(c, g))
         return 0;
     /* A trapezoid joint move's stop brakes at a joint's acceleration limit
      * from its first tick to its last: the IK step, adding its correction
@@ -534,6 +535,9 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     int64_t old_id = c->goal.id;
     kc_ctrl_goal_copy(&c->goal, g);
     c->drive = KC_DRIVE_NOMINAL;
+    c->ramp_on = 0;
+    if (kc_ctrl_is_path(g->kind) && kc_ctrl_path_ramped(c, g))
+        kc_ctrl_path_plan_ramp(c, 1); /* (the dry run judges its limits with the sum) */
     c->stop_intent = KC_CMD_NONE;
     c->settle = 0;
     c->state = KC_CTRL_MOVING;

@@ -292,6 +292,19 @@ kc_real kc_ctrl_path_ramp_jerk(const kc_ctrl *c, kc_real tau0, kc_real C);
  * steps at its ends (a clamped cubic spline, a parabolic blend). */
 int kc_ctrl_path_ramped(const kc_ctrl *c, const kc_goal *g);
 
+/* Whether the path goal g runs under a jerk-limited law: a joint path's
+ * profile is KC_PROFILE_JERK, a Cartesian path has a finite jerk limit
+ * (kc_ctrl_path_tau_jerk bounds tau''' then). */
+int kc_ctrl_path_jerk_law(const kc_ctrl *c, const kc_goal *g);
+
+/* The ramps of the active path (kc_ctrl_path_ramped) from rest at its
+ * start and into its end, planned from tau = 0 at the rate
+ * kc_ctrl_path_ramp_rate gives: jerk-limited, its own timing (ramp,
+ * ramp_on); else at that constant rate (drive KC_DRIVE_PROFILE). Where no
+ * rate keeps the limits: KC_E_LIMIT, or with gentlest the gentlest ramp
+ * there is (C = 1, as a resume takes). */
+kc_status kc_ctrl_path_plan_ramp(kc_ctrl *c, int gentlest);
+
 /* A stop of every joint in joint space: each at its own acceleration limit
  * (hard, for e-stop) or all synchronised on the current direction of motion
  * (sync). Ends in state `then`. */

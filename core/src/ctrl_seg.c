@@ -202,26 +202,14 @@ int kc_ctrl_start_next(kc_ctrl *c, kc_ctrl_output *out)
         c->settle = 0;
         c->blend.on = 0;
         c->blend.lax = 0;
+        c->ramp_on = 0;
         kc_status st = kc_ctrl_plan_goal(c);
-        if (st == KC_OK && kc_ctrl_is_path(c->goal.kind) && kc_ctrl_path_ramped(c, &c->goal)) {
-            /* A path moving at its first and last knot (Lagrange's), or
-             * whose acceleration steps there under a jerk-limited law (a
-             * cubic spline's): run it on a tau' that ramps up from rest
-             * and down into the end, at rate C, tau''' within Jt (finite
-             * under a jerk-limited law: jerk-limited ramps, KC_DRIVE_SCURVE;
-             * else at the constant rate C, KC_DRIVE_PROFILE). */
-            kc_real z = KC_R(0.0), T = kc_ctrl_path_duration(c), C = kc_ctrl_path_ramp_rate(c, z);
-            kc_real Jt = C > z ? kc_ctrl_path_ramp_jerk(c, z, C) : z;
-            if (!(C > z))
-                st = KC_E_LIMIT;
-            else if (kc_isfinite(Jt)) {
-                c->drive = KC_DRIVE_SCURVE;
-                st = kc_scurve_plan(&c->drive_scurve, z, z, z, T, KC_R(1.0), C, Jt, c->cfg.dt);
-            } else {
-                c->drive = KC_DRIVE_PROFILE;
-                st = kc_profile_plan(&c->drive_prof, z, z, T, KC_R(1.0), C, c->cfg.dt);
-            }
-        }
+        /* A path moving at its first and last knot (Lagrange's), or whose
+         * acceleration steps there under a jerk-limited law (a cubic
+         * spline's): run on a tau' that ramps up from rest and down into
+         * the end, at rate C, tau''' within Jt. */
+        if (st == KC_OK && kc_ctrl_is_path(c->goal.kind) && kc_ctrl_path_ramped(c, &c->goal))
+            st = kc_ctrl_path_plan_ramp(c, 0);
         if (st != KC_OK) {
             kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
             continue;
@@ -300,6 +288,10 @@ void kc_ctrl_drive_state(const kc_ctrl *c, int64_t j, kc_profile_state *u)
         scurve_drive_state(&c->drive_scurve, j, u);
         return;
     }
+    if (kc_ctrl_is_path(c->goal.kind) && c->ramp_on) {
+        scurve_drive_state(&c->ramp, j, u);
+        return;
+    }
     if (kc_ctrl_is_path(c->goal.kind)) {
         u->p = (kc_real)j * c->cfg.dt;
         u->v = KC_R(1.0);
@@ -318,6 +310,8 @@ static int path_drive_done(const kc_ctrl *c, int64_t j, int end)
         return c->drive_prof.ticks <= j;
     if (c->drive == KC_DRIVE_SCURVE)
         return c->drive_scurve.ticks <= j;
+    if (c->ramp_on)
+        return c->ramp.ticks <= j;
     return end;
 }
 

@@ -165,7 +165,7 @@ kc_real kc_ctrl_path_tau_jerk(const kc_ctrl *c, kc_real tau0, kc_real tau1, kc_r
     const kc_goal *g = &c->goal;
     kc_real J = INF;
     kc_interp_limits lim = kc_ctrl_cart_limits(&c->cfg, g);
-    if (g->kind == KC_GOAL_PATH ? kc_ctrl_goal_profile(c, g) == KC_PROFILE_TRAPEZOID : !kc_isfinite(lim.j))
+    if (!kc_ctrl_path_jerk_law(c, g))
         return INF;
     /* A rate between two samples h apart exceeds the nearer one by about
      * h / 2 times the derivative there: each sample counts with it (the
@@ -204,6 +204,29 @@ int kc_ctrl_path_ramped(const kc_ctrl *c, const kc_goal *g)
      * parabolic blend's, steps. */
     return kc_ctrl_goal_profile(c, g) == KC_PROFILE_JERK &&
            (g->method == KC_PATH_SPLINE || (g->method == KC_PATH_BLEND && g->blend == KC_PATH_BLEND_PARABOLIC));
+}
+
+int kc_ctrl_path_jerk_law(const kc_ctrl *c, const kc_goal *g)
+{
+    return g->kind == KC_GOAL_PATH ? kc_ctrl_goal_profile(c, g) == KC_PROFILE_JERK
+                                   : kc_isfinite(kc_ctrl_cart_limits(&c->cfg, g).j);
+}
+
+kc_status kc_ctrl_path_plan_ramp(kc_ctrl *c, int gentlest)
+{
+    kc_real z = KC_R(0.0), T = kc_ctrl_path_duration(c), C = kc_ctrl_path_ramp_rate(c, z);
+    if (!(C > z) && !gentlest)
+        return KC_E_LIMIT;
+    if (!(C > z))
+        C = KC_R(1.0);
+    kc_real Jt = kc_ctrl_path_ramp_jerk(c, z, C);
+    if (kc_isfinite(Jt)) {
+        kc_status st = kc_scurve_plan(&c->ramp, z, z, z, T, KC_R(1.0), C, Jt, c->cfg.dt);
+        c->ramp_on = st == KC_OK;
+        return st;
+    }
+    c->drive = KC_DRIVE_PROFILE;
+    return kc_profile_plan(&c->drive_prof, z, z, T, KC_R(1.0), C, c->cfg.dt);
 }
 
 kc_real kc_ctrl_path_duration(const kc_ctrl *c)

@@ -11,9 +11,14 @@ trapezoid joint move) is accepted with the reason stop_first. On the
 Panda (7 joints: the full task leaves a null space) a line replacing a
 joint move takes over the same way, the move's stop fed to the IK step
 in that null space too, every setpoint within the arm's limits, its
-jerk included (kinctl_arms.Arm.check_limits)."""
+jerk included (kinctl_arms.Arm.check_limits). Joint and Cartesian paths
+that kinctld runs on its jerk-limited ramps take over a joint move and a
+line the same way."""
 import math
 
+import pytest
+
+from kinctl import client as kc
 from kinctl_arms import HOMES, Arm
 from kinctl_testing import (DT, END, EVENTS, QN, assert_smooth, close, finished, go_nominal, goal_joint_t,
                             setpoints_since)
@@ -129,4 +134,53 @@ def test_panda_line_replacing_a_joint_move_without_stopping(kinctld):
     i = next(i for i, sp in enumerate(stream) if sp.goal_id == 3)
     assert stream[i - 1].goal_id == 2 and stream[i].cycle == stream[i - 1].cycle + 1
     assert max(abs(v) for v in stream[i].qd[:a.n]) > 0.05  # not stopped for the line
+    assert d.stop() == 0
+
+
+# Paths kinctld runs on its jerk-limited ramps of tau' (Lagrange's does not
+# start at rest; a cubic spline's acceleration steps at its ends): a joint
+# path replacing a puma560 joint move, a Cartesian path replacing a line,
+# each takes over in the cycle it arrives, superposed on the stop of the
+# motion it replaces like any other path.
+RAMPED = [("joint", "lagrange", "clamped"), ("joint", "spline", "natural"), ("joint", "spline", "clamped"),
+          ("cartesian", "spline", "clamped"), ("cartesian", "lagrange", "clamped"),
+          ("cartesian", "spline", "natural")]
+
+
+@pytest.mark.parametrize("space,method,ends", RAMPED)
+def test_ramped_path_taking_over_without_stopping(kinctld, space, method, ends):
+    a = Arm("puma560")
+    d = kinctld()
+    d.bus.send_goal_joint(1, HOMES["puma560"])
+    s0 = finished(d, 1)
+    p = list(s0.position)
+    if space == "joint":
+        d.bus.send_goal_joint(2, [q + 0.2 for q in HOMES["puma560"]], vel_scale=0.2)
+    else:
+        d.bus.send_goal_line(2, [p[0], p[1] + 0.15, p[2]], list(s0.orientation))
+    d.bus.wait(lambda: any(s.goal_id == 2 for s in d.bus.setpoints[-3:]), 5.0, "motion")
+    here = d.bus.wait_setpoints(200)[-1]
+    if space == "joint":
+        points = [[q - 0.1 for q in here.q[:a.n]], [q - 0.2 for q in here.q[:a.n]]]
+        target = points[-1]
+    else:
+        p = list(here.position)
+        points = [[p[0], p[1], p[2] + 0.03] + list(here.orientation),
+                  [p[0] + 0.03, p[1], p[2] + 0.05] + list(here.orientation)]
+        target = points[-1][:3]
+    d.bus.send("GOAL_PATH", kc.make_goal_path(points, space=space, method=method, ends=ends, goal_id=3,
+                                               replace=True))
+    accepted = d.bus.wait_event(3, ("ACCEPTED", "REJECTED"))
+    assert accepted.event == EVENTS["ACCEPTED"] and accepted.code == 0 and accepted.reason == "", accepted.reason
+    assert d.bus.wait_event(2, ("PREEMPTED",) + END).event == EVENTS["PREEMPTED"]
+    s = finished(d, 3)
+    if space == "joint":
+        assert close(s.q[:a.n], target, 1e-9), s.q
+    else:
+        assert close(s.position, target, 1e-6), s.position
+    stream = setpoints_since(d, s0.cycle)
+    a.check_limits(stream)
+    i = next(i for i, sp in enumerate(stream) if sp.goal_id == 3)
+    assert stream[i - 1].goal_id == 2 and stream[i].cycle == stream[i - 1].cycle + 1
+    assert max(abs(v) for v in stream[i].qd[:a.n]) > 0.01  # not stopped for the path
     assert d.stop() == 0

@@ -47,7 +47,8 @@ CHANNELS = {"joint": "GOAL_JOINT", "line": "GOAL_LINE", "arc": "GOAL_ARC", "path
 # Cartesian paths and servo streams besides).
 MIX = ("joint", "line", "arc")
 EVERY = MIX + ("path", "cpath", "servo")
-# Path methods that start and end at rest (Lagrange's does not: it stops first).
+# Path methods (a clamped spline on kinctld's jerk-limited ramps, the
+# others on their own law; Lagrange's in test_blend.py).
 METHODS = ("blend", "spline", "quintic")
 # A servo stream's messages: one every SERVO_PERIOD s, a twist of up to
 # SERVO_SPEED m/s, stale after SERVO_TIMEOUT s (above kinctld's default
@@ -285,6 +286,10 @@ def replace_at_random(d, a, rng, label, kinds=MIX):
     for g in goals:
         if answers[g] and answers[g][0].event == EVENTS["REJECTED"]:
             print(f"  rejected {goal_name(g, goals)}: {answers[g][0].reason}")
+        elif answers[g] and answers[g][0].reason:
+            before = max((p for p in accepted if p < g), default=None)
+            print(f"  stopping first: {goal_name(g, goals)} replacing "
+                  f"{goal_name(before, goals) if before else 'the move home'}: {answers[g][0].reason}")
     for m in problems:
         print(f"  FAILED: {m}")
     return problems

@@ -870,13 +870,15 @@ static int run_to_fault_counting(int64_t first_id, int n_ids, int max, int *faul
 }
 
 /* A joint move (81) that a replacing joint path (82) makes stop first
- * (kinctl/ctrl.h: Lagrange's polynomial does not start at rest, and is
- * not superposed on the move's stop), up to the replacement. */
+ * (kinctl/ctrl.h: Lagrange's polynomial does not start at rest, and under
+ * the trapezoid's law its ramps step tau'': not superposed on the move's
+ * stop), up to the replacement. */
 static void joint_move_stopped_by_a_path(void)
 {
     start_joint_move(81, 300);
     const kc_real off[2][3] = {{KC_R(0.05), 0, 0}, {KC_R(0.1), 0, 0}};
     kc_goal path = path_goal(82, KC_GOAL_PATH, KC_PATH_LAGRANGE, 2, off, NULL);
+    path.profile = KC_GOAL_PROFILE_TRAPEZOID;
     path.replace = 1;
     tick(&path, KC_CMD_NONE);
     assert_true(kt_has_event(&H.out, KC_EVENT_ACCEPTED, 82));

@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: BSD-3-Clause */
 /* test_ctrl_cartstop.c - a Cartesian goal (a line, an arc, a Cartesian
  * path) stopped on its path, by a STOP or because a joint path by
- * Lagrange's polynomial (which does not start at rest) or a trapezoidal
- * servo stream replaces it (it stops first), keeps its joints within
+ * Lagrange's polynomial under the trapezoid's law (which does not start
+ * at rest, and whose ramps step tau'') or a trapezoidal servo stream
+ * replaces it (it stops first), keeps its joints within
  * their acceleration and jerk limits (kinctl/ctrl.h: the stop's bounds
  * on its path parameter are scaled for the joints, ctrl_stop.c). At the
  * tool's limits alone the PUMA 560's joints went up to 185 times beyond
@@ -120,6 +121,7 @@ static kc_goal replacing(kt_rng *r, int servo, const kc_real *q)
     }
     g.kind = KC_GOAL_PATH;
     g.method = KC_PATH_LAGRANGE;
+    g.profile = KC_GOAL_PROFILE_TRAPEZOID; /* its ramps step tau'': the goal stops first */
     (void)kt_uniform(r, 0.0, 3.0); /* the draw of a method once: the seeds below keep their streams */
     g.n_points = 2;
     for (int i = 0; i < 2; i++)

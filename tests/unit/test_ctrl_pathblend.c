@@ -6,22 +6,25 @@
  * planned from where M rests (q_s): q = q_M(t) + q_G(t - t0) - q_s.
  * Random joint moves, servo streams, lines, arcs, Cartesian paths and
  * joint paths on the PUMA 560, replaced at random moments by a joint path
- * through two knots near the joints (a quartic blend and a quintic: the
- * methods the controller runs on their own law, kc_ctrl_path_ramped),
+ * through two knots near the joints (a quartic blend and a quintic, which
+ * run on their own law; Lagrange's polynomial, which does not start at
+ * rest, and a cubic spline, whose acceleration steps at its ends, which
+ * run on the controller's jerk-limited ramps of tau', kc_ctrl_path_ramped),
  * and joint moves, servo streams, lines and joint paths on the 7-joint
  * Panda (no IK step in between: redundancy is no matter). The path takes
  * over in the tick it arrives (ACCEPTED with KC_REASON_NONE). Every tick
  * from the replacement on: the setpoint is that sum, computed here from
  * the plans the controller holds through the public evaluators (M's stops
- * in ctrl.blend, G in ctrl.plan.path, t0 from ctrl.k0); q inside its
+ * in ctrl.blend, G in ctrl.plan.path on tau = t - t0 or on its ramp
+ * ctrl.ramp, t0 from ctrl.k0); q inside its
  * limits, |qd| <= qd_max, |qdd| <= qdd_max, qd changing by at most
  * qdd_max dt (the final check's), and the jerk, the change of
  * qdd over one tick divided by dt, within qddd_max or what M or G alone
  * changes over that tick, where that is more (a parabolic blend's qdd
  * jumps), each with a relative slack of SLACK; the path ends on its last
- * knot exactly. A Lagrange path (it does not start at rest) and a cubic
- * spline (its acceleration steps at its ends), run on the controller's
- * jerk-limited ramps, stop first. */
+ * knot exactly. A STOP while superposed stops the arm within its limits.
+ * Under the trapezoid's law (the ramps at a constant rate: tau'' steps) a
+ * Lagrange path and a natural spline stop first. */
 #include <math.h>
 #include <string.h>
 
@@ -106,7 +109,16 @@ static void tick(const kc_goal *g)
     if (sum) {
         stop_state(jm, qm, qdm, qddm);
         stop_state(c->blend.stop_ticks, qs, qds, qdds);
-        kc_path_eval_time(&c->plan.path, (kc_real)(jg < 0 ? 0 : jg) * H.cfg.dt, qg, d1, d2);
+        /* tau = t - t0, or on the path's ramp: q_G(tau), tau' q_G',
+         * tau'^2 q_G'' + tau'' q_G' */
+        kc_scurve_state u = {(kc_real)(jg < 0 ? 0 : jg) * H.cfg.dt, KC_R(1.0), KC_R(0.0), KC_R(0.0), 2};
+        if (c->ramp_on)
+            kc_scurve_eval(&c->ramp, jg < 0 ? 0 : jg, &u);
+        kc_path_eval_time(&c->plan.path, u.p, qg, d1, d2);
+        for (int j = 0; j < n; j++) {
+            d2[j] = d2[j] * u.v * u.v + d1[j] * u.a;
+            d1[j] *= u.v;
+        }
         for (int j = 0; j < n && jg <= 0; j++)
             d1[j] = d2[j] = KC_R(0.0); /* at rest at its start until it starts */
     }
@@ -114,7 +126,7 @@ static void tick(const kc_goal *g)
         const kc_joint_limits *l = &H.chain.joints[j].limits;
         double q = (double)H.out.q[j], qd = (double)H.out.qd[j], qdd = (double)H.out.qdd[j];
         if (sum) {
-            /* The path's own law from rest (drive NOMINAL): tau = t. */
+            /* The path's own law from rest (drive NOMINAL). */
             kt_near(q, (double)qm[j] + (double)qg[j] - (double)qs[j], TOL_SUM, "q = q_M + q_G - q_s");
             kt_near(qd, (double)qdm[j] + (double)d1[j], TOL_SUM / dt, "qd = qd_M + qd_G");
             double jerk = fabs(qdd - H.qdd_prev[j]) / dt;
@@ -250,20 +262,23 @@ static void test_replaced_by_a_path(void **state)
 {
     (void)state;
     kt_rng r = kt_rng_make(3019);
-    const kc_path_method methods[2] = {KC_PATH_BLEND, KC_PATH_QUINTIC};
+    const kc_path_method methods[4] = {KC_PATH_BLEND, KC_PATH_QUINTIC, KC_PATH_LAGRANGE, KC_PATH_SPLINE};
+    int ramped = 0;
     int overlapped = 0, cases = 0;
     double worst = 0.0;
     for (size_t which = 0; which < sizeof REPLACED / sizeof REPLACED[0]; which++)
         for (int c = 0; c < CASES; c++) {
             int tries = 0;
-            while (!start_replaced(&r, which, methods[c % 2]))
+            while (!start_replaced(&r, which, methods[c % 4]))
                 assert_true(++tries < 20);
-            kc_goal g = path_goal(&r, 2, methods[c % 2]);
+            kc_goal g = path_goal(&r, 2, methods[c % 4]);
             tick(&g);
             assert_int_equal(event_reason(KC_EVENT_ACCEPTED, g.id), KC_REASON_NONE);
             assert_int_equal(event_reason(KC_EVENT_PREEMPTED, 1), KC_REASON_NONE);
             assert_int_equal(event_reason(KC_EVENT_STARTED, g.id), KC_REASON_NONE);
             assert_true(H.ctrl.blend.on);
+            assert_int_equal(H.ctrl.ramp_on, c % 4 >= 2);
+            ramped += H.ctrl.ramp_on;
             overlapped += H.ctrl.k0 - H.ctrl.blend.k0 < H.ctrl.blend.stop_ticks;
             int done = 0;
             for (int k = 0; k < 20000 && !done; k++) {
@@ -278,10 +293,11 @@ static void test_replaced_by_a_path(void **state)
             cases++;
         }
     print_message("%d joint moves, servo streams, lines, arcs, Cartesian and joint paths (PUMA 560, Panda) replaced "
-                  "by a joint path, %d overlapping the stop; the jerk while superposed at most %.4f of its bound "
-                  "(%s)\n",
-                  cases, overlapped, worst, KC_REAL_NAME);
+                  "by a joint path (%d on its ramps), %d overlapping the stop; the jerk while superposed at most %.4f "
+                  "of its bound (%s)\n",
+                  cases, ramped, overlapped, worst, KC_REAL_NAME);
     assert_true(overlapped > 0);
+    assert_true(ramped > 0);
 }
 
 /* A STOP while a path is superposed on a joint move's stop: the path
@@ -293,7 +309,7 @@ static void test_stop_while_superposed(void **state)
 {
     (void)state;
     kt_rng r = kt_rng_make(3039);
-    int stopped = 0;
+    int stopped = 0, ramped = 0;
     for (int c = 0; c < CASES; c++) {
         setup();
         kc_real to[6];
@@ -304,9 +320,11 @@ static void test_stop_while_superposed(void **state)
         int64_t at = 2 + (int64_t)kt_uniform(&r, 0.0, (double)(H.ctrl.plan.joint.ticks - 4));
         for (int64_t k = 1; k < at; k++)
             tick(NULL);
-        kc_goal g = path_goal(&r, 2, KC_PATH_QUINTIC);
+        const kc_path_method methods[3] = {KC_PATH_QUINTIC, KC_PATH_LAGRANGE, KC_PATH_SPLINE};
+        kc_goal g = path_goal(&r, 2, methods[c % 3]);
         tick(&g);
         assert_true(H.ctrl.blend.on);
+        assert_int_equal(H.ctrl.ramp_on, c % 3 > 0);
         int64_t overlap_end = H.ctrl.blend.k0 + H.ctrl.blend.stop_ticks;
         if (H.ctrl.k0 + 2 >= overlap_end)
             continue; /* no overlap to stop in */
@@ -330,15 +348,18 @@ static void test_stop_while_superposed(void **state)
         for (int j = 0; j < 6; j++)
             assert_true(H.out.qd[j] == KC_R(0.0));
         stopped++;
+        ramped += c % 3 > 0;
     }
-    assert_true(stopped > 0);
+    print_message("%d paths stopped while superposed, %d of them on their ramps (%s)\n", stopped, ramped,
+                  KC_REAL_NAME);
+    assert_true(stopped > 0 && ramped > 0);
 }
 
-/* Lagrange's polynomial does not start at rest, and a cubic spline's
- * acceleration steps at its ends: each runs on the controller's ramps,
- * not superposed; the move stops first, and the path still ends on its
- * last knot exactly. */
-static void test_ramped_paths_stop_first(void **state)
+/* Under the trapezoid's law a path the controller ramps (Lagrange's
+ * polynomial, which does not start at rest; a natural spline) ramps tau'
+ * at a constant rate, its tau'' stepping at rest: not superposed, the move
+ * stops first, and the path still ends on its last knot exactly. */
+static void test_constant_rate_ramps_stop_first(void **state)
 {
     (void)state;
     kt_rng r = kt_rng_make(3029);
@@ -353,6 +374,8 @@ static void test_ramped_paths_stop_first(void **state)
         for (int k = 0; k < 200; k++)
             tick(NULL);
         kc_goal g = path_goal(&r, 2, methods[m]);
+        g.profile = KC_GOAL_PROFILE_TRAPEZOID;
+        g.spline_end = KC_PATH_SPLINE_NATURAL;
         tick(&g);
         assert_int_equal(event_reason(KC_EVENT_ACCEPTED, g.id), KC_REASON_STOP_FIRST);
         assert_false(H.ctrl.blend.on);
@@ -372,7 +395,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_replaced_by_a_path),
         cmocka_unit_test(test_stop_while_superposed),
-        cmocka_unit_test(test_ramped_paths_stop_first),
+        cmocka_unit_test(test_constant_rate_ramps_stop_first),
     };
     int rc = cmocka_run_group_tests(tests, NULL, NULL);
     kt_report("ctrl_pathblend");

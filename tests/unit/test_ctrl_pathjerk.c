@@ -4,7 +4,8 @@
  * into the end of a Lagrange path, the stop on the path, and the resume
  * are jerk-limited (tau'' continuous) by default, on the PUMA 560. Every
  * tick the law driving tau (read from the drive the controller says it
- * uses, evaluated by the public kc_scurve_eval / kc_profile_eval) is
+ * uses, or its ramp where it runs a path on its own ramps, evaluated by
+ * the public kc_scurve_eval / kc_profile_eval) is
  * checked: 0 <= tau' <= 1 (plus rounding), tau'' changing by at most
  * J dt per tick with J the largest jerk of the drive's phases (slack as
  * test_scurve.c's: 8 eps (A + J T)), and tau''' |q'| within every joint's
@@ -98,13 +99,19 @@ static void tick(const kc_goal *g, kc_ctrl_command cmd)
     double T = (double)(c->goal.kind == KC_GOAL_PATH ? c->plan.path.duration : c->plan.path_cart.pos.duration);
     double tau = (double)j * (double)H.cfg.dt, rate = 1.0, rate_dot = 0.0, J = 0.0, Jnow = 0.0, dt = (double)H.cfg.dt;
     double E = (double)KC_REAL_EPS;
-    if (c->drive == KC_DRIVE_SCURVE) {
+    /* A stop's or a resume's law, or the path's own ramps (its timing, with
+     * the nominal drive or a stop waiting on it). */
+    const kc_scurve *law = c->drive == KC_DRIVE_SCURVE ? &c->drive_scurve
+                           : c->ramp_on && (c->drive == KC_DRIVE_NOMINAL || c->drive == KC_DRIVE_STOPPING_WAIT)
+                               ? &c->ramp
+                               : NULL;
+    if (law != NULL) {
         kc_scurve_state s;
-        kc_scurve_eval(&c->drive_scurve, j, &s);
+        kc_scurve_eval(law, j, &s);
         tau = (double)s.p;
         rate = (double)s.v;
         rate_dot = (double)s.a;
-        J = scurve_jmax(&c->drive_scurve);
+        J = scurve_jmax(law);
         Jnow = fabs((double)s.j);
         H.scurve_ticks++;
     } else if (c->drive == KC_DRIVE_PROFILE) {
@@ -169,8 +176,9 @@ static void test_lagrange_ramps_pause_resume(void **state)
         kc_goal p = path_goal(10 + c, KC_PATH_LAGRANGE, 3, off);
         tick(&p, KC_CMD_NONE);
         assert_true(kt_has_event(&H.out, KC_EVENT_STARTED, p.id));
-        assert_int_equal(H.ctrl.drive, KC_DRIVE_SCURVE);
-        int64_t len = H.ctrl.drive_scurve.ticks;
+        assert_int_equal(H.ctrl.drive, KC_DRIVE_NOMINAL); /* on its own ramps */
+        assert_true(H.ctrl.ramp_on);
+        int64_t len = H.ctrl.ramp.ticks;
         if (c > 0) {
             int64_t at = 1 + (int64_t)kt_uniform(&r, 0.0, (double)len - 2.0);
             for (int64_t k = 1; k < at; k++)

@@ -195,7 +195,8 @@ static void test_stops_jerk_limited(void **state)
             } else {
                 /* A replacement that stops first: a joint path through
                  * two knots near the joints now by Lagrange's polynomial
-                 * (it does not start at rest: not superposed; a line takes
+                 * under the trapezoid's law (it does not start at rest,
+                 * and its ramps step tau'': not superposed; a line takes
                  * over without stopping, test_ctrl_servoblend.c). */
                 kc_goal g;
                 memset(&g, 0, sizeof g);
@@ -203,6 +204,7 @@ static void test_stops_jerk_limited(void **state)
                 g.kind = KC_GOAL_PATH;
                 g.vel_scale = g.acc_scale = KC_R(1.0);
                 g.method = KC_PATH_LAGRANGE;
+                g.profile = KC_GOAL_PROFILE_TRAPEZOID;
                 g.n_points = 2;
                 for (int j = 0; j < n; j++) {
                     const kc_joint_limits *l = &H.chain.joints[j].limits;

@@ -193,9 +193,11 @@
  * line's, an arc's or a path's the halt joint by joint, a line's, an
  * arc's or a Cartesian path's within its Cartesian bounds as well;
  * exact, no IK step in between), G planned from the
- * joints q_s where it rests, at rest there (a path the controller ramps
- * is not, or steps its acceleration there: Lagrange's, a cubic spline, a
- * parabolic blend stop first), q = q_M + q_G - q_s (and so qd, qdd; G adds nothing
+ * joints q_s where it rests, at rest there (a path the controller ramps,
+ * Lagrange's, a cubic spline, a parabolic blend, on its jerk-limited
+ * ramps of tau' from rest, its own timing; under the trapezoid's law,
+ * whose constant-rate ramps step tau'' at rest, it stops first),
+ * q = q_M + q_G - q_s (and so qd, qdd; G adds nothing
  * before it starts), t0 the earliest of the same bounded search at which
  * every joint of the sum stays inside its position limits and within its
  * qd_max, qdd_max and qddd_max (the change of qdd over a tick), or within
@@ -250,9 +252,9 @@
  * from its first tick to its last, which the IK step cannot follow
  * through a Cartesian target with its correction added), a servo stream
  * whose stop is not jerk-limited (a chain without jerk limits: it brakes
- * at the acceleration limits); a path the controller ramps (one that does
- * not start at rest, Lagrange's, a natural spline; jerk-limited, a
- * clamped spline, a parabolic blend); a joint path replacing a trapezoid joint move; a stop
+ * at the acceleration limits); a path the controller ramps at a constant
+ * rate (one that does not start at rest, Lagrange's, a natural spline,
+ * under the trapezoid's law); a joint path replacing a trapezoid joint move; a stop
  * joint by joint that cannot be planned jerk-limited (a chain without
  * jerk limits, a joint accelerating near its qd_max: the goal waits for
  * the motion's own stop); a replacing servo stream but those above (none
@@ -352,9 +354,11 @@
  * test_ctrl_pathjerk.c; the trapezoid's quintics reach 2.19). The ramps
  * cost time: 20 random clamped splines took 29 % longer than on their
  * own law, 20 Lagrange paths 1.4 % longer than with ramps that left out
- * the jerk 3 q'' tau' tau'' adds. A path that the controller ramps is not
- * superposed on the stop of the motion it replaces: that motion stops
- * first.
+ * the jerk 3 q'' tau' tau'' adds. A path that the controller ramps is
+ * superposed on the stop of the motion it replaces on its jerk-limited
+ * ramps, as its own timing (a STOP or PAUSE there waits on them as on a
+ * path's own law while that stop lasts); at a constant rate it is not:
+ * that motion stops first.
  * A Cartesian goal's jerk-limited stop (a line, an arc, a Cartesian path;
  * for STOP, PAUSE and a replacement alike) has those bounds on u'' and
  * u''' (tau'', tau'''), which are the tool's, scaled down for its joints:
@@ -733,7 +737,7 @@ typedef union kc_ctrl_plan {
 
 /* How the active segment is driven. */
 typedef enum kc_ctrl_drive {
-    KC_DRIVE_NOMINAL = 0, /* its own timing */
+    KC_DRIVE_NOMINAL = 0, /* its own timing (a path on its own ramp: tau from kc_ctrl.ramp) */
     KC_DRIVE_PROFILE = 1, /* interp: u from drive_prof; path: tau from drive_prof */
     KC_DRIVE_STOPPING_WAIT = 2, /* path: a stop is pending until it is feasible */
     KC_DRIVE_RETARGET = 3,      /* trapezoid joint move from a moving state: plan.retarget per joint */
@@ -817,6 +821,11 @@ typedef struct kc_ctrl {
     kc_ctrl_drive drive;
     kc_profile drive_prof;
     kc_scurve drive_scurve;
+    /* A path the controller ramps (kc_ctrl_path_ramped) under a
+     * jerk-limited law: its own timing is tau from ramp (ramp_on), planned
+     * where it starts, the stops and resumes of drive_scurve aside. */
+    int ramp_on;
+    kc_scurve ramp;
     int stop_intent;           /* KC_CMD_STOP/PAUSE or 1 for a preemption: what the stop is for */
     /* A Cartesian goal's stop (ctrl_stop.c): the share of its plan's
      * bounds it took, the speed of its parameter it started from, and the
