@@ -575,10 +575,16 @@ int kc_ctrl_blend_apply(kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o, kc_real *qd
         b->on = j < b->stop_ticks; /* M rests at q_s: the sum is G alone from here */
         return 0;
     }
-    if (j >= b->stop_ticks) {
-        b->on = 0; /* M rests at P_s: the sum is G alone from here */
+    b->on = j < b->stop_ticks; /* M rests at P_s: the sum is G alone from there */
+    return b->on && kc_ctrl_blend_point(c, k, o, qd_m);
+}
+
+int kc_ctrl_blend_point(const kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o, kc_real *qd_m)
+{
+    const kc_ctrl_blend *b = &c->blend;
+    int64_t j = k - b->k0;
+    if (j >= b->stop_ticks)
         return 0;
-    }
     kc_ctrl_seg_point m;
     stop_point(c, j, &m);
     compose(b, &m, o);

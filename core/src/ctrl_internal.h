@@ -252,6 +252,11 @@ int kc_ctrl_blend_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out);
  * twist (the IK step's null-space feed-forward, kc_ik_step_ff); else 0. */
 int kc_ctrl_blend_apply(kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o, kc_real *qd_m);
 
+/* What kc_ctrl_blend_apply does for a Cartesian segment at tick k, c
+ * unchanged (the superposition not ended where that stop has: o is the
+ * segment's alone from there). */
+int kc_ctrl_blend_point(const kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o, kc_real *qd_m);
+
 /* A joint path's point o at absolute tick k with the replaced motion's
  * stop in joint space added while the superposition lasts (what
  * kc_ctrl_blend_apply does for a joint path, c unchanged). */

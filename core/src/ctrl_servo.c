@@ -273,8 +273,16 @@ static void joint_target(const kc_ctrl *c, kc_pose *target, kc_real *v, kc_real 
 
 int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
 {
-    if (g->kind != KC_GOAL_SERVO || g->stop_first || !c->active || c->state != KC_CTRL_MOVING || c->blend.on ||
-        c->jstop || c->drive == KC_DRIVE_HALT || c->drive == KC_DRIVE_STOPPING_WAIT)
+    /* A motion that stops on its path (a STOP's, a PAUSE's, a stop for a
+     * goal waiting on it) follows a law as the motion does; one stopping
+     * joint by joint does in joint space; a fault's does not count. A
+     * superposition: a line's, an arc's or a Cartesian path's on a stop on
+     * its path (below), not a joint path's. */
+    int stopping = c->state == KC_CTRL_STOPPING;
+    int in_joints = c->goal.kind == KC_GOAL_JOINT || c->goal.kind == KC_GOAL_PATH;
+    if (g->kind != KC_GOAL_SERVO || g->stop_first || !c->active || (c->state != KC_CTRL_MOVING && !stopping) ||
+        (stopping && c->fault_reason != KC_REASON_NONE) || c->jstop || (c->drive == KC_DRIVE_HALT && !in_joints) ||
+        c->drive == KC_DRIVE_STOPPING_WAIT || (c->blend.on && c->goal.kind == KC_GOAL_PATH))
         return 0;
     /* The stream's target goes on from the motion's own target as it is
      * sampled tick by tick, which the IK step tracks with an error of its
@@ -285,7 +293,6 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     int twist_law = c->goal.kind == KC_GOAL_SERVO && c->goal.servo_twist;
     int law = c->goal.kind == KC_GOAL_LINE || c->goal.kind == KC_GOAL_ARC || c->goal.kind == KC_GOAL_PATH_CART ||
               kc_ctrl_servo_shaped(c) || twist_law;
-    int in_joints = c->goal.kind == KC_GOAL_JOINT || c->goal.kind == KC_GOAL_PATH;
     if ((!law && !(in_joints && joint_target_exists(c))) ||
         (!(g->servo_twist && twist_law) && kc_ctrl_goal_profile(c, g) != KC_PROFILE_JERK))
         return 0;
@@ -318,16 +325,29 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     } else {
         /* The segment's target at j, the last setpoint's tick, its twist,
          * and the twist's rate by the central difference of its twists at
-         * j + 1 and j - 1, and by the backward one of j and j - 1. */
+         * j + 1 and j - 1, and by the backward one of j and j - 1. While
+         * superposed, the sum's, from the superposition's tick 1 on, on a
+         * stop on its path only (over a joint move's stop in joint space
+         * the joints' jerk reached their limits at the takeover, 0.46 of
+         * them around it). */
         int64_t j = c->cycle - 1 - c->k0;
         kc_ctrl_seg_point o;
-        kc_ctrl_seg_eval(c, j + 1, &o);
-        memcpy(a, o.twist, sizeof a);
-        kc_ctrl_seg_eval(c, j - 1, &o);
-        memcpy(ab, o.twist, sizeof ab);
+        kc_real qd_m[KC_MAX_JOINTS];
+        if (c->blend.on && c->cycle - 2 < c->blend.k0)
+            return 0;
         kc_ctrl_seg_eval(c, j, &o);
+        if (c->blend.on && kc_ctrl_blend_point(c, c->k0 + j, &o, qd_m))
+            return 0;
         from = o.pose;
         memcpy(v, o.twist, sizeof v);
+        kc_ctrl_seg_eval(c, j + 1, &o);
+        if (c->blend.on)
+            kc_ctrl_blend_point(c, c->k0 + j + 1, &o, NULL);
+        memcpy(a, o.twist, sizeof a);
+        kc_ctrl_seg_eval(c, j - 1, &o);
+        if (c->blend.on)
+            kc_ctrl_blend_point(c, c->k0 + j - 1, &o, NULL);
+        memcpy(ab, o.twist, sizeof ab);
         for (int i = 0; i < 6; i++) {
             a[i] = (a[i] - ab[i]) / (KC_R(2.0) * dt);
             ab[i] = (v[i] - ab[i]) / dt;
@@ -337,12 +357,14 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
         memcpy(a, ab, sizeof a);
     /* Within the goal's Cartesian bounds: the vectors (a pose stream's
      * profiles bring an axis beyond its own share back within it,
-     * jerk-limited), and for a twist stream each axis' rate within its
-     * share (its step would clamp a rate beyond it at once). */
+     * jerk-limited), with the rounding of the rate's differences
+     * (cfg.limit_slack: a line stopping at the same acceleration limit
+     * was refused by 1e-16 of it), and for a twist stream each axis' rate
+     * within its share (its step would clamp a rate beyond it at once). */
     kc_interp_limits l = kc_ctrl_cart_limits(&c->cfg, g);
     for (int h = 0; h < 6; h += 3) { /* the linear part, then the angular */
-        const kc_real *vh = &v[h], *ah = &a[h];
-        kc_real vmax = h == 0 ? l.v : l.w, amax = h == 0 ? l.a : l.dw;
+        const kc_real *vh = &v[h], *ah = &a[h], e = KC_R(1.0) + c->cfg.limit_slack;
+        kc_real vmax = (h == 0 ? l.v : l.w) * e, amax = (h == 0 ? l.a : l.dw) * e;
         if (vh[0] * vh[0] + vh[1] * vh[1] + vh[2] * vh[2] > vmax * vmax ||
             ah[0] * ah[0] + ah[1] * ah[1] + ah[2] * ah[2] > amax * amax)
             return 0;
@@ -357,7 +379,11 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     c->stop_intent = KC_CMD_NONE;
     c->settle = 0;
     c->path_length = KC_R(0.0);
-    c->blend.lax = 0;
+    c->state = KC_CTRL_MOVING;
+    /* A superposition's sum goes on in the stream's target: the tracking
+     * bound stays the transition's until the tool has settled. */
+    c->blend.lax = c->blend.on;
+    c->blend.on = 0;
     c->servo_last = c->cycle;
     c->servo_target = from;
     memcpy(c->servo_v, v, sizeof c->servo_v);

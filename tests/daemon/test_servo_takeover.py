@@ -15,9 +15,11 @@ the next cycle with the arm still moving. Every published setpoint is
 smooth (assert_smooth); from the move's last setpoint to the stream's
 first, qdd changes by at most qddd_max dt (the joints' acceleration goes
 on: a step of it at the takeover is what stopping first avoided). The
-stream then ends by its timeout, aborted, the arm at rest."""
+stream then ends by its timeout, aborted, the arm at rest. The same for
+a pose stream replacing a line's stop on its path."""
 import time
 
+from kinctl import client as kc
 from kinctl_testing import (EVENTS, N, QN, STATES, assert_smooth, go_nominal, max_jerk_ratio, servo_twist,
                             setpoints_since)
 
@@ -57,6 +59,43 @@ def test_joint_move_replaced_by_twist_stream_without_stopping(kinctld):
     assert sps[i].state == STATES["MOVING"]
     assert min(abs(v) for v in sps[i - 1].qd[:N]) > 0.01  # every joint moving when it is replaced
     assert max(abs(v) for v in sps[i].qd[:N]) > 0.01  # and not stopped for the stream
+    rj, _ = max_jerk_ratio(sps[i - 1:i + 1])
+    assert rj <= 1.0 + SLACK, rj
+    assert all(v == 0.0 for v in s.qd[:N])
+    assert d.stop() == 0
+
+
+def test_stopping_line_replaced_by_pose_stream_without_stopping(kinctld):
+    """A line stopping on its path for a STOP, replaced by a pose stream
+    while it still moves: the stream goes on from the stop's target (its
+    pose, twist and rate), accepted with no reason, the line preempted,
+    the stream's first setpoint the next cycle's with the arm moving, and
+    the joints' qdd changing by at most qddd_max dt through it."""
+    d = kinctld()
+    s0 = go_nominal(d)
+    p = list(s0.position)
+    d.bus.send_goal_line(2, [p[0], p[1] + 0.15, p[2]], list(s0.orientation))
+    assert d.bus.wait_event(2, ("STARTED",)).event == EVENTS["STARTED"]
+    time.sleep(0.5)
+    d.bus.send_command("STOP")
+    d.bus.wait(lambda: d.bus.setpoints[-1].state == STATES["STOPPING"], 2.0, "the stop")
+    g = kc.make_servo_message(3, pose=[p[0], p[1] + 0.1, p[2]] + list(s0.orientation), replace=True,
+                              timeout_s=TIMEOUT_US / 1e6)
+    for _ in range(60):
+        d.bus.send("GOAL_SERVO", g)
+        time.sleep(0.01)
+    accepted = d.bus.wait_event(3, ("ACCEPTED", "REJECTED"))
+    assert accepted.event == EVENTS["ACCEPTED"] and accepted.code == 0 and accepted.reason == "", accepted.reason
+    assert d.bus.wait_event(2, ("PREEMPTED", "ABORTED", "COMPLETED")).event == EVENTS["PREEMPTED"]
+    end = d.bus.wait_event(3, ("ABORTED", "COMPLETED", "FAULT"))
+    assert end.event == EVENTS["ABORTED"], end.reason
+    s = d.bus.wait_idle()
+    sps = setpoints_since(d, s0.cycle)
+    assert_smooth(sps, SLACK)
+    i = next(i for i, sp in enumerate(sps) if sp.goal_id == 3)
+    assert sps[i - 1].goal_id == 2 and sps[i - 1].state == STATES["STOPPING"]
+    assert sps[i].cycle == sps[i - 1].cycle + 1 and sps[i].state == STATES["MOVING"]
+    assert max(abs(v) for v in sps[i].qd[:N]) > 0.01  # not stopped for the stream
     rj, _ = max_jerk_ratio(sps[i - 1:i + 1])
     assert rj <= 1.0 + SLACK, rj
     assert all(v == 0.0 for v in s.qd[:N])

@@ -132,9 +132,9 @@ static void setup(kc_model model)
 }
 
 /* One tick, every joint checked against its limits and continuity. */
-static void tick(const kc_goal *g)
+static void step(const kc_goal *g, kc_ctrl_command cmd)
 {
-    kc_ctrl_input in = {g, KC_CMD_NONE, 0, KC_REASON_NONE};
+    kc_ctrl_input in = {g, cmd, 0, KC_REASON_NONE};
     assert_int_equal(kc_ctrl_step(&H.ctrl, &in, &H.out), KC_OK);
     assert_true(H.out.state == KC_CTRL_MOVING || H.out.state == KC_CTRL_STOPPING || H.out.state == KC_CTRL_IDLE);
     double dt = (double)H.cfg.dt, eps = (double)KC_REAL_EPS;
@@ -176,6 +176,8 @@ static void tick(const kc_goal *g)
     }
     H.ticks++;
 }
+
+static void tick(const kc_goal *g) { step(g, KC_CMD_NONE); }
 
 /* Back to the arm's start for the next case: a jerk-limited joint move,
  * every tick checked, ending at rest. */
@@ -623,7 +625,10 @@ static int accepted_reason(int64_t id)
  * move; for a twist stream, an axis of the tool's acceleration beyond
  * its share) and after a joint move the stream stops the motion first:
  * at least three in four motions with a target's law are taken over by a
- * pose stream, and some by a twist stream. */
+ * pose stream, and some by a twist stream. One in three lines and PUMA
+ * joint moves is stopped by a STOP or replaced by a line just before the
+ * stream arrives: the stream takes over that stop on its path or joint by
+ * joint, or the superposition (its sum), the same way, some of each. */
 static const char *const FIRST_NAMES[5] = {"line", "Cartesian path", "twist stream", "pose stream", "joint move"};
 
 static void test_streams_take_over(void **state)
@@ -644,6 +649,8 @@ static void test_streams_take_over(void **state)
         int taken[2] = {0, 0}, eligible[2] = {0, 0};
         /* The same of the joint moves. */
         int joint_taken = 0, joint_moving = 0;
+        /* The same of the motions stopping and superposed (below). */
+        int then_taken[2] = {0, 0}, then_moving[2] = {0, 0};
         double worst_ratio = 0.0;
         for (int c = 0; c < CASES; c++) {
             int64_t id = 800 + 2 * c;
@@ -697,6 +704,26 @@ static void test_streams_take_over(void **state)
             int n = 30 + (int)kt_uniform(&r, 0.0, 770.0);
             for (int k = 0; k < n && H.out.state == KC_CTRL_MOVING; k++)
                 tick(kind == 2 || kind == 3 ? &a : NULL);
+            /* A STOP (then 1) or a line replacing the motion (2), 1 to 40
+             * ticks before the stream. */
+            int then = (kind == 0 || kind == 4) && m == 0 && H.out.state == KC_CTRL_MOVING
+                           ? (int)kt_uniform(&r, 0.0, 3.0)
+                           : 0;
+            if (then == 1) {
+                step(NULL, KC_CMD_STOP);
+            } else if (then == 2) {
+                kc_pose to = moved(&H.ctrl.pose, (double[3]){0.0, 0.0, 0.04}, kc_vec3_make(0, 0, 0));
+                kc_goal b = kt_line_goal(id + 100000, &to);
+                b.replace = 1;
+                tick(&b);
+                if (!H.ctrl.blend.on)
+                    then = 0; /* stopping first */
+            }
+            int wait = then ? 1 + (int)kt_uniform(&r, 0.0, 40.0) : 0;
+            for (int k = 0; k < wait && H.out.state != KC_CTRL_IDLE; k++)
+                tick(NULL);
+            if (then == 2 && !H.ctrl.blend.on)
+                then = 0; /* the superposition over */
             /* The stream. */
             kc_goal g;
             memset(&g, 0, sizeof g);
@@ -721,33 +748,38 @@ static void test_streams_take_over(void **state)
                 kc_vec3_scale(&w2, (kc_real)kt_uniform(&r, 0.0, 0.2), &turn_by);
                 g.pose = moved(&H.ctrl.pose, d2, turn_by);
             }
-            int moving = H.out.state == KC_CTRL_MOVING;
+            int moving = H.out.state == KC_CTRL_MOVING || (then == 1 && H.out.state == KC_CTRL_STOPPING);
             /* Taken over where the old motion's target has a law (kinctl/ctrl.h):
              * a line, a Cartesian path, a twist or a pose stream; within
              * the stream's bounds. */
-            eligible[twist] += moving && kind <= 3;
-            joint_moving += moving && kind == 4;
+            eligible[twist] += moving && kind <= 3 && !then;
+            joint_moving += moving && kind == 4 && !then;
+            if (then)
+                then_moving[then - 1] += moving;
             tick(&g);
             int64_t at = H.out.cycle;
             int why = accepted_reason(g.id);
             assert_true(why == KC_REASON_NONE || why == KC_REASON_STOP_FIRST);
             if (moving && why == KC_REASON_NONE) {
-                if (kind == 4)
+                if (then)
+                    then_taken[then - 1]++;
+                else if (kind == 4)
                     joint_taken++;
                 else
                     taken[twist]++;
-                assert_true(kt_has_event(&H.out, KC_EVENT_PREEMPTED, id));
+                assert_true(kt_has_event(&H.out, KC_EVENT_PREEMPTED, then == 2 ? id + 100000 : id));
                 assert_true(kt_has_event(&H.out, KC_EVENT_STARTED, g.id));
                 assert_int_equal(H.out.goal_id, g.id);
             }
             /* No step of the joints' acceleration at the takeover (judge_law). */
             char what[64];
-            snprintf(what, sizeof what, "a %s replaced by a %s stream", FIRST_NAMES[kind], twist ? "twist" : "pose");
+            snprintf(what, sizeof what, "a %s%s replaced by a %s stream", FIRST_NAMES[kind],
+                     then == 1 ? " stopping" : then == 2 ? " replaced by a line" : "", twist ? "twist" : "pose");
             int hold = 200 + (int)kt_uniform(&r, 0.0, 300.0);
             for (int k = 0; k < 20000 && hold > 0; k++) {
                 tick(&g);
                 if (moving && why == KC_REASON_NONE && H.out.cycle == at + 2 + AROUND)
-                    worst_ratio = fmax(worst_ratio, judge_law(at, what, c, kind == 4));
+                    worst_ratio = fmax(worst_ratio, judge_law(at, what, c, kind == 4 && then != 2));
                 if (H.out.goal_id == g.id)
                     hold--;
             }
@@ -760,14 +792,16 @@ static void test_streams_take_over(void **state)
         }
         print_message("%s: %d motions replaced by a servo stream; of those moving with a target's law, a pose "
                       "stream took over %d of %d in the tick, a twist stream %d of %d (the others stopped first); "
-                      "of the joint moves, a stream took over %d of %d; "
+                      "of the joint moves, a stream took over %d of %d; of the lines and joint moves stopping %d of "
+                      "%d, superposed on by a line %d of %d; "
                       "the joints' jerk at a takeover at most %.4f times its neighbours'; qdd at most %.4f and jerk "
                       "%.4f in the stops; while following (the Jacobian's: measured) jerk up to %.1f (%s)\n",
                       kc_model_name(models[m]), CASES, taken[0], eligible[0], taken[1], eligible[1], joint_taken,
-                      joint_moving, worst_ratio, H.worst_a, H.worst_j, H.worst_track_j, KC_REAL_NAME);
+                      joint_moving, then_taken[0], then_moving[0], then_taken[1], then_moving[1], worst_ratio, H.worst_a, H.worst_j, H.worst_track_j, KC_REAL_NAME);
         assert_true(taken[0] <= eligible[0] && taken[0] >= eligible[0] * 3 / 4);
         assert_true(taken[1] <= eligible[1] && taken[1] > 0);
         assert_true(joint_taken <= joint_moving && (m == 1 || joint_taken > 0));
+        assert_true(m == 1 || (then_taken[0] > 0 && then_taken[1] > 0));
     }
 }
 

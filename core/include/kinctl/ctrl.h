@@ -219,7 +219,14 @@
  * dt / 2), its rate the change of J qd over the next tick with qdd held,
  * so that the step's first velocity is qd + qdd dt (the joints' qdd goes
  * on: no step at the takeover) and from there the stream's own law moves
- * the target. The stream goes on from the old target's
+ * the target. So also from a stop: a line's, an arc's or a Cartesian
+ * path's on its path (a STOP's, a PAUSE's, one for a goal waiting on it;
+ * its law is the stop's), a joint motion's on its line or joint by joint
+ * (from the joints, as above); and from a superposition of a line, an
+ * arc or a Cartesian path on a stop on its path, from the sum (its
+ * target at the ticks each side composed the same way; on a stop in
+ * joint space the joints' jerk went to their limits at the takeover,
+ * 0.46 of them around it: it stops first). The stream goes on from the old target's
  * pose, twist and the twist's rate at the last setpoint: a shaped pose
  * stream's profiles from the rate at that tick (a segment's by the
  * central difference of its twists over the ticks each side), a twist
@@ -228,7 +235,8 @@
  * target's jerk at the takeover reached 4 / 3 of the two laws'). Its
  * profiles or its twist's step then take it on within its bounds, so the
  * IK step tracks it with the error it already had. The target's twist and
- * rate must be within the stream's speed, omega, accel and alpha (a twist
+ * rate must be within the stream's speed, omega, accel and alpha (with
+ * the rounding of cfg.limit_slack; a twist
  * stream's rate within each axis' share, 1 / sqrt(3) of the bound, which
  * its step would clamp at once: a line accelerating along no axis of the
  * base is often beyond it; a joint move at speed is beyond a stream's
@@ -257,8 +265,10 @@
  * under the trapezoid's law); a joint path replacing a trapezoid joint move; a stop
  * joint by joint that cannot be planned jerk-limited (a chain without
  * jerk limits, a joint accelerating near its qd_max: the goal waits for
- * the motion's own stop); a replacing servo stream but those above (none
- * during a superposition or a stop); a goal that cannot be
+ * the motion's own stop); a replacing servo stream but those above (a
+ * stream's stop, a fault's, a stop in joint space of a Cartesian goal or
+ * waiting on its path, a superposition on a stop in joint space or of a
+ * joint path); a goal that cannot be
  * planned from P_s; and a goal with stop_first set. Setpoints stay continuous in
  * position and velocity throughout, and in acceleration through
  * everything jerk-limited.
