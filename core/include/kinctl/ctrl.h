@@ -69,8 +69,10 @@
  *                   the trapezoid profile a pose stream is not shaped:
  *                   its target jumps to each pose, and the IK step
  *                   brings the joints there within qd_max and qdd_max.
- * Cartesian segments give a pose and twist each tick; one kc_ik_step with
- * the twist fed forward turns them into the joint setpoint. If the tool
+ * Cartesian segments give a pose and twist each tick; one IK step with
+ * the twist fed forward (kc_ik_step_ff, with a superposed stop's joint
+ * velocities in the null space, below) turns them into the joint
+ * setpoint. If the tool
  * falls more than cfg.track_tol behind (a joint limit, a singularity) the
  * arm stops on the path and the controller faults, naming the segment and
  * the path length where it happened. Their limits are Cartesian: every
