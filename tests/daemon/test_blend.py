@@ -114,6 +114,22 @@ def test_line_replacing_a_trapezoid_joint_move_stops_first(kinctld):
     assert d.stop() == 0
 
 
+def taken_over(d, a, s0):
+    """Goal 3, sent to replace goal 2: accepted with no reason, goal 2
+    preempted, goal 3 finished, every setpoint since s0 within arm a's
+    limits (Arm.check_limits), goal 3's first the cycle after goal 2's
+    last. Returns goal 3's last setpoint and its first."""
+    accepted = d.bus.wait_event(3, ("ACCEPTED", "REJECTED"))
+    assert accepted.event == EVENTS["ACCEPTED"] and accepted.code == 0 and accepted.reason == "", accepted.reason
+    assert d.bus.wait_event(2, ("PREEMPTED",) + END).event == EVENTS["PREEMPTED"]
+    s = finished(d, 3)
+    stream = setpoints_since(d, s0.cycle)
+    a.check_limits(stream)
+    i = next(i for i, sp in enumerate(stream) if sp.goal_id == 3)
+    assert stream[i - 1].goal_id == 2 and stream[i].cycle == stream[i - 1].cycle + 1
+    return s, stream[i]
+
+
 def test_panda_line_replacing_a_joint_move_without_stopping(kinctld):
     a = Arm("panda")
     d = kinctld("--model", "panda")
@@ -124,16 +140,9 @@ def test_panda_line_replacing_a_joint_move_without_stopping(kinctld):
     d.bus.wait_setpoints(200)
     target = [s0.position[0], s0.position[1], s0.position[2] + 0.05]
     d.bus.send_goal_line(3, target, list(s0.orientation), replace=True)
-    accepted = d.bus.wait_event(3, ("ACCEPTED", "REJECTED"))
-    assert accepted.event == EVENTS["ACCEPTED"] and accepted.code == 0 and accepted.reason == "", accepted.reason
-    assert d.bus.wait_event(2, ("PREEMPTED",) + END).event == EVENTS["PREEMPTED"]
-    s = finished(d, 3)
+    s, first = taken_over(d, a, s0)
     assert close(s.position, target, 1e-6), s.position
-    stream = setpoints_since(d, s0.cycle)
-    a.check_limits(stream)
-    i = next(i for i, sp in enumerate(stream) if sp.goal_id == 3)
-    assert stream[i - 1].goal_id == 2 and stream[i].cycle == stream[i - 1].cycle + 1
-    assert max(abs(v) for v in stream[i].qd[:a.n]) > 0.05  # not stopped for the line
+    assert max(abs(v) for v in first.qd[:a.n]) > 0.05  # not stopped for the line
     assert d.stop() == 0
 
 
@@ -170,17 +179,10 @@ def test_ramped_path_taking_over_without_stopping(kinctld, space, method, ends):
         target = points[-1][:3]
     d.bus.send("GOAL_PATH", kc.make_goal_path(points, space=space, method=method, ends=ends, goal_id=3,
                                                replace=True))
-    accepted = d.bus.wait_event(3, ("ACCEPTED", "REJECTED"))
-    assert accepted.event == EVENTS["ACCEPTED"] and accepted.code == 0 and accepted.reason == "", accepted.reason
-    assert d.bus.wait_event(2, ("PREEMPTED",) + END).event == EVENTS["PREEMPTED"]
-    s = finished(d, 3)
+    s, first = taken_over(d, a, s0)
     if space == "joint":
         assert close(s.q[:a.n], target, 1e-9), s.q
     else:
         assert close(s.position, target, 1e-6), s.position
-    stream = setpoints_since(d, s0.cycle)
-    a.check_limits(stream)
-    i = next(i for i, sp in enumerate(stream) if sp.goal_id == 3)
-    assert stream[i - 1].goal_id == 2 and stream[i].cycle == stream[i - 1].cycle + 1
-    assert max(abs(v) for v in stream[i].qd[:a.n]) > 0.01  # not stopped for the path
+    assert max(abs(v) for v in first.qd[:a.n]) > 0.01  # not stopped for the path
     assert d.stop() == 0
