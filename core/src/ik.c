@@ -536,7 +536,7 @@ kc_status kc_ik_step_ff(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_po
         return KC_DONE;
     }
 
-    kc_real u[6];
+    kc_real u[6] = {KC_R(0.0)}; /* (rows past p.r unread: -O3 cannot tell) */
     for (int i = 0; i < p.r; i++)
         u[i] = ff[i] + (i < 3 ? cfg->gain_pos : cfg->gain_rot) * e[i];
     kc_real(*jt)[KC_MAX_JOINTS] = task_jacobian(cfg->mask, &jac, &cur, n);
