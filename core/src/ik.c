@@ -536,8 +536,11 @@ kc_status kc_ik_step_ff(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_po
         return KC_DONE;
     }
 
-    kc_real u[6] = {KC_R(0.0)}; /* (rows past p.r unread: -O3 cannot tell) */
-    for (int i = 0; i < p.r; i++)
+    /* Every row (e and ff are 0 past p.r, and so u: -O3 cannot tell that
+     * those rows go unread). */
+    kc_real u[6];
+    KC_UNROLL
+    for (int i = 0; i < 6; i++)
         u[i] = ff[i] + (i < 3 ? cfg->gain_pos : cfg->gain_rot) * e[i];
     kc_real(*jt)[KC_MAX_JOINTS] = task_jacobian(cfg->mask, &jac, &cur, n);
     /* qd_ff's null-space part, J^+ (u - J qd_ff) + qd_ff = J^+ u + (I -
