@@ -576,7 +576,7 @@ int kc_ctrl_blend_apply(kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o, kc_real *qd
         return 0;
     }
     b->on = j < b->stop_ticks; /* M rests at P_s: the sum is G alone from there */
-    return b->on && kc_ctrl_blend_point(c, k, o, qd_m);
+    return kc_ctrl_blend_point(c, k, o, qd_m);
 }
 
 int kc_ctrl_blend_point(const kc_ctrl *c, int64_t k, kc_ctrl_seg_point *o, kc_real *qd_m)

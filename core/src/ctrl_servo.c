@@ -271,6 +271,15 @@ static void joint_target(const kc_ctrl *c, kc_pose *target, kc_real *v, kc_real 
         target->t.v[i] += e[i];
 }
 
+/* The segment's target at its tick j into o, while superposed the sum
+ * (kc_ctrl_blend_point); 1 where that is on a stop in joint space. */
+static int law_at(const kc_ctrl *c, int64_t j, kc_ctrl_seg_point *o)
+{
+    kc_real qd_m[KC_MAX_JOINTS];
+    kc_ctrl_seg_eval(c, j, o);
+    return c->blend.on && kc_ctrl_blend_point(c, c->k0 + j, o, qd_m);
+}
+
 int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
 {
     /* A motion that stops on its path (a STOP's, a PAUSE's, a stop for a
@@ -332,21 +341,13 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
          * them around it). */
         int64_t j = c->cycle - 1 - c->k0;
         kc_ctrl_seg_point o;
-        kc_real qd_m[KC_MAX_JOINTS];
-        if (c->blend.on && c->cycle - 2 < c->blend.k0)
-            return 0;
-        kc_ctrl_seg_eval(c, j, &o);
-        if (c->blend.on && kc_ctrl_blend_point(c, c->k0 + j, &o, qd_m))
+        if ((c->blend.on && c->cycle - 2 < c->blend.k0) || law_at(c, j, &o))
             return 0;
         from = o.pose;
         memcpy(v, o.twist, sizeof v);
-        kc_ctrl_seg_eval(c, j + 1, &o);
-        if (c->blend.on)
-            kc_ctrl_blend_point(c, c->k0 + j + 1, &o, NULL);
+        law_at(c, j + 1, &o);
         memcpy(a, o.twist, sizeof a);
-        kc_ctrl_seg_eval(c, j - 1, &o);
-        if (c->blend.on)
-            kc_ctrl_blend_point(c, c->k0 + j - 1, &o, NULL);
+        law_at(c, j - 1, &o);
         memcpy(ab, o.twist, sizeof ab);
         for (int i = 0; i < 6; i++) {
             a[i] = (a[i] - ab[i]) / (KC_R(2.0) * dt);
