@@ -25,6 +25,13 @@
  * Cartesian paths by a quartic blend, the replacing ones by a quartic
  * blend and a cubic spline in turn (the spline on the controller's ramps
  * of tau').
+ * Each replacing goal is first judged by the dry run from a snapshot of
+ * the controller, as kinctld judges it (kinctl/check.h, daemon/checker.c):
+ * one the arm cannot follow from the moving state stops the motion first,
+ * one it cannot follow at all (a random path near the PUMA's elbow
+ * singularity, where the elbow's acceleration limit holds it back) is
+ * refused; the goal handed on is accepted with the verdict's reason and
+ * ends where the verdict said, to the bit.
  * Replacements during a superposition or a stop, chains of them; and
  * the fallbacks: a path that does not start at rest (Lagrange's) under
  * the trapezoid's law, a replacement that cannot be planned, each with
@@ -423,12 +430,14 @@ static void step(const kc_goal *g, kc_ctrl_command cmd)
     double sv = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), sw = sqrt(v[3] * v[3] + v[4] * v[4] + v[5] * v[5]);
     double lv = (double)H.cfg.cart_speed, lw = (double)H.cfg.cart_omega;
     /* Joint moves (and their stops) are bounded in the joints only: so is
-     * the tool while a joint move's stop is superposed on a Cartesian goal
-     * (its target's speed is checked above, against the limits or what
-     * either motion alone does). */
+     * the tool while a stop in joint space is superposed on a Cartesian
+     * goal (its target's speed is checked above, against the limits or what
+     * either motion alone does): a joint move's, or the halt joint by joint
+     * of a motion replaced while a superposition lasted, which starts from
+     * that sum's twist (a joint move's stop in it beyond the limits). */
     int cart_motion = H.ctrl.active && H.ctrl.goal.kind != KC_GOAL_JOINT;
     double bv = lv, bw = lw;
-    if (blending && H.ctrl.blend.kind == KC_GOAL_JOINT) {
+    if (blending && (H.ctrl.blend.kind == KC_GOAL_JOINT || H.ctrl.blend.stop_drive == KC_DRIVE_HALT)) {
         bv = fmax(lv, H.v_bound);
         bw = fmax(lw, H.w_bound);
     }
@@ -575,6 +584,41 @@ static int64_t planned_ticks(void)
     }
 }
 
+/* A replacing goal judged by the dry run from a snapshot of the
+ * controller in the tick before it is given, as kinctld judges it
+ * (daemon/checker.c): one the arm cannot follow from the moving state
+ * (KC_E_UNREACHABLE: a joint held at its acceleration limit while the
+ * tool falls behind the sum, on the way or after it) is judged again with
+ * the motion it replaces stopped first, and handed on so (g->stop_first);
+ * g scheduled for the tick and state the verdict says. A random goal near
+ * the PUMA's elbow singularity may be beyond its joints from the moving
+ * state, or from anywhere: the controller alone would fault there (the
+ * dry run's is its own step, to the bit). Returns the verdict's status;
+ * *v the verdict of the goal as handed on. */
+static kc_check CHECK;
+static kc_status judge(kc_goal *g, kc_verdict *v)
+{
+    assert_int_equal(kc_check_init(&CHECK, &H.chain, &H.cfg, 20000, H.ctrl.q), KC_OK);
+    assert_int_equal(kc_check_snapshot(&CHECK, &H.ctrl, 0), KC_OK);
+    kc_status st = kc_check_goal(&CHECK, g, v);
+    if (st == KC_E_UNREACHABLE && CHECK.run_moving && !g->stop_first) {
+        g->stop_first = 1;
+        assert_int_equal(kc_check_snapshot(&CHECK, &H.ctrl, 0), KC_OK);
+        st = kc_check_goal(&CHECK, g, v);
+    }
+    assert_int_equal(CHECK.run_moving, 1);
+    g->take_cycle = v->take_cycle;
+    g->take_state = v->take_state;
+    return st;
+}
+
+/* The goal handed on by judge() has ended where its verdict said, to the
+ * bit. */
+static void check_verdict(const kc_verdict *v)
+{
+    assert_memory_equal(H.out.q, v->q_end, sizeof(kc_real) * (size_t)H.chain.n_joints);
+}
+
 /* Goal b's end reached: a joint move exactly, a Cartesian one within the
  * IK's tolerance. */
 static void check_end(const kc_goal *b)
@@ -598,6 +642,7 @@ static void test_every_pair(void **state)
     (void)state;
     kt_rng r = kt_rng_make(1919);
     int superposed = 0, overlapped = 0, overlapped_joint = 0, retargeted = 0, stopped_first = 0, ramped = 0;
+    int refused = 0, dry_stop_first = 0, judged_out = 0; /* Cartesian ones refused or stopping first */
     for (int ia = 0; ia < 4; ia++)
         for (int ib = 0; ib < 4; ib++)
             for (int c = 0; c < CASES; c++) {
@@ -610,7 +655,18 @@ static void test_every_pair(void **state)
                     tick(NULL);
                 b = random_goal(&r, KINDS[ib], 2, rest_ahead());
                 b.replace = 1;
+                kc_verdict v;
+                if (judge(&b, &v) != KC_OK) {
+                    print_message("goal %d -> %d, case %d: refused by the dry run: %s at its tick %ld\n", ia, ib, c,
+                                  kc_ctrl_reason_str(v.reason), (long)v.tick);
+                    refused++;
+                    judged_out += cart(b.kind);
+                    continue;
+                }
+                dry_stop_first += b.stop_first;
+                judged_out += cart(b.kind) && b.stop_first;
                 tick(&b);
+                assert_int_equal(event_reason(KC_EVENT_ACCEPTED, b.id), v.reason);
                 int blend = cart(b.kind);
                 if (event_reason(KC_EVENT_STARTED, b.id) >= 0) {
                     assert_int_equal(event_reason(KC_EVENT_PREEMPTED, a.id), KC_REASON_NONE);
@@ -629,18 +685,20 @@ static void test_every_pair(void **state)
                     }
                 } else {
                     /* Stops first: only where no transition is built (a
-                     * joint retarget may find its position limit). */
-                    if (blend)
-                        (void)0;
+                     * joint retarget may find its position limit), or the
+                     * dry run found the arm cannot follow it. */
                     assert_int_equal(event_reason(KC_EVENT_ACCEPTED, b.id), KC_REASON_STOP_FIRST);
                     assert_int_equal(H.out.state, KC_CTRL_STOPPING);
                     stopped_first++;
                 }
                 run_until_completed(b.id, 20000);
                 check_end(&b);
+                check_verdict(&v);
                 assert_int_equal(H.events[KC_EVENT_FAULT], 0);
                 assert_int_equal(H.events[KC_EVENT_ABORTED], 0);
             }
+    print_message("dry run: %d replacing goals refused, %d stopping first for the arm's joints\n", refused,
+                  dry_stop_first);
     print_message("%d superposed (%d overlapping the stop, %d of them a joint move's; %d paths on their ramps), %d "
                   "retargeted, %d stopped first; worst of the limits "
                   "(speed, acceleration, angular speed, angular acceleration): superposed targets %.4f %.4f %.4f "
@@ -656,7 +714,7 @@ static void test_every_pair(void **state)
               fmax(1.0, WORST.plain[i]) * (1.0 + TOOL_REL_A) +
                   TOOL_NOISE_A / (double)(i == 1 ? H.cfg.cart_accel : H.cfg.cart_alpha)))
             fail_msg("superposed: %.4f of an acceleration limit, plain motions %.4f", WORST.blend[i], WORST.plain[i]);
-    assert_int_equal(superposed, 4 * 3 * CASES);
+    assert_int_equal(superposed + judged_out, 4 * 3 * CASES);
     assert_true(overlapped > 0 && ramped > 0);
     assert_true(overlapped_joint > 0);
 }
@@ -955,10 +1013,12 @@ static void test_chains(void **state)
 {
     (void)state;
     kt_rng r = kt_rng_make(2027);
-    int during = 0, cartesian = 0;
+    int during = 0, cartesian = 0, refused = 0, dry_stop_first = 0;
     for (int c = 0; c < 4 * CASES; c++) {
         setup();
-        kc_goal g = random_goal(&r, KINDS[(int)kt_uniform(&r, 0.0, 4.0)], 1, H.out.pose);
+        kc_goal g = random_goal(&r, KINDS[(int)kt_uniform(&r, 0.0, 4.0)], 1, H.out.pose), last = g;
+        kc_verdict v, last_v;
+        memset(&last_v, 0, sizeof last_v);
         tick(&g);
         for (int64_t id = 2; id <= 5; id++) {
             int wait = 1 + (int)kt_uniform(&r, 0.0, 400.0);
@@ -967,8 +1027,19 @@ static void test_chains(void **state)
             int busy = H.ctrl.blend.on || H.out.state == KC_CTRL_STOPPING;
             g = random_goal(&r, KINDS[(int)kt_uniform(&r, 0.0, 4.0)], id, rest_ahead());
             g.replace = 1;
+            if (judge(&g, &v) != KC_OK) {
+                print_message("case %d: goal %ld (kind %d, stop first %d) refused by the dry run: %s at its tick %ld\n",
+                              c, (long)id, g.kind, g.stop_first, kc_ctrl_reason_str(v.reason), (long)v.tick);
+                refused++;
+                g = last; /* kinctld refuses it: the one before goes on */
+                continue;
+            }
+            dry_stop_first += g.stop_first;
             tick(&g);
-            if (cart(g.kind)) {
+            assert_int_equal(event_reason(KC_EVENT_ACCEPTED, id), v.reason);
+            last = g;
+            last_v = v;
+            if (cart(g.kind) && !g.stop_first) {
                 if (event_reason(KC_EVENT_STARTED, id) != KC_REASON_NONE)
                     fail_msg("case %d: goal %ld (kind %d) not taken over: accepted with reason %d", c, (long)id,
                              g.kind, event_reason(KC_EVENT_ACCEPTED, id));
@@ -976,14 +1047,16 @@ static void test_chains(void **state)
                 during += busy;
             }
         }
-        run_until_completed(5, 20000);
+        run_until_completed(g.id, 20000);
         check_end(&g);
+        if (g.id > 1)
+            check_verdict(&last_v);
         assert_int_equal(H.events[KC_EVENT_FAULT], 0);
         assert_int_equal(H.events[KC_EVENT_ABORTED], 0);
     }
     print_message("%d chains: %d Cartesian goals taken over in their tick, %d of them during a superposition or a "
-                  "stop\n",
-                  4 * CASES, cartesian, during);
+                  "stop; the dry run refused %d replacing goals, stopped the motion first for %d\n",
+                  4 * CASES, cartesian, during, refused, dry_stop_first);
     assert_true(during > 0);
 }
 
