@@ -699,16 +699,21 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
             if (!jerk)
                 kc_profile_plan_stop(&c->drive_prof, u.p, u.v, dec, c->cfg.dt);
             drive_from_here(c, jerk ? KC_DRIVE_SCURVE : KC_DRIVE_PROFILE);
-            if (c->goal.kind != KC_GOAL_PATH || tries == PATH_STOP_TRIES || path_stop_fits(c))
+            if (c->goal.kind != KC_GOAL_PATH || path_stop_fits(c))
                 return;
-            if (c->blend.on && drive == KC_DRIVE_NOMINAL) {
+            if (drive == KC_DRIVE_NOMINAL && c->fault_reason == KC_REASON_NONE &&
+                (c->blend.on || tries == PATH_STOP_TRIES)) {
                 /* Superposed on a stop braking at a joint's limit, where
-                 * any stop of the path adds to it: the path goes on as
-                 * judged, and stops from a later tick (at the latest once
-                 * the stop under it has ended). */
+                 * any stop of the path adds to it, or on the path's own law
+                 * where no stop fits (its acceleration at a joint's limit,
+                 * which any braking along the path adds to): the path goes
+                 * on as judged, and stops from a later tick (at the latest
+                 * once the stop under it has ended, or at its end). */
                 c->drive = KC_DRIVE_STOPPING_WAIT, c->k0 = k0;
                 return;
             }
+            if (tries == PATH_STOP_TRIES)
+                return;
             dec *= KC_R(0.5);
         }
     } else {
