@@ -89,7 +89,12 @@ static double stop_to_rest(const char *name, double worst)
     int waiting = 0;
     kc_ctrl_cfg cfg = CTRL.cfg;
     int n = CHAIN.n_joints;
-    double slack = (double)cfg.limit_slack, dt = (double)cfg.dt, qd[KC_MAX_JOINTS];
+    /* The final check's slack as the controller applies it, in its own
+     * precision: fl(limit * fl(1 + limit_slack)), within 2 units of
+     * KC_REAL_EPS of (1 + limit_slack) exactly (float: a superposed sum
+     * admitted at qdd 5.0005002 of 5, 1.00010004 of it, above 1 + the
+     * float 1e-4 as a double, 1.0000999999747). */
+    double slack = (double)cfg.limit_slack + 2.0 * (double)KC_REAL_EPS, dt = (double)cfg.dt, qd[KC_MAX_JOINTS];
     for (int j = 0; j < n; j++)
         qd[j] = (double)OUT.qd[j];
     kc_ctrl_command cmd = KC_CMD_STOP;
