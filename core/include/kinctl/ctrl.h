@@ -65,7 +65,12 @@
  *                   quiet is stopped where its shaped pose is, short of
  *                   a pose not yet reached (random streams: joints'
  *                   jerk while following at most 0.97 of the PUMA 560's
- *                   qddd_max, 0.026 of the Panda's, in double). With
+ *                   qddd_max, 0.026 of the Panda's, in double; nothing
+ *                   bounds it but the Cartesian shaping through the
+ *                   Jacobian: at five times test_ctrl_servoshape's
+ *                   cases a PUMA 560 twist stream took its elbow to
+ *                   1.0088 of qddd_max at 0.63 rad/s, a pose stream a
+ *                   joint to 1.001). With
  *                   the trapezoid profile a pose stream is not shaped:
  *                   its target jumps to each pose, and the IK step
  *                   brings the joints there within qd_max and qdd_max.
