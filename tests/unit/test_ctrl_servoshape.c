@@ -28,7 +28,9 @@
  *   followed is measured, not judged: q's rounding (an ulp of 2.4 is
  *   2.4e-7 rad) alone moves qd by 2.4e-4 rad/s and qdd by 0.24 rad/s^2 in
  *   a tick at 1 kHz, more than the PUMA 560's 50 rad/s^3 allow (seen: 16
- *   times its limit; in double 0.77);
+ *   times its limit; in double 0.77). The controller does not bound the
+ *   joints' jerk under a stream (kinctl/ctrl.h): these cases stay within
+ *   it, and five times as many went to 1.0088 of it;
  * - the tool's twist, once the shaped twist has held still for 200 ticks,
  *   the commanded one within 1 % of its size (the arm follows it);
  * - the timeout's stop: jerk-limited joint by joint (plan.halt), ending at
