@@ -101,6 +101,27 @@ static void walk(const kc_scurve *pr, double p0, double v0, double a0, double p1
         assert_true((kc_real)(pr->ticks - 1) * pr->dt < pr->T);
 }
 
+/* A moving start planned into pr: 1; or 0 where its motion is longer
+ * than KC_PROFILE_MAX_TICKS ticks of dt (KC_E_CAPACITY: an acceleration
+ * far beyond A ramped out at a small J first runs away, e.g. 24 m/s^2 at
+ * 3 m/s^3, and comes back at V), checked by the plan at a tick long
+ * enough to hold it. */
+static int plan_moving(kc_scurve *pr, double p0, double v0, double a0, double p1, double V, double A, double J,
+                       double dt)
+{
+    kc_status st = kc_scurve_plan(pr, (kc_real)p0, (kc_real)v0, (kc_real)a0, (kc_real)p1, (kc_real)V, (kc_real)A,
+                                  (kc_real)J, (kc_real)dt);
+    if (st == KC_OK)
+        return 1;
+    assert_int_equal(st, KC_E_CAPACITY);
+    kc_scurve coarse;
+    assert_int_equal(kc_scurve_plan(&coarse, (kc_real)p0, (kc_real)v0, (kc_real)a0, (kc_real)p1, (kc_real)V,
+                                    (kc_real)A, (kc_real)J, KC_R(1.0)),
+                     KC_OK);
+    assert_true((double)coarse.T / dt > (double)KC_PROFILE_MAX_TICKS);
+    return 0;
+}
+
 /* ---- hand-checked cases ---- */
 
 static void plan_ok(kc_scurve *pr, double p0, double v0, double a0, double p1, double V, double A, double J, double dt)
@@ -230,7 +251,7 @@ static void test_moving_start(void **state)
 {
     (void)state;
     kt_rng r = kt_rng_make(0x5C0FE003);
-    int over = 0, fast = 0, hard = 0, away = 0, gap = 0, slower = 0;
+    int over = 0, fast = 0, hard = 0, away = 0, gap = 0, slower = 0, too_long = 0;
     double worst = 0.0;
     for (int n = 0; n < N_RANDOM; n++) {
         double p0 = kt_uniform(&r, -2.0, 2.0), p1 = kt_uniform(&r, -2.0, 2.0);
@@ -242,7 +263,10 @@ static void test_moving_start(void **state)
         if (n % 17 == 0)
             p1 = p0; /* already there, but moving */
         kc_scurve pr;
-        plan_ok(&pr, p0, v0, a0, p1, V, A, J, dt);
+        if (!plan_moving(&pr, p0, v0, a0, p1, V, A, J, dt)) {
+            too_long++;
+            continue;
+        }
         double v0r = (double)(kc_real)v0, a0r = (double)(kc_real)a0;
         walk(&pr, (double)(kc_real)p0, v0r, a0r, (double)(kc_real)p1, (double)(kc_real)V, (double)(kc_real)A,
              (double)(kc_real)J, "moving start");
@@ -280,8 +304,9 @@ static void test_moving_start(void **state)
         }
     }
     print_message("moving starts: %d of %d planned by the gap family; %d replanned faster from the middle, "
-                  "by at most %.3g of the duration\n",
-                  gap, N_RANDOM, slower, worst);
+                  "by at most %.3g of the duration; %d longer than the ticks a plan holds\n",
+                  gap, N_RANDOM, slower, worst, too_long);
+    assert_true(too_long <= N_RANDOM / 1000);
     assert_true(fast > N_RANDOM / 5 && hard > N_RANDOM / 5 && away > N_RANDOM / 5 && over > N_RANDOM / 20);
     /* Both families occurred; the measured shortfall (8 of 4000 cases,
      * at most 11 % of the duration) stays where it was. */
@@ -304,8 +329,9 @@ static void test_moving_stretched(void **state)
         double dt = rand_dt(&r), lim = n % 2 == 0 ? 0.8 : 1.5;
         double v0 = kt_uniform(&r, -lim * V, lim * V), a0 = kt_uniform(&r, -lim * A, lim * A);
         kc_scurve fast, pr;
-        plan_ok(&fast, p0, v0, a0, p1, V, A, J, dt);
         double f = n % 7 == 0 ? 1.0 : kt_uniform(&r, 1.0, 3.0);
+        if (!plan_moving(&fast, p0, v0, a0, p1, V, A, J, dt))
+            continue; /* beyond the ticks a plan holds (counted in test_moving_start's draw) */
         kc_real T = (kc_real)((double)fast.T * f);
         kc_status st = kc_scurve_plan_duration_from(&pr, (kc_real)p0, (kc_real)v0, (kc_real)a0, (kc_real)p1,
                                                     (kc_real)V, (kc_real)A, (kc_real)J, T, (kc_real)dt);
@@ -315,7 +341,7 @@ static void test_moving_stretched(void **state)
         walk(&pr, (double)(kc_real)p0, (double)(kc_real)v0, (double)(kc_real)a0, (double)(kc_real)p1,
              (double)(kc_real)V, (double)(kc_real)A, (double)(kc_real)J, "moving, stretched");
     }
-    assert_int_equal(done, N_RANDOM);
+    assert_true(done >= N_RANDOM - N_RANDOM / 1000);
     /* From rest it is kc_scurve_plan_duration. */
     kc_scurve a, b;
     assert_int_equal(kc_scurve_plan_duration_from(&a, 0, 0, 0, KC_R(1.0), KC_R(1.0), KC_R(2.0), KC_R(10.0), KC_R(4.0),
