@@ -701,14 +701,15 @@ void kc_ctrl_stop_on_path(kc_ctrl *c, int intent)
             drive_from_here(c, jerk ? KC_DRIVE_SCURVE : KC_DRIVE_PROFILE);
             if (c->goal.kind != KC_GOAL_PATH || path_stop_fits(c))
                 return;
-            if (drive == KC_DRIVE_NOMINAL && c->fault_reason == KC_REASON_NONE &&
-                (c->blend.on || tries == PATH_STOP_TRIES)) {
+            if (drive == KC_DRIVE_NOMINAL &&
+                (c->blend.on || (tries == PATH_STOP_TRIES && c->fault_reason == KC_REASON_NONE))) {
                 /* Superposed on a stop braking at a joint's limit, where
                  * any stop of the path adds to it, or on the path's own law
                  * where no stop fits (its acceleration at a joint's limit,
-                 * which any braking along the path adds to): the path goes
-                 * on as judged, and stops from a later tick (at the latest
-                 * once the stop under it has ended, or at its end). */
+                 * which any braking along the path adds to; not for a
+                 * fault, which keeps the slowest plan): the path goes on as
+                 * judged, and stops from a later tick (at the latest once
+                 * the stop under it has ended, or at its end). */
                 c->drive = KC_DRIVE_STOPPING_WAIT, c->k0 = k0;
                 return;
             }
