@@ -1016,29 +1016,31 @@ static void test_chains(void **state)
     int during = 0, cartesian = 0, refused = 0, dry_stop_first = 0;
     for (int c = 0; c < 4 * CASES; c++) {
         setup();
-        kc_goal g = random_goal(&r, KINDS[(int)kt_uniform(&r, 0.0, 4.0)], 1, H.out.pose), last = g;
-        kc_verdict v, last_v;
-        memset(&last_v, 0, sizeof last_v);
+        /* g: the last goal handed on, v its verdict (a replacing one's) */
+        kc_goal g = random_goal(&r, KINDS[(int)kt_uniform(&r, 0.0, 4.0)], 1, H.out.pose);
+        kc_verdict v;
+        memset(&v, 0, sizeof v);
         tick(&g);
         for (int64_t id = 2; id <= 5; id++) {
             int wait = 1 + (int)kt_uniform(&r, 0.0, 400.0);
             for (int k = 0; k < wait; k++)
                 tick(NULL);
             int busy = H.ctrl.blend.on || H.out.state == KC_CTRL_STOPPING;
-            g = random_goal(&r, KINDS[(int)kt_uniform(&r, 0.0, 4.0)], id, rest_ahead());
-            g.replace = 1;
-            if (judge(&g, &v) != KC_OK) {
+            kc_goal next = random_goal(&r, KINDS[(int)kt_uniform(&r, 0.0, 4.0)], id, rest_ahead());
+            kc_verdict vn;
+            next.replace = 1;
+            if (judge(&next, &vn) != KC_OK) {
+                /* kinctld refuses it: the one before goes on */
                 print_message("case %d: goal %ld (kind %d, stop first %d) refused by the dry run: %s at its tick %ld\n",
-                              c, (long)id, g.kind, g.stop_first, kc_ctrl_reason_str(v.reason), (long)v.tick);
+                              c, (long)id, next.kind, next.stop_first, kc_ctrl_reason_str(vn.reason), (long)vn.tick);
                 refused++;
-                g = last; /* kinctld refuses it: the one before goes on */
                 continue;
             }
+            g = next;
+            v = vn;
             dry_stop_first += g.stop_first;
             tick(&g);
             assert_int_equal(event_reason(KC_EVENT_ACCEPTED, id), v.reason);
-            last = g;
-            last_v = v;
             if (cart(g.kind) && !g.stop_first) {
                 if (event_reason(KC_EVENT_STARTED, id) != KC_REASON_NONE)
                     fail_msg("case %d: goal %ld (kind %d) not taken over: accepted with reason %d", c, (long)id,
@@ -1050,7 +1052,7 @@ static void test_chains(void **state)
         run_until_completed(g.id, 20000);
         check_end(&g);
         if (g.id > 1)
-            check_verdict(&last_v);
+            check_verdict(&v);
         assert_int_equal(H.events[KC_EVENT_FAULT], 0);
         assert_int_equal(H.events[KC_EVENT_ABORTED], 0);
     }
