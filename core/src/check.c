@@ -304,10 +304,15 @@ int kc_check_slow_next(kc_check_slow *ss, const kc_verdict *v)
         ss->s_over = kc_min(ss->s_over, s);
     }
     if (ss->s_ok == KC_R(0.0)) {
-        /* Slowed without lowering the jerk: what exceeds the limits is not
-         * the law's (a replaced trapezoid's stop, a joint path's own law). */
+        /* Slowed without lowering the jerk below the goal's as asked: what
+         * exceeds the limits is not the law's (a replaced trapezoid's
+         * stop, a joint path's own law). Below a share that did lower it,
+         * a share judged over that one is an acceleration step falling on
+         * the ticks less kindly (its jerk goes as s^2 times a factor of
+         * where it falls): slowed again from this verdict by the square
+         * root. */
         if (!best) {
-            ss->s = KC_R(0.0);
+            ss->s = s_before < KC_R(1.0) ? s * kc_sqrt(KC_CHECK_JERK_MARGIN / v->jerk) : KC_R(0.0);
             return 0;
         }
         /* The jerk came down about as s^2 since the share before (between
