@@ -304,15 +304,15 @@ int kc_check_slow_next(kc_check_slow *ss, const kc_verdict *v)
         ss->s_over = kc_min(ss->s_over, s);
     }
     if (ss->s_ok == KC_R(0.0)) {
-        /* Slowed without lowering the jerk below the goal's as asked: what
-         * exceeds the limits is not the law's (a replaced trapezoid's
-         * stop, a joint path's own law). Below a share that did lower it,
-         * a share judged over that one is an acceleration step falling on
-         * the ticks less kindly (its jerk goes as s^2 times a factor of
-         * where it falls): slowed again from this verdict by the square
-         * root. */
+        /* Slowed without lowering the jerk: where it is the same as the
+         * least judged (rounding apart), what exceeds the limits is not
+         * the law's (a replaced trapezoid's stop, a joint path's own law).
+         * Where it is more, an acceleration step fell on the ticks less
+         * kindly (its jerk goes as s^2 times a factor of where it falls):
+         * slowed again from this verdict by the square root. */
         if (!best) {
-            ss->s = s_before < KC_R(1.0) ? s * kc_sqrt(KC_CHECK_JERK_MARGIN / v->jerk) : KC_R(0.0);
+            int law = v->jerk > jerk_before * (KC_R(1.0) + KC_CHECK_JERK_SLACK);
+            ss->s = law ? s * kc_sqrt(KC_CHECK_JERK_MARGIN / v->jerk) : KC_R(0.0);
             return 0;
         }
         /* The jerk came down about as s^2 since the share before (between

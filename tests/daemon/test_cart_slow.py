@@ -5,7 +5,15 @@ finds beyond qddd_max (the Jacobian amplifies the tool's: unit.check_slow
 shows such lines exceed it at 1 ms as asked), are slowed before they reach
 the controller (kinctl/check.h, kc_goal_slow) and logged; every cycle of
 each line then changes every joint's qdd by at most qddd_max dt, within
-the velocity and acceleration limits, and the line ends on its target."""
+the velocity and acceleration limits, and the line ends on its target.
+
+And a Cartesian path of two knots with parabolic blends, whose acceleration
+steps where a blend meets a line: the joints' jerk goes as the square of
+the share of speed, times a factor of where the step falls on the ticks,
+so a slower share may be judged over a faster one (unit.check_slow), as
+the search meets on this one (judged at 0.48 of its speed with the jerk
+at 1.02 of the limits). The search goes on from such a share: the path is
+slowed below it, completes within qddd_max and ends on its last knot."""
 import random
 import re
 
@@ -50,3 +58,28 @@ def test_fast_lines_are_slowed_within_joint_jerk(kinctld):
     # Every one of these lines needed it, and was slowed, not stopped.
     assert set(slowed) == set(ids), d.stderr
     assert all(0.2 < s < 1.0 for s in slowed.values()), slowed
+
+
+
+def test_parabolic_path_is_slowed_within_joint_jerk(kinctld):
+    d = kinctld()
+    rng = random.Random(1)
+    s0 = go_nominal(d)
+    points, last = [], list(s0.position)
+    for _ in range(2):
+        u = [rng.uniform(-1.0, 1.0) for _ in range(3)]
+        n = sum(x * x for x in u) ** 0.5
+        length = rng.uniform(0.03, 0.15)
+        last = [p + length * x / n for p, x in zip(last, u)]
+        points.append(last + list(s0.orientation))
+    d.bus.send("GOAL_PATH", kc.make_goal_path(points, space="cartesian", method="blend", shape="parabolic",
+                                              goal_id=200))
+    s = finished(d, 200)
+    assert close(s.position, points[-1][:3], 1e-6), (s.position, points[-1])
+    stream = [p for p in setpoints_since(d, s0.cycle) if p.goal_id == 200]
+    assert_smooth(stream, SLACK)
+    rj, ra = max_jerk_ratio(stream)
+    assert rj <= 1.0 + SLACK and ra <= 1.0 + SLACK, (rj, ra)
+    assert d.stop() == 0
+    slowed = re.search(r"goal 200 slowed to ([0-9.e+-]+) of its speed", d.stderr)
+    assert slowed and 0.2 < float(slowed.group(1)) < 0.48, d.stderr

@@ -150,9 +150,9 @@ static void test_slow_search(void **state)
     assert_true(ss.s == KC_R(0.0));
     kt_near((double)ss.s_ok, s4, eps, "the share handed on");
     /* Nothing within: each share from the last while the jerk comes down,
-     * the best the least jerk; below a share that lowered it, one judged
-     * over it goes on from its own verdict by the square root (an
-     * acceleration step falling on the ticks less kindly). */
+     * the best the least jerk; a share judged over the least goes on from
+     * its own verdict by the square root (an acceleration step falling on
+     * the ticks less kindly). */
     v = with_jerk(8.0);
     assert_int_equal(kc_check_slow_start(&ss, &v), 1);
     v = with_jerk(6.0);
@@ -163,11 +163,24 @@ static void test_slow_search(void **state)
     assert_int_equal(kc_check_slow_next(&ss, &v), 0);
     kt_near((double)ss.s, s6 * sqrt(m / 7.0), eps, "the square root from a verdict over the best");
     kt_near((double)ss.s_best, cbrt(m / 8.0), eps, "the best still the share of the least jerk");
-    /* Done where the first share does not lower the jerk as asked: what
-     * exceeds the limits is not the goal's law. */
+    /* So from the goal as asked: the first share judged over it. */
     v = with_jerk(8.0);
     assert_int_equal(kc_check_slow_start(&ss, &v), 1);
+    v = with_jerk(9.0);
+    assert_int_equal(kc_check_slow_next(&ss, &v), 0);
+    kt_near((double)ss.s, cbrt(m / 8.0) * sqrt(m / 9.0), eps, "the square root from the first share over the goal's");
+    /* Done where slowing leaves the jerk at the least judged, rounding
+     * apart: what exceeds the limits is not the goal's law. */
     v = with_jerk(8.0);
+    assert_int_equal(kc_check_slow_start(&ss, &v), 1);
+    v = with_jerk(8.0 * (1.0 + 0.5 * (double)KC_CHECK_JERK_SLACK));
+    assert_int_equal(kc_check_slow_next(&ss, &v), 0);
+    assert_true(ss.s == KC_R(0.0));
+    v = with_jerk(8.0);
+    assert_int_equal(kc_check_slow_start(&ss, &v), 1);
+    v = with_jerk(6.0);
+    assert_int_equal(kc_check_slow_next(&ss, &v), 1);
+    v = with_jerk(6.0);
     assert_int_equal(kc_check_slow_next(&ss, &v), 0);
     assert_true(ss.s == KC_R(0.0));
     /* The jerk coming down as s^2 (an acceleration step: a cubic spline's

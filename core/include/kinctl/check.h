@@ -228,11 +228,11 @@ kc_real kc_check_slowing(const kc_verdict *v);
  * estimate from s_ok's verdict, or the bracket's geometric middle where
  * that estimate is not inside it; done when the bracket, or the
  * estimate's gain over s_ok, is within KC_CHECK_SLOW_CLOSE, or when, none
- * being within, the first share did not lower the jerk (what exceeds the
- * limits is not the goal's law: the stop of a replaced trapezoid, say).
- * Where a later share is judged over a faster one (an acceleration step's
- * jerk depends on where it falls on the ticks), the next is that
- * verdict's square root. */
+ * being within, slowing left the jerk at the least judged (rounding
+ * apart: what exceeds the limits is not the goal's law, the stop of a
+ * replaced trapezoid, say). Where a share is judged over the least (an
+ * acceleration step's jerk depends on where it falls on the ticks), the
+ * next is that verdict's square root. */
 typedef struct kc_check_slow {
     kc_real s;      /* the share to judge next (0: done) */
     kc_real s_ok;   /* fastest share judged within the limits, 0: none yet */
