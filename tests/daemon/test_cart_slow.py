@@ -25,6 +25,14 @@ SLACK = 1e-6
 LINES = 4
 
 
+def step_from(rng, at, lo, hi):
+    """A point lo to hi m from position at, in a random direction."""
+    u = [rng.uniform(-1.0, 1.0) for _ in range(3)]
+    n = sum(x * x for x in u) ** 0.5
+    length = rng.uniform(lo, hi)
+    return [p + length * x / n for p, x in zip(at, u)]
+
+
 def test_fast_lines_are_slowed_within_joint_jerk(kinctld):
     d = kinctld()
     rng = random.Random(0x5103)
@@ -33,10 +41,7 @@ def test_fast_lines_are_slowed_within_joint_jerk(kinctld):
     for goal_id in range(40, 60):
         if len(ids) == LINES:
             break
-        u = [rng.uniform(-1.0, 1.0) for _ in range(3)]
-        n = sum(x * x for x in u) ** 0.5
-        length = rng.uniform(0.05, 0.15)
-        to = [p + length * x / n for p, x in zip(s0.position, u)] + list(s0.orientation)
+        to = step_from(rng, s0.position, 0.05, 0.15) + list(s0.orientation)
         d.bus.send("GOAL_LINE", kc.make_goal_line(to, goal_id=goal_id, slerp=True, speed=rng.uniform(0.3, 0.5),
                                                   accel=rng.uniform(2.0, 3.0), jerk=rng.uniform(30.0, 60.0)))
         st = d.bus.wait_event(goal_id, END)
@@ -60,18 +65,12 @@ def test_fast_lines_are_slowed_within_joint_jerk(kinctld):
     assert all(0.2 < s < 1.0 for s in slowed.values()), slowed
 
 
-
 def test_parabolic_path_is_slowed_within_joint_jerk(kinctld):
     d = kinctld()
     rng = random.Random(1)
     s0 = go_nominal(d)
-    points, last = [], list(s0.position)
-    for _ in range(2):
-        u = [rng.uniform(-1.0, 1.0) for _ in range(3)]
-        n = sum(x * x for x in u) ** 0.5
-        length = rng.uniform(0.03, 0.15)
-        last = [p + length * x / n for p, x in zip(last, u)]
-        points.append(last + list(s0.orientation))
+    knot = step_from(rng, s0.position, 0.03, 0.15)
+    points = [knot + list(s0.orientation), step_from(rng, knot, 0.03, 0.15) + list(s0.orientation)]
     d.bus.send("GOAL_PATH", kc.make_goal_path(points, space="cartesian", method="blend", shape="parabolic",
                                               goal_id=200))
     s = finished(d, 200)
