@@ -17,6 +17,7 @@
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "kinctl/kinctl.h"
 
@@ -25,7 +26,7 @@
 #define TOL_ROT 1e-6
 #define TOL_JAC 1e-6
 #define TOL_SINCOS 4e-9
-#define TOL_JOINT_MOVE 2e-8 /* rad: kinctl/fx.h, |dq| 2e-9 + 2e-9 for moves up to 2 pi */
+#define TOL_JOINT_MOVE 2e-8 /* rad: kinctl/fx.h, |dq| 2e-9 + 3.8e-9 for moves up to 2 pi */
 #define N_MOVES 20
 #define N_LINES 10 /* of each orientation method */
 
@@ -120,53 +121,122 @@ static int test_model(kc_model model)
            check("Jacobian linear (m/rad)", e_jv, TOL_JAC) + check("Jacobian angular", e_jw, TOL_JAC);
 }
 
-/* Joint moves of the PUMA 560 between random configurations at its
- * limits, every tick against kc_interp_joint_eval of the double build
- * (kinctl/fx.h: the plan is made once in floating point). */
+/* A joint move of the PUMA 560 between random configurations inside its
+ * limits, into plan: the trapezoid at its limits; jerk-limited at its
+ * limits (their ratios the same on every joint: synchronised by phase, a
+ * straight line) or, with `own`, at random limits of each joint's own
+ * (mostly by time). */
+static kc_status random_move(kc_interp_joint *plan, kc_profile_kind kind, int own)
+{
+    kc_interp_joint_cfg c = kc_interp_joint_cfg_default();
+    c.n = 6;
+    c.dt = KC_R(0.001);
+    c.profile = kind;
+    for (int j = 0; j < 6; j++) {
+        const kc_joint_limits *l = &chain.joints[j].limits;
+        c.q0[j] = l->q_min + (l->q_max - l->q_min) * (kc_real)uniform();
+        c.q1[j] = l->q_min + (l->q_max - l->q_min) * (kc_real)uniform();
+        c.qd_max[j] = own ? KC_R(0.5) + KC_R(2.5) * (kc_real)uniform() : l->qd_max;
+        c.qdd_max[j] = own ? KC_R(2.0) + KC_R(18.0) * (kc_real)uniform() : l->qdd_max;
+        c.qddd_max[j] = own ? KC_R(20.0) + KC_R(480.0) * (kc_real)uniform() : l->qddd_max;
+    }
+    return kc_interp_joint_plan_cfg(plan, &c);
+}
+
+/* Joint moves of the PUMA 560 (random_move: N_MOVES of each law, the
+ * jerk-limited ones half at the arm's limits and half at random ones), every tick against
+ * kc_interp_joint_eval of the double build (kinctl/fx.h: the plan is made
+ * once in floating point). */
 static int test_joint_moves(void)
 {
     if (kc_chain_init_model(&chain, KC_MODEL_PUMA560, NULL) != KC_OK || kc_fx_chain_init(&fx, &chain) != KC_OK)
         return 1;
-    double err = 0.0;
+    double err[2] = {0.0, 0.0}; /* the trapezoid's, the jerk-limited moves' */
     long ticks = 0;
-    int done_exact = 1;
-    for (int n = 0; n < N_MOVES; n++) {
-        kc_real q0[6], q1[6], vmax[6], amax[6];
-        for (int j = 0; j < 6; j++) {
-            const kc_joint_limits *l = &chain.joints[j].limits;
-            q0[j] = l->q_min + (l->q_max - l->q_min) * (kc_real)uniform();
-            q1[j] = l->q_min + (l->q_max - l->q_min) * (kc_real)uniform();
-            vmax[j] = l->qd_max;
-            amax[j] = l->qdd_max;
-        }
-        kc_interp_joint plan;
-        kc_fx_joint_move move;
-        if (kc_interp_joint_plan(&plan, 6, q0, q1, vmax, amax, KC_R(0.0), KC_R(0.001)) != KC_OK ||
-            kc_fx_joint_init(&move, &fx, &plan) != KC_OK) {
+    int done_exact = 1, by_time = 0, by_phase = 0;
+    for (int n = 0; n < 3 * N_MOVES; n++) {
+        kc_profile_kind kind = n < N_MOVES ? KC_PROFILE_TRAPEZOID : KC_PROFILE_JERK;
+        static kc_interp_joint plan;
+        static kc_fx_joint_move move;
+        if (random_move(&plan, kind, n >= 2 * N_MOVES) != KC_OK || kc_fx_joint_init(&move, &fx, &plan) != KC_OK) {
             printf("FAIL: joint move %d: cannot plan or convert it\n", n);
             return 1;
         }
-        for (int64_t k = 0; k <= plan.prof.ticks; k++) {
+        if (kind == KC_PROFILE_JERK) {
+            by_time += plan.sync == KC_INTERP_SYNC_TIME;
+            by_phase += plan.sync == KC_INTERP_SYNC_PHASE;
+        }
+        for (int64_t k = 0; k <= plan.ticks; k++) {
             kc_interp_joint_state ref;
             int32_t qf[6];
             kc_status st = kc_fx_joint_eval(&move, k, qf);
             kc_interp_joint_eval(&plan, k, &ref);
             for (int j = 0; j < 6; j++) {
                 double q = (double)qf[j] / (double)(1 << KC_FX_ANGLE_BITS);
-                err = max_abs(q - (double)ref.q[j], err);
+                err[kind == KC_PROFILE_JERK] = max_abs(q - (double)ref.q[j], err[kind == KC_PROFILE_JERK]);
                 if (st == KC_DONE && qf[j] != move.q1[j])
                     done_exact = 0;
             }
             ticks++;
         }
     }
-    printf("joint moves (puma560): %d moves, %ld ticks\n", N_MOVES, ticks);
-    return check("q (rad)", err, TOL_JOINT_MOVE) + (done_exact ? 0 : 1);
+    printf("joint moves (puma560): %d trapezoids, %d jerk-limited by time and %d by phase, %ld ticks\n", N_MOVES,
+           by_time, by_phase, ticks);
+    if (by_time < N_MOVES / 2 || by_phase < N_MOVES / 2) {
+        printf("FAIL: too few jerk-limited moves of a kind\n");
+        return 1;
+    }
+    return check("q (rad), trapezoid", err[0], TOL_JOINT_MOVE) +
+           check("q (rad), jerk-limited", err[1], TOL_JOINT_MOVE) + (done_exact ? 0 : 1);
+}
+
+/* What kc_fx_joint_init refuses (KC_E_ARG, the move cleared): a
+ * jerk-limited move from a moving start (a replacement's: its fraction of
+ * the travel overshoots), NULL. */
+static int test_refusals(void)
+{
+    if (kc_chain_init_model(&chain, KC_MODEL_PUMA560, NULL) != KC_OK || kc_fx_chain_init(&fx, &chain) != KC_OK)
+        return 1;
+    static kc_interp_joint plan;
+    static kc_fx_joint_move move;
+    int failures = 0;
+    for (int sync = 0; sync < 2; sync++) {
+        kc_interp_joint_cfg c = kc_interp_joint_cfg_default();
+        c.n = 6;
+        c.dt = KC_R(0.001);
+        c.profile = KC_PROFILE_JERK;
+        for (int j = 0; j < 6; j++) {
+            c.q0[j] = KC_R(0.1) * (kc_real)j;
+            c.q1[j] = c.q0[j] + KC_R(0.5);
+            c.qd_max[j] = chain.joints[j].limits.qd_max;
+            c.qdd_max[j] = chain.joints[j].limits.qdd_max;
+            c.qddd_max[j] = chain.joints[j].limits.qddd_max;
+        }
+        c.qd0[sync * 5] = KC_R(-1.0); /* moving away from its target */
+        if (kc_interp_joint_plan_cfg(&plan, &c) != KC_OK) {
+            printf("FAIL: a move from a moving start: cannot plan it\n");
+            return 1;
+        }
+        memset(&move, 0x5a, sizeof move);
+        if (kc_fx_joint_init(&move, &fx, &plan) != KC_E_ARG || move.n != 0 || move.ramp[0].ticks != 0) {
+            printf("FAIL: a jerk-limited move from a moving start (joint %d) converted, or the move not cleared\n",
+                   sync * 5 + 1);
+            failures++;
+        }
+    }
+    if (kc_fx_joint_init(NULL, &fx, &plan) != KC_E_ARG || kc_fx_joint_init(&move, NULL, &plan) != KC_E_ARG ||
+        kc_fx_joint_init(&move, &fx, NULL) != KC_E_ARG) {
+        printf("FAIL: a NULL argument accepted\n");
+        failures++;
+    }
+    printf("refusals: %s\n", failures ? "FAIL" : "a moving start and NULL arguments refused");
+    return failures;
 }
 
 /* Lines between the tool poses of random PUMA 560 configurations, both
- * orientation methods, every tick against kc_interp_line_eval of the
- * double build: position 1e-6 m, quaternion entries 1e-6 (as FK). */
+ * orientation methods, by the trapezoid and jerk-limited, every tick
+ * against kc_interp_line_eval of the double build: position 1e-6 m,
+ * quaternion entries 1e-6 (as FK). */
 static int test_lines(void)
 {
     if (kc_chain_init_model(&chain, KC_MODEL_PUMA560, NULL) != KC_OK)
@@ -174,7 +244,7 @@ static int test_lines(void)
     double e_pos = 0.0, e_rot = 0.0;
     long ticks = 0;
     int done_exact = 1;
-    for (int n = 0; n < 2 * N_LINES; n++) {
+    for (int n = 0; n < 4 * N_LINES; n++) {
         kc_pose from, to;
         kc_real q[2][6];
         for (int c = 0; c < 2; c++)
@@ -186,16 +256,23 @@ static int test_lines(void)
         kc_fk_eval(&chain, q[1], &to);
         kc_interp_line plan;
         kc_fx_line line;
-        kc_interp_orient orient = n < N_LINES ? KC_INTERP_SLERP : KC_INTERP_TWO_ROTATIONS;
+        kc_interp_orient orient = n % 2 ? KC_INTERP_TWO_ROTATIONS : KC_INTERP_SLERP;
         kc_interp_limits lim = kc_interp_limits_default();
         lim.v = KC_R(0.5);
         lim.a = KC_R(2.0);
+        if (n >= 2 * N_LINES) {
+            lim.j = KC_R(20.0);
+            lim.w = KC_R(2.0);
+            lim.dw = KC_R(8.0);
+            lim.dj = KC_R(80.0);
+        }
         if (kc_interp_line_plan(&plan, &from, &to, &lim, orient, KC_R(0.001)) != KC_OK ||
+            plan.kind != (n >= 2 * N_LINES ? KC_PROFILE_JERK : KC_PROFILE_TRAPEZOID) ||
             kc_fx_line_init(&line, &plan) != KC_OK) {
             printf("FAIL: line %d: cannot plan or convert it\n", n);
             return 1;
         }
-        for (int64_t k = 0; k <= plan.prof.ticks; k++) {
+        for (int64_t k = 0; k <= plan.ticks; k++) {
             kc_interp_cart_state ref;
             int32_t p[3], qf[4];
             kc_status st = kc_fx_line_eval(&line, k, p, qf);
@@ -211,7 +288,9 @@ static int test_lines(void)
             ticks++;
         }
     }
-    printf("lines (puma560 poses): %d slerp, %d two rotations, %ld ticks\n", N_LINES, N_LINES, ticks);
+    printf("lines (puma560 poses): %d of each orientation method, half by the trapezoid and half jerk-limited, %ld "
+           "ticks\n",
+           2 * N_LINES, ticks);
     return check("position (m)", e_pos, TOL_POS) + check("quaternion entries", e_rot, TOL_ROT) + (done_exact ? 0 : 1);
 }
 
@@ -219,6 +298,7 @@ int main(void)
 {
     int failures = test_sincos();
     failures += test_joint_moves();
+    failures += test_refusals();
     failures += test_lines();
     for (int m = 0; m < KC_MODEL_COUNT; m++)
         failures += test_model((kc_model)m);

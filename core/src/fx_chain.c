@@ -6,6 +6,8 @@
 
 #include <string.h>
 
+#include "profile_internal.h"
+
 /* x 2^bits rounded to nearest into *out; 0 when out of int32_t's range. */
 static int to_fixed(kc_real x, int bits, int32_t *out)
 {
@@ -123,47 +125,132 @@ static int scaled_of(kc_real x, kc_fx_scaled *out)
     return 1;
 }
 
-/* A time in ticks (0 <= x < 2^24) into Q32.32, through int32_t parts (a
+/* u (within -0.5 .. 1.5) in Q23.40, through int32_t parts (a
  * float-to-int64 conversion would pull in soft double on an M4F). */
-static int64_t ticks_q32(kc_real x)
+static int u_q40(kc_real u, int64_t *out)
 {
-    kc_real ip = kc_floor(x);
-    kc_real frac = (x - ip) * KC_R(65536.0);
-    kc_real f1 = kc_floor(frac);
-    kc_real f2 = kc_floor((frac - f1) * KC_R(65536.0) + KC_R(0.5));
-    return (int64_t)(int32_t)ip * ((int64_t)1 << 32) + (int64_t)(int32_t)f1 * 65536 + (int32_t)f2;
+    if (!(u >= KC_R(-0.5) && u <= KC_R(1.5)))
+        return 0;
+    kc_real x = u * KC_R(1048576.0); /* 2^20 */
+    kc_real hi = kc_floor(x);
+    kc_real lo = kc_floor((x - hi) * KC_R(1048576.0) + KC_R(0.5));
+    *out = (int64_t)(int32_t)hi * ((int64_t)1 << 20) + (int32_t)lo;
+    return 1;
 }
 
-/* The u profile of a plan from rest to rest (kinctl/fx.h's kc_fx_ramp). */
-static int ramp_init(kc_fx_ramp *ramp, const kc_profile *p)
+/* A profile's state at tick k (p, v, a and the jerk). */
+typedef void (*state_fn)(const void *prof, int64_t k, kc_scurve_state *st);
+
+static void profile_state(const void *prof, int64_t k, kc_scurve_state *st)
 {
-    if (p->p0 != KC_R(0.0) || p->v0 != KC_R(0.0) || p->p1 != KC_R(1.0) || !(p->dt > KC_R(0.0)))
+    kc_profile_state s;
+    kc_profile_eval((const kc_profile *)prof, k, &s);
+    st->p = s.p;
+    st->v = s.v;
+    st->a = s.a;
+    st->j = KC_R(0.0);
+}
+
+static void scurve_state(const void *prof, int64_t k, kc_scurve_state *st)
+{
+    kc_scurve_eval((const kc_scurve *)prof, k, st);
+}
+
+/*
+ * The ramp (kinctl/fx.h's kc_fx_ramp) of a profile of n phases, phase i
+ * holding the ticks with t_end[i - 1] <= k dt < t_end[i] (the first from
+ * 0, the last to `ticks`: the evaluators' rule), as the fraction
+ * u = (p - p0) s. 0 where u leaves -0.5 .. 1.5 at a phase's first or
+ * last tick, or a factor has no 31-bit form.
+ */
+static int ramp_build(kc_fx_ramp *r, const void *prof, state_fn state, const kc_real *t_end, int n, int64_t ticks,
+                      kc_real dt, kc_real p0, kc_real s)
+{
+    memset(r, 0, sizeof *r);
+    r->ticks = ticks;
+    int64_t k0 = 0;
+    for (int i = 0; i < n && k0 < ticks; i++) {
+        int64_t k1 = i == n - 1 ? ticks : kc_profile_ticks(t_end[i], dt);
+        if (k1 < 0 || k1 > ticks)
+            k1 = ticks;
+        if (k1 <= k0)
+            continue;
+        kc_scurve_state st, end;
+        state(prof, k0, &st);
+        state(prof, k1 - 1, &end);
+        const kc_real c[3] = {st.v * s * dt, KC_R(0.5) * st.a * s * dt * dt, st.j * s * dt * dt * dt / KC_R(6.0)};
+        int p = r->n++;
+        r->k0[p] = (int32_t)k0;
+        for (int d = 0; d < 3; d++) {
+            if (c[d] < KC_R(0.0))
+                r->neg[p] |= (uint8_t)(1u << d);
+            if (!scaled_of(kc_fabs(c[d]), &r->c[p][d]))
+                return 0;
+        }
+        int64_t last;
+        if (!u_q40((st.p - p0) * s, &r->u0[p]) || !u_q40((end.p - p0) * s, &last))
+            return 0;
+        k0 = k1;
+    }
+    return 1;
+}
+
+/* The ramp of a trapezoid of u from rest to rest, 0 to 1. */
+static int ramp_of_profile(kc_fx_ramp *r, const kc_profile *p)
+{
+    const kc_real t_end[2] = {p->t1, p->t2};
+    return p->p0 == KC_R(0.0) && p->v0 == KC_R(0.0) && p->p1 == KC_R(1.0) && p->dt > KC_R(0.0) &&
+           ramp_build(r, p, profile_state, t_end, 3, p->ticks, p->dt, KC_R(0.0), KC_R(1.0));
+}
+
+/* The ramp of a jerk-limited profile from rest at p0 to p1 (p0 = p1: a
+ * wait, u = 0 throughout), as the fraction (p - p0) / (p1 - p0), over
+ * `ticks` ticks (its own). */
+static int ramp_of_scurve(kc_fx_ramp *r, const kc_scurve *p, int64_t ticks)
+{
+    if (p->v0 != KC_R(0.0) || p->a0 != KC_R(0.0) || !(p->dt > KC_R(0.0)) || p->ticks != ticks)
         return 0;
-    memset(ramp, 0, sizeof *ramp);
-    kc_real dt = p->dt;
-    ramp->ticks = p->ticks;
-    if (p->ticks == 0)
+    kc_real d = p->p1 - p->p0;
+    if (d == KC_R(0.0)) {
+        memset(r, 0, sizeof *r);
+        r->n = 1;
+        r->ticks = ticks;
         return 1;
-    ramp->k1 = ticks_q32(p->t1 / dt);
-    ramp->k2 = ticks_q32(p->t2 / dt);
-    ramp->kT = ticks_q32(p->T / dt);
-    return to_fixed(p->pc, KC_FX_ROT_BITS, &ramp->uc) && scaled_of(KC_R(0.5) * p->a1 * dt * dt, &ramp->a) &&
-           scaled_of(p->vc * dt, &ramp->v) && scaled_of(-KC_R(0.5) * p->a3 * dt * dt, &ramp->b);
+    }
+    return ramp_build(r, p, scurve_state, p->t_end, p->n, ticks, p->dt, p->p0, KC_R(1.0) / d);
+}
+
+/* The ramp of a plan's speed law: its trapezoid prof, or its jerk-limited
+ * su from 0 to 1 (from 1 to 1 for a plan that moves nothing: u = 0 here,
+ * the same setpoints). */
+static int ramp_of_law(kc_fx_ramp *r, kc_profile_kind kind, const kc_profile *prof, const kc_scurve *su)
+{
+    if (kind != KC_PROFILE_JERK)
+        return ramp_of_profile(r, prof);
+    return su->p1 == KC_R(1.0) && (su->p0 == KC_R(0.0) || su->p0 == KC_R(1.0)) && ramp_of_scurve(r, su, su->ticks);
 }
 
 kc_status kc_fx_joint_init(kc_fx_joint_move *move, const kc_fx_chain *fx, const kc_interp_joint *plan)
 {
     if (move == NULL || fx == NULL || plan == NULL || plan->n != fx->n_joints)
         return KC_E_ARG;
-    kc_fx_joint_move out;
-    memset(&out, 0, sizeof out);
-    out.n = plan->n;
-    if (!ramp_init(&out.ramp, &plan->prof) || kc_fx_q_from_real(fx, plan->q0, out.q0) != KC_OK ||
-        kc_fx_q_from_real(fx, plan->q1, out.q1) != KC_OK)
+    /* Built in place (a ramp per joint is kilobytes, too many for a copy
+     * on a small stack); cleared on error. */
+    memset(move, 0, sizeof *move);
+    move->n = plan->n;
+    move->per_joint = plan->kind == KC_PROFILE_JERK && plan->sync == KC_INTERP_SYNC_TIME;
+    int ok = kc_fx_q_from_real(fx, plan->q0, move->q0) == KC_OK && kc_fx_q_from_real(fx, plan->q1, move->q1) == KC_OK;
+    if (!move->per_joint)
+        ok = ok && ramp_of_law(&move->ramp[0], plan->kind, &plan->prof, &plan->su);
+    for (int i = 0; i < move->n && move->per_joint; i++)
+        ok = ok && plan->sj[i].p0 == plan->q0[i] && plan->sj[i].p1 == plan->q1[i] &&
+             ramp_of_scurve(&move->ramp[i], &plan->sj[i], plan->ticks);
+    if (!ok) {
+        memset(move, 0, sizeof *move);
         return KC_E_ARG;
-    for (int i = 0; i < out.n; i++)
-        out.dq[i] = (int64_t)out.q1[i] - out.q0[i]; /* so that u = 1 lands on q1 */
-    *move = out;
+    }
+    for (int i = 0; i < move->n; i++)
+        move->dq[i] = (int64_t)move->q1[i] - move->q0[i]; /* so that u = 1 lands on q1 */
     return KC_OK;
 }
 
@@ -179,7 +266,7 @@ kc_status kc_fx_line_init(kc_fx_line *line, const kc_interp_line *plan)
         return KC_E_ARG;
     kc_fx_line out;
     memset(&out, 0, sizeof out);
-    if (!ramp_init(&out.ramp, &plan->prof) || !quat_to_fixed(&plan->q1, out.q1) || !quat_to_fixed(&plan->q2, out.q2))
+    if (!ramp_of_law(&out.ramp, plan->kind, &plan->prof, &plan->su) || !quat_to_fixed(&plan->q1, out.q1) || !quat_to_fixed(&plan->q2, out.q2))
         return KC_E_ARG;
     for (int i = 0; i < 3; i++) {
         if (!to_fixed(plan->p1.v[i], KC_FX_POS_BITS, &out.p1[i]) ||

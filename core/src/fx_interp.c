@@ -3,52 +3,57 @@
  * point (kinctl/fx.h): integer arithmetic only, like fx.c. */
 #include "kinctl/fx.h"
 
-/* x s in Q2.30, x an unsigned value with xbits fraction bits: x m 2^-(shift
- * + xbits - 30), rounded, with x m (up to 2^95) kept in 96 bits as
- * hi 2^32 + lo. The result must fit 63 bits (u and its pieces are <= 2). */
-static int64_t mul_scaled(uint64_t x, kc_fx_scaled s, int xbits)
+/* x |c| in Q23.40, rounded: x < 2^48 an integer, |c| = m 2^-shift with
+ * m < 2^32; x m (below 2^80) in 96 bits as hi 2^32 + lo. The result fits
+ * 63 bits (a term of u is a few at most: kinctl/fx.h). */
+static int64_t term(uint64_t x, kc_fx_scaled c)
 {
-    int sh = s.shift + xbits - KC_FX_ROT_BITS;
-    uint64_t lo = (x & 0xFFFFFFFFu) * s.m;
-    uint64_t hi = (x >> 32) * s.m + (lo >> 32); /* < 2^64: x < 2^63, m < 2^31 */
+    int sh = c.shift - KC_FX_RAMP_BITS;
+    uint64_t lo = (x & 0xFFFFFFFFu) * c.m;
+    uint64_t hi = (x >> 32) * c.m + (lo >> 32); /* < 2^49 */
     lo &= 0xFFFFFFFFu;
-    if (sh >= 64)
-        return 0;
-    if (sh > 32) {
-        hi += (uint64_t)1 << (sh - 33); /* rounding at bit sh - 1 of the whole */
-        return (int64_t)(hi >> (sh - 32));
-    }
+    if (sh >= 96)
+        return 0; /* below 2^-16 of the last bit */
+    if (sh > 32)
+        return (int64_t)((hi + ((uint64_t)1 << (sh - 33))) >> (sh - 32)); /* rounding at bit sh - 1 of the whole */
     if (sh == 32)
         return (int64_t)(hi + (lo >> 31));
-    /* Below 32 the high word moves up by 32 - sh (the result fits). */
     if (sh <= 0)
         return (int64_t)((hi << 32 | lo) << -sh);
+    /* Below 32 the high word moves up by 32 - sh (the result fits). */
     return (int64_t)((hi << (32 - sh)) + ((lo + ((uint64_t)1 << (sh - 1))) >> sh));
 }
 
-/* u at tick k < ticks, Q2.30 (kinctl/fx.h's kc_fx_ramp). */
-static int64_t ramp_eval(const kc_fx_ramp *ramp, int64_t k)
+/* c m (m < 2^24) as a factor of at most 32 bits: the product (below 2^55)
+ * rounded to its 31 leading bits. */
+static kc_fx_scaled times(kc_fx_scaled c, uint32_t m)
 {
-    int64_t kq = k * ((int64_t)1 << 32); /* k in Q32.32: k < 2^24 */
-    if (kq < ramp->k1)
-        return mul_scaled((uint64_t)(k * k), ramp->a, 0);
-    if (kq < ramp->k2)
-        return ramp->uc + mul_scaled((uint64_t)(kq - ramp->k1), ramp->v, 32);
-    /* Backwards from the end, as profile.c: b (kT - k)^2 as (b r) r. b r
-     * (r in Q32.32) comes out in Q62 and is renormalised into a 31-bit
-     * factor for the second product. */
-    uint64_t r = (uint64_t)(ramp->kT - kq);
-    kc_fx_scaled b62 = {ramp->b.m, ramp->b.shift - 32};
-    uint64_t w = (uint64_t)mul_scaled(r, b62, 32);
-    kc_fx_scaled br = {(uint32_t)w, 62};
-    int extra = 0;
-    while ((w >> extra) >= ((uint64_t)1 << 31))
-        extra++;
-    if (extra > 0) {
-        br.m = (uint32_t)((w + ((uint64_t)1 << (extra - 1))) >> extra);
-        br.shift = 62 - extra;
-    }
-    return KC_FX_ONE_ROT - mul_scaled(r, br, 32);
+    uint64_t w = (uint64_t)c.m * m;
+    int e = 0;
+    for (int b = 16; b > 0; b >>= 1) /* the largest e with w >> e >= 2^31, if any */
+        if ((w >> (e + b)) >= ((uint64_t)1 << 31))
+            e += b;
+    if ((w >> e) >= ((uint64_t)1 << 31))
+        e++;
+    kc_fx_scaled r = {(uint32_t)((w + (e > 0 ? (uint64_t)1 << (e - 1) : 0u)) >> e), c.shift - e};
+    return r;
+}
+
+/* u at tick k < ticks, Q2.30 (kinctl/fx.h's kc_fx_ramp). */
+static int64_t ramp_eval(const kc_fx_ramp *r, int64_t k)
+{
+    int i = 0;
+    while (i < r->n - 1 && k >= r->k0[i + 1])
+        i++;
+    uint32_t m = (uint32_t)(k - r->k0[i]);
+    uint64_t m2 = (uint64_t)m * m;
+    const kc_fx_scaled *c = r->c[i];
+    int64_t t[3] = {term(m, c[0]), term(m2, c[1]), c[2].m ? term(m2, times(c[2], m)) : 0};
+    int64_t u = r->u0[i];
+    for (int d = 0; d < 3; d++)
+        u += (r->neg[i] >> d & 1u) ? -t[d] : t[d];
+    const int drop = KC_FX_RAMP_BITS - KC_FX_ROT_BITS;
+    return (u + ((int64_t)1 << (drop - 1))) >> drop;
 }
 
 /* a + d u, rounded: d in a's format (64 bits), u in Q2.30. d u alone may
@@ -63,14 +68,17 @@ kc_status kc_fx_joint_eval(const kc_fx_joint_move *move, int64_t k, int32_t *q_f
 {
     if (move == NULL || q_fx == NULL || k < 0)
         return KC_E_ARG;
-    if (k >= move->ramp.ticks) {
+    if (k >= move->ramp[0].ticks) {
         for (int i = 0; i < move->n; i++)
             q_fx[i] = move->q1[i];
         return KC_DONE;
     }
-    int64_t u = ramp_eval(&move->ramp, k);
-    for (int i = 0; i < move->n; i++)
+    int64_t u = 0;
+    for (int i = 0; i < move->n; i++) {
+        if (i == 0 || move->per_joint)
+            u = ramp_eval(&move->ramp[i], k);
         q_fx[i] = along(move->q0[i], move->dq[i], u);
+    }
     return KC_OK;
 }
 

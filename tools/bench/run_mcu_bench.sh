@@ -173,14 +173,14 @@ done
 
 echo
 echo "== fixed point (kinctl/fx.h) beside float, PUMA 560, instructions per call"
-printf '%-28s %-16s %10s %10s\n' board call mean max
+printf '%-28s %-24s %10s %10s\n' board call mean max
 for board in "mps2-an386 (M4F, FPU):$mcu" "mps2-an385 (M3, soft float):$mcu_m3"; do
     name=${board%%:*} dir=${board#*:}
     machine=${name%% *}
     qemu-system-arm -M "$machine" -nographic -semihosting-config enable=on,target=native -icount shift=0 \
         -kernel "$dir/mcu_fx_bench.elf" >"$tmp/fx" || { cat "$tmp/fx"; echo "FAIL: the fixed-point bench failed on $machine"; exit 1; }
     while read -r _ what _ _ _ mean _ max; do
-        printf '%-28s %-16s %10d %10d\n' "$name" "$what" "$mean" "$max"
+        printf '%-28s %-24s %10d %10d\n' "$name" "$what" "$mean" "$max"
     done < <(awk '$1 == "icount"' "$tmp/fx")
 done
 exit $status

@@ -6,7 +6,8 @@
  *
  * The same walk over the chain's elementary transforms as kinctl/fk.h
  * (seed 000, seed 003), and the interpolators of kinctl/interp.h (seed 001
- * labs 4, 5), in integer arithmetic only: the objects that evaluate (fx.c,
+ * labs 4, 5) by either speed law, the trapezoid or jerk-limited
+ * (kinctl/scurve.h), in integer arithmetic only: the objects that evaluate (fx.c,
  * fx_interp.c) use no float type, operation or call (checked by
  * mcu/check_integer_only.sh). Chains and plans are converted once,
  * outside the cycle and in floating point (kc_fx_chain_init,
@@ -124,38 +125,65 @@ typedef struct kc_fx_scaled {
     int shift;
 } kc_fx_scaled;
 
+/* The phases of a jerk-limited profile (kinctl/scurve.h); a trapezoid has
+ * three. */
+#define KC_FX_MAX_PHASES 7
+/* The fraction bits of a ramp's sums (Q23.40 in int64_t). */
+#define KC_FX_RAMP_BITS 40
+
 /*
- * The fraction u of a segment planned from rest to rest (the trapezoid of
- * kinctl/profile.h, u from 0 to 1) in tick units:
- *   k < k1:       u = a k^2                    a = u'' dt^2 / 2
- *   k1 <= k < k2: u = uc + v (k - k1)          v = u' dt
- *   k2 <= k < kT: u = 1 - b (kT - k)^2         b = |u''_3| dt^2 / 2
- *   k >= ticks:   the segment's end, exactly
- * Phase ends k1, k2, kT are in ticks in Q32.32 (2.3e-10 of a tick); u is
- * Q2.30; the products (k^2 up to 2^48, k - k1 up to 2^56 in Q32.32, by 31
- * bits) are formed in 96 bits from two 64-bit products. u is within 2e-9
- * of the double build's (three roundings and the 2^-31 relative of each
- * factor).
+ * The fraction u of a segment planned from rest to rest, from 0 to 1, in
+ * tick units: the trapezoid of kinctl/profile.h or the jerk-limited
+ * profile of kinctl/scurve.h. Either is a polynomial of degree at most 3
+ * in time over each of its phases, so over the ticks of a phase
+ *   u(k) = u0 + c1 m + c2 m^2 + c3 m^3,      m = k - k0, an integer,
+ * k0 the phase's first tick and u0, c1 = u' dt, c2 = u'' dt^2 / 2 and
+ * c3 = u''' dt^3 / 6 the profile's state at k0: the phase's polynomial
+ * expanded about that tick, in floating point, when the plan is
+ * converted. A tick lies in the phase the floating-point evaluation puts
+ * it in (the same comparison of k dt with the phase's end). In the cycle:
+ *   m < 2^24 and m^2 < 2^48 are exact;
+ *   each |c| is a 31-bit factor (kc_fx_scaled) with its sign;
+ *   c3 m^3 is formed as (c3 m) m^2, c3 m renormalised to 31 bits;
+ *   the three products (up to 2^79, in 96 bits from two 64-bit ones) are
+ *   rounded to Q23.40 and summed with u0 (Q23.40), then u is rounded once
+ *   to Q2.30.
+ * Error against the floating-point evaluation of the same plan: the
+ * factors' roundings, 2^-31 of |c1 m| + |c2 m^2| + 2 |c3 m^3| (each term
+ * at most about the phase's own change of u, so together a few 2^-31),
+ * four roundings to Q23.40 (2^-41 each) and the last one, half of 2^-30:
+ * u within 2e-9 (measured in mcu/fx_test.c over random PUMA 560 moves and
+ * lines, trapezoid and jerk-limited).
  */
 typedef struct kc_fx_ramp {
-    int64_t k1, k2, kT; /* Q32.32 ticks */
-    int64_t ticks;      /* first tick with k dt >= T */
-    int32_t uc;         /* u at k1, Q2.30 */
-    kc_fx_scaled a, v, b;
+    int n;                               /* phases with ticks */
+    int32_t k0[KC_FX_MAX_PHASES];        /* each phase's first tick (k0[0] = 0) */
+    int64_t u0[KC_FX_MAX_PHASES];        /* u at k0, Q23.40 */
+    kc_fx_scaled c[KC_FX_MAX_PHASES][3]; /* |c1|, |c2|, |c3| */
+    uint8_t neg[KC_FX_MAX_PHASES];       /* bit i set: c(i + 1) < 0 */
+    int64_t ticks;                       /* first tick at the end */
 } kc_fx_ramp;
 
-/* A joint move (kc_interp_joint_plan): q(k) = q0 + dq u(k); q is within
- * |dq| 2e-9 + 2e-9 rad of the double build's (measured in mcu/fx_test.c). */
+/* A joint move (kc_interp_joint_plan, or kc_interp_joint_plan_cfg from
+ * rest): q(k) = q0 + dq u(k), with one u for every joint (the trapezoid,
+ * or a jerk-limited move synchronised by phase) or one per joint (by
+ * time: joint i's profile from q0 to q1 as the fraction (q - q0) / dq; a
+ * joint that does not move has u = 0). q is within |dq| 2e-9 + 3.8e-9 rad
+ * of the double build's: u's error, then q0's conversion and q's
+ * rounding, half a resolution each (measured in mcu/fx_test.c). */
 typedef struct kc_fx_joint_move {
     int n;
+    int per_joint; /* 1: ramp[i] is joint i's; 0: ramp[0] is every joint's */
     int32_t q0[KC_MAX_JOINTS], q1[KC_MAX_JOINTS]; /* joint formats */
     int64_t dq[KC_MAX_JOINTS];                    /* q1 - q0: up to twice a format's range */
-    kc_fx_ramp ramp;
+    kc_fx_ramp ramp[KC_MAX_JOINTS];
 } kc_fx_joint_move;
 
-/* Converts a plan: KC_E_ARG for NULL, a plan not from rest to rest at
- * u = 0 .. 1, or joint values outside the formats. Floating point: set up
- * outside the cycle. */
+/* Converts a plan, trapezoid or jerk-limited: KC_E_ARG for NULL, a plan
+ * not from rest to rest (a jerk-limited one from a moving start), a
+ * fraction outside -0.5 .. 1.5 at a phase's ends, or joint values outside
+ * the formats (*move cleared then). Floating point: set up outside the
+ * cycle. */
 kc_status kc_fx_joint_init(kc_fx_joint_move *move, const kc_fx_chain *fx, const kc_interp_joint *plan);
 
 /* q at tick k (>= 0) into q_fx (n values). KC_OK while moving, KC_DONE
@@ -184,9 +212,9 @@ typedef struct kc_fx_line {
     kc_fx_ramp ramp;
 } kc_fx_line;
 
-/* Converts a plan; KC_E_ARG as kc_fx_joint_init (or a position outside
- * Q8.24; or a jerk-limited plan: the ramp is the trapezoid's, plan->prof).
- * Floating point, outside the cycle. */
+/* Converts a plan, trapezoid or jerk-limited (its su); KC_E_ARG as
+ * kc_fx_joint_init, or for a position outside Q8.24. Floating point,
+ * outside the cycle. */
 kc_status kc_fx_line_init(kc_fx_line *line, const kc_interp_line *plan);
 
 /* Position (Q8.24) and orientation (Q2.30, w x y z) at tick k (>= 0):
