@@ -25,7 +25,8 @@ int kc_ctrl_servo_shaped(const kc_ctrl *c)
 
 /* One tick of a shaped velocity v (its rate a) towards the commanded w
  * within |a| <= amax and |change of a| <= h = jmax dt a tick: the rate a'
- * for the coming tick. From a', lowering the rate to 0 by h a tick adds
+ * for the coming tick (a rate beyond amax, where a stream took over a
+ * faster law, comes down by h a tick until it is within). From a', lowering the rate to 0 by h a tick adds
  *     S(a') = dt sgn(a') sum_{i=1..m} (|a'| - i h) = dt sgn(a') (m |a'| - h m (m + 1) / 2)
  * to v, m = floor(|a'| / h), so v + dt a' + S(a') is continuous, odd and
  * increasing in a' and linear between multiples of h. a' is its root,
@@ -52,7 +53,8 @@ static kc_real shaped_rate(kc_real v, kc_real a, kc_real w, kc_real amax, kc_rea
     if (!kc_isfinite(r)) /* h infinite: no ramp */
         r = x;
     r = e < KC_R(0.0) ? -r : r;
-    return kc_clamp(kc_clamp(r, a - h, a + h), -amax, amax);
+    kc_real top = kc_fabs(a) - h > amax ? kc_fabs(a) - h : amax;
+    return kc_clamp(kc_clamp(r, a - h, a + h), -top, top);
 }
 
 /* R turned by exp(phi) in the base frame: R = exp(phi) R. */
@@ -358,10 +360,10 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
         memcpy(a, ab, sizeof a);
     /* Within the goal's Cartesian bounds: the vectors (a pose stream's
      * profiles bring an axis beyond its own share back within it,
-     * jerk-limited), with the rounding of the rate's differences
-     * (cfg.limit_slack: a line stopping at the same acceleration limit
-     * was refused by 1e-16 of it), and for a twist stream each axis' rate
-     * within its share (its step would clamp a rate beyond it at once). */
+     * jerk-limited, and a twist stream's step brings its rate so), with
+     * the rounding of the rate's differences (cfg.limit_slack: a line
+     * stopping at the same acceleration limit was refused by 1e-16 of
+     * it). */
     kc_interp_limits l = kc_ctrl_cart_limits(&c->cfg, g);
     for (int h = 0; h < 6; h += 3) { /* the linear part, then the angular */
         const kc_real *vh = &v[h], *ah = &a[h], e = KC_R(1.0) + c->cfg.limit_slack;
@@ -369,9 +371,6 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
         if (vh[0] * vh[0] + vh[1] * vh[1] + vh[2] * vh[2] > vmax * vmax ||
             ah[0] * ah[0] + ah[1] * ah[1] + ah[2] * ah[2] > amax * amax)
             return 0;
-        for (int i = 0; i < 3 && g->servo_twist; i++)
-            if (kc_fabs(ah[i]) > AXIS_SHARE * amax)
-                return 0;
     }
     kc_ctrl_emit_takeover(out, g->id, c->goal.id);
     kc_ctrl_goal_copy(&c->goal, g);

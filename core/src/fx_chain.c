@@ -266,7 +266,8 @@ kc_status kc_fx_line_init(kc_fx_line *line, const kc_interp_line *plan)
         return KC_E_ARG;
     kc_fx_line out;
     memset(&out, 0, sizeof out);
-    if (!ramp_of_law(&out.ramp, plan->kind, &plan->prof, &plan->su) || !quat_to_fixed(&plan->q1, out.q1) || !quat_to_fixed(&plan->q2, out.q2))
+    if (!ramp_of_law(&out.ramp, plan->kind, &plan->prof, &plan->su) || !quat_to_fixed(&plan->q1, out.q1) ||
+        !quat_to_fixed(&plan->q2, out.q2))
         return KC_E_ARG;
     for (int i = 0; i < 3; i++) {
         if (!to_fixed(plan->p1.v[i], KC_FX_POS_BITS, &out.p1[i]) ||

@@ -631,6 +631,18 @@ static int accepted_reason(int64_t id)
  * joint moves is stopped by a STOP or replaced by a line just before the
  * stream arrives: the stream takes over that stop on its path or joint by
  * joint, or the superposition (its sum), the same way, some of each. */
+/* A twist stream's share of the default Cartesian acceleration and jerk
+ * bounds on axis i (0-2 linear, 3-5 angular): 1 / sqrt(3) of them. */
+static double share_a(int i)
+{
+    return (double)(i < 3 ? H.cfg.cart_accel : H.cfg.cart_alpha) / sqrt(3.0);
+}
+
+static double share_j(int i)
+{
+    return (double)(i < 3 ? H.cfg.cart_jerk : H.cfg.cart_angular_jerk) / sqrt(3.0);
+}
+
 static const char *const FIRST_NAMES[5] = {"line", "Cartesian path", "twist stream", "pose stream", "joint move"};
 
 static void test_streams_take_over(void **state)
@@ -654,6 +666,8 @@ static void test_streams_take_over(void **state)
         /* The same of the motions stopping and superposed (below). */
         int then_taken[2] = {0, 0}, then_moving[2] = {0, 0};
         double worst_ratio = 0.0;
+        /* Twist streams taken over with an axis' rate beyond its share. */
+        int took_beyond = 0;
         for (int c = 0; c < CASES; c++) {
             int64_t id = 800 + 2 * c;
             int kind = (int)kt_uniform(&r, 0.0, m == 0 ? 5.0 : 4.0); /* line, path, twist, pose, joint */
@@ -777,11 +791,32 @@ static void test_streams_take_over(void **state)
             char what[64];
             snprintf(what, sizeof what, "a %s%s replaced by a %s stream", FIRST_NAMES[kind],
                      then == 1 ? " stopping" : then == 2 ? " replaced by a line" : "", twist ? "twist" : "pose");
+            /* A twist stream taken over: its shaped rate, per axis, within
+             * its share of the bound, or (taken over beyond it) coming down
+             * to it by the axis' jerk bound a tick; its change within that
+             * bound on every tick. */
+            int shaping = twist && moving && why == KC_REASON_NONE;
+            double a_prev[6];
+            for (int i = 0; i < 6; i++)
+                a_prev[i] = (double)H.ctrl.servo_a[i];
+            int beyond = 0;
+            for (int i = 0; i < 6 && shaping; i++)
+                beyond |= fabs(a_prev[i]) > share_a(i) * (1.0 + 1e-9);
+            took_beyond += beyond;
             int hold = 200 + (int)kt_uniform(&r, 0.0, 300.0);
             for (int k = 0; k < 20000 && hold > 0; k++) {
                 tick(&g);
                 if (moving && why == KC_REASON_NONE && H.out.cycle == at + 2 + AROUND)
                     worst_ratio = fmax(worst_ratio, judge_law(at, what, c, kind == 4 && then != 2));
+                for (int i = 0; i < 6 && shaping && H.out.goal_id == g.id && H.ctrl.drive == KC_DRIVE_NOMINAL; i++) {
+                    double a_now = (double)H.ctrl.servo_a[i], h = share_j(i) * (double)H.cfg.dt;
+                    if (fabs(a_now - a_prev[i]) > h * (1.0 + 1e-9) + 1e-15 ||
+                        (fabs(a_now) > share_a(i) * (1.0 + 1e-9) && fabs(a_now) > fabs(a_prev[i]) - h * (1.0 - 1e-9)))
+                        fail_msg("%s case %d tick %ld axis %d: the shaped rate %.9g after %.9g (its share of the bound "
+                                 "%.9g, of the jerk bound a tick %.9g)",
+                                 what, c, (long)(H.out.cycle - at), i, a_now, a_prev[i], share_a(i), h);
+                    a_prev[i] = a_now;
+                }
                 if (H.out.goal_id == g.id)
                     hold--;
             }
@@ -793,15 +828,15 @@ static void test_streams_take_over(void **state)
             go_home(models[m], HOME_ID + 200 + c);
         }
         print_message("%s: %d motions replaced by a servo stream; of those moving with a target's law, a pose "
-                      "stream took over %d of %d in the tick, a twist stream %d of %d (the others stopped first); "
+                      "stream took over %d of %d in the tick, a twist stream %d of %d (%d with an axis' rate beyond its share; the others stopped first); "
                       "of the joint moves, a stream took over %d of %d; of the lines and joint moves stopping %d of "
                       "%d, superposed on by a line %d of %d; "
                       "the joints' jerk at a takeover at most %.4f times its neighbours'; qdd at most %.4f and jerk "
                       "%.4f in the stops; while following (the Jacobian's: measured) jerk up to %.1f (%s)\n",
-                      kc_model_name(models[m]), CASES, taken[0], eligible[0], taken[1], eligible[1], joint_taken,
+                      kc_model_name(models[m]), CASES, taken[0], eligible[0], taken[1], eligible[1], took_beyond, joint_taken,
                       joint_moving, then_taken[0], then_moving[0], then_taken[1], then_moving[1], worst_ratio, H.worst_a, H.worst_j, H.worst_track_j, KC_REAL_NAME);
         assert_true(taken[0] <= eligible[0] && taken[0] >= eligible[0] * 3 / 4);
-        assert_true(taken[1] <= eligible[1] && taken[1] > 0);
+        assert_true(taken[1] <= eligible[1] && taken[1] > 0 && took_beyond > 0);
         assert_true(joint_taken <= joint_moving && (m == 1 || joint_taken > 0));
         assert_true(m == 1 || (then_taken[0] > 0 && then_taken[1] > 0));
     }
