@@ -26,7 +26,8 @@ int kc_ctrl_servo_shaped(const kc_ctrl *c)
 /* One tick of a shaped velocity v (its rate a) towards the commanded w
  * within |a| <= amax and |change of a| <= h = jmax dt a tick: the rate a'
  * for the coming tick (a rate beyond amax, where a stream took over a
- * faster law, comes down by h a tick until it is within). From a', lowering the rate to 0 by h a tick adds
+ * faster law, comes down by h a tick until it is within). From a',
+ * lowering the rate to 0 by h a tick adds
  *     S(a') = dt sgn(a') sum_{i=1..m} (|a'| - i h) = dt sgn(a') (m |a'| - h m (m + 1) / 2)
  * to v, m = floor(|a'| / h), so v + dt a' + S(a') is continuous, odd and
  * increasing in a' and linear between multiples of h. a' is its root,
