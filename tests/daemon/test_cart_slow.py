@@ -11,26 +11,18 @@ And a Cartesian path of two knots with parabolic blends, whose acceleration
 steps where a blend meets a line: the joints' jerk goes as the square of
 the share of speed, times a factor of where the step falls on the ticks,
 so a slower share may be judged over a faster one (unit.check_slow), as
-the search meets on this one (judged at 0.48 of its speed with the jerk
-at 1.02 of the limits). The search goes on from such a share: the path is
+the search meets on this one (judged at 0.497 of its speed with the jerk
+at 1.17 of the limits). The search goes on from such a share: the path is
 slowed below it, completes within qddd_max and ends on its last knot."""
 import random
 import re
 
 from kinctl import client as kc
 from kinctl_testing import (END, EVENTS, assert_smooth, close, finished, go_nominal, max_jerk_ratio,
-                            setpoints_since)
+                            random_offset, setpoints_since)
 
 SLACK = 1e-6
 LINES = 4
-
-
-def step_from(rng, at, lo, hi):
-    """A point lo to hi m from position at, in a random direction."""
-    u = [rng.uniform(-1.0, 1.0) for _ in range(3)]
-    n = sum(x * x for x in u) ** 0.5
-    length = rng.uniform(lo, hi)
-    return [p + length * x / n for p, x in zip(at, u)]
 
 
 def test_fast_lines_are_slowed_within_joint_jerk(kinctld):
@@ -41,7 +33,7 @@ def test_fast_lines_are_slowed_within_joint_jerk(kinctld):
     for goal_id in range(40, 60):
         if len(ids) == LINES:
             break
-        to = step_from(rng, s0.position, 0.05, 0.15) + list(s0.orientation)
+        to = random_offset(rng, s0.position, 0.05, 0.15) + list(s0.orientation)
         d.bus.send("GOAL_LINE", kc.make_goal_line(to, goal_id=goal_id, slerp=True, speed=rng.uniform(0.3, 0.5),
                                                   accel=rng.uniform(2.0, 3.0), jerk=rng.uniform(30.0, 60.0)))
         st = d.bus.wait_event(goal_id, END)
@@ -67,10 +59,10 @@ def test_fast_lines_are_slowed_within_joint_jerk(kinctld):
 
 def test_parabolic_path_is_slowed_within_joint_jerk(kinctld):
     d = kinctld()
-    rng = random.Random(1)
+    rng = random.Random(4)
     s0 = go_nominal(d)
-    knot = step_from(rng, s0.position, 0.03, 0.15)
-    points = [knot + list(s0.orientation), step_from(rng, knot, 0.03, 0.15) + list(s0.orientation)]
+    knot = random_offset(rng, s0.position, 0.03, 0.15)
+    points = [knot + list(s0.orientation), random_offset(rng, knot, 0.03, 0.15) + list(s0.orientation)]
     d.bus.send("GOAL_PATH", kc.make_goal_path(points, space="cartesian", method="blend", shape="parabolic",
                                               goal_id=200))
     s = finished(d, 200)
@@ -81,4 +73,4 @@ def test_parabolic_path_is_slowed_within_joint_jerk(kinctld):
     assert rj <= 1.0 + SLACK and ra <= 1.0 + SLACK, (rj, ra)
     assert d.stop() == 0
     slowed = re.search(r"goal 200 slowed to ([0-9.e+-]+) of its speed", d.stderr)
-    assert slowed and 0.2 < float(slowed.group(1)) < 0.48, d.stderr
+    assert slowed and 0.2 < float(slowed.group(1)) < 0.497, d.stderr

@@ -236,6 +236,18 @@ static double judge_law(int64_t k, const char *what, int c, int joint_law)
     return ratio;
 }
 
+/* A twist stream's share of the default Cartesian acceleration and jerk
+ * bounds on axis i (0-2 linear, 3-5 angular): 1 / sqrt(3) of them. */
+static double share_a(int i)
+{
+    return (double)(i < 3 ? H.cfg.cart_accel : H.cfg.cart_alpha) / sqrt(3.0);
+}
+
+static double share_j(int i)
+{
+    return (double)(i < 3 ? H.cfg.cart_jerk : H.cfg.cart_angular_jerk) / sqrt(3.0);
+}
+
 /* The ticks a velocity change of e (per axis) takes at most within a
  * and j: its two jerk ramps and the acceleration held between, and two
  * ticks of rounding to the grid. */
@@ -262,8 +274,8 @@ static void test_random_twist_streams(void **state)
             g.servo_twist = 1;
             double bound_a[6], bound_j[6];
             for (int i = 0; i < 6; i++) {
-                bound_a[i] = (double)(i < 3 ? H.cfg.cart_accel : H.cfg.cart_alpha) / sqrt(3.0);
-                bound_j[i] = (double)(i < 3 ? H.cfg.cart_jerk : H.cfg.cart_angular_jerk) / sqrt(3.0);
+                bound_a[i] = share_a(i);
+                bound_j[i] = share_j(i);
             }
             double v_prev[6] = {0}, a_prev[6] = {0};
             /* The target's last four positions, for its jerk. */
@@ -631,18 +643,6 @@ static int accepted_reason(int64_t id)
  * joint moves is stopped by a STOP or replaced by a line just before the
  * stream arrives: the stream takes over that stop on its path or joint by
  * joint, or the superposition (its sum), the same way, some of each. */
-/* A twist stream's share of the default Cartesian acceleration and jerk
- * bounds on axis i (0-2 linear, 3-5 angular): 1 / sqrt(3) of them. */
-static double share_a(int i)
-{
-    return (double)(i < 3 ? H.cfg.cart_accel : H.cfg.cart_alpha) / sqrt(3.0);
-}
-
-static double share_j(int i)
-{
-    return (double)(i < 3 ? H.cfg.cart_jerk : H.cfg.cart_angular_jerk) / sqrt(3.0);
-}
-
 static const char *const FIRST_NAMES[5] = {"line", "Cartesian path", "twist stream", "pose stream", "joint move"};
 
 static void test_streams_take_over(void **state)
