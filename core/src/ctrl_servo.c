@@ -289,12 +289,13 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
      * goal waiting on it) follows a law as the motion does; one stopping
      * joint by joint does in joint space; a fault's does not count. A
      * superposition: a line's, an arc's or a Cartesian path's on a stop on
-     * its path (below), not a joint path's. */
+     * its path, from the sum; any on a stop in joint space, from the
+     * joints (below). */
     int stopping = c->state == KC_CTRL_STOPPING;
     int in_joints = c->goal.kind == KC_GOAL_JOINT || c->goal.kind == KC_GOAL_PATH;
     if (g->kind != KC_GOAL_SERVO || g->stop_first || !c->active || (c->state != KC_CTRL_MOVING && !stopping) ||
         (stopping && c->fault_reason != KC_REASON_NONE) || c->jstop || (c->drive == KC_DRIVE_HALT && !in_joints) ||
-        c->drive == KC_DRIVE_STOPPING_WAIT || (c->blend.on && c->goal.kind == KC_GOAL_PATH))
+        c->drive == KC_DRIVE_STOPPING_WAIT || (c->blend.on && c->goal.kind == KC_GOAL_PATH && !joint_target_exists(c)))
         return 0;
     /* The stream's target goes on from the motion's own target as it is
      * sampled tick by tick, which the IK step tracks with an error of its
@@ -319,6 +320,17 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     int held = g->servo_twist && !twist_law;
     kc_real v[6], a[6], ab[6], dt = c->cfg.dt;
     kc_pose from = c->servo_target;
+    int64_t j = c->cycle - 1 - c->k0;
+    kc_ctrl_seg_point o;
+    /* A superposition on a stop in joint space (and one in its first
+     * tick, whose sum has no tick before it for the rate) from the joints,
+     * as a motion in joint space: from the sum, the joints' jerk reached
+     * their limits at the takeover, 0.46 of them around it. */
+    if (law && c->blend.on && (c->cycle - 2 < c->blend.k0 || law_at(c, j, &o))) {
+        if (!joint_target_exists(c))
+            return 0;
+        law = 0;
+    }
     if (!law) {
         joint_target(c, &from, v, a);
         memcpy(ab, a, sizeof ab);
@@ -338,14 +350,8 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
         /* The segment's target at j, the last setpoint's tick, its twist,
          * and the twist's rate by the central difference of its twists at
          * j + 1 and j - 1, and by the backward one of j and j - 1. While
-         * superposed, the sum's, from the superposition's tick 1 on, on a
-         * stop on its path only (over a joint move's stop in joint space
-         * the joints' jerk reached their limits at the takeover, 0.46 of
-         * them around it). */
-        int64_t j = c->cycle - 1 - c->k0;
-        kc_ctrl_seg_point o;
-        if ((c->blend.on && c->cycle - 2 < c->blend.k0) || law_at(c, j, &o))
-            return 0;
+         * superposed on a stop on its path, the sum's. */
+        law_at(c, j, &o);
         from = o.pose;
         memcpy(v, o.twist, sizeof v);
         law_at(c, j + 1, &o);

@@ -642,7 +642,8 @@ static int accepted_reason(int64_t id)
  * pose stream, and some by a twist stream. One in three lines and PUMA
  * joint moves is stopped by a STOP or replaced by a line just before the
  * stream arrives: the stream takes over that stop on its path or joint by
- * joint, or the superposition (its sum), the same way, some of each. */
+ * joint, or the superposition (its sum; on a joint move's stop in joint
+ * space, from the joints), the same way, some of each. */
 static const char *const FIRST_NAMES[5] = {"line", "Cartesian path", "twist stream", "pose stream", "joint move"};
 
 static void test_streams_take_over(void **state)
@@ -842,6 +843,136 @@ static void test_streams_take_over(void **state)
     }
 }
 
+/* A stream taking over a superposition on a stop in joint space
+ * (kinctl/ctrl.h): a slow joint move replaced by a line or by a slow
+ * joint path, each superposed on the move's jerk-limited stop, then 1-40
+ * ticks later by a pose stream (a jump of up to 1 cm and 0.05 rad) or a
+ * twist stream (up to 0.02 m/s and 0.05 rad/s). On the PUMA 560 (six
+ * joints: the stream's target from the joints' own motion, joint_target
+ * in ctrl_servo.c) it is taken over in the tick: ACCEPTED without
+ * KC_REASON_STOP_FIRST, the superposing goal PREEMPTED, the stream
+ * STARTED, the joints' acceleration unchanged in that tick (their jerk
+ * at most 1e-6 of the limits: taken over from the superposition's own
+ * target, the sum, it reached the limits), the takeover judged as a
+ * joint move's (judge_law) and every tick checked as above; on the
+ * Panda (seven joints) it stops first. */
+static void test_streams_take_over_joint_superpositions(void **state)
+{
+    (void)state;
+    if (!TRACK_JERK_JUDGED) /* as test_streams_take_over */
+        skip();
+    kc_model models[2] = {KC_MODEL_PUMA560, KC_MODEL_PANDA};
+    for (int m = 0; m < 2; m++) {
+        setup(models[m]);
+        H.judge_laws = 1;
+        kt_rng r = kt_rng_make(2401 + (uint64_t)m);
+        int taken = 0, cases = 0;
+        /* The joints' largest jerk (of their limits) on the takeover's
+         * tick, and on the next two, where the stream's own law starts. */
+        double worst_at = 0.0, worst_next = 0.0;
+        for (int c = 0; c < 16; c++) {
+            int64_t id = 3000 + 4 * c;
+            int path = c % 2, twist = c / 2 % 2, n = H.chain.n_joints;
+            kc_real q1[KC_MAX_JOINTS];
+            for (int j = 0; j < n; j++)
+                q1[j] = H.ctrl.q[j] + (kc_real)kt_uniform(&r, -0.3, 0.3);
+            kc_goal a = kt_joint_goal(id, q1, n);
+            a.vel_scale = a.acc_scale = (kc_real)kt_uniform(&r, 0.02, 0.05);
+            tick(&a);
+            int run = 100 + (int)kt_uniform(&r, 0.0, 300.0);
+            for (int k = 0; k < run; k++)
+                tick(NULL);
+            assert_int_equal(H.out.state, KC_CTRL_MOVING);
+            kc_goal b;
+            if (path) {
+                memset(&b, 0, sizeof b);
+                b.id = id + 1;
+                b.kind = KC_GOAL_PATH;
+                b.vel_scale = b.acc_scale = KC_R(0.03);
+                b.method = KC_PATH_SPLINE;
+                b.n_points = 2;
+                for (int p = 0; p < 2; p++)
+                    for (int j = 0; j < n; j++)
+                        b.points[p][j] = H.ctrl.q[j] + (kc_real)kt_uniform(&r, -0.1, 0.1);
+            } else {
+                kc_pose to = moved(&H.ctrl.pose, (double[3]){0.0, 0.0, 0.04}, kc_vec3_make(0, 0, 0));
+                b = kt_line_goal(id + 1, &to);
+                b.accel = KC_R(0.1);
+            }
+            b.replace = 1;
+            tick(&b);
+            assert_int_equal(accepted_reason(b.id), KC_REASON_NONE);
+            assert_true(H.ctrl.blend.on);
+            int wait = 1 + (int)kt_uniform(&r, 0.0, 40.0);
+            for (int k = 0; k < wait; k++)
+                tick(NULL);
+            assert_true(H.ctrl.blend.on);
+            kc_goal g;
+            kc_vec3 u = kt_rand_unit(&r), w = kt_rand_unit(&r);
+            if (twist) {
+                g = twist_goal(id + 2, KC_R(0.0), KC_R(0.0));
+                double sv = kt_uniform(&r, 0.0, 0.02), sw = kt_uniform(&r, 0.0, 0.05);
+                for (int i = 0; i < 3; i++) {
+                    g.twist[i] = (kc_real)(sv * (double)u.v[i]);
+                    g.twist[3 + i] = (kc_real)(sw * (double)w.v[i]);
+                }
+            } else {
+                memset(&g, 0, sizeof g);
+                g.id = id + 2;
+                g.kind = KC_GOAL_SERVO;
+                g.vel_scale = g.acc_scale = KC_R(1.0);
+                double d[3], sp = kt_uniform(&r, 0.0, 0.01);
+                for (int i = 0; i < 3; i++)
+                    d[i] = sp * (double)u.v[i];
+                kc_vec3 turn_by;
+                kc_vec3_scale(&w, (kc_real)kt_uniform(&r, 0.0, 0.05), &turn_by);
+                g.pose = moved(&H.ctrl.pose, d, turn_by);
+            }
+            g.replace = 1;
+            tick(&g);
+            int64_t at = H.out.cycle;
+            int why = accepted_reason(g.id);
+            cases++;
+            if (m == 0) {
+                assert_int_equal(why, KC_REASON_NONE);
+                assert_true(kt_has_event(&H.out, KC_EVENT_PREEMPTED, b.id));
+                assert_true(kt_has_event(&H.out, KC_EVENT_STARTED, g.id));
+                assert_int_equal(H.out.goal_id, g.id);
+                taken++;
+            } else {
+                assert_int_equal(why, KC_REASON_STOP_FIRST);
+            }
+            char what[64];
+            snprintf(what, sizeof what, "a joint move replaced by a %s, then by a %s stream", path ? "joint path" : "line",
+                     twist ? "twist" : "pose");
+            for (int k = 0; k < 300; k++) {
+                tick(&g);
+                if (why == KC_REASON_NONE && H.out.cycle == at + 2 + AROUND) {
+                    judge_law(at, what, c, 1);
+                    /* The joints' acceleration goes on unchanged in the
+                     * takeover's tick (joint_target): no jerk there but
+                     * the IK step's second-order terms. */
+                    if (!(H.ring[at % RING] <= 1e-6))
+                        fail_msg("%s case %d, %s: the joints' jerk %.6g of the limits in the takeover's tick",
+                                 kc_model_name(H.model), c, what, H.ring[at % RING]);
+                    worst_at = fmax(worst_at, H.ring[at % RING]);
+                    worst_next = fmax(worst_next, fmax(H.ring[(at + 1) % RING], H.ring[(at + 2) % RING]));
+                }
+            }
+            assert_int_equal(H.out.goal_id, g.id);
+            for (int k = 0; k < 20000 && H.out.state != KC_CTRL_IDLE; k++)
+                tick(NULL);
+            assert_int_equal(H.out.state, KC_CTRL_IDLE);
+            assert_true(kt_has_event(&H.out, KC_EVENT_ABORTED, g.id));
+            go_home(models[m], HOME_ID + 300 + c);
+        }
+        print_message("%s: %d joint moves replaced by a line or a joint path superposed on their stops, then by a "
+                      "stream: %d taken over in the tick, the joints' jerk on its tick at most %.2g of their limits, "
+                      "on the next two %.4f (%s)\n",
+                      kc_model_name(models[m]), cases, taken, worst_at, worst_next, KC_REAL_NAME);
+    }
+}
+
 /* A stream that goes quiet while a joint accelerates near its speed
  * limit: its jerk-limited stop would carry the joint past qd_max (by
  * qdd^2 / (2 qddd_max)), which the final check refuses; it stops
@@ -909,6 +1040,7 @@ int main(void)
         cmocka_unit_test(test_random_pose_streams),
         cmocka_unit_test(test_twist_capped_to_speed),
         cmocka_unit_test(test_streams_take_over),
+        cmocka_unit_test(test_streams_take_over_joint_superpositions),
         cmocka_unit_test(test_quiet_near_the_speed_limit),
     };
     int rc = cmocka_run_group_tests(tests, NULL, NULL);

@@ -229,11 +229,14 @@
  * the target. So also from a stop: a line's, an arc's or a Cartesian
  * path's on its path (a STOP's, a PAUSE's, one for a goal waiting on it;
  * its law is the stop's), a joint motion's on its line or joint by joint
- * (from the joints, as above); and from a superposition of a line, an
- * arc or a Cartesian path on a stop on its path, from the sum (its
- * target at the ticks each side composed the same way; on a stop in
- * joint space the joints' jerk went to their limits at the takeover,
- * 0.46 of them around it: it stops first). The stream goes on from the old target's
+ * (from the joints, as above); from a superposition of a line, an arc
+ * or a Cartesian path on a stop on its path, from the sum (its target at
+ * the ticks each side composed the same way); and, on an arm of six
+ * joints, from a superposition on a stop in joint space (a line's, an
+ * arc's, a Cartesian or a joint path's on a joint move's stop), from the
+ * joints as from a joint move (from the sum the joints' jerk went to
+ * their limits at the takeover, 0.46 of them around it; a redundant arm
+ * stops first). The stream goes on from the old target's
  * pose, twist and the twist's rate at the last setpoint: a shaped pose
  * stream's profiles from the rate at that tick (a segment's by the
  * central difference of its twists over the ticks each side), a twist
