@@ -5,7 +5,7 @@
 #   - a consumer program configured and built with CMake against
 #     find_package(kinctl) computes FK of puma560 (built-in, and from the
 #     installed models/puma560.cfg through kinctl::desc); checked against
-#     tests/vectors/fk.json;
+#     tests/vectors/fk.json; the same source built as C++ prints the same;
 #   - the installed kinctl-calc computes the same pose; kinctld --help runs and
 #     kinctld --check accepts the installed example configuration;
 #   - neither binary carries an RPATH/RUNPATH, and every library they load
@@ -40,11 +40,19 @@ echo "installed into $prefix: $(cd "$prefix" && find . -type f | wc -l) files"
 # The consumer, built by a user's CMake against the staging prefix. A
 # sanitizer build installs instrumented libraries, so the consumer links the
 # sanitizer runtimes too.
+# Its C++ build uses the C compiler's sibling (gcc: g++, clang: clang++).
+case $(basename "$cc") in
+    *clang*) cxx=${cc%clang*}clang++${cc##*clang} ;;
+    *gcc*) cxx=${cc%gcc*}g++${cc##*gcc} ;;
+    *) cxx=c++ ;;
+esac
 flags=()
 if [[ -n $sanitizers ]]; then
-    flags=(-DCMAKE_C_FLAGS="-fsanitize=$sanitizers" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=$sanitizers")
+    flags=(-DCMAKE_C_FLAGS="-fsanitize=$sanitizers" -DCMAKE_CXX_FLAGS="-fsanitize=$sanitizers"
+           -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=$sanitizers")
 fi
-cmake -S "$here/consumer" -B "$tmp/consumer" -DCMAKE_C_COMPILER="$cc" -DCMAKE_PREFIX_PATH="$prefix" \
+cmake -S "$here/consumer" -B "$tmp/consumer" -DCMAKE_C_COMPILER="$cc" -DCMAKE_CXX_COMPILER="$cxx" \
+    -DCMAKE_PREFIX_PATH="$prefix" \
     -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF "${flags[@]}" >"$tmp/consumer-configure.log" 2>&1 ||
     { cat "$tmp/consumer-configure.log" >&2; fail "configuring the consumer"; }
 grep -- "-- kinctl " "$tmp/consumer-configure.log"
@@ -59,6 +67,11 @@ print(" ".join(repr(v) for v in c["q_rad"]))' "$vectors/fk.json")
 qcsv=$(IFS=,; echo "${q[*]}")
 "$tmp/consumer/consumer" "$prefix/share/kinctl/models/puma560.cfg" "${q[@]}" >"$tmp/consumer.json" ||
     fail "the consumer failed"
+"$tmp/consumer/consumer_cxx" "$prefix/share/kinctl/models/puma560.cfg" "${q[@]}" >"$tmp/consumer_cxx.json" ||
+    fail "the consumer built as C++ failed"
+cmp -s "$tmp/consumer.json" "$tmp/consumer_cxx.json" ||
+    fail "the consumer built as C++ printed $(cat "$tmp/consumer_cxx.json"), in C $(cat "$tmp/consumer.json")"
+echo "the consumer built as C++ ($(basename "$cxx")) prints what it does in C"
 "$prefix/bin/kinctl-calc" fk --model-file "$prefix/share/kinctl/models/puma560.cfg" --q "$qcsv" >"$tmp/calc.json" ||
     fail "installed kinctl-calc fk failed"
 "$python" - "$vectors/fk.json" "$tmp/consumer.json" "$tmp/calc.json" "$real" <<'PY'

@@ -56,9 +56,7 @@
 
 // The double build of the core, for its tick count alone: the timed kinctl
 // calls run in the helpers (one per precision).
-extern "C" {
 #include "kinctl/profile.h"
-}
 
 namespace {
 

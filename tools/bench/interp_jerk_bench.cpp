@@ -37,11 +37,9 @@
 
 #include <ruckig/ruckig.hpp>
 
-extern "C" {
 #include "kinctl/chain.h"
 #include "kinctl/interp.h"
 #include "kinctl/scurve.h"
-}
 
 #include "bench_common.h"
 #include "bench_models.hpp"

@@ -25,8 +25,11 @@
 
 #include <stdint.h>
 
+#include "kinctl/decls.h"
 #include "kinctl/se3.h"
 #include "kinctl/shape.h"
+
+KC_BEGIN_DECLS
 
 /* Compile-time capacities. */
 #ifndef KC_MAX_JOINTS
@@ -211,5 +214,7 @@ const char *kc_model_name(kc_model model);
 
 /* The model with that name, or -1 (KC_E_ARG) when there is none. */
 int kc_model_from_name(const char *name);
+
+KC_END_DECLS
 
 #endif /* KINCTL_CHAIN_H */

@@ -111,6 +111,9 @@
 #include <stdint.h>
 
 #include "kinctl/ctrl.h"
+#include "kinctl/decls.h"
+
+KC_BEGIN_DECLS
 
 /* What kc_check_slowing aims the joints' jerk at, in units of their
  * limits: below 1 because the law is not all of it (the IK step's
@@ -286,5 +289,7 @@ int kc_check_snapshot_fresh(const kc_check *check);
  * the queue's end back; at rest with nothing queued or on its way, the
  * queue ends where the arm is. */
 void kc_check_tick(kc_check *check, const kc_ctrl_output *out, int64_t goals_taken);
+
+KC_END_DECLS
 
 #endif /* KINCTL_CHECK_H */

@@ -464,11 +464,14 @@
 
 #include <stdint.h>
 
+#include "kinctl/decls.h"
 #include "kinctl/ik.h"
 #include "kinctl/interp.h"
 #include "kinctl/path_cart.h"
 #include "kinctl/profile.h"
 #include "kinctl/zone.h"
+
+KC_BEGIN_DECLS
 
 #ifndef KC_CTRL_QUEUE_MAX
 #define KC_CTRL_QUEUE_MAX 8
@@ -988,5 +991,7 @@ kc_status kc_ctrl_step(kc_ctrl *ctrl, const kc_ctrl_input *in, kc_ctrl_output *o
  * between (a command, a goal, a servo message, a fault) changes it, but
  * for the rare hash collision (2^-32). 0 for NULL. */
 uint32_t kc_ctrl_stamp(const kc_ctrl *c);
+
+KC_END_DECLS
 
 #endif /* KINCTL_CTRL_H */

@@ -21,6 +21,9 @@
 #define KINCTL_FK_H
 
 #include "kinctl/chain.h"
+#include "kinctl/decls.h"
+
+KC_BEGIN_DECLS
 
 /* 6 x n Jacobian stored with a fixed leading dimension; columns beyond the
  * chain's joints are not written. */
@@ -40,5 +43,7 @@ kc_status kc_fk_frames(const kc_chain *chain, const kc_real *q, kc_pose *frames,
 
 /* Geometric Jacobian, and the tool pose if tool != NULL (it comes free). */
 kc_status kc_fk_jacobian(const kc_chain *chain, const kc_real *q, kc_jacobian *jac, kc_pose *tool);
+
+KC_END_DECLS
 
 #endif /* KINCTL_FK_H */

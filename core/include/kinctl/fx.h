@@ -55,7 +55,10 @@
 #include <stdint.h>
 
 #include "kinctl/chain.h"
+#include "kinctl/decls.h"
 #include "kinctl/interp.h"
+
+KC_BEGIN_DECLS
 
 #define KC_FX_ROT_BITS 30
 #define KC_FX_POS_BITS 24
@@ -221,5 +224,7 @@ kc_status kc_fx_line_init(kc_fx_line *line, const kc_interp_line *plan);
  * KC_OK while moving, KC_DONE from the last tick on (the end pose
  * exactly); KC_E_ARG for NULL or k < 0. Integer only, cycle-safe. */
 kc_status kc_fx_line_eval(const kc_fx_line *line, int64_t k, int32_t p[3], int32_t q[4]);
+
+KC_END_DECLS
 
 #endif /* KINCTL_FX_H */

@@ -70,7 +70,10 @@
 
 #include <stdint.h>
 
+#include "kinctl/decls.h"
 #include "kinctl/fk.h"
+
+KC_BEGIN_DECLS
 
 typedef enum kc_ik_mask {
     KC_IK_MASK_FULL = 0,     /* position and orientation: 6 rows */
@@ -199,5 +202,7 @@ kc_status kc_ik_step_ff(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_po
  * tool offset. A cheap, conservative workspace bound (infinite when a
  * prismatic joint is unbounded). */
 kc_real kc_ik_reach(const kc_chain *chain);
+
+KC_END_DECLS
 
 #endif /* KINCTL_IK_H */

@@ -39,8 +39,11 @@
 #include <stdint.h>
 
 #include "kinctl/chain.h"
+#include "kinctl/decls.h"
 #include "kinctl/profile.h"
 #include "kinctl/scurve.h"
+
+KC_BEGIN_DECLS
 
 /*
  * Three points are taken as collinear when the sine of the angle at the
@@ -438,5 +441,7 @@ kc_status kc_interp_arc_eval_profile(const kc_interp_arc *plan, const kc_profile
 /* As kc_interp_line_eval_scurve, for the arc. */
 kc_status kc_interp_arc_eval_scurve(const kc_interp_arc *plan, const kc_scurve *prof, int64_t k,
                                     kc_interp_cart_state *out);
+
+KC_END_DECLS
 
 #endif /* KINCTL_INTERP_H */

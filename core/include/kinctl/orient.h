@@ -33,7 +33,10 @@
 #ifndef KINCTL_ORIENT_H
 #define KINCTL_ORIENT_H
 
+#include "kinctl/decls.h"
 #include "kinctl/se3.h"
+
+KC_BEGIN_DECLS
 
 typedef struct kc_euler {
     kc_real phi, theta, psi;
@@ -53,5 +56,7 @@ kc_status kc_orient_axis_angle_to_mat3(const kc_vec3 *k, kc_real theta, kc_mat3 
 /* Unit axis and angle in [0, pi]. Returns 1 when theta is 0 or pi (the axis
  * is then a convention, see above), else 0. */
 int kc_orient_mat3_to_axis_angle(const kc_mat3 *R, kc_vec3 *k, kc_real *theta);
+
+KC_END_DECLS
 
 #endif /* KINCTL_ORIENT_H */

@@ -124,8 +124,11 @@
 #include <stdint.h>
 
 #include "kinctl/chain.h"
+#include "kinctl/decls.h"
 #include "kinctl/real.h"
 #include "kinctl/status.h"
+
+KC_BEGIN_DECLS
 
 /* Most knots of a path. */
 #ifndef KC_PATH_MAX_KNOTS
@@ -245,5 +248,7 @@ kc_status kc_path_eval_time(const kc_path *path, kc_real t, kc_real *q, kc_real 
  * past its end: for checking continuity where two pieces meet). KC_E_ARG for
  * NULL, p out of range or tau not finite. */
 kc_status kc_path_eval_piece(const kc_path *path, int p, kc_real tau, kc_real *q, kc_real *qd, kc_real *qdd);
+
+KC_END_DECLS
 
 #endif /* KINCTL_PATH_H */

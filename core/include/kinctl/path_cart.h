@@ -49,10 +49,13 @@
 
 #include <stdint.h>
 
+#include "kinctl/decls.h"
 #include "kinctl/path.h"
 #include "kinctl/real.h"
 #include "kinctl/se3.h"
 #include "kinctl/status.h"
+
+KC_BEGIN_DECLS
 
 /* What a Cartesian path is made of. Start from kc_path_cart_cfg_default().
  * Arrays are read during planning only. */
@@ -127,5 +130,7 @@ kc_status kc_path_cart_eval_time(const kc_path_cart *path, kc_real t, kc_path_po
 /* Piece p at local time tau (continuity checks); as kc_path_eval_piece.
  * out->s is the length at the piece's start plus the quadrature to tau. */
 kc_status kc_path_cart_eval_piece(const kc_path_cart *path, int p, kc_real tau, kc_path_pose *out);
+
+KC_END_DECLS
 
 #endif /* KINCTL_PATH_CART_H */

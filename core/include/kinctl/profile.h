@@ -70,8 +70,11 @@
 
 #include <stdint.h>
 
+#include "kinctl/decls.h"
 #include "kinctl/real.h"
 #include "kinctl/status.h"
+
+KC_BEGIN_DECLS
 
 /* Longest profile in ticks: 2^24, below which every k dt is exact in float
  * (4.6 hours at 1 kHz). */
@@ -131,5 +134,7 @@ kc_status kc_profile_eval(const kc_profile *prof, int64_t k, kc_profile_state *o
  * reference data, plots). Returns KC_OK for t < T, KC_DONE for t >= T,
  * KC_E_ARG for NULL arguments, t < 0 or NaN (out untouched). */
 kc_status kc_profile_eval_time(const kc_profile *prof, kc_real t, kc_profile_state *out);
+
+KC_END_DECLS
 
 #endif /* KINCTL_PROFILE_H */

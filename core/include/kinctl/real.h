@@ -20,6 +20,10 @@
 #include <math.h>
 #include <stdint.h>
 
+#include "kinctl/decls.h"
+
+KC_BEGIN_DECLS
+
 #ifdef KC_REAL_FLOAT
 typedef float kc_real;
 /* A literal in the build's precision: KC_R(0.5) is 0.5f in float builds. */
@@ -248,5 +252,7 @@ static inline kc_real kc_wrap_angle(kc_real a)
     kc_real w = a - KC_R(2.0) * KC_PI * kc_floor((a + KC_PI) / (KC_R(2.0) * KC_PI));
     return w <= -KC_PI ? w + KC_R(2.0) * KC_PI : w;
 }
+
+KC_END_DECLS
 
 #endif /* KINCTL_REAL_H */

@@ -133,8 +133,11 @@
 
 #include <stdint.h>
 
+#include "kinctl/decls.h"
 #include "kinctl/real.h"
 #include "kinctl/status.h"
+
+KC_BEGIN_DECLS
 
 /* Most phases: velocity change (3), cruise (1), stop (3). */
 #define KC_SCURVE_MAX_PHASES 7
@@ -287,5 +290,7 @@ kc_status kc_scurve_eval(const kc_scurve *prof, int64_t k, kc_scurve_state *out)
 /* State at time t >= 0 (s), off the tick grid: KC_OK for t < T, KC_DONE
  * for t >= T, KC_E_ARG for NULL arguments, t < 0 or NaN. */
 kc_status kc_scurve_eval_time(const kc_scurve *prof, kc_real t, kc_scurve_state *out);
+
+KC_END_DECLS
 
 #endif /* KINCTL_SCURVE_H */

@@ -23,8 +23,11 @@
 
 #include <stddef.h>
 
+#include "kinctl/decls.h"
 #include "kinctl/real.h"
 #include "kinctl/status.h"
+
+KC_BEGIN_DECLS
 
 typedef struct kc_vec3 {
     kc_real v[3];
@@ -173,5 +176,7 @@ void kc_dquat_to_pose(const kc_dquat *a, kc_pose *dest);
 void kc_dquat_log(const kc_dquat *a, kc_vec3 *w, kc_vec3 *v);
 /* Exponential: inverse of kc_dquat_log. */
 void kc_dquat_exp(const kc_vec3 *w, const kc_vec3 *v, kc_dquat *dest);
+
+KC_END_DECLS
 
 #endif /* KINCTL_SE3_H */

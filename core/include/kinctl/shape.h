@@ -55,9 +55,12 @@
 #ifndef KINCTL_SHAPE_H
 #define KINCTL_SHAPE_H
 
+#include "kinctl/decls.h"
 #include "kinctl/real.h"
 #include "kinctl/se3.h"
 #include "kinctl/status.h"
+
+KC_BEGIN_DECLS
 
 /* Sizes of a shape. */
 #define KC_SHAPE_DIMS 5
@@ -110,5 +113,7 @@ void kc_shape_place(const kc_shape *shape, const kc_pose *at, kc_shape *dest);
  * for NULL, two half-spaces or an unknown kind; shapes are not otherwise
  * validated (kc_shape_check them once). */
 kc_status kc_shape_distance(const kc_shape *a, const kc_shape *b, kc_real *dist);
+
+KC_END_DECLS
 
 #endif /* KINCTL_SHAPE_H */

@@ -9,6 +9,10 @@
 #ifndef KINCTL_STATUS_H
 #define KINCTL_STATUS_H
 
+#include "kinctl/decls.h"
+
+KC_BEGIN_DECLS
+
 typedef enum kc_status {
     KC_OK = 0,
     /* Non-error outcomes. */
@@ -27,5 +31,7 @@ typedef enum kc_status {
 /* A short readable text for a status (never NULL): what the daemon sends back
  * as a rejection reason. Safe to call in the cycle. */
 const char *kc_status_str(kc_status status);
+
+KC_END_DECLS
 
 #endif /* KINCTL_STATUS_H */

@@ -40,8 +40,11 @@
 #define KINCTL_ZONE_H
 
 #include "kinctl/chain.h"
+#include "kinctl/decls.h"
 #include "kinctl/se3.h"
 #include "kinctl/shape.h"
+
+KC_BEGIN_DECLS
 
 /* Most zones of a set. */
 #define KC_ZONE_MAX 16
@@ -104,5 +107,7 @@ void kc_zone_levers(const struct kc_chain *chain, kc_real *lever);
 /* sum_j qd_max_j dt lever_j: the farthest any point of any volume can move
  * in one tick of dt (s) at the joints' velocity limits (m). */
 kc_real kc_zone_tick_travel(const struct kc_chain *chain, kc_real dt);
+
+KC_END_DECLS
 
 #endif /* KINCTL_ZONE_H */

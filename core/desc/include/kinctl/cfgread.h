@@ -24,7 +24,10 @@
 
 #include <libconfig.h>
 
+#include "kinctl/decls.h"
 #include "kinctl/desc.h"
+
+KC_BEGIN_DECLS
 
 #if defined(__GNUC__)
 #define KC_CFG_PRINTF(f, a) __attribute__((format(printf, f, a)))
@@ -110,5 +113,7 @@ kc_status kc_cfg_string(kc_cfg *r, const config_setting_t *group, const char *ke
 /* An optional group { ... }: *out is the setting, or NULL when absent. */
 kc_status kc_cfg_lookup_group(kc_cfg *r, const config_setting_t *group, const char *key, const char *where,
                               const config_setting_t **out);
+
+KC_END_DECLS
 
 #endif /* KINCTL_CFGREAD_H */

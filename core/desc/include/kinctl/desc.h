@@ -91,7 +91,10 @@
 #define KINCTL_DESC_H
 
 #include "kinctl/chain.h"
+#include "kinctl/decls.h"
 #include "kinctl/zone.h"
+
+KC_BEGIN_DECLS
 
 #define KC_DESC_NAME_LEN 64
 #define KC_DESC_TEXT_LEN 512
@@ -147,5 +150,7 @@ kc_status kc_desc_load_string(const char *text, const char *name, kc_chain *chai
  * and info (may be NULL). Errors as kc_desc_load_file; outputs untouched on
  * error. */
 kc_status kc_desc_load_zones(const char *path, kc_zone_set *set, kc_desc_zone_info *info, kc_desc_error *err);
+
+KC_END_DECLS
 
 #endif /* KINCTL_DESC_H */

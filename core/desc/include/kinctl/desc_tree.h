@@ -16,7 +16,10 @@
 
 #include <libconfig.h>
 
+#include "kinctl/decls.h"
 #include "kinctl/desc.h"
+
+KC_BEGIN_DECLS
 
 /* The robot group (robot = { ... }) into chain (built and checked) and info
  * (may be NULL). */
@@ -27,5 +30,7 @@ kc_status kc_desc_read_robot(const config_setting_t *robot, const char *file, kc
  * info (may be NULL), margin and near kc_zone_set_init's unless given. */
 kc_status kc_desc_read_zones(const config_setting_t *zones, const char *file, kc_zone_set *set,
                              kc_desc_zone_info *info, kc_desc_error *err);
+
+KC_END_DECLS
 
 #endif /* KINCTL_DESC_TREE_H */
