@@ -8,6 +8,7 @@ set(CMAKE_SYSTEM_NAME Generic)
 set(CMAKE_SYSTEM_PROCESSOR cortex-m3)
 
 set(CMAKE_C_COMPILER arm-none-eabi-gcc)
+set(CMAKE_CXX_COMPILER arm-none-eabi-g++)
 # gcc-ar and gcc-ranlib: the archive's index must list the symbols of
 # objects holding link-time-optimisation bytecode (mcu/'s KINCTL_MCU_LTO).
 set(CMAKE_AR arm-none-eabi-gcc-ar)
@@ -17,6 +18,9 @@ set(CMAKE_TRY_COMPILE_TARGET_TYPE STATIC_LIBRARY)
 set(KINCTL_MCU_CPU_FLAGS -mcpu=cortex-m3 -mthumb -mfloat-abi=soft)
 string(JOIN " " _kinctl_cpu ${KINCTL_MCU_CPU_FLAGS})
 set(CMAKE_C_FLAGS_INIT "${_kinctl_cpu} -fno-math-errno -ffunction-sections -fdata-sections")
+# C++ (a program of one's own, mcu/CMakeLists.txt): without exceptions and
+# RTTI, which need the C++ runtime.
+set(CMAKE_CXX_FLAGS_INIT "${CMAKE_C_FLAGS_INIT} -fno-exceptions -fno-rtti -fno-threadsafe-statics")
 set(CMAKE_EXE_LINKER_FLAGS_INIT "${_kinctl_cpu} -Wl,--gc-sections")
 
 set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
