@@ -113,6 +113,7 @@ kc_status kc_ctrl_init(kc_ctrl *c, const kc_chain *chain, const kc_ctrl_cfg *cfg
     for (int j = 0; j < chain->n_joints; j++)
         c->q[j] = q0[j];
     kc_fk_eval(chain, c->q, &c->pose);
+    c->servo_cmd_cycle = c->servo_zone_cycle = INT64_MIN;
     kc_ctrl_zone_init(c);
     return KC_OK;
 }
@@ -142,6 +143,7 @@ void kc_ctrl_restart(kc_ctrl *c, const kc_real *q_at, const kc_real *q)
     c->servo_last = 0;
     memset(c->servo_v, 0, sizeof c->servo_v);
     memset(c->servo_a, 0, sizeof c->servo_a);
+    c->servo_cmd_cycle = c->servo_zone_cycle = INT64_MIN;
     c->settle = 0;
     c->null_x = KC_R(0.0);
     c->null_cycle = -1;

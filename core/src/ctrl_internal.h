@@ -225,6 +225,11 @@ void kc_ctrl_servo_aim(kc_ctrl *c, int64_t k0);
  * moved on to this tick (a pose stream without shaping has none). */
 void kc_ctrl_servo_tick(kc_ctrl *c);
 
+/* A jerk-limited stream's joint setpoint (q, qd, qdd: the IK step's)
+ * brought within the joints' jerk limits, following the IK step's
+ * velocities from tick to tick (kinctl/ctrl.h; ctrl_servo.c says how). */
+void kc_ctrl_servo_jerk(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd);
+
 /* A replacing servo goal g taking over the moving arm in this tick
  * (kinctl/ctrl.h): its shaped target starts from the tool's pose, twist
  * and the twist's rate at the last setpoint. Returns 1 when taken (the

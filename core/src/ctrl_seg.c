@@ -525,6 +525,9 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
     c->cfg.ik.null_gain = null_gain;
     for (int i = 0; i < n; i++)
         qdd[i] = (qd[i] - c->qd[i]) / c->cfg.dt;
+    if (c->goal.kind == KC_GOAL_SERVO && kc_ctrl_goal_profile(c, &c->goal) == KC_PROFILE_JERK && st != KC_E_LIMIT &&
+        st != KC_E_ARG)
+        kc_ctrl_servo_jerk(c, q, qd, qdd);
     if (c->goal.kind != KC_GOAL_SERVO) {
         if (kc_ctrl_stop_leave_path(c, qdd)) {
             kc_ctrl_joint_stop_eval(c, q, qd, qdd);

@@ -221,6 +221,47 @@ void kc_ctrl_servo_tick(kc_ctrl *c)
         pose_at(c, c->cycle);
 }
 
+/* The joints' jerk under a jerk-limited stream. The IK step's velocities
+ * c_k, one a tick, are a trajectory whose rate r = (c_k - c_{k-1}) / dt
+ * the joint takes over the tick, qd' = qd + r dt, as long as its qdd
+ * changes by at most h = qddd_max dt (it then is c_k exactly: qd went
+ * to c_{k-1} the tick before). Where it would change by more, the joint
+ * follows the trajectory by shaped_rate's deadbeat step in coordinates
+ * relative to it, taken as going on at the rate r: the velocity's
+ * offset qd - c_{k-1} and the rate's a - r brought to 0 within h a
+ * tick, without overshooting the offset's 0, and so the step comes
+ * back onto c exactly once the trajectory's own jerk is within h again.
+ * (Held to h a tick alone, without the deadbeat, the rate overshot on
+ * every catch-up and the loop through the IK step's error wound up:
+ * 4.7 mm from a pose stream's last pose, a joint at its speed limit.)
+ * The step is kept below the deadbeat step onto +-qd_max at rest, the
+ * rate within qdd_max (or coming down by h), q within its limits. The
+ * tick after a zone restrained the step (ctrl_zone.c, braking at the
+ * acceleration limits), the IK step's velocities pass unchanged: the
+ * stream's target has then been brought back to the arm. */
+void kc_ctrl_servo_jerk(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
+{
+    kc_real dt = c->cfg.dt;
+    int valid = c->servo_cmd_cycle == c->cycle - 1, restrained = c->servo_zone_cycle == c->cycle - 1;
+    for (int j = 0; j < c->chain->n_joints; j++) {
+        const kc_joint_limits *l = &c->chain->joints[j].limits;
+        kc_real cmd = qd[j], v = c->qd[j], a0 = c->qdd[j], h = l->qddd_max * dt;
+        kc_real r = valid ? (cmd - c->servo_cmd[j]) / dt : a0;
+        c->servo_cmd[j] = cmd;
+        if (restrained)
+            continue;
+        kc_real a = r + shaped_rate(v - cmd + r * dt, a0 - r, KC_R(0.0), KC_REAL_MAX, l->qddd_max, dt);
+        a = kc_clamp(a, shaped_rate(v, a0, -l->qd_max, l->qdd_max, l->qddd_max, dt),
+                     shaped_rate(v, a0, l->qd_max, l->qdd_max, l->qddd_max, dt));
+        kc_real top = kc_fabs(a0) - h > l->qdd_max ? kc_fabs(a0) - h : l->qdd_max;
+        a = kc_clamp(kc_clamp(a, a0 - h, a0 + h), -top, top);
+        qd[j] = kc_clamp(v + a * dt, -l->qd_max, l->qd_max);
+        qdd[j] = (qd[j] - v) / dt;
+        q[j] = kc_clamp(c->q[j] + qd[j] * dt, l->q_min, l->q_max);
+    }
+    c->servo_cmd_cycle = c->cycle;
+}
+
 /* Whether a stream can take over the motion in joint space under way
  * from a target of joint_target: where the IK step gives a joint velocity
  * back exactly (six joints under the full task: J invertible; a redundant

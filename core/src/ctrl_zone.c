@@ -69,6 +69,7 @@ void kc_ctrl_zone_servo_limit(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
         q[j] = c->q[j] + qd[j] * dt;
         qdd[j] = (qd[j] - c->qd[j]) / dt;
     }
+    c->servo_zone_cycle = c->cycle; /* kc_ctrl_servo_jerk */
     /* A twist stream's or a shaped pose stream's target stays with the
      * restrained arm instead of running on into the zone, and its shaped
      * twist is the arm's over the tick (the rate zero), so a reversed twist

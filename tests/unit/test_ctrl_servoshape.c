@@ -24,13 +24,14 @@
  * - every joint: |qd| <= qd_max, |qdd| <= qdd_max, the jerk (the change
  *   of qdd over a tick over dt) <= qddd_max, with a relative slack of
  *   SLACK (SLACK_JERK for the jerk), q moving by qd dt (the IK step's) or
- *   by a cubic's step (a stop's). In float the jerk while the stream is
- *   followed is measured, not judged: q's rounding (an ulp of 2.4 is
- *   2.4e-7 rad) alone moves qd by 2.4e-4 rad/s and qdd by 0.24 rad/s^2 in
- *   a tick at 1 kHz, more than the PUMA 560's 50 rad/s^3 allow (seen: 16
- *   times its limit; in double 0.77). The controller does not bound the
- *   joints' jerk under a stream (kinctl/ctrl.h): these cases stay within
- *   it, and five times as many went to 1.0088 of it;
+ *   by a cubic's step (a stop's). The controller bounds the joints' jerk
+ *   under a stream (kc_ctrl_servo_jerk, kinctl/ctrl.h): every tick of a
+ *   stream is judged, in float too, where q's rounding (an ulp of 2.4 is
+ *   2.4e-7 rad) alone moves the IK step's qd by 2.4e-4 rad/s and its qdd
+ *   by 0.24 rad/s^2 in a tick at 1 kHz (16 times the PUMA 560's jerk
+ *   limit before the bound; in double, at five times the cases, 1.0088).
+ *   The jerk of other motions while they are followed (a line before a
+ *   takeover) is the Jacobian's: measured, in float not judged;
  * - the tool's twist, once the shaped twist has held still for 200 ticks,
  *   the commanded one within 1 % of its size (the arm follows it);
  * - the timeout's stop: jerk-limited joint by joint (plan.halt), ending at
@@ -155,8 +156,11 @@ static void step(const kc_goal *g, kc_ctrl_command cmd)
         if ((H.out.state == KC_CTRL_MOVING && H.out.goal_id < HOME_ID) || ending) {
             H.worst_track_j = fmax(H.worst_track_j, rj);
             *ring = fmax(*ring, rj);
-            if (!TRACK_JERK_JUDGED || H.judge_laws)
-                rj = 0.0; /* measured; changes of law judged against their neighbours */
+            /* Measured, changes of law judged against their neighbours;
+             * but a stream's every tick within the limits (above). */
+            int streaming = H.out.state == KC_CTRL_MOVING && H.ctrl.goal.kind == KC_GOAL_SERVO;
+            if ((!TRACK_JERK_JUDGED || H.judge_laws) && !streaming)
+                rj = 0.0;
         }
         /* q moves by the tick's qd dt (the IK step's integration) or, in
          * a stop, by the exact cubic's step over a tick of jerk at most J

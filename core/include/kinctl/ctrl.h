@@ -41,13 +41,7 @@
  *                   twist where a zone restrains it. The commanded
  *                   linear and angular velocities are capped at the
  *                   goal's speed and omega (cfg defaults), their
- *                   directions kept. The joints'
- *                   jerk is what the Jacobian makes of it, as a line's
- *                   (random streams of up to 0.1 m/s and 0.3 rad/s, at
- *                   the default bounds, double: at most 0.77 of the PUMA
- *                   560's qddd_max, 0.009 of the Panda's; in float the
- *                   rounding of q alone moves qdd by more,
- *                   test_ctrl_servoshape.c). A pose stream's target is
+ *                   directions kept. A pose stream's target is
  *                   shaped too: on each new pose, x, y, z and the
  *                   rotation vector phi of R = exp(phi) ref (ref the
  *                   shaped orientation then) are planned to rest at it,
@@ -63,17 +57,25 @@
  *                   own motion where a zone restrains it. The arm so
  *                   lags a moving pose, and a pose stream that goes
  *                   quiet is stopped where its shaped pose is, short of
- *                   a pose not yet reached (random streams: joints'
- *                   jerk while following at most 0.97 of the PUMA 560's
- *                   qddd_max, 0.026 of the Panda's, in double; nothing
- *                   bounds it but the Cartesian shaping through the
- *                   Jacobian: at five times test_ctrl_servoshape's
- *                   cases a PUMA 560 twist stream took its elbow to
- *                   1.0088 of qddd_max at 0.63 rad/s, a pose stream a
- *                   joint to 1.001). With
+ *                   a pose not yet reached. The joints follow either
+ *                   stream within their jerk limits too: the IK step's
+ *                   joint velocities are taken as they are where qdd
+ *                   changes by at most qddd_max dt, and followed by a
+ *                   deadbeat jerk-limited step where they would change
+ *                   it by more (kc_ctrl_servo_jerk, ctrl_servo.c; the
+ *                   Jacobian alone took a PUMA 560 elbow to 1.0088 of
+ *                   qddd_max, and in float the rounding of q moved qdd
+ *                   by 16 times it; random streams of up to 0.1 m/s and
+ *                   0.3 rad/s at the default bounds, test_ctrl_servoshape.c:
+ *                   within the limits in double on every tick, at five
+ *                   times its cases too, and in float within 1.0002 of
+ *                   them; the step taken as it was on every tick of the
+ *                   cases in double). The tick after a zone restrained
+ *                   the step (below) is not limited. With
  *                   the trapezoid profile a pose stream is not shaped:
  *                   its target jumps to each pose, and the IK step
- *                   brings the joints there within qd_max and qdd_max.
+ *                   brings the joints there within qd_max and qdd_max
+ *                   (their jerk not limited).
  * Cartesian segments give a pose and twist each tick; one IK step with
  * the twist fed forward (kc_ik_step_ff, with a superposed stop's joint
  * velocities in the null space, below) turns them into the joint
@@ -876,6 +878,11 @@ typedef struct kc_ctrl {
      * twist stream's twist moving towards the commanded twist, a pose
      * stream's pose towards the commanded pose (ctrl_servo.c). */
     kc_real servo_v[6], servo_a[6];
+    /* The IK step's joint velocities on a stream's last tick, before the
+     * joints' jerk limits (kc_ctrl_servo_jerk, ctrl_servo.c), and that
+     * tick; the last tick a zone restrained the stream's step. */
+    kc_real servo_cmd[KC_MAX_JOINTS];
+    int64_t servo_cmd_cycle, servo_zone_cycle;
     int settle;                /* ticks a Cartesian segment has waited for the tool to settle */
     kc_real null_x;            /* the null-space motion's ramp, 0..1 (ctrl_seg.c) */
     int64_t null_cycle;        /* tick of the last IK step */
