@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 # CMake toolchain file: bare-metal Cortex-M3 (ARMv7-M, no FPU: float and
 # double are libgcc's soft float), Debian's gcc-arm-none-eabi with newlib.
-#   cmake -S mcu -B build-mcu-m3 -DCMAKE_TOOLCHAIN_FILE=cmake/arm-none-eabi-cortex-m3.cmake
+#   cmake -S mcu -B build-mcu-m3 -DCMAKE_TOOLCHAIN_FILE=$PWD/cmake/arm-none-eabi-cortex-m3.cmake
 # On this target the fixed-point kinematics (kinctl/fx.h) is the one to use
 # in the cycle; mcu/ builds only its programs here.
 set(CMAKE_SYSTEM_NAME Generic)

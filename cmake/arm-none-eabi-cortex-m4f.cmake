@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: BSD-3-Clause
 # CMake toolchain file: bare-metal Cortex-M4F (ARMv7E-M with the single-
 # precision FPv4-SP-D16 unit), Debian's gcc-arm-none-eabi with newlib.
-#   cmake -S mcu -B build-mcu -DCMAKE_TOOLCHAIN_FILE=cmake/arm-none-eabi-cortex-m4f.cmake
+#   cmake -S mcu -B build-mcu -DCMAKE_TOOLCHAIN_FILE=$PWD/cmake/arm-none-eabi-cortex-m4f.cmake
 # The core is meant to be built with KINCTL_REAL=float on this target: the
 # FPU has no double, so every double operation would be a libgcc call.
 set(CMAKE_SYSTEM_NAME Generic)

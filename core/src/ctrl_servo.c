@@ -246,11 +246,16 @@ void kc_ctrl_servo_jerk(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
     for (int j = 0; j < c->chain->n_joints; j++) {
         const kc_joint_limits *l = &c->chain->joints[j].limits;
         kc_real cmd = qd[j], v = c->qd[j], a0 = c->qdd[j], h = l->qddd_max * dt;
-        kc_real r = valid ? (cmd - c->servo_cmd[j]) / dt : a0;
+        kc_real r = valid ? (cmd - c->servo_cmd[j]) / dt : a0, off = v - cmd + r * dt;
         c->servo_cmd[j] = cmd;
-        if (restrained)
+        /* The step as it is where the deadbeat step would be it: qdd
+         * within h of a0, the offset within h dt (shaped_rate's m = 0),
+         * and the step short of the speed limits' (S(a) <= dt a^2 / h). */
+        kc_real reach = v + dt * qdd[j] * (KC_R(1.0) + kc_fabs(qdd[j]) / h);
+        if (restrained ||
+            (kc_fabs(qdd[j] - a0) <= h && kc_fabs(off) < h * dt && kc_fabs(reach) < l->qd_max))
             continue;
-        kc_real a = r + shaped_rate(v - cmd + r * dt, a0 - r, KC_R(0.0), KC_REAL_MAX, l->qddd_max, dt);
+        kc_real a = r + shaped_rate(off, a0 - r, KC_R(0.0), KC_REAL_MAX, l->qddd_max, dt);
         a = kc_clamp(a, shaped_rate(v, a0, -l->qd_max, l->qdd_max, l->qddd_max, dt),
                      shaped_rate(v, a0, l->qd_max, l->qdd_max, l->qddd_max, dt));
         kc_real top = kc_fabs(a0) - h > l->qdd_max ? kc_fabs(a0) - h : l->qdd_max;

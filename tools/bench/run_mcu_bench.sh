@@ -47,6 +47,12 @@ declare -A core_dir=([default]="$mcu/core/CMakeFiles/kinctl_core_float.dir"
 declare -A bench_dir=([default]="$mcu/CMakeFiles/mcu_bench.dir" [small]="$mcu/CMakeFiles/mcu_bench_small.dir")
 declare -A image=([default]="$mcu/mcu_bench.elf" [small]="$mcu/mcu_bench_small.elf")
 
+for cfg in default small; do
+    if [ -z "$(find "${core_dir[$cfg]}" -name '*.c.obj' -print -quit 2>/dev/null)" ]; then
+        echo "run_mcu_bench.sh: no core objects in ${core_dir[$cfg]}: is $mcu an mcu/ build?" >&2
+        exit 2
+    fi
+done
 echo "== code size per module (arm-none-eabi-size of each object, $(basename "$mcu") build type MinSizeRel: -Os)"
 for cfg in default small; do
     printf '%-10s %-10s %8s %6s %6s\n' config module .text .data .bss
