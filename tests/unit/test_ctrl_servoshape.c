@@ -620,6 +620,18 @@ static void test_twist_capped_to_speed(void **state)
                   worst[0], worst[1], KC_REAL_NAME);
 }
 
+/* A stream that took over, still active, goes quiet: its timeout's stop
+ * to rest, ABORTED; then back to the start (go_home, its goal home_id). */
+static void end_stream(kc_model model, int64_t id, int64_t home_id)
+{
+    assert_int_equal(H.out.goal_id, id);
+    for (int k = 0; k < 20000 && H.out.state != KC_CTRL_IDLE; k++)
+        tick(NULL);
+    assert_int_equal(H.out.state, KC_CTRL_IDLE);
+    assert_true(kt_has_event(&H.out, KC_EVENT_ABORTED, id));
+    go_home(model, home_id);
+}
+
 /* The reason of goal id's ACCEPTED event in this tick's output, or -1. */
 static int accepted_reason(int64_t id)
 {
@@ -825,12 +837,7 @@ static void test_streams_take_over(void **state)
                 if (H.out.goal_id == g.id)
                     hold--;
             }
-            assert_int_equal(H.out.goal_id, g.id);
-            for (int k = 0; k < 20000 && H.out.state != KC_CTRL_IDLE; k++)
-                tick(NULL);
-            assert_int_equal(H.out.state, KC_CTRL_IDLE);
-            assert_true(kt_has_event(&H.out, KC_EVENT_ABORTED, g.id));
-            go_home(models[m], HOME_ID + 200 + c);
+            end_stream(models[m], g.id, HOME_ID + 200 + c);
         }
         print_message("%s: %d motions replaced by a servo stream; of those moving with a target's law, a pose "
                       "stream took over %d of %d in the tick, a twist stream %d of %d (%d with an axis' rate beyond its share; the others stopped first); "
@@ -963,12 +970,7 @@ static void test_streams_take_over_joint_superpositions(void **state)
                     worst_next = fmax(worst_next, fmax(H.ring[(at + 1) % RING], H.ring[(at + 2) % RING]));
                 }
             }
-            assert_int_equal(H.out.goal_id, g.id);
-            for (int k = 0; k < 20000 && H.out.state != KC_CTRL_IDLE; k++)
-                tick(NULL);
-            assert_int_equal(H.out.state, KC_CTRL_IDLE);
-            assert_true(kt_has_event(&H.out, KC_EVENT_ABORTED, g.id));
-            go_home(models[m], HOME_ID + 300 + c);
+            end_stream(models[m], g.id, HOME_ID + 300 + c);
         }
         print_message("%s: %d joint moves replaced by a line or a joint path superposed on their stops, then by a "
                       "stream: %d taken over in the tick, the joints' jerk on its tick at most %.2g of their limits, "
