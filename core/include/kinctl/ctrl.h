@@ -69,9 +69,8 @@
  *                   0.3 rad/s at the default bounds, test_ctrl_servoshape.c:
  *                   within the limits in double on every tick, at five
  *                   times its cases too, and in float within 1.0002 of
- *                   them; the step taken as it was on every tick of the
- *                   cases in double). The tick after a zone restrained
- *                   the step (below) is not limited. With
+ *                   them). The tick after a zone restrained the step
+ *                   (forbidden zones, below) is not limited. With
  *                   the trapezoid profile a pose stream is not shaped:
  *                   its target jumps to each pose, and the IK step
  *                   brings the joints there within qd_max and qdd_max
