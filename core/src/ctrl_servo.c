@@ -368,11 +368,13 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
     kc_pose from = c->servo_target;
     int64_t j = c->cycle - 1 - c->k0;
     kc_ctrl_seg_point o;
-    /* A superposition on a stop in joint space (and one in its first
-     * tick, whose sum has no tick before it for the rate) from the joints,
-     * as a motion in joint space: from the sum, the joints' jerk reached
-     * their limits at the takeover, 0.46 of them around it. */
-    if (law && c->blend.on && (c->cycle - 2 < c->blend.k0 || law_at(c, j, &o))) {
+    /* A segment's target at j (o, below); a superposition on a stop in
+     * joint space (and one in its first tick, whose sum has no tick before
+     * it for the rate) from the joints, as a motion in joint space: from
+     * the sum, the joints' jerk reached their limits at the takeover, 0.46
+     * of them around it. (A stream is never superposed on.) */
+    if (law && c->goal.kind != KC_GOAL_SERVO &&
+        ((c->blend.on && c->cycle - 2 < c->blend.k0) || law_at(c, j, &o))) {
         if (!joint_target_exists(c))
             return 0;
         law = 0;
@@ -396,8 +398,7 @@ int kc_ctrl_servo_take(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
         /* The segment's target at j, the last setpoint's tick, its twist,
          * and the twist's rate by the central difference of its twists at
          * j + 1 and j - 1, and by the backward one of j and j - 1. While
-         * superposed on a stop on its path, the sum's. */
-        law_at(c, j, &o);
+         * superposed on a stop on its path, the sum's (o, above). */
         from = o.pose;
         memcpy(v, o.twist, sizeof v);
         law_at(c, j + 1, &o);
