@@ -620,6 +620,30 @@ def test_warnings_on_stderr():
     assert r.stdout.startswith("t,q1,q2,")
 
 
+PUMA_Q1_MAX = 2.792526803190927  # models/puma560.cfg, joint 1's upper limit
+
+
+@pytest.mark.parametrize("sign", [1.0, -1.0])
+def test_moving_start_carried_beyond_a_joint_limit_is_warned_about(sign):
+    # Joint 1 at 2.5 rad, 2 rad/s towards its limit: at 5 rad/s^2 and 50
+    # rad/s^3 it turns beyond the limit on the way to 2.79 rad. The rows
+    # are computed anyway; the warning names the joint's extreme over them.
+    args = ["interp", "joint", "--model", "puma560", "--q0", nums([2.5 * sign] + [0.0] * 5),
+            "--q1", nums([2.79 * sign] + [0.0] * 5), "--qd0", nums([2.0 * sign] + [0.0] * 5), "--dt", "0.004"]
+    r = run(args)
+    assert r.returncode == 0
+    rows = [[float(x) for x in line.split(",")] for line in r.stdout.splitlines()[1:]]
+    far = max((row[1] for row in rows), key=lambda q: q * sign)
+    assert far * sign > PUMA_Q1_MAX
+    assert f"joint 1 reaches {far:.9g} rad on the way from this start, beyond its limits" in r.stderr, r.stderr
+    assert r.stderr.count("warning") == 1
+    # From 0.5 rad/s it turns before the limit: no warning.
+    slow = args[:-4] + ["--qd0", nums([0.5 * sign] + [0.0] * 5), "--dt", "0.004"]
+    r = run(slow)
+    assert r.returncode == 0 and r.stderr == ""
+    assert max(float(line.split(",")[1]) * sign for line in r.stdout.splitlines()[1:]) < PUMA_Q1_MAX
+
+
 @pytest.mark.parametrize("kind", ["joint", "line", "arc", "path"])
 def test_help(kind):
     r = run(["interp", kind, "--help"])

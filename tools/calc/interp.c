@@ -369,6 +369,31 @@ static int start_rates_of(calc_ctx *ctx, const json_t *req, const char *key, con
     return 0;
 }
 
+/* A warning for each joint whose motion (its range over the rows, lo to
+ * hi) goes beyond its position limits further than q0 and q1 do (those
+ * are warned about as given): a moving start may carry it there before
+ * it turns. The controller takes such a goal by stopping first
+ * (ctrl_queue.c, retarget_jerk). */
+static void overshoot_warnings(calc_ctx *ctx, const kc_chain *chain, int deg, const kc_real *q0, const kc_real *q1,
+                               const kc_real *lo, const kc_real *hi)
+{
+    for (int j = 0; j < chain->n_joints; j++) {
+        const kc_joint *jt = &chain->joints[j];
+        int angular = jt->type == KC_JOINT_REVOLUTE;
+        kc_real s = deg && angular ? KC_R(1.0) / KC_DEG : KC_R(1.0);
+        kc_real slack = KC_R(1e-9) * (kc_fabs(jt->limits.q_min) + kc_fabs(jt->limits.q_max) + KC_R(1.0));
+        kc_real top = kc_max(jt->limits.q_max, kc_max(q0[j], q1[j])) + slack;
+        kc_real bottom = kc_min(jt->limits.q_min, kc_min(q0[j], q1[j])) - slack;
+        const char *unit = angular ? (deg ? "deg" : "rad") : "m";
+        if (hi[j] > top || lo[j] < bottom)
+            calc_warn(ctx,
+                      "joint %d reaches %.9g %s on the way from this start, beyond its limits [%g, %g] (kinctld, "
+                      "given this goal in this state, stops the motion first)",
+                      j + 1, (double)((hi[j] > top ? hi[j] : lo[j]) * s), unit, (double)(jt->limits.q_min * s),
+                      (double)(jt->limits.q_max * s));
+    }
+}
+
 static int run_interp_joint(const json_t *req, calc_ctx *ctx)
 {
     kc_chain chain;
@@ -443,12 +468,19 @@ static int run_interp_joint(const json_t *req, calc_ctx *ctx)
     for (int j = 0; j < n; j++)
         scale[j] = deg && chain.joints[j].type == KC_JOINT_REVOLUTE ? KC_R(1.0) / KC_DEG : KC_R(1.0);
     int ncol = 1 + nd * n;
+    /* Each joint's range over the rows: a moving start may carry it
+     * beyond its position limits before it turns. */
+    kc_real lo[KC_MAX_JOINTS], hi[KC_MAX_JOINTS];
+    for (int j = 0; j < n; j++)
+        lo[j] = hi[j] = q0[j];
     calc_rows_begin(ctx, ncol, names);
     for (int64_t k = 0; k <= plan.ticks; k++) {
         kc_interp_joint_state s;
         kc_interp_joint_eval(&plan, k, &s);
         row[0] = (kc_real)k * dt;
         for (int j = 0; j < n; j++) {
+            lo[j] = kc_min(lo[j], s.q[j]);
+            hi[j] = kc_max(hi[j], s.q[j]);
             /* The last row is q1 as given, not converted there and back. */
             row[1 + j] = k == plan.ticks ? q1_given[j] : k == 0 ? q0_given[j] : s.q[j] * scale[j];
             row[1 + n + j] = s.qd[j] * scale[j];
@@ -459,6 +491,7 @@ static int run_interp_joint(const json_t *req, calc_ctx *ctx)
         calc_rows_add(ctx, ncol, row);
     }
     calc_rows_end(ctx);
+    overshoot_warnings(ctx, &chain, deg, q0, q1, lo, hi);
     return 0;
 }
 
@@ -582,7 +615,8 @@ static const calc_cmd kinds[] = {
      "jerk limits, all starting and ending on the same tick, in the slowest joint's optimal time (a\n"
      "straight line when that is as fast, else each joint stretched). From a moving start (--qd0,\n"
      "--qdd0: as kinctld takes over a moving arm for a replacing joint goal) each joint's profile\n"
-     "from its state, stretched to the slowest one's.\n"
+     "from its state, stretched to the slowest one's; a joint it carries beyond its position limits\n"
+     "before turning is warned about (kinctld would stop such a motion first).\n"
      "Trapezoid (seed 001 lab 4): every joint covers the same fraction of its move at every tick; the\n"
      "common trapezoid (triangle when short) keeps each joint within its own speed and acceleration limits.\n"
      "Prints CSV: t,q1..qn,qd1..qdn,qdd1..qddn (jerk: also qddd1..qdddn), one row per tick from t = 0\n"
