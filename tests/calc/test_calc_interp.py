@@ -644,6 +644,26 @@ def test_moving_start_carried_beyond_a_joint_limit_is_warned_about(sign):
     assert max(float(line.split(",")[1]) * sign for line in r.stdout.splitlines()[1:]) < PUMA_Q1_MAX
 
 
+def test_moving_start_beyond_the_rate_limits_is_warned_about():
+    # puma560 joint 1: vmax 2 rad/s, amax 5 rad/s^2, jmax 50 rad/s^3.
+    base = ["interp", "joint", "--model", "puma560", "--q0", nums([0.0] * 6), "--q1", nums([1.0] + [0.0] * 5)]
+    # A start beyond vmax and amax: the rows start there.
+    r = run(base + ["--qd0", nums([3.0] + [0.0] * 5), "--qdd0", nums([-7.0] + [0.0] * 5), "--dt", "0.004"])
+    assert r.returncode == 0
+    assert "joint 1's speed reaches 3 rad/s from this start, beyond vmax 2" in r.stderr, r.stderr
+    assert "joint 1's acceleration reaches 7 rad/s^2 from this start, beyond amax 5" in r.stderr, r.stderr
+    # 1.9 rad/s rising at 4.9 rad/s^2: the acceleration comes down to 0 at
+    # the jerk limit in 4.9 / 50 s (49 ticks of 2 ms), the speed rising by
+    # 4.9^2 / (2 50) to 2.1401 rad/s on the way.
+    r = run(base + ["--qd0", nums([1.9] + [0.0] * 5), "--qdd0", nums([4.9] + [0.0] * 5), "--dt", "0.002"])
+    assert r.returncode == 0 and r.stderr.count("warning") == 1, r.stderr
+    peak = float(r.stderr.split("speed reaches ")[1].split()[0])
+    assert peak == pytest.approx(1.9 + 4.9 ** 2 / 100.0, rel=1e-8)
+    # At the limits exactly (2 rad/s braking at 5 rad/s^2): nothing to say.
+    r = run(base + ["--qd0", nums([2.0] + [0.0] * 5), "--qdd0", nums([-5.0] + [0.0] * 5), "--dt", "0.004"])
+    assert r.returncode == 0 and r.stderr == ""
+
+
 @pytest.mark.parametrize("kind", ["joint", "line", "arc", "path"])
 def test_help(kind):
     r = run(["interp", kind, "--help"])

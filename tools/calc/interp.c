@@ -369,28 +369,43 @@ static int start_rates_of(calc_ctx *ctx, const json_t *req, const char *key, con
     return 0;
 }
 
-/* A warning for each joint whose motion (its range over the rows, lo to
- * hi) goes beyond its position limits further than q0 and q1 do (those
- * are warned about as given): a moving start may carry it there before
- * it turns. The controller takes such a goal by stopping first
- * (ctrl_queue.c, retarget_jerk). */
-static void overshoot_warnings(calc_ctx *ctx, const kc_chain *chain, int deg, const kc_real *q0, const kc_real *q1,
-                               const kc_real *lo, const kc_real *hi)
+/* A joint's range over the rows: its position's lowest and highest,
+ * its largest speed and acceleration. */
+typedef struct {
+    kc_real lo, hi, v, a;
+} joint_range;
+
+/* Warnings for what a moving start carries beyond the limits before the
+ * profile turns it (rest to rest stays within them): a joint past its
+ * position limits further than q0 and q1 are (those are warned about as
+ * given), which the controller takes by stopping first (ctrl_queue.c,
+ * retarget_jerk); a speed or an acceleration past the move's limits (a
+ * start beyond them, or one whose acceleration cannot come down to 0
+ * before its speed passes vmax: brought back within, as kinctld does). */
+static void range_warnings(calc_ctx *ctx, const kc_chain *chain, int deg, const kc_interp_joint_cfg *cfg,
+                           const joint_range *r)
 {
     for (int j = 0; j < chain->n_joints; j++) {
         const kc_joint *jt = &chain->joints[j];
         int angular = jt->type == KC_JOINT_REVOLUTE;
         kc_real s = deg && angular ? KC_R(1.0) / KC_DEG : KC_R(1.0);
         kc_real slack = KC_R(1e-9) * (kc_fabs(jt->limits.q_min) + kc_fabs(jt->limits.q_max) + KC_R(1.0));
-        kc_real top = kc_max(jt->limits.q_max, kc_max(q0[j], q1[j])) + slack;
-        kc_real bottom = kc_min(jt->limits.q_min, kc_min(q0[j], q1[j])) - slack;
+        kc_real top = kc_max(jt->limits.q_max, kc_max(cfg->q0[j], cfg->q1[j])) + slack;
+        kc_real bottom = kc_min(jt->limits.q_min, kc_min(cfg->q0[j], cfg->q1[j])) - slack;
         const char *unit = angular ? (deg ? "deg" : "rad") : "m";
-        if (hi[j] > top || lo[j] < bottom)
+        if (r[j].hi > top || r[j].lo < bottom)
             calc_warn(ctx,
                       "joint %d reaches %.9g %s on the way from this start, beyond its limits [%g, %g] (kinctld, "
                       "given this goal in this state, stops the motion first)",
-                      j + 1, (double)((hi[j] > top ? hi[j] : lo[j]) * s), unit, (double)(jt->limits.q_min * s),
+                      j + 1, (double)((r[j].hi > top ? r[j].hi : r[j].lo) * s), unit, (double)(jt->limits.q_min * s),
                       (double)(jt->limits.q_max * s));
+        if (r[j].v > cfg->qd_max[j] * (KC_R(1.0) + KC_R(1e-9)))
+            calc_warn(ctx, "joint %d's speed reaches %.9g %s/s from this start, beyond vmax %g: brought back within",
+                      j + 1, (double)(r[j].v * s), unit, (double)(cfg->qd_max[j] * s));
+        if (r[j].a > cfg->qdd_max[j] * (KC_R(1.0) + KC_R(1e-9)))
+            calc_warn(ctx,
+                      "joint %d's acceleration reaches %.9g %s/s^2 from this start, beyond amax %g: brought back within",
+                      j + 1, (double)(r[j].a * s), unit, (double)(cfg->qdd_max[j] * s));
     }
 }
 
@@ -469,18 +484,21 @@ static int run_interp_joint(const json_t *req, calc_ctx *ctx)
         scale[j] = deg && chain.joints[j].type == KC_JOINT_REVOLUTE ? KC_R(1.0) / KC_DEG : KC_R(1.0);
     int ncol = 1 + nd * n;
     /* Each joint's range over the rows: a moving start may carry it
-     * beyond its position limits before it turns. */
-    kc_real lo[KC_MAX_JOINTS], hi[KC_MAX_JOINTS];
+     * beyond the limits before it turns. */
+    joint_range range[KC_MAX_JOINTS];
     for (int j = 0; j < n; j++)
-        lo[j] = hi[j] = q0[j];
+        range[j] = (joint_range){q0[j], q0[j], KC_R(0.0), KC_R(0.0)};
     calc_rows_begin(ctx, ncol, names);
     for (int64_t k = 0; k <= plan.ticks; k++) {
         kc_interp_joint_state s;
         kc_interp_joint_eval(&plan, k, &s);
         row[0] = (kc_real)k * dt;
         for (int j = 0; j < n; j++) {
-            lo[j] = kc_min(lo[j], s.q[j]);
-            hi[j] = kc_max(hi[j], s.q[j]);
+            joint_range *r = &range[j];
+            r->lo = kc_min(r->lo, s.q[j]);
+            r->hi = kc_max(r->hi, s.q[j]);
+            r->v = kc_max(r->v, kc_fabs(s.qd[j]));
+            r->a = kc_max(r->a, kc_fabs(s.qdd[j]));
             /* The last row is q1 as given, not converted there and back. */
             row[1 + j] = k == plan.ticks ? q1_given[j] : k == 0 ? q0_given[j] : s.q[j] * scale[j];
             row[1 + n + j] = s.qd[j] * scale[j];
@@ -491,7 +509,7 @@ static int run_interp_joint(const json_t *req, calc_ctx *ctx)
         calc_rows_add(ctx, ncol, row);
     }
     calc_rows_end(ctx);
-    overshoot_warnings(ctx, &chain, deg, q0, q1, lo, hi);
+    range_warnings(ctx, &chain, deg, &cfg, range);
     return 0;
 }
 
