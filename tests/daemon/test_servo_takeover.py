@@ -16,11 +16,15 @@ smooth (assert_smooth); from the move's last setpoint to the stream's
 first, qdd changes by at most qddd_max dt (the joints' acceleration goes
 on: a step of it at the takeover is what stopping first avoided). The
 stream then ends by its timeout, aborted, the arm at rest. The same for
-a pose stream replacing a line's stop on its path."""
+a pose stream replacing a line's stop on its path, and for a twist
+stream replacing the Panda's joint move: on its seven joints the IK step
+does not carry the joint move's self-motion, which comes to the step's
+within the joints' jerk limits (Arm.check_limits on every setpoint)."""
 import time
 
 from kinctl import client as kc
-from kinctl_testing import (EVENTS, N, QN, STATES, assert_smooth, go_nominal, max_jerk_ratio, servo_twist,
+from kinctl_arms import HOMES, Arm
+from kinctl_testing import (EVENTS, N, QN, STATES, assert_smooth, finished, go_nominal, max_jerk_ratio, servo_twist,
                             setpoints_since)
 
 # Relative slack of the limit checks: the daemon's core is double.
@@ -95,4 +99,32 @@ def test_stopping_line_replaced_by_pose_stream_without_stopping(kinctld):
     assert max(abs(v) for v in sps[i].qd[:N]) > 0.01  # not stopped for the stream
     rj, _ = max_jerk_ratio(sps[i - 1:i + 1])
     assert rj <= 1.0 + SLACK, rj
+    assert d.stop() == 0
+
+
+def test_panda_joint_move_replaced_by_twist_stream_without_stopping(kinctld):
+    arm = Arm("panda")
+    d = kinctld("--model", "panda")
+    d.bus.send_goal_joint(1, HOMES["panda"])
+    s0 = finished(d, 1)
+    d.bus.send_goal_joint(2, [q + TRAVEL for q in HOMES["panda"]], vel_scale=SCALE, acc_scale=SCALE)
+    assert d.bus.wait_event(2, ("STARTED",)).event == EVENTS["STARTED"]
+    time.sleep(0.5)
+    for _ in range(60):
+        d.bus.send("GOAL_SERVO", servo_twist(3, TWIST, TIMEOUT_US))
+        time.sleep(0.01)
+    accepted = d.bus.wait_event(3, ("ACCEPTED", "REJECTED"))
+    assert accepted.event == EVENTS["ACCEPTED"] and accepted.code == 0 and accepted.reason == "", accepted.reason
+    assert d.bus.wait_event(2, ("PREEMPTED", "ABORTED", "COMPLETED")).event == EVENTS["PREEMPTED"]
+    end = d.bus.wait_event(3, ("ABORTED", "COMPLETED", "FAULT"))
+    assert end.event == EVENTS["ABORTED"], end.reason
+    s = d.bus.wait_idle()
+    sps = setpoints_since(d, s0.cycle)
+    arm.check_limits(sps)
+    i = next(i for i, sp in enumerate(sps) if sp.goal_id == 3)
+    assert sps[i - 1].goal_id == 2 and sps[i].cycle == sps[i - 1].cycle + 1
+    assert sps[i].state == STATES["MOVING"]
+    assert min(abs(v) for v in sps[i - 1].qd[:7]) > 0.01  # every joint moving when it is replaced
+    assert max(abs(v) for v in sps[i].qd[:7]) > 0.01  # and not stopped for the stream
+    assert all(v == 0.0 for v in s.qd[:7])
     assert d.stop() == 0

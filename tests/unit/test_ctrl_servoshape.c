@@ -94,6 +94,22 @@
 /* The ring of the ticks' largest jerk (of the limits) while following. */
 #define RING 32
 
+/* A redundant arm's takeover from its joints (ctrl_servo.c,
+ * joint_target_exists): the IK step drops the self-motion, and the jerk
+ * bound brings the joints onto the step's velocities within their jerk
+ * limits, which no neighbour ratio describes. Judged instead: every tick
+ * within the limits (step), and the tool's distance from the stream's
+ * target over the SELF_TICKS after the takeover within SELF_TOL (the IK
+ * step corrects what the joints' catching up moves it by: measured at
+ * most 5.6e-6 m here and 1.43e-5 m at five times test_streams_take_over's
+ * cases; the PUMA 560's from its joints, the IK step's own lag, 2.5e-6
+ * m). */
+#define SELF_TICKS 300
+#define SELF_TOL 3e-5
+
+/* The tool's distance from the stream's target (m). */
+static double off_target(void);
+
 /* Ids of the joint moves back to the start, above the streams'. */
 #define HOME_ID 5000
 
@@ -238,6 +254,13 @@ static double judge_law(int64_t k, const char *what, int c, int joint_law)
                  kc_model_name(H.model), c, what, window, around, AROUND);
     H.worst_law = fmax(H.worst_law, ratio);
     return ratio;
+}
+
+static double off_target(void)
+{
+    kc_vec3 d;
+    kc_vec3_sub(&H.ctrl.pose.t, &H.ctrl.servo_target.t, &d);
+    return (double)kc_vec3_norm(&d);
 }
 
 /* A twist stream's share of the default Cartesian acceleration and jerk
@@ -685,9 +708,13 @@ static void test_streams_take_over(void **state)
         double worst_ratio = 0.0;
         /* Twist streams taken over with an axis' rate beyond its share. */
         int took_beyond = 0;
+        /* A redundant arm's joint motions taken over from its joints, and
+         * the tool's largest distance from the stream's target after. */
+        int self_taken = 0;
+        double worst_self = 0.0;
         for (int c = 0; c < CASES; c++) {
             int64_t id = 800 + 2 * c;
-            int kind = (int)kt_uniform(&r, 0.0, m == 0 ? 5.0 : 4.0); /* line, path, twist, pose, joint */
+            int kind = (int)kt_uniform(&r, 0.0, 5.0); /* line, path, twist, pose, joint */
             kc_pose here = H.ctrl.pose;
             kc_goal a;
             double dp[3];
@@ -739,7 +766,7 @@ static void test_streams_take_over(void **state)
                 tick(kind == 2 || kind == 3 ? &a : NULL);
             /* A STOP (then 1) or a line replacing the motion (2), 1 to 40
              * ticks before the stream. */
-            int then = (kind == 0 || kind == 4) && m == 0 && H.out.state == KC_CTRL_MOVING
+            int then = (kind == 0 || kind == 4) && H.out.state == KC_CTRL_MOVING
                            ? (int)kt_uniform(&r, 0.0, 3.0)
                            : 0;
             if (then == 1) {
@@ -813,6 +840,10 @@ static void test_streams_take_over(void **state)
              * to it by the axis' jerk bound a tick; its change within that
              * bound on every tick. */
             int shaping = twist && moving && why == KC_REASON_NONE;
+            /* A redundant arm's joint move (or its stop, or what is
+             * superposed on that) taken over from its joints (SELF_TOL). */
+            int self_motion = kind == 4 && H.chain.n_joints > 6;
+            self_taken += moving && why == KC_REASON_NONE && self_motion;
             double a_prev[6];
             for (int i = 0; i < 6; i++)
                 a_prev[i] = (double)H.ctrl.servo_a[i];
@@ -823,8 +854,15 @@ static void test_streams_take_over(void **state)
             int hold = 200 + (int)kt_uniform(&r, 0.0, 300.0);
             for (int k = 0; k < 20000 && hold > 0; k++) {
                 tick(&g);
-                if (moving && why == KC_REASON_NONE && H.out.cycle == at + 2 + AROUND)
+                if (moving && why == KC_REASON_NONE && self_motion && H.out.cycle - at <= SELF_TICKS) {
+                    double off = off_target();
+                    if (!(off <= SELF_TOL))
+                        fail_msg("%s case %d, %s: the tool %.3g m from the stream's target %ld ticks after the takeover",
+                                 kc_model_name(H.model), c, what, off, (long)(H.out.cycle - at));
+                    worst_self = fmax(worst_self, off);
+                } else if (moving && why == KC_REASON_NONE && H.out.cycle == at + 2 + AROUND) {
                     worst_ratio = fmax(worst_ratio, judge_law(at, what, c, kind == 4 && then != 2));
+                }
                 for (int i = 0; i < 6 && shaping && H.out.goal_id == g.id && H.ctrl.drive == KC_DRIVE_NOMINAL; i++) {
                     double a_now = (double)H.ctrl.servo_a[i], h = share_j(i) * (double)H.cfg.dt;
                     if (fabs(a_now - a_prev[i]) > h * (1.0 + 1e-9) + 1e-15 ||
@@ -844,13 +882,17 @@ static void test_streams_take_over(void **state)
                       "of the joint moves, a stream took over %d of %d; of the lines and joint moves stopping %d of "
                       "%d, superposed on by a line %d of %d; "
                       "the joints' jerk at a takeover at most %.4f times its neighbours'; qdd at most %.4f and jerk "
-                      "%.4f in the stops; while following (the Jacobian's: measured) jerk up to %.1f (%s)\n",
+                      "%.4f in the stops; while following (the Jacobian's: measured) jerk up to %.1f; "
+                      "taken over from the joints of a redundant arm %d, the tool then within %.3g m of the "
+                      "stream's target (%s)\n",
                       kc_model_name(models[m]), CASES, taken[0], eligible[0], taken[1], eligible[1], took_beyond, joint_taken,
-                      joint_moving, then_taken[0], then_moving[0], then_taken[1], then_moving[1], worst_ratio, H.worst_a, H.worst_j, H.worst_track_j, KC_REAL_NAME);
+                      joint_moving, then_taken[0], then_moving[0], then_taken[1], then_moving[1], worst_ratio, H.worst_a,
+                      H.worst_j, H.worst_track_j, self_taken, worst_self, KC_REAL_NAME);
         assert_true(taken[0] <= eligible[0] && taken[0] >= eligible[0] * 3 / 4);
         assert_true(taken[1] <= eligible[1] && taken[1] > 0 && took_beyond > 0);
-        assert_true(joint_taken <= joint_moving && (m == 1 || joint_taken > 0));
-        assert_true(m == 1 || (then_taken[0] > 0 && then_taken[1] > 0));
+        assert_true(joint_taken <= joint_moving && joint_taken > 0);
+        assert_true(then_taken[0] > 0 && then_taken[1] > 0);
+        assert_true((m == 1) == (self_taken > 0));
     }
 }
 
@@ -881,6 +923,9 @@ static void test_streams_take_over_joint_superpositions(void **state)
         /* The joints' largest jerk (of their limits) on the takeover's
          * tick, and on the next two, where the stream's own law starts. */
         double worst_at = 0.0, worst_next = 0.0;
+        /* The tool's largest distance from the stream's target after
+         * the takeover (SELF_TOL). */
+        double worst_self = 0.0;
         for (int c = 0; c < 16; c++) {
             int64_t id = 3000 + 4 * c;
             int path = c % 2, twist = c / 2 % 2, n = H.chain.n_joints;
@@ -944,7 +989,9 @@ static void test_streams_take_over_joint_superpositions(void **state)
             int64_t at = H.out.cycle;
             int why = accepted_reason(g.id);
             cases++;
-            if (m == 0) {
+            /* The Panda's sum may be beyond the stream's Cartesian bounds
+             * (its tool's acceleration in a stop in joint space). */
+            if (m == 0 || why == KC_REASON_NONE) {
                 assert_int_equal(why, KC_REASON_NONE);
                 assert_true(kt_has_event(&H.out, KC_EVENT_PREEMPTED, b.id));
                 assert_true(kt_has_event(&H.out, KC_EVENT_STARTED, g.id));
@@ -958,14 +1005,26 @@ static void test_streams_take_over_joint_superpositions(void **state)
                      twist ? "twist" : "pose");
             for (int k = 0; k < 300; k++) {
                 tick(&g);
+                if (why == KC_REASON_NONE && H.out.cycle - at <= SELF_TICKS) {
+                    double off = off_target();
+                    if (!(off <= SELF_TOL))
+                        fail_msg("%s case %d, %s: the tool %.3g m from the stream's target %ld ticks after the "
+                                 "takeover",
+                                 kc_model_name(H.model), c, what, off, (long)(H.out.cycle - at));
+                    worst_self = fmax(worst_self, off);
+                }
                 if (why == KC_REASON_NONE && H.out.cycle == at + 2 + AROUND) {
-                    judge_law(at, what, c, 1);
                     /* The joints' acceleration goes on unchanged in the
                      * takeover's tick (joint_target): no jerk there but
-                     * the IK step's second-order terms. */
-                    if (!(H.ring[at % RING] <= 1e-6))
-                        fail_msg("%s case %d, %s: the joints' jerk %.6g of the limits in the takeover's tick",
-                                 kc_model_name(H.model), c, what, H.ring[at % RING]);
+                     * the IK step's second-order terms. On the Panda the
+                     * self-motion comes to the IK step's within the
+                     * jerk limits (SELF_TOL), measured. */
+                    if (m == 0) {
+                        judge_law(at, what, c, 1);
+                        if (!(H.ring[at % RING] <= 1e-6))
+                            fail_msg("%s case %d, %s: the joints' jerk %.6g of the limits in the takeover's tick",
+                                     kc_model_name(H.model), c, what, H.ring[at % RING]);
+                    }
                     worst_at = fmax(worst_at, H.ring[at % RING]);
                     worst_next = fmax(worst_next, fmax(H.ring[(at + 1) % RING], H.ring[(at + 2) % RING]));
                 }
@@ -974,8 +1033,9 @@ static void test_streams_take_over_joint_superpositions(void **state)
         }
         print_message("%s: %d joint moves replaced by a line or a joint path superposed on their stops, then by a "
                       "stream: %d taken over in the tick, the joints' jerk on its tick at most %.2g of their limits, "
-                      "on the next two %.4f (%s)\n",
-                      kc_model_name(models[m]), cases, taken, worst_at, worst_next, KC_REAL_NAME);
+                      "on the next two %.4f; the tool within %.3g m of the stream's target after it (%s)\n",
+                      kc_model_name(models[m]), cases, taken, worst_at, worst_next, worst_self, KC_REAL_NAME);
+        assert_true(taken >= cases / 2);
     }
 }
 

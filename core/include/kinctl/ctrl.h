@@ -219,25 +219,31 @@
  * that tick's step, held over the tick: v dt + a dt^2 / 2, with v + a dt
  * the twist fed forward at the tick's target, the target's own velocity
  * there, as a sampled law's is); and from a joint move or a joint path
- * on an arm of six joints under the full task, where the IK step gives
- * joint velocities back (J invertible), from a target with the law the
+ * on an arm of six joints or more under the full task, from a target
+ * with the law the
  * step would have tracked with the joints' (q, qd, qdd) at the last
  * setpoint: the tool's pose moved by the step's error at that
  * acceleration, k e = J qdd dt / 2 (k the row's gain), twist J (qd + qdd
  * dt / 2), its rate the change of J qd over the next tick with qdd held,
  * so that the step's first velocity is qd + qdd dt (the joints' qdd goes
  * on: no step at the takeover) and from there the stream's own law moves
- * the target. So also from a stop: a line's, an arc's or a Cartesian
+ * the target. On six joints the IK step gives the joints' velocities
+ * back (J invertible). On a redundant arm it gives back the part the task
+ * sees and not the self-motion: the jerk bound of the stream (above,
+ * kc_ctrl_servo_jerk) brings the joints onto the step's velocities within
+ * their jerk limits over the next ticks, the step correcting what that
+ * moves the tool by (the Panda in test_ctrl_servoshape.c: the joints'
+ * jerk at their limits through it, the tool within 5.7e-6 m of the
+ * stream's target, 2.5e-6 m on the PUMA 560). So also from a stop: a line's, an arc's or a Cartesian
  * path's on its path (a STOP's, a PAUSE's, one for a goal waiting on it;
  * its law is the stop's), a joint motion's on its line or joint by joint
  * (from the joints, as above); from a superposition of a line, an arc
  * or a Cartesian path on a stop on its path, from the sum (its target at
- * the ticks each side composed the same way); and, on an arm of six
- * joints, from a superposition on a stop in joint space (a line's, an
- * arc's, a Cartesian or a joint path's on a joint move's stop), from the
- * joints as from a joint move (from the sum the joints' jerk went to
- * their limits at the takeover, 0.46 of them around it; a redundant arm
- * stops first). The stream goes on from the old target's
+ * the ticks each side composed the same way); and from a superposition
+ * on a stop in joint space (a line's, an arc's, a Cartesian or a joint
+ * path's on a joint move's stop), from the joints as from a joint move
+ * (from the sum the joints' jerk went to their limits at the takeover,
+ * 0.46 of them around it). The stream goes on from the old target's
  * pose, twist and the twist's rate at the last setpoint: a shaped pose
  * stream's profiles from the rate at that tick (a segment's by the
  * central difference of its twists over the ticks each side), a twist
@@ -281,8 +287,9 @@
  * jerk limits, a joint accelerating near its qd_max: the goal waits for
  * the motion's own stop); a replacing servo stream but those above (a
  * stream's stop, a fault's, a stop in joint space of a Cartesian goal or
- * waiting on its path, a superposition on a stop in joint space or of a
- * joint path); a goal that cannot be
+ * waiting on its path; on an arm of fewer than six joints or under a
+ * partial task, a joint move, a joint path, their stops and what is
+ * superposed on them); a goal that cannot be
  * planned from P_s; and a goal with stop_first set. Setpoints stay continuous in
  * position and velocity throughout, and in acceleration through
  * everything jerk-limited.
