@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: BSD-3-Clause
 """kinctld: a servo stream replacing a joint move takes over in the cycle
-it arrives, without stopping, through LCM (kinctl/ctrl.h: on a six-joint
-arm the stream's target starts where the IK step would have tracked one
-with the joints' motion, so their acceleration goes on through the
-takeover).
+it arrives, without stopping, through LCM (kinctl/ctrl.h: on an arm of
+six joints or more the stream's target starts where the IK step would
+have tracked one with the joints' motion, so their acceleration goes on
+through the takeover).
 
 puma560 moves from its nominal pose by a joint move slowed to 5 % of its
 limits (the tool then stays within a stream's default Cartesian speed and
