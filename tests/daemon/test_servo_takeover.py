@@ -40,11 +40,12 @@ TWIST = [0.0, 0.0, 0.05, 0.0, 0.0, 0.0]
 TIMEOUT_US = 100000
 
 
-def stream_takes_over(d, s0, g):
+def stream_takes_over(d, s0, g, arm=None):
     """Sends servo message g (goal 3) every 10 ms for 0.6 s, replacing goal
     2: accepted with no reason, goal 2 preempted, the stream ending by its
-    timeout, aborted, the arm at rest; every setpoint since s0 smooth.
-    Returns the setpoints, the index of the stream's first and the last."""
+    timeout, aborted, the arm at rest; every setpoint since s0 smooth
+    (the PUMA 560's), or within arm's limits (an Arm: Arm.check_limits).
+    Returns the setpoints and the index of the stream's first."""
     for _ in range(60):
         d.bus.send("GOAL_SERVO", g)
         time.sleep(0.01)
@@ -55,9 +56,12 @@ def stream_takes_over(d, s0, g):
     assert end.event == EVENTS["ABORTED"], end.reason
     s = d.bus.wait_idle()
     sps = setpoints_since(d, s0.cycle)
-    assert_smooth(sps, SLACK)
+    if arm is None:
+        assert_smooth(sps, SLACK)
+    else:
+        arm.check_limits(sps)
     i = next(i for i, sp in enumerate(sps) if sp.goal_id == 3)
-    assert all(v == 0.0 for v in s.qd[:N])
+    assert all(v == 0.0 for v in s.qd[:arm.n if arm else N])
     return sps, i
 
 
@@ -110,21 +114,9 @@ def test_panda_joint_move_replaced_by_twist_stream_without_stopping(kinctld):
     d.bus.send_goal_joint(2, [q + TRAVEL for q in HOMES["panda"]], vel_scale=SCALE, acc_scale=SCALE)
     assert d.bus.wait_event(2, ("STARTED",)).event == EVENTS["STARTED"]
     time.sleep(0.5)
-    for _ in range(60):
-        d.bus.send("GOAL_SERVO", servo_twist(3, TWIST, TIMEOUT_US))
-        time.sleep(0.01)
-    accepted = d.bus.wait_event(3, ("ACCEPTED", "REJECTED"))
-    assert accepted.event == EVENTS["ACCEPTED"] and accepted.code == 0 and accepted.reason == "", accepted.reason
-    assert d.bus.wait_event(2, ("PREEMPTED", "ABORTED", "COMPLETED")).event == EVENTS["PREEMPTED"]
-    end = d.bus.wait_event(3, ("ABORTED", "COMPLETED", "FAULT"))
-    assert end.event == EVENTS["ABORTED"], end.reason
-    s = d.bus.wait_idle()
-    sps = setpoints_since(d, s0.cycle)
-    arm.check_limits(sps)
-    i = next(i for i, sp in enumerate(sps) if sp.goal_id == 3)
+    sps, i = stream_takes_over(d, s0, servo_twist(3, TWIST, TIMEOUT_US), arm)
     assert sps[i - 1].goal_id == 2 and sps[i].cycle == sps[i - 1].cycle + 1
     assert sps[i].state == STATES["MOVING"]
-    assert min(abs(v) for v in sps[i - 1].qd[:7]) > 0.01  # every joint moving when it is replaced
-    assert max(abs(v) for v in sps[i].qd[:7]) > 0.01  # and not stopped for the stream
-    assert all(v == 0.0 for v in s.qd[:7])
+    assert min(abs(v) for v in sps[i - 1].qd[:arm.n]) > 0.01  # every joint moving when it is replaced
+    assert max(abs(v) for v in sps[i].qd[:arm.n]) > 0.01  # and not stopped for the stream
     assert d.stop() == 0
