@@ -36,13 +36,6 @@
  * check, at worst one bisection's worth. */
 #define BLEND_GRID 8
 #define BLEND_STRIDE 8
-/* A joint path's sum is held to the joints' jerk limits themselves: the
- * change of its qdd over a tick, a difference of two sums of qdd, within
- * qddd_max dt and that difference's rounding (a few units in the last
- * place of the qdd it is taken from), not within cfg.limit_slack of it
- * (1e-6 in double, 1e-4 in float: the sum reached 1.0000005 of qddd_max
- * through kinctld, test_replace_random's mix). */
-#define JERK_ROUND (KC_R(8.0) * KC_REAL_EPS)
 
 /* The bounds a tick of the sum is held to: the larger of the two goals'
  * Cartesian limits (a sum may do what either motion alone may). */
@@ -288,14 +281,14 @@ static int admissible_joints(const kc_ctrl *c, int64_t t0, int64_t stride)
         for (int i = 0; i < c->chain->n_joints; i++) {
             const kc_joint_limits *l = &c->chain->joints[i].limits;
             kc_real q = m[1].q[i] + g[1].q[i] - b->q_rest[i], qd = m[1].qd[i] + g[1].qd[i];
-            kc_real qdd = m[1].qdd[i] + g[1].qdd[i], dqdd = qdd - (m[0].qdd[i] + g[0].qdd[i]);
+            kc_real qdd = m[1].qdd[i] + g[1].qdd[i], qdd0 = m[0].qdd[i] + g[0].qdd[i];
             kc_real dqd = qd - (m[0].qd[i] + g[0].qd[i]);
             kc_real vb = kc_max(l->qd_max, kc_max(kc_fabs(m[1].qd[i]), kc_fabs(g[1].qd[i])));
             kc_real ab = kc_max(l->qdd_max, kc_max(kc_fabs(m[1].qdd[i]), kc_fabs(g[1].qdd[i])));
             kc_real jb = kc_max(l->qddd_max * dt, kc_max(kc_fabs(m[1].qdd[i] - m[0].qdd[i]),
                                                          kc_fabs(g[1].qdd[i] - g[0].qdd[i])));
             if (!(q >= l->q_min && q <= l->q_max && kc_fabs(qd) <= vb * e && kc_fabs(qdd) <= ab * e &&
-                  kc_fabs(dqd) <= l->qdd_max * dt * e && kc_fabs(dqdd) <= jb + JERK_ROUND * (kc_fabs(qdd) + kc_fabs(qdd - dqdd))))
+                  kc_fabs(dqd) <= l->qdd_max * dt * e && kc_ctrl_jerk_within(qdd0, qdd, jb)))
                 return 0;
         }
     }

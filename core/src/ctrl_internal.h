@@ -39,6 +39,17 @@
  * abandons the path for a stop in joint space. */
 #define TRACK_GIVE_UP 4
 
+/* Whether a joint's qdd going from qdd0 to qdd1 over a tick keeps within
+ * jb (qddd_max dt, or more where one motion of a sum does more alone):
+ * the joints' jerk limits themselves, up to the rounding of the
+ * difference (a few units in the last place of the qdd it is taken
+ * from), not within cfg.limit_slack of them (1e-6 in double: a joint
+ * path's sum reached 1.0000005 of qddd_max through kinctld). */
+static inline int kc_ctrl_jerk_within(kc_real qdd0, kc_real qdd1, kc_real jb)
+{
+    return kc_fabs(qdd1 - qdd0) <= jb + KC_R(8.0) * KC_REAL_EPS * (kc_fabs(qdd0) + kc_fabs(qdd1));
+}
+
 /* A jerk-limited joint move's plan was synchronised by phase: a straight
  * line in joint space driven by one profile of u. */
 static inline int kc_ctrl_joint_on_line(const kc_ctrl *c)

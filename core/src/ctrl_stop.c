@@ -579,7 +579,10 @@ static int path_scurve_stop(kc_ctrl *c, const kc_profile_state *u, kc_real dec, 
 /* Whether a joint path's stop, planned into the drive from the last
  * setpoint on, keeps qdd within qdd_max and passes the final check's
  * continuity on every tick (ctrl.c, setpoint_ok: qd changing by at most
- * qdd_max dt a tick, here without its slack). Its rate keeps the limits on sampled instants of
+ * qdd_max dt a tick, here without its slack), and while superposed the
+ * joints' jerk limits (the path's stop alone keeps them; added to the
+ * stop under it, which may brake at them, it took a joint to 1.70 times
+ * its limit in test_ctrl_pathstop.c). Its rate keeps the limits on sampled instants of
  * the constant-rate stop (path_ramp_load); the jerk-limited stop lingers
  * longer near the speed it starts from and goes further, and a stop of a
  * few ticks is far from its continuous law: a Panda quintic stopped in
@@ -591,19 +594,22 @@ static int path_scurve_stop(kc_ctrl *c, const kc_profile_state *u, kc_real dec, 
 static int path_stop_fits(const kc_ctrl *c)
 {
     kc_ctrl_seg_point o;
-    kc_real qd[KC_MAX_JOINTS];
+    kc_real qd[KC_MAX_JOINTS], qdd[KC_MAX_JOINTS];
     int64_t ticks = c->drive == KC_DRIVE_SCURVE ? c->drive_scurve.ticks : c->drive_prof.ticks;
     if (c->blend.on && c->blend.k0 + c->blend.stop_ticks - c->k0 > ticks)
         ticks = c->blend.k0 + c->blend.stop_ticks - c->k0; /* to the end of the superposed stop */
     memcpy(qd, c->qd, sizeof(kc_real) * (size_t)c->chain->n_joints);
+    memcpy(qdd, c->qdd, sizeof(kc_real) * (size_t)c->chain->n_joints);
     for (int64_t j = 1; j <= ticks; j++) {
         kc_ctrl_seg_eval(c, j, &o);
         kc_ctrl_blend_joints(c, c->k0 + j, &o);
         for (int i = 0; i < c->chain->n_joints; i++) {
-            kc_real A = c->chain->joints[i].limits.qdd_max;
-            if (kc_fabs(o.qd[i] - qd[i]) > A * c->cfg.dt || kc_fabs(o.qdd[i]) > A)
+            const kc_joint_limits *l = &c->chain->joints[i].limits;
+            if (kc_fabs(o.qd[i] - qd[i]) > l->qdd_max * c->cfg.dt || kc_fabs(o.qdd[i]) > l->qdd_max ||
+                (c->blend.on && !kc_ctrl_jerk_within(qdd[i], o.qdd[i], l->qddd_max * c->cfg.dt)))
                 return 0;
             qd[i] = o.qd[i];
+            qdd[i] = o.qdd[i];
         }
     }
     return 1;

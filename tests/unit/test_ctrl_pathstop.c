@@ -7,7 +7,8 @@
  * STOP to rest: no FAULT (a stop that steps qd by more than qdd_max dt
  * fails the final check: limit_guard), |qdd| <= qdd_max, qd changing by
  * at most qdd_max dt, qd within qd_max, each with the relative slack of
- * the controller's final check (cfg.limit_slack); the stop ends at rest,
+ * the controller's final check (cfg.limit_slack); qdd changing by at
+ * most qddd_max dt (JERK_SLACK, below); the stop ends at rest,
  * idle. Its rate keeps the limits on sampled instants of the constant-rate
  * stop; a jerk-limited stop lingers near the speed it starts from, and a
  * stop of a few ticks is far from its continuous law: before the stop was
@@ -25,10 +26,15 @@
 
 #include "testutil.h"
 
+/* The joints' jerk on every tick of a stop, the change of qdd over it,
+ * within qddd_max dt and JERK_SLACK of it: in double the rounding of qdd,
+ * in float its rounding from q's (measured up to 1.00016). */
 #ifdef KC_REAL_FLOAT
 #define CASES kt_cases(1000)
+#define JERK_SLACK 5e-4
 #else
 #define CASES kt_cases(3000)
+#define JERK_SLACK 1e-9
 #endif
 
 static kc_chain CHAIN;
@@ -80,6 +86,8 @@ static kc_goal path_goal(kt_rng *r, int64_t id, const kc_real *home, int method,
  * keeps the limits (KC_DRIVE_STOPPING_WAIT: none fits from where it is,
  * kinctl/ctrl.h), and the stops that waited, in the suite so far. */
 static int LONGEST_WAIT, WAITED;
+/* The largest jerk of a stop (of qddd_max) in the suite so far. */
+static double WORST_JERK;
 
 /* STOP, then every tick to rest checked (above); name names the case in
  * a failure. Returns the largest |qdd| or step of qd over its limit, or
@@ -95,8 +103,11 @@ static double stop_to_rest(const char *name, double worst)
      * admitted at qdd 5.0005002 of 5, 1.00010004 of it, above 1 + the
      * float 1e-4 as a double, 1.0000999999747). */
     double slack = (double)cfg.limit_slack + 2.0 * (double)KC_REAL_EPS, dt = (double)cfg.dt, qd[KC_MAX_JOINTS];
-    for (int j = 0; j < n; j++)
+    double qdd[KC_MAX_JOINTS];
+    for (int j = 0; j < n; j++) {
         qd[j] = (double)OUT.qd[j];
+        qdd[j] = (double)OUT.qdd[j];
+    }
     kc_ctrl_command cmd = KC_CMD_STOP;
     for (int k = 0; k < 20000 && (k == 0 || OUT.state != KC_CTRL_IDLE); k++, cmd = KC_CMD_NONE) {
         if (tick(NULL, cmd))
@@ -115,6 +126,12 @@ static double stop_to_rest(const char *name, double worst)
                 fail_msg("%s, the stop's tick %d, joint %d: qdd %.9g, qd %.9g -> %.9g (qdd_max %g)", name, k, j,
                          (double)OUT.qdd[j], qd[j], v, A);
             qd[j] = v;
+            double rj = fabs((double)OUT.qdd[j] - qdd[j]) / ((double)l->qddd_max * dt);
+            if (!(rj <= 1.0 + JERK_SLACK))
+                fail_msg("%s, the stop's tick %d, joint %d: qdd %.9g -> %.9g, jerk %.9f of qddd_max %g", name, k, j,
+                         qdd[j], (double)OUT.qdd[j], rj, (double)l->qddd_max);
+            WORST_JERK = fmax(WORST_JERK, rj);
+            qdd[j] = (double)OUT.qdd[j];
         }
     }
     assert_int_equal(OUT.state, KC_CTRL_IDLE);
@@ -152,8 +169,9 @@ static void random_stops(kc_model model, const kc_real *home, uint64_t seed)
         worst = stop_to_rest(name, worst);
     }
     print_message("%d-joint arm: %d paths stopped (%d in their first 20 ticks), worst |qdd| or qd step %.9f of "
-                  "qdd_max; so far %d stops waited for one that fits, at most %d ticks\n",
-                  n, stopped, early, worst, WAITED, LONGEST_WAIT);
+                  "qdd_max; so far %d stops waited for one that fits, at most %d ticks; the joints' jerk at most %.9f "
+                  "of qddd_max\n",
+                  n, stopped, early, worst, WAITED, LONGEST_WAIT, WORST_JERK);
     assert_true(stopped > CASES / 2 && early > CASES / 4);
 }
 
@@ -163,7 +181,8 @@ static void random_stops(kc_model model, const kc_real *home, uint64_t seed)
  * superposition lasts: the path not yet started or moving.
  * Every tick from the STOP to rest as above. Before the path's stop
  * looked at the stop under it, 30 % (PUMA 560) and 42 % (Panda) of such
- * STOPs faulted limit_guard. */
+ * STOPs faulted limit_guard; before it looked at the joints' jerk there,
+ * the sum took a joint to 1.70 times its jerk limit. */
 static void superposed_stops(kc_model model, const kc_real *home, uint64_t seed)
 {
     kt_rng r = kt_rng_make(seed);
@@ -206,8 +225,9 @@ static void superposed_stops(kc_model model, const kc_real *home, uint64_t seed)
         worst = stop_to_rest(name, worst);
     }
     print_message("%d-joint arm: %d superposed paths stopped (%d of them started), worst |qdd| or qd step %.9f "
-                  "of qdd_max; so far %d stops waited for one that fits, at most %d ticks\n",
-                  n, superposed, started, worst, WAITED, LONGEST_WAIT);
+                  "of qdd_max; so far %d stops waited for one that fits, at most %d ticks; the joints' jerk at most "
+                  "%.9f of qddd_max\n",
+                  n, superposed, started, worst, WAITED, LONGEST_WAIT, WORST_JERK);
     assert_true(superposed > CASES / 4 && started > CASES / 50);
 }
 
