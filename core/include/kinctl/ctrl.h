@@ -233,8 +233,9 @@
  * kc_ctrl_servo_jerk) brings the joints onto the step's velocities within
  * their jerk limits over the next ticks, the step correcting what that
  * moves the tool by (the Panda in test_ctrl_servoshape.c: the joints'
- * jerk at their limits through it, the tool within 5.7e-6 m of the
- * stream's target, 2.5e-6 m on the PUMA 560). So also from a stop: a line's, an arc's or a Cartesian
+ * jerk at their limits through it, the tool within 5.6e-6 m of the
+ * stream's target, 1.43e-5 m at five times the cases; 2.5e-6 m on the
+ * PUMA 560). So also from a stop: a line's, an arc's or a Cartesian
  * path's on its path (a STOP's, a PAUSE's, one for a goal waiting on it;
  * its law is the stop's), a joint motion's on its line or joint by joint
  * (from the joints, as above); from a superposition of a line, an arc
