@@ -31,7 +31,7 @@
 #include "testutil.h"
 
 /* The jerk's slack: the controller holds the sum to the joints' jerk
- * limits themselves (ctrl_blend.c, JERK_ROUND), so in double to the
+ * limits themselves (ctrl_internal.h, kc_ctrl_jerk_within), so in double to the
  * rounding of qdd; in float qdd's own rounding (a difference of qd over
  * a tick) is SLACK's size. */
 #ifdef KC_REAL_FLOAT

@@ -107,9 +107,6 @@
 #define SELF_TICKS 300
 #define SELF_TOL 3e-5
 
-/* The tool's distance from the stream's target (m). */
-static double off_target(void);
-
 /* Ids of the joint moves back to the start, above the streams'. */
 #define HOME_ID 5000
 
@@ -256,11 +253,20 @@ static double judge_law(int64_t k, const char *what, int c, int joint_law)
     return ratio;
 }
 
-static double off_target(void)
+/* Within SELF_TICKS of a takeover at cycle at: the tool's distance from
+ * the stream's target within SELF_TOL (fails naming what), kept in
+ * *worst if larger. */
+static void judge_off_target(int64_t at, const char *what, int c, double *worst)
 {
+    if (H.out.cycle - at > SELF_TICKS)
+        return;
     kc_vec3 d;
     kc_vec3_sub(&H.ctrl.pose.t, &H.ctrl.servo_target.t, &d);
-    return (double)kc_vec3_norm(&d);
+    double off = (double)kc_vec3_norm(&d);
+    if (!(off <= SELF_TOL))
+        fail_msg("%s case %d, %s: the tool %.3g m from the stream's target %ld ticks after the takeover",
+                 kc_model_name(H.model), c, what, off, (long)(H.out.cycle - at));
+    *worst = fmax(*worst, off);
 }
 
 /* A twist stream's share of the default Cartesian acceleration and jerk
@@ -854,15 +860,10 @@ static void test_streams_take_over(void **state)
             int hold = 200 + (int)kt_uniform(&r, 0.0, 300.0);
             for (int k = 0; k < 20000 && hold > 0; k++) {
                 tick(&g);
-                if (moving && why == KC_REASON_NONE && self_motion && H.out.cycle - at <= SELF_TICKS) {
-                    double off = off_target();
-                    if (!(off <= SELF_TOL))
-                        fail_msg("%s case %d, %s: the tool %.3g m from the stream's target %ld ticks after the takeover",
-                                 kc_model_name(H.model), c, what, off, (long)(H.out.cycle - at));
-                    worst_self = fmax(worst_self, off);
-                } else if (moving && why == KC_REASON_NONE && H.out.cycle == at + 2 + AROUND) {
+                if (moving && why == KC_REASON_NONE && self_motion)
+                    judge_off_target(at, what, c, &worst_self);
+                else if (moving && why == KC_REASON_NONE && H.out.cycle == at + 2 + AROUND)
                     worst_ratio = fmax(worst_ratio, judge_law(at, what, c, kind == 4 && then != 2));
-                }
                 for (int i = 0; i < 6 && shaping && H.out.goal_id == g.id && H.ctrl.drive == KC_DRIVE_NOMINAL; i++) {
                     double a_now = (double)H.ctrl.servo_a[i], h = share_j(i) * (double)H.cfg.dt;
                     if (fabs(a_now - a_prev[i]) > h * (1.0 + 1e-9) + 1e-15 ||
@@ -1005,14 +1006,8 @@ static void test_streams_take_over_joint_superpositions(void **state)
                      twist ? "twist" : "pose");
             for (int k = 0; k < 300; k++) {
                 tick(&g);
-                if (why == KC_REASON_NONE && H.out.cycle - at <= SELF_TICKS) {
-                    double off = off_target();
-                    if (!(off <= SELF_TOL))
-                        fail_msg("%s case %d, %s: the tool %.3g m from the stream's target %ld ticks after the "
-                                 "takeover",
-                                 kc_model_name(H.model), c, what, off, (long)(H.out.cycle - at));
-                    worst_self = fmax(worst_self, off);
-                }
+                if (why == KC_REASON_NONE)
+                    judge_off_target(at, what, c, &worst_self);
                 if (why == KC_REASON_NONE && H.out.cycle == at + 2 + AROUND) {
                     /* The joints' acceleration goes on unchanged in the
                      * takeover's tick (joint_target): no jerk there but

@@ -353,6 +353,16 @@ int req_model(calc_ctx *ctx, const json_t *req, kc_chain *chain)
     return 0;
 }
 
+kc_real joint_shown(const kc_chain *chain, int j, int deg)
+{
+    return deg && chain->joints[j].type == KC_JOINT_REVOLUTE ? KC_R(1.0) / KC_DEG : KC_R(1.0);
+}
+
+const char *joint_unit(const kc_chain *chain, int j, int deg)
+{
+    return chain->joints[j].type != KC_JOINT_REVOLUTE ? "m" : deg ? "deg" : "rad";
+}
+
 int req_joints(calc_ctx *ctx, const json_t *req, const char *key, const kc_chain *chain, int deg, kc_real *q)
 {
     int n = 0;
@@ -362,15 +372,13 @@ int req_joints(calc_ctx *ctx, const json_t *req, const char *key, const kc_chain
         return calc_fail(ctx, "%s has %d values but the model has %d joints", key, n, chain->n_joints);
     for (int j = 0; j < n; j++) {
         const kc_joint *jt = &chain->joints[j];
-        int angular = jt->type == KC_JOINT_REVOLUTE;
-        if (deg && angular)
+        kc_real s = joint_shown(chain, j, deg);
+        if (deg && jt->type == KC_JOINT_REVOLUTE)
             q[j] *= KC_DEG;
-        if (q[j] < jt->limits.q_min || q[j] > jt->limits.q_max) {
-            kc_real s = deg && angular ? KC_R(1.0) / KC_DEG : KC_R(1.0);
+        if (q[j] < jt->limits.q_min || q[j] > jt->limits.q_max)
             calc_warn(ctx, "%s[%d] = %g %s is outside joint %d's limits [%g, %g]", key, j, (double)(q[j] * s),
-                      angular ? (deg ? "deg" : "rad") : "m", j + 1, (double)(jt->limits.q_min * s),
+                      joint_unit(chain, j, deg), j + 1, (double)(jt->limits.q_min * s),
                       (double)(jt->limits.q_max * s));
-        }
     }
     return 0;
 }

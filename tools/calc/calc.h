@@ -134,6 +134,10 @@ int req_model(calc_ctx *ctx, const json_t *req, kc_chain *chain);
 /* Joint values under key for chain (n_joints values; revolute ones in deg
  * when deg); warns when they lie outside the joint limits. */
 int req_joints(calc_ctx *ctx, const json_t *req, const char *key, const kc_chain *chain, int deg, kc_real *q);
+/* Joint j's values as shown: the factor from the chain's units (rad, m)
+ * and the unit's name; with deg, a revolute joint's in degrees. */
+kc_real joint_shown(const kc_chain *chain, int j, int deg);
+const char *joint_unit(const kc_chain *chain, int j, int deg);
 /* req_joints for the key "q". */
 int req_q(calc_ctx *ctx, const json_t *req, const kc_chain *chain, int deg, kc_real *q);
 

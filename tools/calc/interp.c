@@ -323,7 +323,7 @@ static int joint_limits_of(calc_ctx *ctx, const json_t *req, const char *key, co
         if (deg && angular)
             x *= KC_DEG;
         if (x > out[j] * (KC_R(1.0) + KC_R(1e-6))) {
-            kc_real s = deg && angular ? KC_R(1.0) / KC_DEG : KC_R(1.0);
+            kc_real s = joint_shown(chain, j, deg);
             calc_warn(ctx, "%s for joint %d (%g) exceeds the model's limit %g", key, j + 1, (double)(x * s),
                       (double)(out[j] * s));
         }
@@ -387,12 +387,11 @@ static void range_warnings(calc_ctx *ctx, const kc_chain *chain, int deg, const 
 {
     for (int j = 0; j < chain->n_joints; j++) {
         const kc_joint *jt = &chain->joints[j];
-        int angular = jt->type == KC_JOINT_REVOLUTE;
-        kc_real s = deg && angular ? KC_R(1.0) / KC_DEG : KC_R(1.0);
+        kc_real s = joint_shown(chain, j, deg);
         kc_real slack = KC_R(1e-9) * (kc_fabs(jt->limits.q_min) + kc_fabs(jt->limits.q_max) + KC_R(1.0));
         kc_real top = kc_max(jt->limits.q_max, kc_max(cfg->q0[j], cfg->q1[j])) + slack;
         kc_real bottom = kc_min(jt->limits.q_min, kc_min(cfg->q0[j], cfg->q1[j])) - slack;
-        const char *unit = angular ? (deg ? "deg" : "rad") : "m";
+        const char *unit = joint_unit(chain, j, deg);
         if (r[j].hi > top || r[j].lo < bottom)
             calc_warn(ctx,
                       "joint %d reaches %.9g %s on the way from this start, beyond its limits [%g, %g] (kinctld, "
@@ -481,7 +480,7 @@ static int run_interp_joint(const json_t *req, calc_ctx *ctx)
             names[1 + d * n + j] = name_buf[1 + d * n + j];
         }
     for (int j = 0; j < n; j++)
-        scale[j] = deg && chain.joints[j].type == KC_JOINT_REVOLUTE ? KC_R(1.0) / KC_DEG : KC_R(1.0);
+        scale[j] = joint_shown(&chain, j, deg);
     int ncol = 1 + nd * n;
     /* Each joint's range over the rows: a moving start may carry it
      * beyond the limits before it turns. */
@@ -634,7 +633,7 @@ static const calc_cmd kinds[] = {
      "straight line when that is as fast, else each joint stretched). From a moving start (--qd0,\n"
      "--qdd0: as kinctld takes over a moving arm for a replacing joint goal) each joint's profile\n"
      "from its state, stretched to the slowest one's; a joint it carries beyond its position limits\n"
-     "before turning is warned about (kinctld would stop such a motion first).\n"
+     "before turning (kinctld would stop such a motion first), or past vmax or amax, is warned about.\n"
      "Trapezoid (seed 001 lab 4): every joint covers the same fraction of its move at every tick; the\n"
      "common trapezoid (triangle when short) keeps each joint within its own speed and acceleration limits.\n"
      "Prints CSV: t,q1..qn,qd1..qdn,qdd1..qddn (jerk: also qddd1..qdddn), one row per tick from t = 0\n"
