@@ -65,7 +65,7 @@ CAN_SUITE = {
     "sync_every": 1, "master_id": MASTER, "heartbeat_ms": 100.0, "on_error": "stop",
     "drive_heartbeat_ms": 100, "master_timeout_ms": 1500 if IN_UML else 300, "lost_master_reaction": 3,
     "sdo_timeout_ms": 2000 * SLOW if IN_UML else 500, "boot_timeout_ms": 20000 * SLOW if IN_UML else 5000,
-    "enable_timeout_ms": 5000 if IN_UML else 2000,
+    "enable_timeout_ms": 5000 * SLOW if IN_UML else 2000,
 }
 # (boot_timeout_ms: the tests that power the drives on after kinctld began
 # booting them start them, and a recorder, in Python; in UML beside a
@@ -73,8 +73,12 @@ CAN_SUITE = {
 # sdo_timeout_ms: the drives' SDO servers run in this Python process, which
 # shares UML's one CPU with kinctld, the recorder and the LCM receiver; under
 # valgrind (SLOW) it once left a read-back unanswered through three sends of
-# 2 s each while it worked through the frames queued before it. Both scale
-# with SLOW as the suite's own waits do; no test here times an SDO out.)
+# 2 s each while it worked through the frames queued before it.
+# enable_timeout_ms: each step of a drive's way to operation enabled waits
+# for a TPDO from that same process; under valgrind a rebooted drive was
+# last seen in ready to switch on when 5 s had passed. All three scale with
+# SLOW as the suite's own waits do; no test here times a boot, an SDO or an
+# enabling out.)
 
 
 def have_vcan():
@@ -325,6 +329,21 @@ def wait_drives(d, value, timeout=30.0, since=0, with_reason=False):
         with d.bus.lock:
             seen = [(s.drives, s.reason) for s in d.bus.statuses if s.reason]
         raise stopped_with(d, f"{e}; statuses with a reason: {seen}") from None
+
+
+# The speed and acceleration scale of a goal under way when a test acts on
+# it (a fault, ESTOP, the link down): the motion must outlast the test's lag
+# behind kinctld, as old as the last setpoints this process has taken, which
+# under valgrind (SLOW) in UML's one CPU reached about a second.
+MOVING_SCALE = 0.5 / SLOW
+
+
+def start_moving(d, goal_id, q):
+    """Sends a joint goal to q at MOVING_SCALE; returns once the arm is
+    well under way (a joint faster than 0.05 rad/s)."""
+    d.bus.send_goal_joint(goal_id, q, vel_scale=MOVING_SCALE, acc_scale=MOVING_SCALE)
+    d.bus.wait(lambda: any(s.state == STATES["MOVING"] and max(abs(v) for v in s.qd[:6]) > 0.05
+                           for s in d.bus.setpoints[-5:]), what="motion")
 
 
 def enabled_daemon(can_daemon, **cfg):

@@ -18,13 +18,12 @@ import time
 
 import pytest
 
-from conftest import (CW_DISABLE_VOLTAGE, CW_ENABLE, CW_FAULT_RESET, CW_QUICK_STOP, CW_SHUTDOWN, CW_SWITCH_ON,
-                      DRIVES, EVENTS, FOLLOWING_ERROR, IFACE, MASTER, NMT_PRE_OPERATIONAL, NMT_RESET_COMMUNICATION,
-                      NMT_START, NMT_STATE, NMT_STOP, NODES, PERIOD_US, Q_START, SCALING, SLOW, STATES, align,
-                      assert_configured, assert_no_jump, assert_setpoints_unbroken, bus_cycles, counts_to_q,
-                      enabled_daemon, expected, nmt_commands, per_node, pos_counts, refused, rpdo1, run_kinctld,
-                      sdo_requests, setpoints_of, start_counts, statuses, tpdo1, vel_counts, wait_drives, wait_fault,
-                      write_config)
+from conftest import (CW_DISABLE_VOLTAGE, CW_ENABLE, CW_FAULT_RESET, CW_QUICK_STOP, CW_SHUTDOWN, CW_SWITCH_ON, DRIVES,
+                      EVENTS, FOLLOWING_ERROR, IFACE, MASTER, NMT_PRE_OPERATIONAL, NMT_RESET_COMMUNICATION, NMT_START,
+                      NMT_STATE, NMT_STOP, NODES, PERIOD_US, Q_START, SCALING, SLOW, STATES, align, assert_configured,
+                      assert_no_jump, assert_setpoints_unbroken, bus_cycles, counts_to_q, enabled_daemon, expected,
+                      nmt_commands, per_node, pos_counts, refused, rpdo1, run_kinctld, sdo_requests, setpoints_of,
+                      start_moving, start_counts, statuses, tpdo1, vel_counts, wait_drives, wait_fault, write_config)
 from kinctl import dbc, drive402
 
 Q_A = [0.3, 0.5, -2.8, 0.4, 0.6, -0.5]
@@ -189,11 +188,6 @@ def test_goals_rejected_until_enabled(can_daemon, drives):
 
 # ---- motion -----------------------------------------------------------------
 
-def wait_moving(d):
-    """Until the arm is well under way (a joint faster than 0.05 rad/s)."""
-    d.bus.wait(lambda: any(s.state == STATES["MOVING"] and max(abs(v) for v in s.qd[:6]) > 0.05
-                           for s in d.bus.setpoints[-5:]), what="motion")
-
 
 def assert_drives_at(sim, q, tol_counts=1):
     """Each drive's actual position at q, once the drives have taken the
@@ -318,8 +312,7 @@ def test_emcy_and_fault_reset(can_daemon, drives, recorder):
     drive again from where it stands."""
     sim = drives()
     d, _ = enabled_daemon(can_daemon)
-    d.bus.send_goal_joint(21, Q_A, vel_scale=0.5, acc_scale=0.5)
-    wait_moving(d)
+    start_moving(d, 21, Q_A)
     sim.command("fault 3 0x2310")
     st = wait_fault(d.bus, "drive: ", timeout=15)
     for part in ("joint 3 (node 3)", "emcy 0x2310", "error register 0x01"):
@@ -355,8 +348,7 @@ def test_quick_stop_on_estop(can_daemon, drives, recorder):
     RESET enables them again where they stand."""
     sim = drives()
     d, _ = enabled_daemon(can_daemon, writes=WRITES)
-    d.bus.send_goal_joint(31, Q_A, vel_scale=0.5, acc_scale=0.5)
-    wait_moving(d)
+    start_moving(d, 31, Q_A)
     d.bus.send_command("ESTOP")
     wait_drives(d, "DISABLED")
     assert_stopped_in_fault(d, sim, 31, "ESTOP")
@@ -388,8 +380,7 @@ def test_drive_lost_mid_run(can_daemon, drives, recorder, command, reason):
     is disabled before it takes a target again."""
     sim = drives()
     d, _ = enabled_daemon(can_daemon, writes=WRITES)
-    d.bus.send_goal_joint(41, Q_A, vel_scale=0.5, acc_scale=0.5)
-    wait_moving(d)
+    start_moving(d, 41, Q_A)
     sim.command(command)
     st = wait_fault(d.bus, "drive: ", timeout=15)
     assert "joint 4 (node 4) " + reason in st.reason, st.reason
@@ -563,8 +554,7 @@ def test_shutdown_leaves_no_drive_enabled(can_daemon, drives, recorder, shutdown
     (the default) or stop; nothing after it."""
     sim = drives()
     d, _ = enabled_daemon(can_daemon, shutdown_nmt=shutdown_nmt)
-    d.bus.send_goal_joint(61, Q_A, vel_scale=0.5, acc_scale=0.5)
-    wait_moving(d)
+    start_moving(d, 61, Q_A)
     assert d.stop() == 0
     sim.wait_until(lambda s: all(s.state(n)[0] == NMT_STATE[nmt_state] for n in NODES))
     for n in NODES:

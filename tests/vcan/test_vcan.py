@@ -15,7 +15,7 @@ import pytest
 
 from conftest import (EVENTS, IFACE, MASTER, NODES, SCALING, SLOW, STATES, align, assert_configured,
                       assert_setpoints_unbroken, bus_cycles, counts_to_q, enabled_daemon, pos_counts, runs,
-                      setpoints_of, statuses, tpdo1, wait_fault, wait_status)
+                      setpoints_of, start_moving, statuses, tpdo1, wait_fault, wait_status)
 
 # From the drives' positions at power-on (conftest.Q_START), every joint
 # moves by 0.9 rad or more.
@@ -23,17 +23,11 @@ Q_A = [1.2, 0.0, -1.8, 1.2, -0.6, 1.0]
 END = ["COMPLETED", "ABORTED", "REJECTED"]
 
 
-def wait_moving(d):
-    """Until the arm is well under way (a joint faster than 0.05 rad/s)."""
-    d.bus.wait(lambda: any(s.state == STATES["MOVING"] and max(abs(v) for v in s.qd[:6]) > 0.05
-                           for s in d.bus.setpoints[-5:]), what="motion")
-
 
 def run_to_fault(d, sim, drives_cmd, token, goal_id):
     """Starts a goal, applies the drive command, waits for the FAULT with
     reason token; returns the fault status."""
-    d.bus.send_goal_joint(goal_id, Q_A, vel_scale=0.5, acc_scale=0.5)
-    wait_moving(d)
+    start_moving(d, goal_id, Q_A)
     sim.command(drives_cmd)
     return wait_fault(d.bus, token, timeout=15)
 
@@ -163,8 +157,7 @@ def test_interface_down_and_up_stop(can_daemon, drives, recorder, link_restored)
     setpoints only (nothing stale), and LCM never stopped."""
     drives()
     d, _ = enabled_daemon(can_daemon, on_error="stop", **UNWATCHED)
-    d.bus.send_goal_joint(61, Q_A, vel_scale=0.5, acc_scale=0.5)
-    wait_moving(d)
+    start_moving(d, 61, Q_A)
     ip_link("down")
     st = wait_fault(d.bus, "can: vcan0 is down")
     wait_status(d.bus, lambda s: s.can_state == 2, what="a status with can_state LOST")
@@ -195,8 +188,7 @@ def test_interface_down_and_up_lcm_only(can_daemon, drives, recorder, link_resto
     down; the loss and the recovery are reported, no fault."""
     drives()
     d, _ = enabled_daemon(can_daemon, on_error="lcm_only", **UNWATCHED)
-    d.bus.send_goal_joint(71, Q_A, vel_scale=0.5, acc_scale=0.5)
-    wait_moving(d)
+    start_moving(d, 71, Q_A)
     ip_link("down")
     wait_status(d.bus, lambda s: s.reason.startswith("can: vcan0 is down") and "lcm_only" in s.reason,
                 what="the loss reported")
@@ -261,8 +253,7 @@ def test_bus_off_error_frame(can_daemon, drives, recorder):
     the output comes back with fresh setpoints only."""
     drives()
     d, _ = enabled_daemon(can_daemon, on_error="stop", **UNWATCHED)
-    d.bus.send_goal_joint(65, Q_A, vel_scale=0.5, acc_scale=0.5)
-    wait_moving(d)
+    start_moving(d, 65, Q_A)
     s = socket.socket(socket.AF_CAN, socket.SOCK_RAW, socket.CAN_RAW)
     s.bind((IFACE,))
     with d.bus.lock:
@@ -317,8 +308,7 @@ def test_enobufs_counted_never_retried(can_daemon, drives, recorder, qdisc_resto
     retried once the queue passes frames again."""
     drives()
     d, _ = enabled_daemon(can_daemon, feedback=False, master_timeout_ms=0)
-    d.bus.send_goal_joint(97, Q_A, vel_scale=0.3, acc_scale=0.5)
-    wait_moving(d)
+    start_moving(d, 97, Q_A)
     subprocess.run(["tc", "qdisc", "add", "dev", IFACE, "root", "pfifo", "limit", "0"], check=True)
     stats = d.bus.wait_stats(lambda s: s.can_tx_dropped >= 50, timeout=10)
     assert stats.can_state == 1 and stats.can_errors >= stats.can_tx_dropped // (1 + len(NODES))
