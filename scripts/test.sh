@@ -10,8 +10,8 @@ say() { printf '\033[1m[test]\033[0m %s\n' "$*"; }
 
 scripts/setup.sh build
 # vcan.pytest is the one suite left to the UBSan build below (the same
-# tests on the same bus; the kinctld of this build runs them under
-# valgrind: vcan.memcheck).
+# tests on the same bus; the kinctld of this build runs those of kinctld
+# under valgrind: vcan.memcheck).
 say "gcc build: all suites (the vcan suite under valgrind)"
 ctest --test-dir build --output-on-failure -j2 -E '^vcan\.pytest$'
 
