@@ -200,7 +200,6 @@ def assert_drives_at(sim, q, tol_counts=1):
         assert abs(counts_to_q(j, pos) - q[j]) <= FOLLOWING_ERROR
 
 
-
 def test_joint_goal_and_line_move_the_drives(can_daemon, drives, recorder):
     """A joint goal and a line: the drives' actual positions reach each
     goal; every bus cycle is its cycle's setpoint to the count, none

@@ -23,7 +23,6 @@ Q_A = [1.2, 0.0, -1.8, 1.2, -0.6, 1.0]
 END = ["COMPLETED", "ABORTED", "REJECTED"]
 
 
-
 def run_to_fault(d, sim, drives_cmd, token, goal_id):
     """Starts a goal, applies the drive command, waits for the FAULT with
     reason token; returns the fault status."""
