@@ -10,31 +10,26 @@
 #include "scurve_internal.h"
 #include "size_internal.h"
 
-/* One velocity change: at most three phases of constant jerk. */
+/* One velocity change: three phases of constant jerk in fixed slots (a
+ * ramp, a hold at j = 0, a ramp), phase i present where t[i] > 0: those
+ * of zero length (or NaN) are left out wherever a change is used. Fixed
+ * slots let a change that is planned and measured at once stay in
+ * registers (change_stop_time, on every root search's path). */
 typedef struct vchange {
-    int n;
     kc_real j[3], t[3];
 } vchange;
 
-static void vchange_add(vchange *c, kc_real j, kc_real t)
-{
-    if (t > KC_R(0.0)) {
-        c->j[c->n] = j;
-        c->t[c->n] = t;
-        c->n++;
-    }
-}
+static int vchange_has(const vchange *c, int i) { return c->t[i] > KC_R(0.0); }
 
 /* The fastest change from (v, a) to velocity w with zero acceleration,
  * limits A and J (kinctl/scurve.h, "Velocity change"). */
-static void vchange_plan(vchange *c, kc_real v, kc_real a, kc_real w, kc_real A, kc_real J)
+static KC_SPEED_INLINE void vchange_plan(vchange *c, kc_real v, kc_real a, kc_real w, kc_real A, kc_real J)
 {
     /* One division by J (this is on every planning's path). vn may differ
      * in its last bit from a caller's v + a |a| / (2J): a w that misses it
      * so takes the general branch below, whose phases are then the same
      * ramp of a to zero (a hold of zero, ap = |a|). */
     kc_real iJ = KC_R(1.0) / J;
-    c->n = 0;
     kc_real vn = v + a * kc_fabs(a) * (KC_R(0.5) * iJ);
     /* The phases: jerk j1 for t1, a hold for th, -sg J for t3 (those of
      * zero length left out). */
@@ -67,9 +62,12 @@ static void vchange_plan(vchange *c, kc_real v, kc_real a, kc_real w, kc_real A,
             t3 = ap * iJ;
         }
     }
-    vchange_add(c, j1, t1);
-    vchange_add(c, KC_R(0.0), th);
-    vchange_add(c, -sg * J, t3);
+    c->j[0] = j1;
+    c->t[0] = t1;
+    c->j[1] = KC_R(0.0);
+    c->t[1] = th;
+    c->j[2] = -sg * J;
+    c->t[2] = t3;
 }
 
 /* Advances (p, v, a) by a phase of jerk j over tau (which may be
@@ -82,12 +80,14 @@ static void advance(kc_real *p, kc_real *v, kc_real *a, kc_real j, kc_real tau)
 }
 
 /* Distance and duration of a velocity change from (v, a). */
-static kc_real vchange_dist(const vchange *c, kc_real v, kc_real a, kc_real *time)
+static KC_SPEED_INLINE kc_real vchange_dist(const vchange *c, kc_real v, kc_real a, kc_real *time)
 {
     kc_real p = KC_R(0.0), t = KC_R(0.0);
-    for (int i = 0; i < c->n; i++) {
-        advance(&p, &v, &a, c->j[i], c->t[i]);
-        t += c->t[i];
+    for (int i = 0; i < 3; i++) {
+        if (vchange_has(c, i)) {
+            advance(&p, &v, &a, c->j[i], c->t[i]);
+            t += c->t[i];
+        }
     }
     if (time != NULL)
         *time = t;
@@ -158,9 +158,10 @@ static kc_real gap_dist(const dfun *f, kc_real s, vchange *c, vchange *st, kc_re
 {
     vchange r, sp;
     kc_real a0 = f->a0, As = f->As, J = f->J, p = KC_R(0.0), v = f->v0, a = a0, ts = KC_R(0.0);
-    r.n = 0;
-    vchange_add(&r, a0 > KC_R(0.0) ? -J : J, s * kc_fabs(a0) / J);
-    if (r.n > 0)
+    r.j[0] = a0 > KC_R(0.0) ? -J : J;
+    r.t[0] = s * kc_fabs(a0) / J;
+    r.j[1] = r.j[2] = r.t[1] = r.t[2] = KC_R(0.0);
+    if (vchange_has(&r, 0))
         advance(&p, &v, &a, r.j[0], r.t[0]);
     if (s >= KC_R(1.0))
         a = KC_R(0.0);
@@ -171,7 +172,7 @@ static kc_real gap_dist(const dfun *f, kc_real s, vchange *c, vchange *st, kc_re
     }
     p += vchange_dist(&sp, v, a, &ts);
     if (time != NULL)
-        *time = ts + (r.n > 0 ? r.t[0] : KC_R(0.0));
+        *time = ts + (vchange_has(&r, 0) ? r.t[0] : KC_R(0.0));
     return p;
 }
 
@@ -422,13 +423,17 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
     kc_scurve r;
     const vchange *c = cp, *s = sp;
     kc_real p = p0, v = v0, a = a0, t = KC_R(0.0), t_change = KC_R(0.0), t_stop = KC_R(0.0), jm = KC_R(0.0);
-    for (int i = 0; i < c->n; i++) {
-        t_change += c->t[i];
-        jm = kc_max(jm, kc_fabs(c->j[i]));
-    }
-    for (int i = 0; i < s->n; i++) {
-        t_stop += s->t[i];
-        jm = kc_max(jm, kc_fabs(s->j[i]));
+    int ns = 0;
+    for (int i = 0; i < 3; i++) {
+        if (vchange_has(c, i)) {
+            t_change += c->t[i];
+            jm = kc_max(jm, kc_fabs(c->j[i]));
+        }
+        if (vchange_has(s, i)) {
+            t_stop += s->t[i];
+            jm = kc_max(jm, kc_fabs(s->j[i]));
+            ns++;
+        }
     }
     kc_real T = duration > KC_R(0.0) ? duration : t_change + kc_max(tc, KC_R(0.0)) + t_stop;
     if (!lay || !kc_isfinite(T))
@@ -446,7 +451,9 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
     kc_scurve *o = bound <= KC_REAL_MAX / KC_R(16.0) ? prof : &r;
     set_header(o, p0, v0, a0, p1, vp, T, dt); /* T is finite */
     o->n = 0;
-    for (int i = 0; i < c->n; i++) {
+    for (int i = 0; i < 3; i++) {
+        if (!vchange_has(c, i))
+            continue;
         kc_real t0 = t, p_ = p, v_ = v, a_ = a;
         advance(&p, &v, &a, c->j[i], c->t[i]);
         t += c->t[i];
@@ -457,11 +464,13 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
         add_phase(o, 2, te, t, p, vp, KC_R(0.0), KC_R(0.0));
     /* The stop, backwards from the end: fill it in reverse order after the
      * slot where it begins. */
-    int first = o->n;
-    o->n += s->n;
+    int k = o->n + ns;
+    o->n = k;
     kc_real pb = p1, vb = KC_R(0.0), ab = KC_R(0.0), tb = T;
-    for (int i = s->n - 1; i >= 0; i--) {
-        set_phase(o, first + i, 3, tb, tb, pb, vb, ab, s->j[i]);
+    for (int i = 2; i >= 0; i--) {
+        if (!vchange_has(s, i))
+            continue;
+        set_phase(o, --k, 3, tb, tb, pb, vb, ab, s->j[i]);
         advance(&pb, &vb, &ab, s->j[i], -s->t[i]);
         tb -= s->t[i];
     }
@@ -652,8 +661,7 @@ kc_status kc_scurve_plan_stop(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a
         return KC_E_ARG;
     /* The velocity change to zero is the stop (kinctl/scurve.h): laid
      * backwards from where it ends, so that end is exact. */
-    vchange none, s;
-    none.n = 0;
+    vchange none = {{KC_R(0.0), KC_R(0.0), KC_R(0.0)}, {KC_R(0.0), KC_R(0.0), KC_R(0.0)}}, s;
     vchange_plan(&s, v0, a0, KC_R(0.0), amax, jmax);
     kc_real p1 = p0 + vchange_dist(&s, v0, a0, NULL);
     if (!kc_isfinite(p1))
