@@ -318,7 +318,10 @@ template <size_t N> struct ModelBench {
         ruckig::Trajectory<N> tr;
         ruckig::Trajectory<1> t1d;
         std::vector<kc_scurve> prof(N);
+        // Each planner writes its result into the next of a ring of 64, as
+        // in rest_to_rest().
         std::vector<kc_interp_joint> plans(64);
+        std::vector<ruckig::Trajectory<N>> rtr(64);
         Stats kplan, kplan1, rplan, ktick, rtick;
         std::vector<double> ratio;
         double worst_t = 0.0, worst_p = 0.0, best_t = 1e9, worst_1 = 0.0;
@@ -342,8 +345,9 @@ template <size_t N> struct ModelBench {
             t1 = bench_now_ns();
             kplan.ns.push_back(t1 - t0);
             auto in_t = input(c, true, ruckig::Synchronization::Time);
+            ruckig::Trajectory<N> &rt = rtr[(size_t)k % rtr.size()];
             t0 = bench_now_ns();
-            ruckig::Result rr = otg.calculate(in_t, tr);
+            ruckig::Result rr = otg.calculate(in_t, rt);
             t1 = bench_now_ns();
             rplan.ns.push_back(t1 - t0);
             if (st != KC_OK || ss != KC_OK || rr != ruckig::Result::Working) {
@@ -351,8 +355,8 @@ template <size_t N> struct ModelBench {
                 ok = false;
                 return;
             }
-            double Tt = tr.get_duration();
-            rtick.ns.push_back(time_ruckig_ticks(tr, c, Tt, sum));
+            double Tt = rt.get_duration();
+            rtick.ns.push_back(time_ruckig_ticks(rt, c, Tt, sum));
             auto in_p = input(c, true, ruckig::Synchronization::Phase);
             otg.calculate(in_p, tr);
             double Tp = tr.get_duration(), Tk = (double)p.T, T1 = 0.0;
