@@ -20,10 +20,11 @@ import pytest
 
 from conftest import (CW_DISABLE_VOLTAGE, CW_ENABLE, CW_FAULT_RESET, CW_QUICK_STOP, CW_SHUTDOWN, CW_SWITCH_ON, DRIVES,
                       EVENTS, FOLLOWING_ERROR, IFACE, MASTER, NMT_PRE_OPERATIONAL, NMT_RESET_COMMUNICATION, NMT_START,
-                      NMT_STATE, NMT_STOP, NODES, PERIOD_US, Q_START, SCALING, SLOW, STATES, align, assert_configured,
-                      assert_no_jump, assert_setpoints_unbroken, bus_cycles, counts_to_q, enabled_daemon, expected,
-                      nmt_commands, per_node, pos_counts, refused, rpdo1, run_kinctld, sdo_requests, setpoints_of,
-                      start_moving, start_counts, statuses, tpdo1, vel_counts, wait_drives, wait_fault, write_config)
+                      NMT_STATE, NMT_STOP, NODES, PERIOD_US, Q_START, SCALING, SLOW, SLOW_BUS, STATES, align,
+                      assert_configured, assert_no_jump, assert_setpoints_unbroken, bus_cycles, counts_to_q,
+                      enabled_daemon, expected, nmt_commands, per_node, pos_counts, refused, rpdo1, run_kinctld,
+                      sdo_requests, setpoints_of, start_moving, start_counts, statuses, tpdo1, vel_counts, wait_drives,
+                      wait_fault, write_config)
 from kinctl import dbc, drive402
 
 Q_A = [0.3, 0.5, -2.8, 0.4, 0.6, -0.5]
@@ -378,7 +379,7 @@ def test_drive_lost_mid_run(can_daemon, drives, recorder, command, reason):
     enables every drive where it stands: a drive left in operation enabled
     is disabled before it takes a target again."""
     sim = drives()
-    d, _ = enabled_daemon(can_daemon, writes=WRITES)
+    d, _ = enabled_daemon(can_daemon, writes=WRITES, sync_every=SLOW_BUS)
     start_moving(d, 41, Q_A)
     sim.command(command)
     st = wait_fault(d.bus, "drive: ", timeout=15)
@@ -402,7 +403,7 @@ def test_drive_lost_mid_run(can_daemon, drives, recorder, command, reason):
             assert cmds[:2] == [NMT_RESET_COMMUNICATION, NMT_START], f"node 4 not booted again: NMT {cmds}"
         else:
             assert NMT_RESET_COMMUNICATION not in cmds and NMT_START not in cmds, f"node {n}: NMT {cmds}"
-    assert assert_no_jump(frames)[4] == 2
+    assert assert_no_jump(frames, sync_every=SLOW_BUS)[4] == 2
 
 
 @pytest.mark.parametrize("write, abort", [((0x2345, 0, 4, 7), 0x06020000), ((0x6064, 0, 4, 0), 0x06010002)],
