@@ -570,7 +570,10 @@ kc_status kc_interp_joint_eval_scurve(const kc_interp_joint *plan, const kc_scur
     kc_status st = kc_scurve_eval(prof, k, &u);
     if (st < 0)
         return st;
-    along_line(plan, &u, st == KC_DONE && u.p >= KC_R(1.0), out);
+    /* Ended at u = 1, or past it by the rounding of the profile's end:
+     * exactly q1. (A stop may end further past it, kinctl/ctrl.h: it
+     * rests there.) */
+    along_line(plan, &u, st == KC_DONE && u.p >= KC_R(1.0) && u.p <= KC_R(1.0) + KC_R(4.0) * KC_REAL_EPS, out);
     return st;
 }
 

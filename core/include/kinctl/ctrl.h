@@ -334,12 +334,18 @@
  * A jerk-limited joint move on a straight line (synchronised by phase)
  * stops on it by kc_scurve_plan_stop of u from (u, u', u'') within the
  * plan's bounds on the second and third derivatives of u (the stop of
- * least distance: it never passes u = 1); one whose joints are
+ * least distance: at those bounds it never passes u = 1); one whose joints are
  * synchronised by time, or a retarget, stops each joint by
  * kc_scurve_plan_stop from its (q, qd, qdd) within the goal's limits (no
  * further than its profile would have turned, so inside the position
  * limits it was planned or checked within). Either resumes as a
- * jerk-limited move from where it rests to the goal's target.
+ * jerk-limited move from where it rests to the goal's target. For a
+ * replacing goal (stopped first, or superposed on the stop) either stop
+ * is planned within 1 - 1e-5 of the jerk bounds, room for the IK step's
+ * correction of a Cartesian goal superposed on it (ctrl_stop.c): such a
+ * stop of a move braking into its end at the bound passes the end by
+ * at most about 1e-5 of the stopping distance (the arm rests there; where that
+ * would cross a position limit, the stop is planned at the whole bound).
  * Paths are driven by their plan time tau; a stop makes tau' fall from 1 to
  * 0 at a rate c, chosen (and its start delayed while the path is itself
  * braking hard) so that every joint's q'' tau'^2 + q' tau'' stays within
