@@ -21,6 +21,12 @@ import time
 
 VALGRIND_ARGS = ['--error-exitcode=1', '--leak-check=full', '--quiet']
 
+# The programs that take longest under valgrind, started first (in this
+# order) so that those running side by side end near together: of the
+# default set's 780 s of CPU, these two took 194 and 116 s; last in
+# ctest's order, the set took 441 s two at a time, 390 s being the least.
+LONGEST_FIRST = ('unit.ctrl_cartstop.double', 'unit.check_slow.double')
+
 
 def tests_of(ctest, build, regex, share):
     out = subprocess.run([ctest, '--test-dir', build, '--show-only=json-v1', '-R', regex],
@@ -65,6 +71,7 @@ def main():
     tests = tests_of(a.ctest, a.build, a.regex, a.share)
     if not tests:
         sys.exit(f'no ctest test matches {a.regex!r} in {a.build}')
+    tests.sort(key=lambda t: LONGEST_FIRST.index(t[0]) if t[0] in LONGEST_FIRST else len(LONGEST_FIRST))
     failed = []
     start = time.monotonic()
     with concurrent.futures.ThreadPoolExecutor(a.jobs) as pool:
