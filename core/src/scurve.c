@@ -15,8 +15,9 @@
  * of zero length (or NaN) are left out wherever a change is used. Fixed
  * slots let a change that is planned and measured at once stay in
  * registers (change_stop_time, on every root search's path). */
+#define VCHANGE_PHASES 3
 typedef struct vchange {
-    kc_real j[3], t[3];
+    kc_real j[VCHANGE_PHASES], t[VCHANGE_PHASES];
 } vchange;
 
 static int vchange_has(const vchange *c, int i) { return c->t[i] > KC_R(0.0); }
@@ -83,7 +84,7 @@ static void advance(kc_real *p, kc_real *v, kc_real *a, kc_real j, kc_real tau)
 static KC_SPEED_INLINE kc_real vchange_dist(const vchange *c, kc_real v, kc_real a, kc_real *time)
 {
     kc_real p = KC_R(0.0), t = KC_R(0.0);
-    for (int i = 0; i < 3; i++) {
+    for (int i = 0; i < VCHANGE_PHASES; i++) {
         if (vchange_has(c, i)) {
             advance(&p, &v, &a, c->j[i], c->t[i]);
             t += c->t[i];
@@ -424,7 +425,7 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
     const vchange *c = cp, *s = sp;
     kc_real p = p0, v = v0, a = a0, t = KC_R(0.0), t_change = KC_R(0.0), t_stop = KC_R(0.0), jm = KC_R(0.0);
     int ns = 0;
-    for (int i = 0; i < 3; i++) {
+    for (int i = 0; i < VCHANGE_PHASES; i++) {
         if (vchange_has(c, i)) {
             t_change += c->t[i];
             jm = kc_max(jm, kc_fabs(c->j[i]));
@@ -451,7 +452,7 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
     kc_scurve *o = bound <= KC_REAL_MAX / KC_R(16.0) ? prof : &r;
     set_header(o, p0, v0, a0, p1, vp, T, dt); /* T is finite */
     o->n = 0;
-    for (int i = 0; i < 3; i++) {
+    for (int i = 0; i < VCHANGE_PHASES; i++) {
         if (!vchange_has(c, i))
             continue;
         kc_real t0 = t, p_ = p, v_ = v, a_ = a;
@@ -467,7 +468,7 @@ static kc_status build(kc_scurve *prof, kc_real p0, kc_real v0, kc_real a0, kc_r
     int k = o->n + ns;
     o->n = k;
     kc_real pb = p1, vb = KC_R(0.0), ab = KC_R(0.0), tb = T;
-    for (int i = 2; i >= 0; i--) {
+    for (int i = VCHANGE_PHASES - 1; i >= 0; i--) {
         if (!vchange_has(s, i))
             continue;
         set_phase(o, --k, 3, tb, tb, pb, vb, ab, s->j[i]);
