@@ -314,7 +314,7 @@ static void joint_target(const kc_ctrl *c, kc_pose *target, kc_real *v, kc_real 
         }
         v[i] = u - KC_R(0.5) * dt * jqdd;
         a[i] = u; /* J qd1, until J(q1) is known */
-        e[i] = KC_R(0.5) * dt * jqdd / (i < 3 ? c->cfg.ik.gain_pos : c->cfg.ik.gain_rot);
+        e[i] = KC_R(0.5) * dt * jqdd / kc_ik_online_gain(i < 3 ? c->cfg.ik.gain_pos : c->cfg.ik.gain_rot, dt);
     }
     kc_fk_jacobian(c->chain, q1, &jac, NULL);
     for (int i = 0; i < 6; i++) {

@@ -453,6 +453,8 @@ kc_status kc_ik_solve(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose
 
 /* ---- one online step ---- */
 
+kc_real kc_ik_online_gain(kc_real k, kc_real dt) { return kc_min(k, KC_R(1.0) / dt); }
+
 kc_status kc_ik_step(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_pose *target, const kc_real *twist_ff,
                      kc_real dt, const kc_real *q, const kc_real *qd, kc_real *q_next, kc_real *qd_next,
                      kc_ik_result *res)
@@ -538,10 +540,10 @@ kc_status kc_ik_step_ff(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_po
 
     /* Every row (e and ff are 0 past p.r, and so u: -O3 cannot tell that
      * those rows go unread). */
-    kc_real u[6];
+    kc_real u[6], k_pos = kc_ik_online_gain(cfg->gain_pos, dt), k_rot = kc_ik_online_gain(cfg->gain_rot, dt);
     KC_UNROLL
     for (int i = 0; i < 6; i++)
-        u[i] = ff[i] + (i < 3 ? cfg->gain_pos : cfg->gain_rot) * e[i];
+        u[i] = ff[i] + (i < 3 ? k_pos : k_rot) * e[i];
     kc_real(*jt)[KC_MAX_JOINTS] = task_jacobian(cfg->mask, &jac, &cur, n);
     /* qd_ff's null-space part, J^+ (u - J qd_ff) + qd_ff = J^+ u + (I -
      * J^+ J) qd_ff: its task part taken out of u, and all of it added. */
@@ -573,7 +575,7 @@ kc_status kc_ik_step_ff(const kc_chain *chain, const kc_ik_cfg *cfg, const kc_po
          * past the target (a 2 cm jump of a servo target was overshot by
          * 2 cm; with the bound by 0.06 mm in double, 0.8 mm in float, where
          * one scale for every joint's acceleration slows some braking). */
-        kc_real gain = kc_max(cfg->gain_pos, cfg->gain_rot);
+        kc_real gain = kc_max(k_pos, k_rot);
         for (int j = 0; j < n; j++) {
             kc_real v = kc_fabs(qd_des[j]);
             if (v > KC_R(0.0)) {

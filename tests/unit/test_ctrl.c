@@ -48,14 +48,18 @@ static void assert_pose_kept(void)
     }
 }
 
-static void setup(kc_model model, const kc_real *q0)
+/* The controller at q0 with the default configuration at period dt. */
+static void setup_at(kc_model model, const kc_real *q0, kc_real dt)
 {
     memset(&H, 0, sizeof H);
     assert_int_equal(kc_chain_init_model(&H.chain, model, NULL), KC_OK);
     H.cfg = kc_ctrl_cfg_default();
+    H.cfg.dt = dt;
     assert_int_equal(kc_ctrl_init(&H.ctrl, &H.chain, &H.cfg, q0), KC_OK);
     assert_pose_kept();
 }
+
+static void setup(kc_model model, const kc_real *q0) { setup_at(model, q0, kc_ctrl_cfg_default().dt); }
 
 /* One tick with the invariants checked, with an external fault input. */
 static void tick_fault(const kc_goal *g, kc_ctrl_command cmd, kc_ctrl_reason fault)
@@ -178,10 +182,12 @@ static void test_joint_goal(void **state)
         kt_near((double)H.out.q[j], (double)target[j], 0.0, "joint goal reached exactly");
 }
 
-static void test_line_goal(void **state)
+/* A line of 19 cm with a turn of 0.3 rad on the PUMA 560 at period dt:
+ * judged by the dry run, then followed within the tracking tolerance to
+ * its end. */
+static void line_at(kc_real dt)
 {
-    (void)state;
-    setup(KC_MODEL_PUMA560, KT_PUMA_Q0);
+    setup_at(KC_MODEL_PUMA560, KT_PUMA_Q0, dt);
     kc_pose start = pose_of(KT_PUMA_Q0), to = start;
     to.t.v[0] += KC_R(0.1);
     to.t.v[1] += KC_R(0.15);
@@ -190,13 +196,17 @@ static void test_line_goal(void **state)
     kc_mat3_rot(KC_AXIS_Z, KC_R(0.3), &turn);
     kc_mat3_mul(&turn, &start.R, &to.R);
     kc_goal g = kt_line_goal(11, &to);
+    kc_verdict v;
+    assert_int_equal(kc_check_init(&CHECK, &H.chain, &H.cfg, 100000, KT_PUMA_Q0), KC_OK);
+    assert_int_equal(kc_check_from(&CHECK, KT_PUMA_Q0, &g, &v), KC_OK);
     tick(&g, KC_CMD_NONE);
     kc_vec3 dir;
     kc_vec3_sub(&to.t, &start.t, &dir);
     kc_real len = kc_vec3_norm(&dir);
     kc_vec3_scale(&dir, KC_R(1.0) / len, &dir);
     double worst = 0.0;
-    for (int k = 0; k < 20000 && H.out.state != KC_CTRL_IDLE; k++) {
+    int k = 0;
+    for (; k < 20000 && H.out.state != KC_CTRL_IDLE; k++) {
         tick(NULL, KC_CMD_NONE);
         /* On the line within the tracking tolerance the controller enforces
          * (the elbow's acceleration limit binds near the end here). */
@@ -207,9 +217,28 @@ static void test_line_goal(void **state)
         worst = dist > worst ? dist : worst;
         kt_near(dist, 0.0, (double)H.cfg.track_tol, "distance from the line");
     }
-    print_message("line: worst distance from the line %.3g m\n", worst);
+    print_message("line at %g ms: %d ticks, worst distance from the line %.3g m\n", 1e3 * (double)dt, k, worst);
+    assert_int_equal(H.count[KC_EVENT_FAULT], 0);
     assert_int_equal(H.count[KC_EVENT_COMPLETED], 1);
     assert_pose_near(&H.out.pose, &to, TOL_POSE);
+}
+
+static void test_line_goal(void **state)
+{
+    (void)state;
+    line_at(kc_ctrl_cfg_default().dt);
+}
+
+/* The same line at periods of 20 and 40 ms, where the controller's IK
+ * gain of 100/s would make k dt 2 and 4 (kc_ik_online_gain: at most 1/dt;
+ * the dry run refused it as unreachable at both). At 50 ms it is refused
+ * still: near its end the elbow, braking at its acceleration limit over
+ * ticks that long, leaves the tool 1.1 mm behind, beyond track_tol. */
+static void test_line_at_slow_periods(void **state)
+{
+    (void)state;
+    line_at(KC_R(0.02));
+    line_at(KC_R(0.04));
 }
 
 static void test_arc_and_paths(void **state)
@@ -990,6 +1019,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_cfg_field),
         cmocka_unit_test(test_joint_goal),        cmocka_unit_test(test_line_goal),
+        cmocka_unit_test(test_line_at_slow_periods),
         cmocka_unit_test(test_arc_and_paths),     cmocka_unit_test(test_queue_and_preemption),
         cmocka_unit_test(test_stop_pause_resume), cmocka_unit_test(test_estop_and_reset),
         cmocka_unit_test(test_external_fault),    cmocka_unit_test(test_seat),

@@ -313,6 +313,52 @@ static void test_step_online(void **state)
     }
 }
 
+/* The online step's gain at a period dt: at most 1/dt (kinctl/ik.h). From
+ * rest, towards a still target 3 um and 3 urad away (near enough for no
+ * acceleration limit to bind), one step at the controller's gain of 100/s
+ * leaves (1 - k dt) of the error, to the step's second-order terms: 0.9
+ * at 1 ms, none at 10 ms and beyond (without the bound, -1 and -4 times it
+ * at 20 and 50 ms). In double: in float the positions' rounding is 2 % of
+ * such an error. */
+#ifndef KC_REAL_FLOAT
+static void test_step_online_gain(void **state)
+{
+    (void)state;
+    kc_chain c;
+    kc_chain_init_model(&c, KC_MODEL_PUMA560, NULL);
+    kc_ik_cfg cfg = kc_ik_cfg_default();
+    cfg.gain_pos = cfg.gain_rot = KC_R(100.0);
+    const double d = 3e-6;
+    const kc_real dts[4] = {KC_R(0.001), KC_R(0.01), KC_R(0.02), KC_R(0.05)};
+    for (int i = 0; i < 4; i++) {
+        kc_real dt = dts[i], k = kc_ik_online_gain(cfg.gain_pos, dt);
+        assert_true(k == kc_min(KC_R(100.0), KC_R(1.0) / dt));
+        kc_real q[6], qd[6] = {0}, qn[6], qdn[6];
+        memcpy(q, KT_PUMA_Q0, sizeof q);
+        kc_pose at, target;
+        kc_fk_eval(&c, q, &at);
+        target = at;
+        target.t.v[0] += (kc_real)d;
+        target.t.v[2] -= (kc_real)d;
+        kc_mat3 turn;
+        kc_mat3_rot(KC_AXIS_Y, (kc_real)d, &turn);
+        kc_mat3_mul(&turn, &at.R, &target.R);
+        kc_ik_result res;
+        assert_int_equal(kc_ik_step(&c, &cfg, &target, NULL, dt, q, qd, qn, qdn, &res), KC_OK);
+        kc_pose after;
+        kc_fk_eval(&c, qn, &after);
+        double before = sqrt(2.0) * d, left = 0.0;
+        for (int j = 0; j < 3; j++)
+            left += ((double)after.t.v[j] - (double)target.t.v[j]) * ((double)after.t.v[j] - (double)target.t.v[j]);
+        left = sqrt(left);
+        double want = (1.0 - (double)k * (double)dt) * before;
+        print_message("online step at %g ms, k = %g 1/s: position error %.3g m to %.3g m (1 - k dt: %.3g m)\n",
+                      1e3 * (double)dt, (double)k, before, left, want);
+        kt_near(left, want, 0.01 * before, "error left by one online step");
+    }
+}
+#endif
+
 /* A target beyond a joint's position limit: the online step brings the
  * joint to rest at the limit within its acceleration limit every tick (no
  * velocity step at the limit, which the controller's final check refuses). */
@@ -517,7 +563,11 @@ int main(void)
         cmocka_unit_test(test_random_panda),        cmocka_unit_test(test_random_rrr3_position),
         cmocka_unit_test(test_random_masks_redundant), cmocka_unit_test(test_unreachable),
         cmocka_unit_test(test_bad_input),           cmocka_unit_test(test_singular_targets),
-        cmocka_unit_test(test_deterministic),       cmocka_unit_test(test_step_online), cmocka_unit_test(test_step_into_a_limit),
+        cmocka_unit_test(test_deterministic),       cmocka_unit_test(test_step_online),
+#ifndef KC_REAL_FLOAT
+        cmocka_unit_test(test_step_online_gain),
+#endif
+        cmocka_unit_test(test_step_into_a_limit),
         cmocka_unit_test(test_miss_reasons),        cmocka_unit_test(test_step_feed_forward),
         cmocka_unit_test(test_step_null_feed_forward),
     };
