@@ -52,7 +52,8 @@
  *
  * And a twist above the goal's speed and omega, followed at them; a
  * stream taking over a moving arm (test_streams_take_over); a stream going
- * quiet as a joint nears its speed limit, stopped within it. */
+ * quiet as a joint nears its speed limit, stopped within it and the jerk
+ * limits. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -1035,13 +1036,14 @@ static void test_streams_take_over_joint_superpositions(void **state)
 }
 
 /* A stream that goes quiet while a joint accelerates near its speed
- * limit: its jerk-limited stop would carry the joint past qd_max (by
- * qdd^2 / (2 qddd_max)), which the final check refuses; it stops
- * acceleration-limited instead (kinctl/ctrl.h): no setpoint beyond
- * qd_max, no fault, the stream ABORTED for its timeout. A twist of 2.5
- * rad/s about the base's z axis (and the tool point's velocity with it)
- * takes a joint of the PUMA 560 to its qd_max. */
-static int64_t quiet_run(int64_t last_message, double *worst_qd, int *fault)
+ * limit: a jerk-limited stop carries the joint on by qdd^2 / (2
+ * qddd_max) before its acceleration is down, which the stream's steps
+ * leave room for (kc_ctrl_servo_jerk's stop_rate): no setpoint beyond
+ * qd_max, every joint's jerk within its limit, no fault, the stream
+ * ABORTED for its timeout. A twist of 2.5 rad/s about the base's z axis
+ * (and the tool point's velocity with it) takes a joint of the PUMA 560
+ * to its qd_max. */
+static int64_t quiet_run(int64_t last_message, double *worst_qd, double *worst_j, int *fault)
 {
     setup(KC_MODEL_PUMA560);
     kc_goal g = twist_goal(900, KC_R(3.0), KC_R(3.0));
@@ -1051,14 +1053,21 @@ static int64_t quiet_run(int64_t last_message, double *worst_qd, int *fault)
     g.twist[1] = w * p->v[0];
     g.twist[5] = w;
     int64_t cross = -1;
-    *worst_qd = 0.0;
+    *worst_qd = *worst_j = 0.0;
     *fault = 0;
+    kc_real qdd_prev[6] = {0};
     for (int64_t k = 0; k < 4000 && (k < 10 || H.out.state != KC_CTRL_IDLE); k++) {
         kc_ctrl_input in = {k <= last_message ? &g : NULL, KC_CMD_NONE, 0, KC_REASON_NONE};
         assert_int_equal(kc_ctrl_step(&H.ctrl, &in, &H.out), KC_OK);
         double fastest = 0.0;
-        for (int j = 0; j < 6; j++)
-            fastest = fmax(fastest, fabs((double)H.out.qd[j]) / (double)H.chain.joints[j].limits.qd_max);
+        for (int j = 0; j < 6; j++) {
+            const kc_joint_limits *l = &H.chain.joints[j].limits;
+            fastest = fmax(fastest, fabs((double)H.out.qd[j]) / (double)l->qd_max);
+            if (H.out.state == KC_CTRL_STOPPING) /* the stop (the stream: test_random_twist_streams) */
+                *worst_j = fmax(*worst_j, fabs((double)(H.out.qdd[j] - qdd_prev[j])) / (double)H.cfg.dt /
+                                              (double)l->qddd_max);
+            qdd_prev[j] = H.out.qdd[j];
+        }
         *worst_qd = fmax(*worst_qd, fastest);
         *fault |= H.out.state == KC_CTRL_FAULT || kt_has_event(&H.out, KC_EVENT_FAULT, 0) ||
                   kt_has_event(&H.out, KC_EVENT_FAULT, g.id);
@@ -1071,27 +1080,31 @@ static int64_t quiet_run(int64_t last_message, double *worst_qd, int *fault)
 static void test_quiet_near_the_speed_limit(void **state)
 {
     (void)state;
-    double worst;
+    double worst, worst_j;
     int fault;
     /* The tick a joint passes 0.99 of its qd_max, streamed throughout;
      * then the stream goes quiet so that its timeout falls 0-39 ticks
      * before it (every one of these faulted, limit_guard, while the stop
-     * was always jerk-limited). */
-    int64_t cross = quiet_run(INT64_MAX, &worst, &fault);
+     * was always jerk-limited; then every one stopped
+     * acceleration-limited, a joint's jerk 128 times its limit, while the
+     * stream let a joint reach a speed from which a stop at its jerk limit
+     * passes qd_max). */
+    int64_t cross = quiet_run(INT64_MAX, &worst, &worst_j, &fault);
     assert_true(cross > 0);
-    double top = 0.0;
+    double top = 0.0, top_j = 0.0;
     for (int64_t d = 0; d < 40; d++) {
-        quiet_run(cross - H.cfg.servo_timeout_ticks - d, &worst, &fault);
+        quiet_run(cross - H.cfg.servo_timeout_ticks - d, &worst, &worst_j, &fault);
         top = fmax(top, worst);
-        if (fault || !(worst <= 1.0 + SLACK))
-            fail_msg("quiet %ld ticks before: %s, speeds at most %.7f of qd_max", (long)d,
-                     fault ? "faulted" : "no fault", worst);
+        top_j = fmax(top_j, worst_j);
+        if (fault || !(worst <= 1.0 + SLACK) || !(worst_j <= 1.0 + SLACK_JERK))
+            fail_msg("quiet %ld ticks before: %s, speeds at most %.7f of qd_max, the stop's jerk %.7f of the limits",
+                     (long)d, fault ? "faulted" : "no fault", worst, worst_j);
         assert_int_equal(H.out.state, KC_CTRL_IDLE);
         assert_true(kt_has_event(&H.out, KC_EVENT_ABORTED, 900));
     }
     print_message("quiet 0-39 ticks before a joint reaches 0.99 of its speed limit: speeds at most %.7f of qd_max, "
-                  "no fault (%s)\n",
-                  top, KC_REAL_NAME);
+                  "the stop's jerk at most %.7f of the limits, no fault (%s)\n",
+                  top, top_j, KC_REAL_NAME);
 }
 
 int main(void)

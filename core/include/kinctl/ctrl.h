@@ -318,7 +318,9 @@
  * servo stream's stop that would carry a joint past its qd_max (one
  * accelerating near its speed limit gains qdd^2 / (2 qddd_max) before
  * its acceleration is down: the final check would refuse that and
- * fault; every such quiet stream faulted, limit_guard, before). RESUME of a
+ * fault; every such quiet stream faulted, limit_guard, before). A
+ * stream's own steps leave a joint that room (kc_ctrl_servo_jerk), so
+ * only a stream that took over such a motion stops so. RESUME of a
  * servo stream hands the arm back to the stream's own law.
  * RESET: leaves FAULT or ESTOP (at rest) for IDLE.
  *
