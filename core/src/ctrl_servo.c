@@ -225,12 +225,13 @@ void kc_ctrl_servo_tick(kc_ctrl *c)
  * qd_max, from which a stop at jerk J (the stream's end: kc_ctrl_halt_plan,
  * kc_scurve_plan_stop) stays within qd_max: the speed after the tick, a
  * dt more, and the a^2 / (2 J) the stop's ramp of the rate down to 0
- * adds, within room: a = J (sqrt(dt^2 + 2 room / J) - dt). The deadbeat
- * step onto qd_max (shaped_rate) lowers the rate by J dt a tick from the
- * tick's start, adding about a dt / 2 less: a joint held to it alone
- * left that stop no room, and a stream going quiet with a joint
- * accelerating near its speed limit stopped acceleration-limited, that
- * joint's jerk 128 times its limit (test_ctrl_servoshape.c). */
+ * adds, within room: a = J (sqrt(dt^2 + 2 room / J) - dt). Within the
+ * deadbeat step onto qd_max (shaped_rate), which lowers the rate by J dt
+ * a tick from the tick's start and so adds S(a) <= a^2 / (2 J) (by h dt
+ * (f^2 + m) / 2, a = (m + f) h): a joint held to that step alone left
+ * the stop no room, and a stream going quiet with a joint accelerating
+ * near its speed limit stopped acceleration-limited, that joint's jerk
+ * 128 times its limit (test_ctrl_servoshape.c). */
 static kc_real stop_rate(kc_real room, kc_real J, kc_real dt)
 {
     return J * (kc_sqrt(dt * dt + KC_R(2.0) * kc_max(room, KC_R(0.0)) / J) - dt);
@@ -249,8 +250,8 @@ static kc_real stop_rate(kc_real room, kc_real J, kc_real dt)
  * (Held to h a tick alone, without the deadbeat, the rate overshot on
  * every catch-up and the loop through the IK step's error wound up:
  * 4.7 mm from a pose stream's last pose, a joint at its speed limit.)
- * The step is kept below the deadbeat step onto +-qd_max at rest and
- * where a stop from it stays within qd_max (stop_rate), the rate within
+ * The step is kept where a stop from it stays within qd_max (stop_rate,
+ * below the deadbeat step onto +-qd_max at rest), the rate within
  * qdd_max (or coming down by h), q within its limits. The
  * tick after a zone restrained the step (ctrl_zone.c, braking at the
  * acceleration limits), the IK step's velocities pass unchanged: the
@@ -272,8 +273,6 @@ void kc_ctrl_servo_jerk(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
             (kc_fabs(qdd[j] - a0) <= h && kc_fabs(off) < h * dt && kc_fabs(reach) < l->qd_max))
             continue;
         kc_real a = r + shaped_rate(off, a0 - r, KC_R(0.0), KC_REAL_MAX, l->qddd_max, dt);
-        a = kc_clamp(a, shaped_rate(v, a0, -l->qd_max, l->qdd_max, l->qddd_max, dt),
-                     shaped_rate(v, a0, l->qd_max, l->qdd_max, l->qddd_max, dt));
         a = kc_clamp(a, -stop_rate(l->qd_max + v, l->qddd_max, dt), stop_rate(l->qd_max - v, l->qddd_max, dt));
         kc_real top = kc_fabs(a0) - h > l->qdd_max ? kc_fabs(a0) - h : l->qdd_max;
         a = kc_clamp(kc_clamp(a, a0 - h, a0 + h), -top, top);

@@ -383,7 +383,9 @@ static void jerk_stop(kc_ctrl *c)
         int ok = kc_scurve_plan_stop(&c->drive_scurve, u.p, u.v, u.a, a, jm * share, c->cfg.dt) == KC_OK;
         for (int i = 0; ok && share < KC_R(1.0) && i < pj->n; i++)
             ok = within_range(c, i, pj->q0[i] + pj->dq[i] * c->drive_scurve.p1);
-        if (ok || kc_scurve_plan_stop(&c->drive_scurve, u.p, u.v, u.a, a, jm, c->cfg.dt) == KC_OK) {
+        if (!ok && share < KC_R(1.0))
+            ok = kc_scurve_plan_stop(&c->drive_scurve, u.p, u.v, u.a, a, jm, c->cfg.dt) == KC_OK;
+        if (ok) {
             drive_from_here(c, KC_DRIVE_SCURVE);
             return;
         }
