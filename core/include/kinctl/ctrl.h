@@ -78,7 +78,11 @@
  * Cartesian segments give a pose and twist each tick; one IK step with
  * the twist fed forward (kc_ik_step_ff, with a superposed stop's joint
  * velocities in the null space, below) turns them into the joint
- * setpoint. If the tool
+ * setpoint. The twist fed forward is the target's at the tick's start,
+ * so each step leaves the tool about a dt^2 / 2 short of the target, a
+ * being the tool's acceleration along its path: 0.5 um at 1 ms and 1
+ * m/s^2, but at long periods more than track_tol, and the dry run then
+ * refuses the goal (the periods where: daemon/README.md, period_us). If the tool
  * falls more than cfg.track_tol behind (a joint limit, a singularity) the
  * arm stops on the path and the controller faults, naming the segment and
  * the path length where it happened. Their limits are Cartesian: every
