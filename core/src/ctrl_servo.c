@@ -255,14 +255,21 @@ static kc_real stop_rate(kc_real room, kc_real J, kc_real dt)
  * qdd_max (or coming down by h), q within its limits. The
  * tick after a zone restrained the step (ctrl_zone.c, braking at the
  * acceleration limits), the IK step's velocities pass unchanged: the
- * stream's target has then been brought back to the arm. */
+ * stream's target has then been brought back to the arm. The tick after
+ * that ramps from qdd 0, not from that jump of the velocities: ramped
+ * down from it at h a tick, a joint ran on past the IK step's
+ * velocities by qdd^2 / (2 qddd_max), and the IK step's correction of
+ * the lag that left outran the ramp (in float, where a zone restrains a
+ * reversed stream on rounding alone: the PUMA 560's elbow jumped by 1.3
+ * rad/s^2, and the tool was 40 mm behind its target 0.6 s later). */
 void kc_ctrl_servo_jerk(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
 {
     kc_real dt = c->cfg.dt;
     int valid = c->servo_cmd_cycle == c->cycle - 1, restrained = c->servo_zone_cycle == c->cycle - 1;
+    int released = c->servo_zone_cycle == c->cycle - 2; /* the tick before passed unchanged */
     for (int j = 0; j < c->chain->n_joints; j++) {
         const kc_joint_limits *l = &c->chain->joints[j].limits;
-        kc_real cmd = qd[j], v = c->qd[j], a0 = c->qdd[j], h = l->qddd_max * dt;
+        kc_real cmd = qd[j], v = c->qd[j], a0 = released ? KC_R(0.0) : c->qdd[j], h = l->qddd_max * dt;
         kc_real r = valid ? (cmd - c->servo_cmd[j]) / dt : a0, off = v - cmd + r * dt;
         c->servo_cmd[j] = cmd;
         /* The step as it is where the deadbeat step would be it: qdd

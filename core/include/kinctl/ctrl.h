@@ -70,7 +70,8 @@
  *                   within the limits in double on every tick, at five
  *                   times its cases too, and in float within 1.0002 of
  *                   them). The tick after a zone restrained the step
- *                   (forbidden zones, below) is not limited. With
+ *                   (forbidden zones, below) is not limited; the next
+ *                   ramps from qdd 0. With
  *                   the trapezoid profile a pose stream is not shaped:
  *                   its target jumps to each pose, and the IK step
  *                   brings the joints there within qd_max and qdd_max
