@@ -18,7 +18,7 @@ const char *kc_ctrl_reason_str(kc_ctrl_reason reason)
     case KC_REASON_STATE: return "the controller is in fault or e-stop: reset first";
     case KC_REASON_PLAN: return "the motion cannot be planned (degenerate geometry or too long)";
     case KC_REASON_UNREACHABLE: return "the arm cannot follow this Cartesian motion";
-    case KC_REASON_TRACKING: return "the tool fell behind the Cartesian path";
+    case KC_REASON_TRACKING: return "the tool fell behind the Cartesian path or servo target";
     case KC_REASON_LIMIT_GUARD: return "a setpoint failed the final limit check";
     case KC_REASON_SERVO_TIMEOUT: return "the servo stream went quiet";
     case KC_REASON_DUPLICATE_ID: return "a goal with this id is already active or queued";

@@ -39,6 +39,11 @@
  * abandons the path for a stop in joint space. */
 #define TRACK_GIVE_UP 4
 
+/* How far (m) a stream's target may run ahead of an arm a zone holds back
+ * on a step whose approach is within the distances' rounding
+ * (ctrl_zone.c). */
+#define ZONE_LEAD KC_R(1e-3)
+
 /* Whether a joint's qdd going from qdd0 to qdd1 over a tick keeps within
  * jb (qddd_max dt, or more where one motion of a sum does more alone):
  * the joints' jerk limits themselves, up to the rounding of the
@@ -59,6 +64,9 @@ static inline int kc_ctrl_joint_on_line(const kc_ctrl *c)
 
 /* Preemption marker for stop_intent. */
 #define INTENT_PREEMPT 100
+/* stop_intent of a servo stream ended because the tool fell behind its
+ * shaped target (ABORTED with KC_REASON_TRACKING). */
+#define INTENT_LAG 101
 
 /* What the segment asks for at one tick: joints, or a Cartesian pose with
  * its twist. */

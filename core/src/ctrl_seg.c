@@ -535,16 +535,33 @@ int kc_ctrl_follow(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd, kc_ctrl_ou
         }
         kc_ctrl_stop_track(c, j - 1, qd);
     }
-    /* A servo target may jump: the arm goes there within its limits, and
-     * only a joint limit in the way is a fault. */
     /* The replaced motion's stop in a superposition is followed as a stop
      * is, until the tool is back within the tolerance after it, closing in. */
     if (c->blend.lax && !c->blend.on && res.pos_err <= c->cfg.track_tol && res.pos_err < c->blend.err)
         c->blend.lax = 0;
     c->blend.err = res.pos_err;
-    kc_real limit = c->goal.kind == KC_GOAL_SERVO                     ? INF
-                    : c->state == KC_CTRL_STOPPING || c->blend.lax ? TRACK_GIVE_UP * c->cfg.track_tol
-                                                                    : c->cfg.track_tol;
+    kc_real limit = c->state == KC_CTRL_STOPPING || c->blend.lax ? TRACK_GIVE_UP * c->cfg.track_tol : c->cfg.track_tol;
+    if (c->goal.kind == KC_GOAL_SERVO) {
+        /* A shaped target (a twist stream's, a jerk-limited pose
+         * stream's) moves within the Cartesian bounds: a tool falling
+         * behind it by more than the tracking bound cannot follow the
+         * stream (a joint at its speed or acceleration limit, a
+         * singularity), which ends there, stopped joint by joint and
+         * jerk-limited as when it goes quiet, not a fault. While lax (a
+         * superposition's sum, or a zone held the tool back, the target
+         * within ZONE_LEAD of it) the bound is a stop's, ZONE_LEAD's at
+         * least. An unshaped pose may jump: the arm goes there within
+         * its limits. Only a joint limit in the way is a fault. */
+        int shaped = c->goal.servo_twist || kc_ctrl_servo_shaped(c);
+        if (c->blend.lax)
+            limit = TRACK_GIVE_UP * kc_max(c->cfg.track_tol, ZONE_LEAD);
+        if (shaped && st != KC_E_ARG && st != KC_E_LIMIT && res.pos_err > limit) {
+            kc_ctrl_stop_on_path(c, INTENT_LAG);
+            kc_ctrl_joint_stop_eval(c, q, qd, qdd);
+            return 0;
+        }
+        limit = INF;
+    }
     if (st == KC_E_ARG || res.pos_err > limit || st == KC_E_LIMIT) {
         kc_real where = c->path_length > KC_R(0.0) ? before.s : before.progress;
         if (c->state == KC_CTRL_STOPPING || st == KC_E_LIMIT || st == KC_E_ARG) {

@@ -878,10 +878,10 @@ void kc_ctrl_stop_finished(kc_ctrl *c, kc_ctrl_output *out)
         c->state = KC_CTRL_FAULT;
         return;
     }
-    kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, c->goal.kind == KC_GOAL_SERVO && intent == KC_CMD_NONE
-                                                  ? KC_REASON_SERVO_TIMEOUT
-                                                  : KC_REASON_NONE,
-         0);
+    kc_ctrl_reason why = intent == INTENT_LAG                                        ? KC_REASON_TRACKING
+                         : c->goal.kind == KC_GOAL_SERVO && intent == KC_CMD_NONE ? KC_REASON_SERVO_TIMEOUT
+                                                                                  : KC_REASON_NONE;
+    kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, why, 0);
     c->state = KC_CTRL_IDLE;
 }
 

@@ -11,10 +11,6 @@
  * change of a zone distance is rounding (kc_ctrl_zone_servo_limit). */
 #define NOISE KC_R(2.0)
 
-/* How far (m) a stream's target may run ahead of an arm the zone holds
- * back on a step whose approach is within that rounding. */
-#define LEAD KC_R(1e-3)
-
 void kc_ctrl_zone_init(kc_ctrl *c)
 {
     kc_zone_hit none = {-1, -1, INF};
@@ -70,11 +66,14 @@ void kc_ctrl_zone_servo_limit(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
         qdd[j] = (qd[j] - c->qd[j]) / dt;
     }
     c->servo_zone_cycle = c->cycle; /* kc_ctrl_servo_jerk */
+    /* The tool held back, the stream's lag bound is a stop's until it has
+     * closed in on the target again (kc_ctrl_follow). */
+    c->blend.lax = 1;
     /* A twist stream's or a shaped pose stream's target stays with the
      * restrained arm instead of running on into the zone, and its shaped
      * twist is the arm's over the tick (the rate zero), so a reversed twist
      * or a pose away from the zone moves it away at once. Not for an
-     * approach within the band while the target is within LEAD of the
+     * approach within the band while the target is within ZONE_LEAD of the
      * arm: at rest against the margin, a reversed stream's first steps
      * measure that much (rounding alone), and taking the stream back to
      * rest on them would take it back on every tick, never away (so too
@@ -89,7 +88,7 @@ void kc_ctrl_zone_servo_limit(kc_ctrl *c, kc_real *q, kc_real *qd, kc_real *qdd)
      * itself is restrained all the same. */
     int shaped = kc_ctrl_servo_shaped(c);
     kc_vec3 lead = kc_v3_sub(c->servo_target.t, c->pose.t);
-    if ((c->goal.servo_twist || shaped) && (approach > band || kc_v3_dot(lead, lead) > LEAD * LEAD)) {
+    if ((c->goal.servo_twist || shaped) && (approach > band || kc_v3_dot(lead, lead) > ZONE_LEAD * ZONE_LEAD)) {
         kc_fk_eval(c->chain, q, &c->servo_target);
         kc_vec3 w;
         kc_ctrl_turn(&c->pose.R, &c->servo_target.R, &w);

@@ -126,6 +126,7 @@ typedef struct harness {
     kc_ctrl_output out;
     kc_real q_prev[KC_MAX_JOINTS], qd_prev[KC_MAX_JOINTS], qdd_prev[KC_MAX_JOINTS];
     double worst_j, worst_target_j, worst_track_j, worst_a, worst_cart_j, worst_cart_a, worst_follow;
+    int behind; /* streams ended for falling behind */
     /* The jerk while a motion is followed is measured, not judged against
      * the limits (judge_laws set): changes of law are judged instead. */
     int judge_laws;
@@ -290,6 +291,53 @@ static long ramp_ticks(double e, double a, double j, double dt)
     return (long)ceil((2.0 * sqrt(e / j) + e / a + a / j) / dt) + 2;
 }
 
+/* The tool's distance from the stream's target after a tick, and the
+ * target's own step over it (its twist's dt): a stream ends where the
+ * first passes cfg.track_tol (kinctl/ctrl.h). */
+static void stream_lag(double *lag, double *target_step)
+{
+    kc_vec3 d;
+    kc_vec3_sub(&H.ctrl.servo_target.t, &H.out.pose.t, &d);
+    double v = 0.0;
+    for (int i = 0; i < 3; i++)
+        v += (double)H.ctrl.servo_v[i] * (double)H.ctrl.servo_v[i];
+    *target_step = fmax(*target_step, sqrt(v) * (double)H.cfg.dt);
+    *lag = fmax(*lag, (double)kc_vec3_norm(&d));
+}
+
+/* The stop of a stream that has just ended (its timeout, or falling
+ * behind): joint by joint, jerk-limited, every tick within the limits
+ * (step) while its messages g (or none) go on (they update the ending
+ * goal), to rest, ABORTED without a fault. Returns the reason, and the
+ * ticks it took in *ticks. */
+static kc_ctrl_reason stream_stopped(const kc_goal *g, int64_t id, long *ticks)
+{
+    assert_int_equal(H.out.state, KC_CTRL_STOPPING);
+    assert_int_equal(H.ctrl.drive, KC_DRIVE_HALT);
+    assert_int_equal(H.ctrl.jstop, 0);
+    long k = 0;
+    for (; k < 10000 && H.out.state != KC_CTRL_IDLE; k++) {
+        tick(g);
+        assert_false(kt_has_event(&H.out, KC_EVENT_FAULT, 0) || kt_has_event(&H.out, KC_EVENT_FAULT, id));
+        assert_true(H.out.state == KC_CTRL_STOPPING || H.out.state == KC_CTRL_IDLE);
+    }
+    assert_int_equal(H.out.state, KC_CTRL_IDLE);
+    assert_true(kt_has_event(&H.out, KC_EVENT_ABORTED, id));
+    for (int j = 0; j < H.chain.n_joints; j++)
+        assert_true(H.out.qd[j] == KC_R(0.0) && H.out.qdd[j] == KC_R(0.0));
+    *ticks = k;
+    return H.out.events[0].reason;
+}
+
+/* A stream ended for falling behind (lag and target_step: stream_lag's
+ * over its ticks) did fall behind: by more than half the bound, and by no
+ * more than the bound and a tick of the target's motion. */
+static void assert_fell_behind(double lag, double target_step)
+{
+    assert_true(lag <= (double)H.cfg.track_tol + target_step);
+    assert_true(lag > 0.5 * (double)H.cfg.track_tol);
+}
+
 static void test_random_twist_streams(void **state)
 {
     (void)state;
@@ -314,10 +362,11 @@ static void test_random_twist_streams(void **state)
             double v_prev[6] = {0}, a_prev[6] = {0};
             /* The target's last four positions, for its jerk. */
             double p_hist[4][3];
-            int seen = 0;
+            int seen = 0, behind = 0;
+            double lag = 0.0, target_step = 0.0;
             long settle = 0;
             int changes = 1 + (int)kt_uniform(&r, 0.0, 5.0);
-            for (int s = 0; s < changes; s++) {
+            for (int s = 0; s < changes && !behind; s++) {
                 kc_vec3 u = kt_rand_unit(&r), w = kt_rand_unit(&r);
                 double sv = kt_uniform(&r, 0.0, 0.1), sw = kt_uniform(&r, 0.0, 0.3);
                 for (int i = 0; i < 3; i++) {
@@ -341,7 +390,11 @@ static void test_random_twist_streams(void **state)
                         v_before[i] = (double)H.ctrl.servo_v[i];
                     tick(&g);
                     assert_int_equal(H.out.goal_id, id);
-                    assert_int_equal(H.out.state, KC_CTRL_MOVING);
+                    if (H.out.state != KC_CTRL_MOVING) { /* ended: it fell behind (below) */
+                        behind = 1;
+                        break;
+                    }
+                    stream_lag(&lag, &target_step);
                     /* The target moved by the shaped twist of the tick
                      * before and the rate of this tick's step, held over
                      * the tick. */
@@ -388,6 +441,14 @@ static void test_random_twist_streams(void **state)
                     }
                 }
             }
+            long ticks;
+            if (behind) {
+                assert_fell_behind(lag, target_step);
+                assert_int_equal(stream_stopped(&g, id, &ticks), KC_REASON_TRACKING);
+                H.behind++;
+                go_home(models[m], HOME_ID + c);
+                continue;
+            }
             /* Held for 200 ticks: the tool follows the twist. */
             kc_jacobian J;
             assert_int_equal(kc_fk_jacobian(&H.chain, H.out.q, &J, NULL), KC_OK);
@@ -401,29 +462,40 @@ static void test_random_twist_streams(void **state)
             }
             H.worst_follow = fmax(H.worst_follow, off / size);
             assert_true(off <= 0.01 * size);
-            /* The stream goes quiet: after the timeout, a jerk-limited stop. */
-            int k = 0;
-            for (; k <= H.cfg.servo_timeout_ticks + 1 && H.out.state == KC_CTRL_MOVING; k++)
+            /* The stream goes quiet: its twist held until the timeout,
+             * then a jerk-limited stop; or that stop before, where the
+             * tool falls behind the twist held. */
+            lag = target_step = 0.0;
+            for (int k = 0; k <= H.cfg.servo_timeout_ticks + 1 && H.out.state == KC_CTRL_MOVING; k++) {
                 tick(NULL);
-            assert_int_equal(H.out.state, KC_CTRL_STOPPING);
-            assert_int_equal(H.ctrl.drive, KC_DRIVE_HALT);
-            assert_int_equal(H.ctrl.jstop, 0);
-            for (k = 0; k < 10000 && H.out.state != KC_CTRL_IDLE; k++)
-                tick(NULL);
-            assert_int_equal(H.out.state, KC_CTRL_IDLE);
-            assert_true(kt_has_event(&H.out, KC_EVENT_ABORTED, id));
-            assert_int_equal(H.out.events[0].reason, KC_REASON_SERVO_TIMEOUT);
-            for (int j = 0; j < H.chain.n_joints; j++)
-                assert_true(H.out.qd[j] == KC_R(0.0) && H.out.qdd[j] == KC_R(0.0));
+                if (H.out.state == KC_CTRL_MOVING)
+                    stream_lag(&lag, &target_step);
+            }
+            kc_ctrl_reason why = stream_stopped(NULL, id, &ticks);
+            if (why == KC_REASON_TRACKING) {
+                assert_fell_behind(lag, target_step);
+                H.behind++;
+            } else {
+                assert_int_equal(why, KC_REASON_SERVO_TIMEOUT);
+            }
             go_home(models[m], HOME_ID + c);
         }
         print_message("%s: %d twist streams, %ld ticks: the shaped twist's rate at most %.6f and its change %.6f "
                       "of the Cartesian bounds, the target's jerk %.6f; the joints' qdd at most %.4f and jerk %.4f of their limits (while "
                       "tracking %.7f); the tool's twist off the commanded by at most %.2e of its size; each stream "
-                      "ended by its timeout's jerk-limited stop (%s)\n",
+                      "ended by its timeout's jerk-limited stop, but %d the arm could not follow (%s)\n",
                       kc_model_name(models[m]), CASES, H.ticks, H.worst_cart_a, H.worst_cart_j, H.worst_target_j,
-                      H.worst_a, H.worst_j, H.worst_track_j, H.worst_follow, KC_REAL_NAME);
+                      H.worst_a, H.worst_j, H.worst_track_j, H.worst_follow, H.behind, KC_REAL_NAME);
         assert_true(H.worst_cart_j > 0.5); /* the shaping does use the jerk it is allowed */
+        /* These twists (at most 0.1 m/s and 0.3 rad/s) are ones the arms
+         * follow but for a rare one that takes the arm near a singularity:
+         * none in 60 cases of each arm; in 300, the PUMA 560's cases 120
+         * and 278 (while streams were not ended, 8.6 and 8.8 mm behind
+         * their targets after their last twist's settling, the tool's
+         * twist off the commanded by 114 and 136 % of its size) and the
+         * panda's 268 (1.6 mm behind as its last twist was held for the
+         * timeout). */
+        assert_true(H.behind * 100 <= CASES);
     }
 }
 
@@ -1046,6 +1118,14 @@ static void test_streams_take_over_joint_superpositions(void **state)
 static int64_t quiet_run(int64_t last_message, double *worst_qd, double *worst_j, int *fault)
 {
     setup(KC_MODEL_PUMA560);
+    /* Its tool falls behind its target as the joints near their speed
+     * limits, by the default tracking bound of 1 mm at 0.915 of a qd_max
+     * (which ends the stream: test_stream_falling_behind); with a bound
+     * of 10 m it goes on to the speed limit. */
+    H.cfg.track_tol = KC_R(10.0);
+    kc_real q0[KC_MAX_JOINTS];
+    kt_start_q(&H.chain, KC_MODEL_PUMA560, q0);
+    assert_int_equal(kc_ctrl_init(&H.ctrl, &H.chain, &H.cfg, q0), KC_OK);
     kc_goal g = twist_goal(900, KC_R(3.0), KC_R(3.0));
     kc_real w = KC_R(2.5);
     const kc_vec3 *p = &H.ctrl.pose.t;
@@ -1107,6 +1187,44 @@ static void test_quiet_near_the_speed_limit(void **state)
                   top, top_j, KC_REAL_NAME);
 }
 
+/* A stream the arm cannot follow ends: quiet_run's twist (2.5 rad/s
+ * about the base's z axis, at the goal's 3 m/s^2 and 3 rad/s^2) takes the
+ * PUMA 560's joints towards their speed limits, where the IK step scales
+ * them down and the tool falls behind the shaped target (before the
+ * stream ended, it ran on 2 m behind within 4 s). Within the tracking
+ * bound (cfg.track_tol) on every tick until then; then a jerk-limited
+ * stop joint by joint as for the timeout, within every limit (step), the
+ * stream ABORTED with KC_REASON_TRACKING, no fault. */
+static void test_stream_falling_behind(void **state)
+{
+    (void)state;
+    setup(KC_MODEL_PUMA560);
+    kc_goal g = twist_goal(910, KC_R(3.0), KC_R(3.0));
+    kc_real w = KC_R(2.5);
+    const kc_vec3 *p = &H.ctrl.pose.t;
+    g.twist[0] = -w * p->v[1];
+    g.twist[1] = w * p->v[0];
+    g.twist[5] = w;
+    double lag = 0.0, fastest = 0.0, target_step = 0.0;
+    int64_t k = 0;
+    for (; k < 4000 && H.out.state != KC_CTRL_STOPPING; k++) {
+        tick(&g);
+        assert_int_equal(H.out.n_events, k == 0 ? 2 : 0); /* ACCEPTED, STARTED */
+        if (H.out.state != KC_CTRL_MOVING)
+            break;
+        stream_lag(&lag, &target_step);
+        for (int j = 0; j < 6; j++)
+            fastest = fmax(fastest, fabs((double)H.out.qd[j]) / (double)H.chain.joints[j].limits.qd_max);
+    }
+    int64_t stopped = k;
+    long ticks;
+    assert_fell_behind(lag, target_step);
+    assert_int_equal(stream_stopped(&g, g.id, &ticks), KC_REASON_TRACKING);
+    print_message("a stream the PUMA 560 cannot follow: ended at tick %ld, its joints at %.3f of their speed limits, "
+                  "the tool at most %.3g m behind; stopped in %ld ticks within every limit, ABORTED for tracking (%s)\n",
+                  (long)stopped, fastest, lag, ticks, KC_REAL_NAME);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -1116,6 +1234,7 @@ int main(void)
         cmocka_unit_test(test_streams_take_over),
         cmocka_unit_test(test_streams_take_over_joint_superpositions),
         cmocka_unit_test(test_quiet_near_the_speed_limit),
+        cmocka_unit_test(test_stream_falling_behind),
     };
     int rc = cmocka_run_group_tests(tests, NULL, NULL);
     kt_report("ctrl_servoshape");

@@ -331,7 +331,7 @@ static void servo_into_wall(double side)
     assert_true(fabs((double)H.out.pose.t.v[0] - x_end) < 1e-4);
     assert_true(H.min_clear >= (double)margin());
     /* the stream's target stays with the arm held at the margin (within
-     * ctrl_zone.c's LEAD of 1 mm and a tick of the twist), not running on
+     * ctrl_zone.c's ZONE_LEAD of 1 mm and a tick of the twist), not running on
      * into the wall: in float it once ran 18 cm in, at 0.2 m/s */
     kc_vec3 lead;
     kc_vec3_sub(&H.ctrl.servo_target.t, &H.ctrl.pose.t, &lead);

@@ -71,7 +71,12 @@
  *                   times its cases too, and in float within 1.0002 of
  *                   them). The tick after a zone restrained the step
  *                   (forbidden zones, below) is not limited; the next
- *                   ramps from qdd 0. With
+ *                   ramps from qdd 0. A shaped stream the tool falls
+ *                   behind by more than cfg.track_tol (a joint at its
+ *                   speed or acceleration limit, a singularity) ends
+ *                   there: stopped joint by joint, jerk-limited, as
+ *                   when it goes quiet, and ABORTED with
+ *                   KC_REASON_TRACKING (no fault). With
  *                   the trapezoid profile a pose stream is not shaped:
  *                   its target jumps to each pose, and the IK step
  *                   brings the joints there within qd_max and qdd_max
@@ -630,7 +635,7 @@ typedef enum kc_ctrl_reason {
     KC_REASON_STATE,         /* not accepted in FAULT or ESTOP: reset first */
     KC_REASON_PLAN,          /* the planner refused it (degenerate arc, too long...) */
     KC_REASON_UNREACHABLE,   /* Cartesian: the arm cannot follow (checked by dry run) */
-    KC_REASON_TRACKING,      /* fault: the tool fell behind the Cartesian path */
+    KC_REASON_TRACKING,      /* the tool fell behind: a Cartesian path (fault) or a servo stream (stopped) */
     KC_REASON_LIMIT_GUARD,   /* fault: a setpoint failed the final check */
     KC_REASON_SERVO_TIMEOUT, /* the servo stream went quiet: stopped */
     KC_REASON_DUPLICATE_ID,  /* a goal with this id is active or queued */
@@ -849,8 +854,9 @@ typedef struct kc_ctrl_blend {
     kc_pose rest;      /* where the stop ends: P_s, where the new segment starts */
     kc_real q_rest[KC_MAX_JOINTS]; /* its joints there, q_s (a joint path superposed) */
     /* The tracking bound is a stop's (the replaced motion's stop is part of
-     * the target) until, after it, the tool's error (err, m, the last
-     * tick's) is within cfg.track_tol and falling. */
+     * the target; or a zone held a stream's tool back, ctrl_zone.c) until,
+     * after it, the tool's error (err, m, the last tick's) is within
+     * cfg.track_tol and falling. */
     int lax;
     kc_real err;
 } kc_ctrl_blend;
