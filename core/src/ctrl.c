@@ -228,7 +228,7 @@ static void command(kc_ctrl *c, kc_ctrl_command cmd, kc_ctrl_output *out)
         return;
     case KC_CMD_RESUME:
         if (c->state == KC_CTRL_PAUSED && c->active)
-            kc_ctrl_resume(c, out);
+            kc_ctrl_resume(c, c->cycle - 1, out);
         else if (c->state == KC_CTRL_STOPPING && c->stop_intent == KC_CMD_PAUSE)
             c->stop_intent = KC_CMD_RESUME; /* resume as soon as the pause has stopped */
         return;
@@ -281,18 +281,18 @@ kc_status kc_ctrl_step(kc_ctrl *c, const kc_ctrl_input *in, kc_ctrl_output *out)
             c->state = KC_CTRL_IDLE;
     }
 
-    /* The setpoint. */
+    /* The setpoint. finished: the segment has ended (1) or its stop has
+     * come to rest on this tick (2), handled once the setpoint is kept. */
     int finished = 0;
     out->progress = KC_R(0.0);
     if (kc_ctrl_joint_stopping(c) || (c->active && c->goal.kind == KC_GOAL_SERVO && c->state == KC_CTRL_STOPPING) ||
         kc_ctrl_halting(c)) {
         if (kc_ctrl_joint_stop_eval(c, q, qd, qdd)) {
             c->jstop = 0;
-            if (c->active && c->goal.kind != KC_GOAL_JOINT) {
-                kc_ctrl_stop_finished(c, out);
-            } else {
+            if (c->active && c->goal.kind != KC_GOAL_JOINT)
+                finished = 2;
+            else
                 c->state = c->after_stop;
-            }
         }
     } else if (c->active && c->state != KC_CTRL_PAUSED) {
         finished = kc_ctrl_follow(c, q, qd, qdd, out);
@@ -341,15 +341,16 @@ kc_status kc_ctrl_step(kc_ctrl *c, const kc_ctrl_input *in, kc_ctrl_output *out)
     memcpy(c->q, q, sizeof(kc_real) * (size_t)n);
     memcpy(c->qd, qd, sizeof(kc_real) * (size_t)n);
     memcpy(c->qdd, qdd, sizeof(kc_real) * (size_t)n);
+    kc_fk_eval(c->chain, c->q, &c->pose);
 
-    if (finished == 1) {
-        if (c->state == KC_CTRL_STOPPING) {
-            kc_ctrl_stop_finished(c, out); /* a stop on the path has come to rest */
-        } else {
-            kc_ctrl_emit(out, KC_EVENT_COMPLETED, c->goal.id, KC_REASON_NONE, 0);
-            c->active = 0;
-            c->state = c->queue_len > 0 ? KC_CTRL_MOVING : KC_CTRL_IDLE;
-        }
+    /* After the setpoint is kept: a RESUME the stop has waited for goes
+     * on from it, its tick 0. */
+    if (finished == 2 || (finished == 1 && c->state == KC_CTRL_STOPPING)) {
+        kc_ctrl_stop_finished(c, out); /* a stop has come to rest */
+    } else if (finished == 1) {
+        kc_ctrl_emit(out, KC_EVENT_COMPLETED, c->goal.id, KC_REASON_NONE, 0);
+        c->active = 0;
+        c->state = c->queue_len > 0 ? KC_CTRL_MOVING : KC_CTRL_IDLE;
     }
 
     out->cycle = c->cycle;
@@ -358,7 +359,6 @@ kc_status kc_ctrl_step(kc_ctrl *c, const kc_ctrl_input *in, kc_ctrl_output *out)
     memcpy(out->q, c->q, sizeof(kc_real) * (size_t)n);
     memcpy(out->qd, c->qd, sizeof(kc_real) * (size_t)n);
     memcpy(out->qdd, c->qdd, sizeof(kc_real) * (size_t)n);
-    kc_fk_eval(c->chain, c->q, &c->pose);
     out->pose = c->pose;
     out->queue_length = c->queue_len;
     return KC_OK;

@@ -231,9 +231,9 @@ int kc_ctrl_servo_shaped(const kc_ctrl *c);
 
 /* A servo stream's target set at rest where it starts or RESUMEs: a twist
  * stream's and a shaped pose stream's where the arm is (the last
- * setpoint), an unshaped pose stream's the commanded pose; the shaped
- * twist and its rate zero; a shaped pose planned from there. */
-void kc_ctrl_servo_rest(kc_ctrl *c);
+ * setpoint, of tick last), an unshaped pose stream's the commanded pose;
+ * the shaped twist and its rate zero; a shaped pose planned from there. */
+void kc_ctrl_servo_rest(kc_ctrl *c, int64_t last);
 
 /* A shaped pose stream's plan from its target, twist and rate as they
  * are (servo_target, servo_v, servo_a: the state at tick k0) to rest at
@@ -353,8 +353,10 @@ int kc_ctrl_halt_plan(const kc_ctrl *c, kc_scurve *halt, const kc_interp_limits 
  * active segment, for the given intent. */
 void kc_ctrl_stop_on_path(kc_ctrl *c, int intent);
 
-/* Resumes a paused segment from where it rests. */
-void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out);
+/* Resumes a paused segment from where it rests: the setpoint of tick
+ * last (the last one kept, or this tick's as its stop comes to rest),
+ * the resumed motion's tick 0. */
+void kc_ctrl_resume(kc_ctrl *c, int64_t last, kc_ctrl_output *out);
 
 /* While a Cartesian goal stops jerk-limited, the joints' rates per unit of
  * its parameter at its tick j (the last setpoint's instant; qd the new
@@ -392,7 +394,9 @@ static inline int kc_ctrl_stop_leave_path(kc_ctrl *c, const kc_real *qdd)
 int kc_ctrl_stop_leave_path(kc_ctrl *c, const kc_real *qdd);
 #endif
 
-/* Ends the active segment after its stop on the path came to rest. */
+/* Ends the active segment after its stop came to rest, that tick's
+ * setpoint kept (kc_ctrl_step): paused, resumed (from that setpoint),
+ * preempted, aborted or faulted, as the stop was for. */
 void kc_ctrl_stop_finished(kc_ctrl *c, kc_ctrl_output *out);
 
 /* Puts the controller into a fault: the event, then a stop (on the path

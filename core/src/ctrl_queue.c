@@ -220,7 +220,7 @@ void kc_ctrl_take_goal(kc_ctrl *c, const kc_goal *g, kc_ctrl_output *out)
                     if (following && !same)
                         kc_ctrl_servo_aim(c, c->cycle - 1);
                 } else if (!g->servo_twist) {
-                    kc_ctrl_servo_rest(c);
+                    kc_ctrl_servo_rest(c, c->cycle - 1);
                 }
                 c->servo_last = c->cycle;
             }

@@ -182,7 +182,7 @@ kc_status kc_ctrl_plan_goal(kc_ctrl *c)
         return plan_path(c, g, from, c->q);
     case KC_GOAL_SERVO:
         c->servo_last = c->cycle;
-        kc_ctrl_servo_rest(c);
+        kc_ctrl_servo_rest(c, c->cycle - 1);
         return KC_OK;
     }
     return KC_E_ARG;

@@ -204,13 +204,13 @@ void kc_ctrl_servo_aim(kc_ctrl *c, int64_t k0)
     s->k0 = k0;
 }
 
-void kc_ctrl_servo_rest(kc_ctrl *c)
+void kc_ctrl_servo_rest(kc_ctrl *c, int64_t last)
 {
     memset(c->servo_v, 0, sizeof c->servo_v);
     memset(c->servo_a, 0, sizeof c->servo_a);
     c->servo_target = c->goal.servo_twist || kc_ctrl_servo_shaped(c) ? c->pose : c->goal.pose;
     if (kc_ctrl_servo_shaped(c))
-        kc_ctrl_servo_aim(c, c->cycle - 1);
+        kc_ctrl_servo_aim(c, last);
 }
 
 void kc_ctrl_servo_tick(kc_ctrl *c)

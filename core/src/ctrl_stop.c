@@ -800,15 +800,15 @@ void kc_ctrl_stop_track(kc_ctrl *c, int64_t j, const kc_real *qd)
     c->stop_qu = kc_max(c->stop_qu, rate_per_u(c, qd, u.v));
 }
 
-void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
+void kc_ctrl_resume(kc_ctrl *c, int64_t last, kc_ctrl_output *out)
 {
-    int64_t j = (c->cycle - 1) - c->k0;
+    int64_t j = last - c->k0;
     kc_profile_state u;
     c->state = KC_CTRL_MOVING;
     c->stop_intent = KC_CMD_NONE;
     if (c->goal.kind == KC_GOAL_SERVO) {
         c->servo_last = c->cycle;
-        kc_ctrl_servo_rest(c); /* a twist stream goes on from where the arm stopped */
+        kc_ctrl_servo_rest(c, last); /* a twist stream goes on from where the arm stopped */
         c->drive = KC_DRIVE_NOMINAL; /* plan.halt held its stop */
         return;
     }
@@ -817,6 +817,7 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
         /* At rest a retarget, or a jerk-limited move stopped, is an
          * ordinary joint move from here. */
         drive_from_here(c, KC_DRIVE_NOMINAL);
+        c->k0 = last;
         if (kc_ctrl_plan_goal(c) != KC_OK) {
             kc_ctrl_emit(out, KC_EVENT_ABORTED, c->goal.id, KC_REASON_PLAN, 0);
             c->active = 0;
@@ -854,6 +855,7 @@ void kc_ctrl_resume(kc_ctrl *c, kc_ctrl_output *out)
     if (!jerk)
         kc_profile_plan(&c->drive_prof, u.p, KC_R(0.0), end, vmax, amax, c->cfg.dt);
     drive_from_here(c, jerk ? KC_DRIVE_SCURVE : KC_DRIVE_PROFILE);
+    c->k0 = last;
 }
 
 void kc_ctrl_stop_finished(kc_ctrl *c, kc_ctrl_output *out)
@@ -865,7 +867,7 @@ void kc_ctrl_stop_finished(kc_ctrl *c, kc_ctrl_output *out)
         return;
     }
     if (intent == KC_CMD_RESUME) {
-        kc_ctrl_resume(c, out);
+        kc_ctrl_resume(c, c->cycle, out); /* this tick's setpoint, at rest, is its tick 0 */
         return;
     }
     c->active = 0;
