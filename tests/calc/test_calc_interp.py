@@ -590,6 +590,15 @@ BAD = [
     (J + ["--dt", "0.01", "--profile", "scurve"], "profile must be trapezoid or jerk"),
     (J + ["--dt", "0.01", "--profile", "trapezoid", "--jmax", "10"], "jmax does not apply to --profile trapezoid"),
     (J + ["--dt", "0.01", "--profile", "jerk", "--jmax", "0"], "jmax must be > 0"),
+    # limits whose squares and cubes under- or overflow (kinctl/desc.h): a
+    # jerk of 1e-250 once gave one row already at q1 (exit 0), limits of
+    # 1e240 rows with q at 1e231
+    (J + ["--dt", "0.001", "--profile", "jerk", "--jmax", "1e-250"], "jmax = 1e-250 is outside 1e-09 .. 1e+09"),
+    (J + ["--dt", "0.001", "--vmax", "1e240", "--amax", "1e240", "--jmax", "1e240"],
+     "vmax = 1e+240 is outside 1e-09 .. 1e+09"),
+    (J + ["--dt", "0.001", "--deg", "--amax", "1e11"], "amax = 1.74533e+09 is outside"),
+    (L + ["--v", "1", "--a", "1e240", "--dt", "0.01"], "a = 1e+240 is outside 1e-09 .. 1e+09"),
+    (L + ["--v", "1", "--a", "1", "--jmax", "1e-12", "--dt", "0.01"], "jmax = 1e-12 is outside"),
     (J + ["--dt", "0.01", "--profile", "jerk", "--jmax", "1,2,3"], "jmax has 3 values"),
     (J + ["--dt", "0.01", "--profile", "jerk", "--duration", "0.1"], "shorter than the limits allow"),
     (["interp", "spiral"], "unknown kind \"spiral\""),

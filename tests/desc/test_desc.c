@@ -225,6 +225,9 @@ static const bad_case bad_cases[] = {
     {"zero rate", HEAD "  dh = (\n    { type = \"revolute\"; a = 0.0; alpha = 0.0; d = 0.0; theta = 0.0;\n"
                        "      limits = {\n        qdd = 0.0; }; }\n  );\n};\n",
      6, "dh row 1 limits: qdd must be > 0", KC_E_ARG},
+    {"rate beyond the planners' range", HEAD "  dh = (\n    { type = \"revolute\"; a = 0.0; alpha = 0.0; d = 0.0; theta = 0.0;\n"
+                       "      limits = {\n        qddd = 1e-300; }; }\n  );\n};\n",
+     6, "dh row 1 limits: qddd = 1e-300 is outside 1e-09 .. 1e+09 (in rad or m)", KC_E_ARG},
     {"unknown joint type", HEAD "  dh = (\n    { type = \"revolut\"; a = 0.0; alpha = 0.0; d = 0.0; theta = 0.0; }\n  );\n};\n",
      4, "dh row 1: unknown joint type \"revolut\" (expected \"revolute\" or \"prismatic\")", KC_E_ARG},
     {"unknown op", HEAD "  elements = (\n    { op = \"rz\"; joint = true; },\n    { op = \"rw\"; value = 1.0; }\n  );\n};\n",

@@ -279,6 +279,22 @@ int req_positive(calc_ctx *ctx, const json_t *req, const char *key, int required
     return 0;
 }
 
+int rate_in_range(calc_ctx *ctx, const char *key, kc_real x)
+{
+    if (!(x >= (kc_real)KC_DESC_RATE_MIN && x <= (kc_real)KC_DESC_RATE_MAX))
+        return calc_fail(ctx, "%s = %g is outside %g .. %g (in rad or m)", key, (double)x, KC_DESC_RATE_MIN,
+                         KC_DESC_RATE_MAX);
+    return 0;
+}
+
+int req_rate(calc_ctx *ctx, const json_t *req, const char *key, int required, const char *unit, kc_real *out)
+{
+    int present = json_object_get(req, key) != NULL;
+    if (req_positive(ctx, req, key, required, unit, out) != 0)
+        return -1;
+    return present ? rate_in_range(ctx, key, *out) : 0;
+}
+
 int req_reals(calc_ctx *ctx, const json_t *v, const char *what, kc_real *out, int max, int *n)
 {
     if (v == NULL)

@@ -127,6 +127,12 @@ int req_bool(calc_ctx *ctx, const json_t *req, const char *key, int *out);
 int req_real(calc_ctx *ctx, const json_t *req, const char *key, kc_real *out);
 /* A finite number > 0 (unit names it in the message). */
 int req_positive(calc_ctx *ctx, const json_t *req, const char *key, int required, const char *unit, kc_real *out);
+/* req_positive for a rate limit (a speed, an acceleration, a jerk): within
+ * KC_DESC_RATE_MIN .. KC_DESC_RATE_MAX (kinctl/desc.h) as well. */
+int req_rate(calc_ctx *ctx, const json_t *req, const char *key, int required, const char *unit, kc_real *out);
+/* 0 when x, a rate limit named key (in rad or m), lies within that range;
+ * else the error, as calc_fail. */
+int rate_in_range(calc_ctx *ctx, const char *key, kc_real x);
 /* An array of finite numbers; *n gets the count (at most max). */
 int req_reals(calc_ctx *ctx, const json_t *v, const char *what, kc_real *out, int max, int *n);
 /* The model: model (a built-in name) with optional param, or model_file. */

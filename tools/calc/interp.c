@@ -7,6 +7,12 @@
 #include <string.h>
 
 #include "calc.h"
+#include "kinctl/desc.h"
+
+#define RATE_TEXT(x) #x
+#define RATE_STR(x) RATE_TEXT(x)
+/* The limits' range as the help says it. */
+#define RATE_RANGE RATE_STR(KC_DESC_RATE_MIN) " .. " RATE_STR(KC_DESC_RATE_MAX)
 
 #define EXIT_BAD_INPUT 2
 #define EXIT_FAILURE_IO 1
@@ -274,9 +280,9 @@ static int cart_limits_of(calc_ctx *ctx, const json_t *req, kc_interp_limits *li
 {
     kc_profile_kind kind;
     *lim = kc_interp_limits_default();
-    if (req_positive(ctx, req, "v", 1, "m/s", &lim->v) != 0 || req_positive(ctx, req, "a", 1, "m/s^2", &lim->a) != 0 ||
-        req_positive(ctx, req, "omega", 0, "rad/s", &lim->w) != 0 ||
-        req_positive(ctx, req, "epsilon", 0, "rad/s^2", &lim->dw) != 0 || profile_of(ctx, req, &kind) != 0)
+    if (req_rate(ctx, req, "v", 1, "m/s", &lim->v) != 0 || req_rate(ctx, req, "a", 1, "m/s^2", &lim->a) != 0 ||
+        req_rate(ctx, req, "omega", 0, "rad/s", &lim->w) != 0 ||
+        req_rate(ctx, req, "epsilon", 0, "rad/s^2", &lim->dw) != 0 || profile_of(ctx, req, &kind) != 0)
         return -1;
     if (kind == KC_PROFILE_TRAPEZOID) {
         if (json_object_get(req, "jmax") != NULL || json_object_get(req, "angular_jmax") != NULL)
@@ -285,8 +291,8 @@ static int cart_limits_of(calc_ctx *ctx, const json_t *req, kc_interp_limits *li
     }
     lim->j = KC_INTERP_JERK_PER_ACCEL * lim->a;
     lim->dj = KC_INTERP_JERK_PER_ACCEL * lim->dw;
-    if (req_positive(ctx, req, "jmax", 0, "m/s^3", &lim->j) != 0 ||
-        req_positive(ctx, req, "angular_jmax", 0, "rad/s^3", &lim->dj) != 0)
+    if (req_rate(ctx, req, "jmax", 0, "m/s^3", &lim->j) != 0 ||
+        req_rate(ctx, req, "angular_jmax", 0, "rad/s^3", &lim->dj) != 0)
         return -1;
     return 0;
 }
@@ -322,6 +328,8 @@ static int joint_limits_of(calc_ctx *ctx, const json_t *req, const char *key, co
             return calc_fail(ctx, "%s must be > 0 for every joint, not %g (joint %d)", key, (double)x, j + 1);
         if (deg && angular)
             x *= KC_DEG;
+        if (rate_in_range(ctx, key, x) != 0)
+            return -1;
         if (x > out[j] * (KC_R(1.0) + KC_R(1e-6))) {
             kc_real s = joint_shown(chain, j, deg);
             calc_warn(ctx, "%s for joint %d (%g) exceeds the model's limit %g", key, j + 1, (double)(x * s),
@@ -636,6 +644,7 @@ static const calc_cmd kinds[] = {
      "before turning (kinctld would stop such a motion first), or past vmax or amax, is warned about.\n"
      "Trapezoid (seed 001 lab 4): every joint covers the same fraction of its move at every tick; the\n"
      "common trapezoid (triangle when short) keeps each joint within its own speed and acceleration limits.\n"
+     "Limits given, and a model file's, lie within " RATE_RANGE " (rad or m per s, s^2, s^3).\n"
      "Prints CSV: t,q1..qn,qd1..qdn,qdd1..qddn (jerk: also qddd1..qdddn), one row per tick from t = 0\n"
      "to the end inclusive.\n"
      "Example: kinctl-calc interp joint --model planar2 --deg --q0 10,20 --q1 30,50 --jmax 3000 --dt 0.01\n"

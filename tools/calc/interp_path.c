@@ -92,9 +92,12 @@ static int limits_of(calc_ctx *ctx, const json_t *req, const char *key, int per,
     if (*n != 1 && *n != per)
         return calc_fail(ctx, "%s has %d values: give one for every coordinate or one per coordinate (%d)", key, *n,
                          per);
-    for (int j = 0; j < *n; j++)
+    for (int j = 0; j < *n; j++) {
         if (!(out[j] > KC_R(0.0)))
             return calc_fail(ctx, "%s must be > 0, not %g", key, (double)out[j]);
+        if (rate_in_range(ctx, key, out[j]) != 0)
+            return -1;
+    }
     for (int j = *n; j < per; j++)
         out[j] = out[0];
     return 0;
@@ -194,8 +197,8 @@ static int read_request(calc_ctx *ctx, const json_t *req)
     if (json_object_get(req, "omega") != NULL || json_object_get(req, "epsilon") != NULL) {
         if (!R.cartesian)
             return calc_fail(ctx, "--omega and --epsilon are angular limits of a cartesian path");
-        if (req_positive(ctx, req, "omega", 0, "rad/s", &R.omega) != 0 ||
-            req_positive(ctx, req, "epsilon", 0, "rad/s^2", &R.epsilon) != 0)
+        if (req_rate(ctx, req, "omega", 0, "rad/s", &R.omega) != 0 ||
+            req_rate(ctx, req, "epsilon", 0, "rad/s^2", &R.epsilon) != 0)
             return -1;
         if (!(R.omega > KC_R(0.0)) || !(R.epsilon > KC_R(0.0)))
             return calc_fail(ctx, "give both --omega and --epsilon (or neither)");

@@ -52,6 +52,9 @@ static kc_status read_limits(kc_desc_reader *r, const config_setting_t *owner, c
         if (!(v > KC_R(0.0)))
             return fail(r, config_setting_get_member(g, rates[i]), "%s: %s must be > 0 (omit it for no limit)", what,
                         rates[i]);
+        if (!(v >= (kc_real)KC_DESC_RATE_MIN && v <= (kc_real)KC_DESC_RATE_MAX))
+            return fail(r, config_setting_get_member(g, rates[i]), "%s: %s = %g is outside %g .. %g (in rad or m)",
+                        what, rates[i], (double)v, KC_DESC_RATE_MIN, KC_DESC_RATE_MAX);
         *dest[i] = v;
     }
     *out = l;

@@ -69,7 +69,8 @@
  * a prismatic row d is. xyz in m; rpy = [about x, about y, about z] with
  * R = Rz(rpy[2]) Ry(rpy[1]) Rx(rpy[0]) (URDF's order). Every limit is
  * optional: q = [min, max] (rad/deg or m; omitted: unbounded, a continuous
- * joint), qd, qdd, qddd > 0 (per s, s^2, s^3; omitted: no limit).
+ * joint), qd, qdd, qddd > 0 (per s, s^2, s^3; omitted: no limit), within
+ * KC_DESC_RATE_MIN .. KC_DESC_RATE_MAX in rad or m.
  *
  * Frames: every DH or MDH row ends one frame; in elements, every joint
  * (joint = true) ends one frame and a constant ends one only with
@@ -95,6 +96,15 @@
 #include "kinctl/zone.h"
 
 KC_BEGIN_DECLS
+
+/* The range of a rate limit (qd, qdd, qddd, in rad or m per s, s^2, s^3)
+ * a description may give and kinctl-calc takes: the planners form
+ * squares, cubes and ratios of the limits (kinctl/scurve.h), which stay
+ * finite and nonzero within it. A jerk limit of 1e-250 underflowed into a
+ * plan of no ticks, its end reached at once; limits of 1e240 overflowed
+ * into positions of 1e231. */
+#define KC_DESC_RATE_MIN 1e-9
+#define KC_DESC_RATE_MAX 1e9
 
 #define KC_DESC_NAME_LEN 64
 #define KC_DESC_TEXT_LEN 512
