@@ -771,7 +771,14 @@ typedef struct kc_ctrl_input {
     kc_ctrl_reason fault;
 } kc_ctrl_input;
 
-/* The setpoint of one tick and what happened. */
+/* The setpoint of one tick and what happened. q, qd, qdd: a joint
+ * motion's (a joint move, a joint path, a stop in joint space) are its
+ * law's values at the tick; a Cartesian goal's and a servo stream's come
+ * from the IK step, q moving by qd dt over the tick and qdd the change of
+ * qd over it. Where such a goal takes over a joint motion, q's second
+ * difference over that tick is qdd and about half the tick before's:
+ * up to 1.5 qdd_max for one tick (1.495 in kinctld, a line taking over a
+ * PUMA 560's joint move), qd and qdd within the limits. */
 typedef struct kc_ctrl_output {
     int64_t cycle;
     int64_t goal_id; /* active goal, 0 when none */
